@@ -1,0 +1,31 @@
+#pragma once
+// Counts heap allocations made by any thread inside a scope, so that tests can prove
+// that step functions never allocate. Linked into every test program: it replaces the
+// global operator new/delete and, outside sanitizer builds, malloc/calloc/realloc/free.
+#include <cstddef>
+
+namespace nav::testing {
+
+/// While alive, counts every heap allocation (operator new in all its forms, and the
+/// malloc family where hooked). Guards nest; each sees the allocations of its own scope.
+class AllocationGuard {
+ public:
+  AllocationGuard();
+  ~AllocationGuard();
+  AllocationGuard(const AllocationGuard&) = delete;
+  AllocationGuard& operator=(const AllocationGuard&) = delete;
+
+  /// Allocations (new, malloc, calloc, realloc, aligned forms) since construction.
+  std::size_t allocations() const;
+  /// Bytes requested by those allocations.
+  std::size_t bytes() const;
+
+ private:
+  std::size_t start_allocations_;
+  std::size_t start_bytes_;
+};
+
+/// True when the malloc family is hooked too (false under sanitizers, which own malloc).
+bool allocation_guard_hooks_malloc();
+
+}  // namespace nav::testing

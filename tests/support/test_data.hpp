@@ -1,0 +1,19 @@
+#pragma once
+// Where tests find their input: the project's own small files and the shared real data.
+#include <string>
+
+namespace nav::testing {
+
+/// Path of a file under tests/data/ (the project's own small test inputs).
+std::string test_data_path(const std::string& relative);
+
+/// Path of a file under ../shared/data/ (real data read in place, never copied).
+std::string shared_data_path(const std::string& relative);
+
+/// True if the file exists and can be opened.
+bool file_exists(const std::string& path);
+
+/// A fresh path in the system's temporary folder for a test's output.
+std::string temporary_path(const std::string& file_name);
+
+}  // namespace nav::testing

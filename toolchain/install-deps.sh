@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Installs the build and runtime dependencies from Debian bookworm's packages.
+# Idempotent: packages already present are left as they are and apt is not asked twice.
+# Usage (as root): toolchain/install-deps.sh [--rtlib-only]
+set -euo pipefail
+
+core_packages=(
+  build-essential cmake ninja-build git ca-certificates pkg-config
+  libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
+)
+station_packages=(
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
+  libopencv-core-dev libopencv-imgproc-dev
+  libapriltag-dev liburdfdom-dev
+  libspectra-dev libyaml-cpp-dev libsuitesparse-dev zlib1g-dev
+)
+
+packages=("${core_packages[@]}")
+if [[ "${1:-}" != "--rtlib-only" ]]; then
+  packages+=("${station_packages[@]}")
+fi
+
+missing=()
+for package in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$package")
+  fi
+done
+
+if [[ ${#missing[@]} -eq 0 ]]; then
+  echo "install-deps: all ${#packages[@]} packages already installed"
+  exit 0
+fi
+
+if [[ $(id -u) -ne 0 ]]; then
+  echo "install-deps: missing packages (${missing[*]}); run as root to install them" >&2
+  exit 1
+fi
+
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -q
+apt-get install -y -q --no-install-recommends "${missing[@]}"
