@@ -1,0 +1,20 @@
+#include "nav/core/health.hpp"
+
+namespace nav {
+
+const char* health_flag_name(HealthFlag flag) noexcept {
+  switch (flag) {
+    case HealthFlag::non_finite_state: return "non_finite_state";
+    case HealthFlag::inverted_element: return "inverted_element";
+    case HealthFlag::stale_input: return "stale_input";
+    case HealthFlag::missing_input: return "missing_input";
+    case HealthFlag::pool_full: return "pool_full";
+    case HealthFlag::buffer_overrun: return "buffer_overrun";
+    case HealthFlag::solver_not_converged: return "solver_not_converged";
+    case HealthFlag::deadline_missed: return "deadline_missed";
+    case HealthFlag::bad_sample: return "bad_sample";
+  }
+  return "unknown";
+}
+
+}  // namespace nav
