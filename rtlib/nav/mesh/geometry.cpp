@@ -44,4 +44,41 @@ Bounds3 bounds_of(const std::vector<Point3>& points_m) {
   return bounds;
 }
 
+double tet_radius_ratio(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+  // With u, v, w the edges from a and D = u·(v×w) = 6 V: r_in = |D| / (2 S) for the face area
+  // sum S, and r_circ = |N| / (2 |D|) with N = |u|²(v×w) + |v|²(w×u) + |w|²(u×v); so the
+  // ratio is 3 D² / (S |N|).
+  const Point3 u = b - a;
+  const Point3 v = c - a;
+  const Point3 w = d - a;
+  const double six_volume = dot(u, cross(v, w));
+  const double area_sum = 0.5 * (norm(cross(u, v)) + norm(cross(v, w)) + norm(cross(w, u)) + norm(cross(c - b, d - b)));
+  const double circum = norm(dot(u, u) * cross(v, w) + dot(v, v) * cross(w, u) + dot(w, w) * cross(u, v));
+  if (six_volume == 0.0 || area_sum == 0.0 || circum == 0.0) return 0.0;
+  return 3.0 * six_volume * six_volume / (area_sum * circum);
+}
+
+double tet_min_dihedral_deg(const Point3& a, const Point3& b, const Point3& c, const Point3& d) {
+  const std::array<Point3, 4> corners{a, b, c, d};
+  std::array<Point3, 4> normals{};
+  for (std::size_t f = 0; f < 4; ++f) {
+    const auto& face = kTetFaces[f];
+    const Point3& p = corners[face[0]];
+    normals[f] = cross(corners[face[1]] - p, corners[face[2]] - p);
+    const double length = norm(normals[f]);
+    if (length == 0.0) return 0.0;
+    normals[f] = (1.0 / length) * normals[f];
+  }
+  constexpr double kPi = 3.14159265358979323846;
+  double min_angle_rad = kPi;
+  for (std::size_t f = 0; f < 4; ++f) {
+    for (std::size_t g = f + 1; g < 4; ++g) {
+      // The interior angle at the edge two faces share is pi minus the angle between their normals.
+      const double cosine = std::clamp(dot(normals[f], normals[g]), -1.0, 1.0);
+      min_angle_rad = std::min(min_angle_rad, kPi - std::acos(cosine));
+    }
+  }
+  return min_angle_rad * 180.0 / kPi;
+}
+
 }  // namespace nav

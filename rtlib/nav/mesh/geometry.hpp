@@ -32,4 +32,17 @@ struct Bounds3 {
 };
 Bounds3 bounds_of(const std::vector<Point3>& points_m);
 
+/// The four faces of a tetrahedron (a0, a1, a2, a3) as local vertex triples, each ordered
+/// counter-clockwise seen from outside when the element is positively oriented; face k is
+/// the one opposite vertex k.
+inline constexpr std::array<std::array<int, 3>, 4> kTetFaces{{{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}}};
+
+/// Normalised radius ratio 3 r_in / r_circ of the tetrahedron (a, b, c, d): 1 for the regular
+/// tetrahedron, tending to 0 as it flattens (0 when flat). Independent of orientation.
+double tet_radius_ratio(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
+
+/// The smallest of the six interior dihedral angles of the tetrahedron (a, b, c, d), in
+/// degrees: 70.53 (acos 1/3) for the regular tetrahedron, 0 when flat. Independent of orientation.
+double tet_min_dihedral_deg(const Point3& a, const Point3& b, const Point3& c, const Point3& d);
+
 }  // namespace nav
