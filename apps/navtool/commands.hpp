@@ -16,4 +16,8 @@ int mesh_info(const std::vector<std::string>& args);
 /// navtool mesh make (--liver | --surface FILE [--unit U] | --labels FILE) --size H --out FILE.vtu
 int mesh_make(const std::vector<std::string>& args);
 
+/// navtool record --out FILE [--duration-s S] [--domain D] ... and navtool replay FILE
+/// [--as-fast-as-possible] [--domain D] ...: args start with "record" or "replay".
+int record_replay(const std::vector<std::string>& args);
+
 }  // namespace navtool

@@ -1,34 +1,19 @@
 // navtool mesh info, run as a process: JSON and table output on the real liver mesh, exit code
 // 2 with the Error's describe() on stderr for a broken file and for bad arguments.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
-
-#include <array>
 #include <cstdio>
 
+#include "support/run_command.hpp"
 #include "support/test_data.hpp"
 
 namespace {
 
-/// What a finished process printed and returned.
-struct ProcessRun {
-  std::string output;
-  int exit_code = -1;
-};
+using ProcessRun = nav::testing::CommandRun;
 
 /// Runs navtool with `arguments` through the shell; `streams` picks what is captured
 /// ("2>&1" for both, "2>&1 >/dev/null" for stderr alone).
 ProcessRun navtool(const std::string& arguments, const std::string& streams = "2>/dev/null") {
-  const std::string command = std::string(NAV_BIN_DIR) + "/navtool " + arguments + " " + streams;
-  ProcessRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  std::array<char, 4096> buffer{};
-  std::size_t count = 0;
-  while ((count = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.output.append(buffer.data(), count);
-  const int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  return nav::testing::run_command(nav::testing::executable_path("navtool") + " " + arguments + " " + streams);
 }
 
 std::string liver_vtu() { return nav::testing::shared_data_path("liver/liverFine.vtu"); }

@@ -1,0 +1,212 @@
+#include "nav/dds/dds_node.hpp"
+
+#include <array>
+#include <chrono>
+#include <mutex>
+#include <thread>
+#include <type_traits>
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include "nav/dds/participant_qos.hpp"
+#include "nav/dds/sample_checks.hpp"
+#include "nav/dds/topic_qos.hpp"
+#include "nav/dds/wire_convert.hpp"
+
+namespace nav::dds {
+namespace {
+
+namespace fdds = eprosima::fastdds::dds;
+
+constexpr std::size_t index_of(Topic topic) noexcept { return static_cast<std::size_t>(topic); }
+
+/// Owns per-topic state of any sample type.
+struct TopicState {
+  virtual ~TopicState() = default;
+};
+
+/// The wire sample a writer serializes from, reused for every write of its topic.
+template <typename Sample>
+struct WriteScratch final : TopicState {
+  typename WireTraits<Sample>::Wire wire;
+};
+
+/// Validates what a reader receives and offers it to a sink. Fast DDS may call
+/// on_data_available from several transport threads, so the producer side of the
+/// hand-off is serialized here (an I/O-side lock the real-time thread never takes).
+template <typename Sample>
+class SinkListener final : public fdds::DataReaderListener, public TopicState {
+ public:
+  SinkListener(SampleSink<Sample>& sink, BoundaryCounters& counters)
+      : sink_(sink), counters_(counters), sample_(std::make_unique<Sample>()) {}
+
+  void on_data_available(fdds::DataReader* reader) override {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    fdds::SampleInfo info;
+    while (reader->take_next_sample(&wire_, &info) == ReturnCode_t::RETCODE_OK) {
+      if (info.valid_data) counters_.count(accept());
+    }
+  }
+
+ private:
+  SampleFault accept() noexcept {
+    SampleFault fault = from_wire(wire_, *sample_);
+    if (fault == SampleFault::none) fault = check_sample(*sample_);
+    // Poses are time-ordered per tool by their sink (PoseInbox); other streams here.
+    if constexpr (!std::is_same_v<Sample, ToolPose>) {
+      if (fault == SampleFault::none) fault = order_.advance(sample_->source_time_ns);
+    }
+    if (fault != SampleFault::none) return fault;
+    sample_->receive_time_ns = clock_.now_ns();
+    return sink_.offer(*sample_);
+  }
+
+  SampleSink<Sample>& sink_;
+  BoundaryCounters& counters_;
+  std::mutex mutex_;
+  typename WireTraits<Sample>::Wire wire_;
+  std::unique_ptr<Sample> sample_;  // on the heap: a frame is 1 MiB
+  StreamOrder order_;
+  MonotonicClock clock_;
+};
+
+}  // namespace
+
+/// The participant, its entities and the listeners' state.
+struct DdsNode::Impl {
+  TopicQosOptions qos;
+  BoundaryCounters counters;
+  std::array<std::unique_ptr<TopicState>, kTopicCount> write_scratch{};
+  std::array<std::unique_ptr<TopicState>, kTopicCount> listeners{};
+  fdds::DomainParticipant* participant = nullptr;
+  fdds::Publisher* publisher = nullptr;
+  fdds::Subscriber* subscriber = nullptr;
+  std::array<fdds::Topic*, kTopicCount> topics{};
+  std::array<fdds::DataWriter*, kTopicCount> writers{};
+  std::array<fdds::DataReader*, kTopicCount> readers{};
+
+  /// Deletes the DDS entities first: no listener may run once the members go.
+  ~Impl() {
+    if (participant == nullptr) return;
+    participant->delete_contained_entities();
+    fdds::DomainParticipantFactory::get_instance()->delete_participant(participant);
+  }
+
+  template <typename Sample>
+  bool create_topic() {
+    fdds::TypeSupport type(new typename WireTraits<Sample>::PubSubType());
+    if (type.register_type(participant) != ReturnCode_t::RETCODE_OK) return false;
+    constexpr Topic topic = WireTraits<Sample>::topic;
+    topics[index_of(topic)] = participant->create_topic(topic_name(topic), type.get_type_name(), fdds::TopicQos());
+    return topics[index_of(topic)] != nullptr;
+  }
+
+  bool create_topics() {
+    return create_topic<ToolPose>() && create_topic<UltrasoundFrame>() && create_topic<NeedleState>() &&
+           create_topic<TargetPrediction>() && create_topic<DeformedSurface>() && create_topic<StationHealth>();
+  }
+};
+
+Result<std::unique_ptr<DdsNode>> DdsNode::create(const NetworkConfig& network, const TopicQosOptions& qos) {
+  auto participant_qos = make_participant_qos(network);
+  if (!participant_qos) return participant_qos.error();
+  auto impl = std::make_unique<Impl>();
+  impl->qos = qos;
+  impl->participant = fdds::DomainParticipantFactory::get_instance()->create_participant(
+      static_cast<fdds::DomainId_t>(network.domain_id), participant_qos.value());
+  if (impl->participant == nullptr) {
+    return Error{"Fast DDS refused to create the participant", "", 0, "domain " + std::to_string(network.domain_id)};
+  }
+  impl->publisher = impl->participant->create_publisher(fdds::PublisherQos());
+  impl->subscriber = impl->participant->create_subscriber(fdds::SubscriberQos());
+  if (impl->publisher == nullptr || impl->subscriber == nullptr || !impl->create_topics()) {
+    return Error{"Fast DDS refused to create the station's topics", "", 0, ""};
+  }
+  return std::unique_ptr<DdsNode>(new DdsNode(std::move(impl)));
+}
+
+DdsNode::DdsNode(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+DdsNode::~DdsNode() = default;
+
+template <typename Sample>
+Status DdsNode::advertise() {
+  constexpr std::size_t i = index_of(WireTraits<Sample>::topic);
+  if (impl_->writers[i] != nullptr) return Error{"topic already advertised", "", 0, topic_name(WireTraits<Sample>::topic)};
+  auto scratch = std::make_unique<WriteScratch<Sample>>();
+  if constexpr (std::is_same_v<Sample, UltrasoundFrame>) scratch->wire.pixels().reserve(kMaxFramePixels);
+  impl_->writers[i] =
+      impl_->publisher->create_datawriter(impl_->topics[i], writer_qos(WireTraits<Sample>::topic, impl_->qos));
+  if (impl_->writers[i] == nullptr) return Error{"Fast DDS refused the writer", "", 0, topic_name(WireTraits<Sample>::topic)};
+  impl_->write_scratch[i] = std::move(scratch);
+  return Done{};
+}
+
+template <typename Sample>
+bool DdsNode::write(const Sample& sample) {
+  constexpr std::size_t i = index_of(WireTraits<Sample>::topic);
+  if (impl_->writers[i] == nullptr) return false;
+  auto& wire = static_cast<WriteScratch<Sample>&>(*impl_->write_scratch[i]).wire;
+  to_wire(sample, wire);
+  return impl_->writers[i]->write(&wire);
+}
+
+template <typename Sample>
+Status DdsNode::subscribe(SampleSink<Sample>& sink) {
+  constexpr std::size_t i = index_of(WireTraits<Sample>::topic);
+  if (impl_->readers[i] != nullptr) return Error{"topic already subscribed", "", 0, topic_name(WireTraits<Sample>::topic)};
+  auto listener = std::make_unique<SinkListener<Sample>>(sink, impl_->counters);
+  impl_->readers[i] = impl_->subscriber->create_datareader(
+      impl_->topics[i], reader_qos(WireTraits<Sample>::topic, impl_->qos), listener.get());
+  if (impl_->readers[i] == nullptr) return Error{"Fast DDS refused the reader", "", 0, topic_name(WireTraits<Sample>::topic)};
+  impl_->listeners[i] = std::move(listener);
+  return Done{};
+}
+
+std::size_t DdsNode::matched(Topic topic) const {
+  std::size_t count = 0;
+  if (const fdds::DataWriter* writer = impl_->writers[index_of(topic)]) {
+    fdds::PublicationMatchedStatus status;
+    writer->get_publication_matched_status(status);
+    count += static_cast<std::size_t>(status.current_count);
+  }
+  if (const fdds::DataReader* reader = impl_->readers[index_of(topic)]) {
+    fdds::SubscriptionMatchedStatus status;
+    reader->get_subscription_matched_status(status);
+    count += static_cast<std::size_t>(status.current_count);
+  }
+  return count;
+}
+
+bool DdsNode::wait_for_match(Topic topic, std::size_t count, TimeNs timeout_ns) const {
+  const MonotonicClock clock;
+  const TimeNs deadline_ns = clock.now_ns() + timeout_ns;
+  while (matched(topic) < count) {
+    if (clock.now_ns() >= deadline_ns) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return true;
+}
+
+BoundaryCounts DdsNode::boundary_counts() const noexcept { return impl_->counters.snapshot(); }
+
+#define NAV_DDS_NODE_SAMPLE(Sample)                    \
+  template Status DdsNode::advertise<Sample>();        \
+  template bool DdsNode::write<Sample>(const Sample&); \
+  template Status DdsNode::subscribe<Sample>(SampleSink<Sample>&);
+NAV_DDS_NODE_SAMPLE(ToolPose)
+NAV_DDS_NODE_SAMPLE(UltrasoundFrame)
+NAV_DDS_NODE_SAMPLE(NeedleState)
+NAV_DDS_NODE_SAMPLE(TargetPrediction)
+NAV_DDS_NODE_SAMPLE(DeformedSurface)
+NAV_DDS_NODE_SAMPLE(StationHealth)
+#undef NAV_DDS_NODE_SAMPLE
+
+}  // namespace nav::dds

@@ -1,0 +1,32 @@
+#pragma once
+// How a station process joins DDS: which domain, which single local address UDP may use,
+// which other hosts it talks to, and an optional XML profile that adds settings on top.
+// Plain data; participant_qos.hpp turns it into Fast DDS QoS.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace nav::dds {
+
+/// The network settings of one DDS participant. The defaults keep everything on this
+/// machine: shared memory plus UDP on 127.0.0.1, unicast discovery, no multicast.
+struct NetworkConfig {
+  std::uint32_t domain_id = 0;
+  std::string participant_name = "nav";
+  /// The one IPv4 address UDP binds to and announces (an interface of this host).
+  std::string local_address = "127.0.0.1";
+  /// IPv4 addresses of the other hosts, reached by unicast discovery.
+  std::vector<std::string> peer_addresses;
+  /// Adds the shared-memory transport (and its segment) for peers on this host.
+  bool shared_memory = true;
+  std::uint32_t shared_memory_segment_bytes = 8u << 20;
+  /// Participant ids probed per peer address (UDP ports); raise for many processes per host.
+  std::uint32_t max_participants_per_host = 8;
+  /// Optional Fast DDS XML file and the participant profile in it (which then also names
+  /// the participant). The profile is applied first; the transports, locators and peers
+  /// above always override it.
+  std::string xml_profile_file;
+  std::string xml_profile_name;
+};
+
+}  // namespace nav::dds

@@ -1,0 +1,124 @@
+#include "nav/dds/participant_qos.hpp"
+
+#include <arpa/inet.h>
+#include <ifaddrs.h>
+#include <netinet/in.h>
+
+#include <filesystem>
+#include <memory>
+
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
+
+namespace nav::dds {
+namespace {
+
+namespace fdds = eprosima::fastdds::dds;
+namespace rtps = eprosima::fastrtps::rtps;
+
+/// The address as a UDPv4 locator with port 0 (Fast DDS then derives the ports), or an
+/// Error when it is not a specific unicast IPv4 address.
+Result<rtps::Locator_t> unicast_locator(const std::string& address, const char* field) {
+  in_addr parsed{};
+  if (inet_pton(AF_INET, address.c_str(), &parsed) != 1) {
+    return Error{"'" + address + "' is not an IPv4 address (write it as a.b.c.d)", "", 0, field};
+  }
+  rtps::Locator_t locator;
+  locator.kind = LOCATOR_KIND_UDPv4;
+  rtps::IPLocator::setIPv4(locator, address);
+  if (rtps::IPLocator::isAny(locator)) {
+    return Error{"0.0.0.0 would bind every interface; name one address", "", 0, field};
+  }
+  if (rtps::IPLocator::isMulticast(locator)) {
+    return Error{"'" + address + "' is a multicast address; the station uses unicast only", "", 0, field};
+  }
+  return locator;
+}
+
+/// True when `address` is assigned to an interface of this host (UDP must bind a real one).
+bool is_local_interface_address(const in_addr& address) {
+  ifaddrs* interfaces = nullptr;
+  if (getifaddrs(&interfaces) != 0) return false;
+  bool found = false;
+  for (const ifaddrs* entry = interfaces; entry != nullptr && !found; entry = entry->ifa_next) {
+    if (entry->ifa_addr == nullptr || entry->ifa_addr->sa_family != AF_INET) continue;
+    found = reinterpret_cast<const sockaddr_in*>(entry->ifa_addr)->sin_addr.s_addr == address.s_addr;
+  }
+  freeifaddrs(interfaces);
+  return found;
+}
+
+/// Applies the XML profile named in `config` to `qos`, or returns why it cannot.
+Status apply_xml_profile(const NetworkConfig& config, fdds::DomainParticipantQos& qos) {
+  if (config.xml_profile_file.empty()) {
+    if (!config.xml_profile_name.empty()) return Error{"a profile name was given without a profile file", "", 0, "xml_profile_file"};
+    return Done{};
+  }
+  if (config.xml_profile_name.empty()) {
+    return Error{"no participant profile named", config.xml_profile_file, 0, "xml_profile_name"};
+  }
+  std::error_code ignored;
+  if (!std::filesystem::is_regular_file(config.xml_profile_file, ignored)) {
+    return Error{"DDS profile file not found (no fallback to the library defaults)", config.xml_profile_file, 0, ""};
+  }
+  auto* factory = fdds::DomainParticipantFactory::get_instance();
+  if (factory->load_XML_profiles_file(config.xml_profile_file) != ReturnCode_t::RETCODE_OK) {
+    return Error{"DDS profile file could not be parsed", config.xml_profile_file, 0, ""};
+  }
+  if (factory->get_participant_qos_from_profile(config.xml_profile_name, qos) != ReturnCode_t::RETCODE_OK) {
+    return Error{"no participant profile '" + config.xml_profile_name + "' in the file", config.xml_profile_file, 0,
+                 "xml_profile_name"};
+  }
+  return Done{};
+}
+
+}  // namespace
+
+Result<fdds::DomainParticipantQos> make_participant_qos(const NetworkConfig& config) {
+  fdds::DomainParticipantQos qos;
+  if (const Status xml = apply_xml_profile(config, qos); !xml) return xml.error();
+
+  auto local = unicast_locator(config.local_address, "local_address");
+  if (!local) return local.error();
+  in_addr local_address{};
+  inet_pton(AF_INET, config.local_address.c_str(), &local_address);
+  if (!is_local_interface_address(local_address)) {
+    return Error{"'" + config.local_address + "' is not an address of this host's interfaces", "", 0, "local_address"};
+  }
+
+  auto& transport = qos.transport();
+  transport.use_builtin_transports = false;
+  transport.user_transports.clear();
+  auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
+  udp->interfaceWhiteList = {config.local_address};
+  udp->maxInitialPeersRange = config.max_participants_per_host;
+  transport.user_transports.push_back(udp);
+  if (config.shared_memory) {
+    auto shm = std::make_shared<eprosima::fastdds::rtps::SharedMemTransportDescriptor>();
+    shm->segment_size(config.shared_memory_segment_bytes);
+    transport.user_transports.push_back(shm);
+  }
+
+  auto& builtin = qos.wire_protocol().builtin;
+  builtin.discovery_config.discoveryProtocol = eprosima::fastrtps::rtps::DiscoveryProtocol_t::SIMPLE;
+  builtin.metatrafficMulticastLocatorList.clear();
+  builtin.metatrafficUnicastLocatorList.clear();
+  builtin.metatrafficUnicastLocatorList.push_back(local.value());
+  builtin.initialPeersList.clear();
+  builtin.initialPeersList.push_back(local.value());
+  for (const std::string& peer : config.peer_addresses) {
+    auto locator = unicast_locator(peer, "peer_addresses");
+    if (!locator) return locator.error();
+    builtin.initialPeersList.push_back(locator.value());
+  }
+  // User data: no multicast; unicast locators come from the transports above (the
+  // whitelisted address and, with shared memory, this host's segment).
+  qos.wire_protocol().default_multicast_locator_list.clear();
+  qos.wire_protocol().default_unicast_locator_list.clear();
+  if (config.xml_profile_file.empty()) qos.name(config.participant_name);
+  return qos;
+}
+
+}  // namespace nav::dds

@@ -1,0 +1,29 @@
+#include "nav/dds/pose_inbox.hpp"
+
+namespace nav::dds {
+
+PoseInbox::PoseInbox(std::initializer_list<std::uint32_t> tool_ids) noexcept {
+  for (const std::uint32_t id : tool_ids) {
+    if (tool_count_ == kMaxTools) break;
+    tools_[tool_count_++].id = id;
+  }
+}
+
+int PoseInbox::slot_of(std::uint32_t tool_id) const noexcept {
+  for (std::size_t slot = 0; slot < tool_count_; ++slot) {
+    if (tools_[slot].id == tool_id) return static_cast<int>(slot);
+  }
+  return -1;
+}
+
+SampleFault PoseInbox::offer(const ToolPose& pose) noexcept {
+  const int slot = slot_of(pose.tool_id);
+  if (slot < 0) return SampleFault::unknown_tool;
+  Tool& tool = tools_[static_cast<std::size_t>(slot)];
+  const SampleFault order = tool.order.advance(pose.source_time_ns);
+  if (order != SampleFault::none) return order;
+  tool.latest.write(pose);
+  return SampleFault::none;
+}
+
+}  // namespace nav::dds

@@ -1,0 +1,61 @@
+#include "nav/dds/sample_checks.hpp"
+
+#include <cmath>
+
+namespace nav::dds {
+namespace {
+
+template <typename Array>
+bool all_finite(const Array& values) noexcept {
+  for (const auto value : values) {
+    if (!std::isfinite(value)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+SampleFault check_sample(const ToolPose& pose) noexcept {
+  if (!all_finite(pose.position_m) || !all_finite(pose.orientation_wxyz) ||
+      !all_finite(pose.position_covariance_m2) || !std::isfinite(pose.quality)) {
+    return SampleFault::non_finite;
+  }
+  double norm_squared = 0.0;
+  for (const double q : pose.orientation_wxyz) norm_squared += q * q;
+  if (std::abs(std::sqrt(norm_squared) - 1.0) > kQuaternionNormTolerance) return SampleFault::non_unit_quaternion;
+  return SampleFault::none;
+}
+
+SampleFault check_sample(const UltrasoundFrame& frame) noexcept {
+  if (!all_finite(frame.pixel_spacing_m) || !std::isfinite(frame.depth_m)) return SampleFault::non_finite;
+  if (frame.pixel_count() == 0 || frame.pixel_count() > kMaxFramePixels) return SampleFault::wrong_size;
+  if (frame.pixel_spacing_m[0] <= 0.0 || frame.pixel_spacing_m[1] <= 0.0 || frame.depth_m <= 0.0) {
+    return SampleFault::wrong_size;
+  }
+  return SampleFault::none;
+}
+
+SampleFault check_sample(const NeedleState& needle) noexcept {
+  if (needle.point_count > kMaxNeedlePoints) return SampleFault::wrong_size;
+  for (std::uint32_t i = 0; i < needle.point_count; ++i) {
+    if (!all_finite(needle.shape_points_m[i])) return SampleFault::non_finite;
+  }
+  return all_finite(needle.tip_force_n) ? SampleFault::none : SampleFault::non_finite;
+}
+
+SampleFault check_sample(const TargetPrediction& prediction) noexcept {
+  if (!all_finite(prediction.position_m) || !all_finite(prediction.covariance_m2)) return SampleFault::non_finite;
+  return SampleFault::none;
+}
+
+SampleFault check_sample(const DeformedSurface& surface) noexcept {
+  if (surface.vertex_count > kMaxSurfaceVertices) return SampleFault::wrong_size;
+  for (std::uint32_t i = 0; i < surface.vertex_count; ++i) {
+    if (!all_finite(surface.vertex_positions_m[i])) return SampleFault::non_finite;
+  }
+  return SampleFault::none;
+}
+
+SampleFault check_sample(const StationHealth&) noexcept { return SampleFault::none; }
+
+}  // namespace nav::dds

@@ -1,0 +1,33 @@
+#include "nav/dds/sample_fault.hpp"
+
+namespace nav::dds {
+
+const char* sample_fault_name(SampleFault fault) noexcept {
+  switch (fault) {
+    case SampleFault::none: return "none";
+    case SampleFault::wrong_size: return "wrong_size";
+    case SampleFault::non_finite: return "non_finite";
+    case SampleFault::non_unit_quaternion: return "non_unit_quaternion";
+    case SampleFault::time_backwards: return "time_backwards";
+    case SampleFault::unknown_tool: return "unknown_tool";
+    case SampleFault::buffer_full: return "buffer_full";
+  }
+  return "unknown";
+}
+
+BoundaryCounts BoundaryCounters::snapshot() const noexcept {
+  const auto read = [this](SampleFault fault) {
+    return counts_[static_cast<std::size_t>(fault)].load(std::memory_order_relaxed);
+  };
+  BoundaryCounts counts;
+  counts.accepted = read(SampleFault::none);
+  counts.wrong_size = read(SampleFault::wrong_size);
+  counts.non_finite = read(SampleFault::non_finite);
+  counts.non_unit_quaternion = read(SampleFault::non_unit_quaternion);
+  counts.time_backwards = read(SampleFault::time_backwards);
+  counts.unknown_tool = read(SampleFault::unknown_tool);
+  counts.buffer_full = read(SampleFault::buffer_full);
+  return counts;
+}
+
+}  // namespace nav::dds

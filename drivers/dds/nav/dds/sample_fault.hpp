@@ -1,0 +1,42 @@
+#pragma once
+// Why a sample was refused at the DDS boundary, and the thread-safe counters of refusals
+// that the health topic publishes.
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+
+#include "nav/dds/samples.hpp"
+
+namespace nav::dds {
+
+/// The verdict on one incoming sample: accepted (none) or the reason it was dropped.
+enum class SampleFault : std::uint8_t {
+  none = 0,
+  wrong_size,           // a length field disagrees with the data, or exceeds its bound
+  non_finite,           // NaN or infinity in a number
+  non_unit_quaternion,  // |q| differs from 1 by more than kQuaternionNormTolerance
+  time_backwards,       // source time earlier than the previous sample of the stream
+  unknown_tool,         // a tool id the station was not configured with
+  buffer_full,          // valid, but the hand-off buffer had no room
+};
+
+/// The fault's name in snake case, for logs.
+const char* sample_fault_name(SampleFault fault) noexcept;
+
+/// Counts of accepted and dropped samples. Any thread may count; any thread may read.
+class BoundaryCounters {
+ public:
+  /// Counts one sample with its verdict. Lock-free, no allocation.
+  void count(SampleFault fault) noexcept {
+    counts_[static_cast<std::size_t>(fault)].fetch_add(1, std::memory_order_relaxed);
+  }
+  /// The counts at the time of the call.
+  BoundaryCounts snapshot() const noexcept;
+
+ private:
+  static constexpr std::size_t kFaultKinds = static_cast<std::size_t>(SampleFault::buffer_full) + 1;
+  std::array<std::atomic<std::uint64_t>, kFaultKinds> counts_{};
+};
+
+}  // namespace nav::dds

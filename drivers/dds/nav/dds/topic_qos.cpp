@@ -1,0 +1,54 @@
+#include "nav/dds/topic_qos.hpp"
+
+#include <cstdint>
+
+namespace nav::dds {
+namespace {
+
+namespace fdds = eprosima::fastdds::dds;
+
+/// The policies that writers and readers of `topic` share; Qos is either endpoint's QoS.
+template <typename Qos>
+Qos endpoint_qos(Topic topic, const TopicQosOptions& options) {
+  Qos qos;
+  qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = topic == Topic::ultrasound_frame ? 2 : 1;
+  const bool best_effort = topic == Topic::tool_pose || topic == Topic::ultrasound_frame;
+  qos.reliability().kind = best_effort ? fdds::BEST_EFFORT_RELIABILITY_QOS : fdds::RELIABLE_RELIABILITY_QOS;
+  qos.durability().kind =
+      topic == Topic::station_health ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
+  if (topic == Topic::tool_pose) {
+    qos.deadline().period = eprosima::fastrtps::Duration_t(static_cast<std::int32_t>(options.pose_deadline_ns / kNsPerSecond),
+                                                           static_cast<std::uint32_t>(options.pose_deadline_ns % kNsPerSecond));
+  }
+  if (options.data_sharing) {
+    qos.data_sharing().automatic();
+  } else {
+    qos.data_sharing().off();
+  }
+  return qos;
+}
+
+}  // namespace
+
+const char* topic_name(Topic topic) noexcept {
+  switch (topic) {
+    case Topic::tool_pose: return "nav/tool_pose";
+    case Topic::ultrasound_frame: return "nav/ultrasound_frame";
+    case Topic::needle_state: return "nav/needle_state";
+    case Topic::target_prediction: return "nav/target_prediction";
+    case Topic::deformed_surface: return "nav/deformed_surface";
+    case Topic::station_health: return "nav/station_health";
+  }
+  return "nav/unknown";
+}
+
+fdds::DataWriterQos writer_qos(Topic topic, const TopicQosOptions& options) {
+  return endpoint_qos<fdds::DataWriterQos>(topic, options);
+}
+
+fdds::DataReaderQos reader_qos(Topic topic, const TopicQosOptions& options) {
+  return endpoint_qos<fdds::DataReaderQos>(topic, options);
+}
+
+}  // namespace nav::dds

@@ -1,0 +1,125 @@
+#include "nav/tissue/linear_elastic_static.hpp"
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <Eigen/SparseCholesky>
+#include <cmath>
+
+#include "nav/mesh/geometry.hpp"
+#include "nav/tissue/tet_kernels.hpp"
+
+namespace nav {
+namespace {
+
+using Vector6 = Eigen::Matrix<double, 6, 1>;
+
+double von_mises_pa(const Vector6& s) {
+  const double normal = (s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) + (s[2] - s[0]) * (s[2] - s[0]);
+  return std::sqrt(0.5 * normal + 3.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
+}
+
+const ElasticMaterial& material_of(const TetMesh& mesh, std::size_t tet, const StaticLoadCase& load_case) {
+  if (tet < mesh.tet_regions.size()) {
+    for (const auto& [region, material] : load_case.region_materials)
+      if (region == mesh.tet_regions[tet]) return material;
+  }
+  return load_case.default_material;
+}
+
+}  // namespace
+
+Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const StaticLoadCase& load_case) {
+  const auto node_count = static_cast<std::int64_t>(mesh.nodes_m.size());
+  if (load_case.fixed_nodes.empty()) return Error{"no fixed node: the system has rigid motions", "", 0, "fixed_nodes"};
+
+  // Free dof numbering: -1 for fixed components.
+  std::vector<std::int64_t> dof_index(3 * node_count, 0);
+  for (std::int32_t node : load_case.fixed_nodes) {
+    if (node < 0 || node >= node_count)
+      return Error{"node " + std::to_string(node) + " is out of range", "", 0, "fixed_nodes"};
+    for (int c = 0; c < 3; ++c) dof_index[3 * node + c] = -1;
+  }
+  std::int64_t free_dofs = 0;
+  for (auto& index : dof_index)
+    if (index == 0) index = free_dofs++;
+
+  std::vector<Eigen::Triplet<double>> triplets;
+  triplets.reserve(mesh.tets.size() * 144);
+  Eigen::VectorXd force = Eigen::VectorXd::Zero(free_dofs);
+  std::vector<Matrix6x12> stress_from_displacement(mesh.tets.size());
+  std::vector<double> volumes_m3(mesh.tets.size());
+
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    const auto& tet = mesh.tets[e];
+    std::array<Point3, 4> x;
+    for (int a = 0; a < 4; ++a) {
+      if (tet[a] < 0 || tet[a] >= node_count)
+        return Error{"element " + std::to_string(e) + " refers to node " + std::to_string(tet[a]), "", 0, "tets"};
+      x[a] = mesh.nodes_m[tet[a]];
+    }
+    const double volume_m3 = signed_tet_volume_m3(x[0], x[1], x[2], x[3]);
+    if (!(volume_m3 > 0.0))
+      return Error{"element " + std::to_string(e) + " is inverted or flat", "", 0, "tets"};
+    const ElasticMaterial& material = material_of(mesh, e, load_case);
+    const Matrix43 gradients = shape_gradients(x);
+    const LameParameters lame = lame_parameters(material);
+    stress_from_displacement[e].noalias() = elasticity_matrix(lame) * strain_displacement(gradients);
+    volumes_m3[e] = volume_m3;
+    const Matrix12 ke = element_stiffness(gradients, lame, volume_m3);
+    const double nodal_mass_kg = material.density_kg_m3 * volume_m3 / 4.0;
+    for (int a = 0; a < 4; ++a) {
+      for (int i = 0; i < 3; ++i) {
+        const std::int64_t row = dof_index[3 * tet[a] + i];
+        if (row < 0) continue;
+        force[row] += nodal_mass_kg * load_case.gravity_m_s2[i];
+        for (int b_node = 0; b_node < 4; ++b_node)
+          for (int j = 0; j < 3; ++j) {
+            const std::int64_t col = dof_index[3 * tet[b_node] + j];
+            if (col >= 0) triplets.emplace_back(row, col, ke(3 * a + i, 3 * b_node + j));
+          }
+      }
+    }
+  }
+
+  for (const auto& [node, force_n] : load_case.nodal_forces_n) {
+    if (node < 0 || node >= node_count)
+      return Error{"node " + std::to_string(node) + " is out of range", "", 0, "nodal_forces_n"};
+    for (int c = 0; c < 3; ++c)
+      if (dof_index[3 * node + c] >= 0) force[dof_index[3 * node + c]] += force_n[c];
+  }
+
+  Eigen::SparseMatrix<double> stiffness(free_dofs, free_dofs);
+  stiffness.setFromTriplets(triplets.begin(), triplets.end());
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(stiffness);
+  if (solver.info() != Eigen::Success) return Error{"the stiffness matrix could not be factorised", "", 0, "stiffness"};
+  const Eigen::VectorXd u = solver.solve(force);
+
+  StaticSolution solution;
+  solution.free_dofs = free_dofs;
+  const double force_norm = force.norm();
+  solution.relative_residual = force_norm > 0.0 ? (stiffness * u - force).norm() / force_norm : 0.0;
+  solution.displacement_m.assign(node_count, Point3{0.0, 0.0, 0.0});
+  for (std::int64_t n = 0; n < node_count; ++n)
+    for (int c = 0; c < 3; ++c)
+      if (dof_index[3 * n + c] >= 0) solution.displacement_m[n][c] = u[dof_index[3 * n + c]];
+
+  solution.von_mises_stress_pa.resize(mesh.tets.size());
+  solution.nodal_von_mises_stress_pa.assign(node_count, 0.0);
+  std::vector<double> nodal_volume_m3(node_count, 0.0);
+  for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
+    Eigen::Matrix<double, 12, 1> ue;
+    for (int a = 0; a < 4; ++a)
+      for (int c = 0; c < 3; ++c) ue[3 * a + c] = solution.displacement_m[mesh.tets[e][a]][c];
+    const double stress = von_mises_pa(stress_from_displacement[e] * ue);
+    solution.von_mises_stress_pa[e] = stress;
+    for (int a = 0; a < 4; ++a) {
+      solution.nodal_von_mises_stress_pa[mesh.tets[e][a]] += stress * volumes_m3[e];
+      nodal_volume_m3[mesh.tets[e][a]] += volumes_m3[e];
+    }
+  }
+  for (std::int64_t n = 0; n < node_count; ++n)
+    if (nodal_volume_m3[n] > 0.0) solution.nodal_von_mises_stress_pa[n] /= nodal_volume_m3[n];
+  return solution;
+}
+
+}  // namespace nav

@@ -1,0 +1,36 @@
+#pragma once
+// A sparse LDL^T factorisation computed once at init (Eigen's SimplicialLDLT with AMD
+// ordering) and kept as plain arrays, so that step-time solves are allocation-free and
+// visit the factor in a fixed order.
+#include <Eigen/Sparse>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "nav/core/error.hpp"
+
+namespace nav {
+
+/// P A P^T = L D L^T of a symmetric positive definite matrix, for repeated solves.
+class SparseLdlt {
+ public:
+  /// Factors `matrix` (its lower triangle is read). Errors when it is not positive definite;
+  /// `field` names the matrix in the Error.
+  Status factor(const Eigen::SparseMatrix<double>& matrix, const char* field);
+
+  /// Overwrites `rhs` with A^-1 rhs. `work` holds at least size() doubles. No allocation.
+  void solve_in_place(std::span<double> rhs, std::span<double> work) const noexcept;
+
+  std::int64_t size() const { return static_cast<std::int64_t>(diagonal_.size()); }
+  /// Stored entries of L below the diagonal.
+  std::int64_t factor_nonzeros() const { return static_cast<std::int64_t>(values_.size()); }
+
+ private:
+  std::vector<std::int32_t> permutation_;   // row i of A goes to row permutation_[i] of P A P^T
+  std::vector<std::int32_t> column_starts_;  // L in compressed columns, unit diagonal left out
+  std::vector<std::int32_t> rows_;
+  std::vector<double> values_;
+  std::vector<double> diagonal_;
+};
+
+}  // namespace nav

@@ -1,0 +1,68 @@
+#pragma once
+// The St Venant-Kirchhoff law with Picinbono's per-tetrahedron incompressibility penalty, in
+// the gradient form used by the tetrahedral FEM kernels. Picinbono's non-linear tensor-mass
+// (digest 001, eqs. 13-15) is the same element energy V0 W(F) expanded in the nodal
+// displacements, with alpha_j = +grad Lambda_j and the factor V(T) folded in (the two typos of
+// the printed equations); evaluating it through F = sum x_a g_a^T costs a fraction of the 280
+// stored coefficients per tetrahedron. Internal to the tissue models' .cpp files.
+#include <Eigen/Dense>
+#include <cmath>
+
+#include "nav/tissue/elastic_material.hpp"
+
+namespace nav {
+
+/// Green-Lagrange strain E = (F^T F - I) / 2.
+inline Eigen::Matrix3d green_strain(const Eigen::Matrix3d& f) {
+  Eigen::Matrix3d e = 0.5 * (f.transpose() * f);
+  e.diagonal().array() -= 0.5;
+  return e;
+}
+
+/// The cofactor matrix det(F) F^-T = d det(F) / dF.
+inline Eigen::Matrix3d cofactor(const Eigen::Matrix3d& f) {
+  Eigen::Matrix3d c;
+  c.col(0) = f.col(1).cross(f.col(2));
+  c.col(1) = f.col(2).cross(f.col(0));
+  c.col(2) = f.col(0).cross(f.col(1));
+  return c;
+}
+
+/// First Piola-Kirchhoff stress of W = lambda/2 tr(E)^2 + mu E:E + gain |J - 1|^3 / 3, in Pa.
+/// The penalty's force on vertex p, -V0 gain sign(dV) (dV/V0)^2 grad_p V, is Picinbono's
+/// incompressibility force with N_p = grad_p V (area-weighted, so that it derives from a
+/// potential and restores the rest volume in both directions).
+inline Eigen::Matrix3d stvk_stress(const Eigen::Matrix3d& f, const LameParameters& lame, double gain_pa) {
+  const Eigen::Matrix3d e = green_strain(f);
+  Eigen::Matrix3d s = (2.0 * lame.mu_pa) * e;
+  s.diagonal().array() += lame.lambda_pa * e.trace();
+  const double dilation = f.determinant() - 1.0;
+  return f * s + (gain_pa * std::abs(dilation) * dilation) * cofactor(f);
+}
+
+/// Directional derivative of stvk_stress at F along dF: dF S + F dS with dS the material
+/// derivative, plus the penalty's 2 gain |J - 1| (cof F : dF) cof F. The penalty's term in
+/// d(cof F), of order (J - 1)^2, is left out: the tangent stays symmetric.
+inline Eigen::Matrix3d stvk_stress_derivative(const Eigen::Matrix3d& f, const Eigen::Matrix3d& df,
+                                              const LameParameters& lame, double gain_pa) {
+  const Eigen::Matrix3d e = green_strain(f);
+  Eigen::Matrix3d s = (2.0 * lame.mu_pa) * e;
+  s.diagonal().array() += lame.lambda_pa * e.trace();
+  const Eigen::Matrix3d ft_df = f.transpose() * df;
+  const Eigen::Matrix3d de = 0.5 * (ft_df + ft_df.transpose());
+  Eigen::Matrix3d ds = (2.0 * lame.mu_pa) * de;
+  ds.diagonal().array() += lame.lambda_pa * de.trace();
+  const Eigen::Matrix3d c = cofactor(f);
+  const double penalty = 2.0 * gain_pa * std::abs(f.determinant() - 1.0) * (c.array() * df.array()).sum();
+  return df * s + f * ds + penalty * c;
+}
+
+/// Energy density of stvk_stress, in J/m^3.
+inline double stvk_energy_density(const Eigen::Matrix3d& f, const LameParameters& lame, double gain_pa) {
+  const Eigen::Matrix3d e = green_strain(f);
+  const double trace = e.trace();
+  const double dilation = std::abs(f.determinant() - 1.0);
+  return 0.5 * lame.lambda_pa * trace * trace + lame.mu_pa * e.squaredNorm() + gain_pa * dilation * dilation * dilation / 3.0;
+}
+
+}  // namespace nav

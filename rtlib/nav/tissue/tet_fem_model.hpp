@@ -1,0 +1,87 @@
+#pragma once
+// Linear tetrahedral FEM tissue (corotational, or linear for small displacements) with
+// lumped mass, Rayleigh damping, implicit Euler, quasi-static and explicit central
+// difference steps: the workhorse of the tissue ladder. Model/Data: the model is built once
+// and immutable; the data is one arena; step() is noexcept, allocation-free, fixed-cost
+// and bitwise repeatable.
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include "nav/core/arena.hpp"
+#include "nav/core/error.hpp"
+#include "nav/core/health.hpp"
+#include "nav/mesh/tet_mesh.hpp"
+#include "nav/tissue/tissue_scene.hpp"
+
+namespace nav {
+
+namespace detail {
+struct TetFemTables;
+}
+
+/// The immutable part of a tetrahedral FEM tissue: element tensors, masses, supports and
+/// the factorisation of the rest system. Cheap to move, shares its tables when copied.
+class TetFemModel {
+ public:
+  std::int64_t node_count() const;
+  std::int64_t tet_count() const;
+  /// Degrees of freedom left after fixed and prescribed nodes.
+  std::int64_t free_dof_count() const;
+  const TissueSolverOptions& options() const;
+  /// 2 / omega_max of the lumped-mass rest system (power iteration at init): the estimate
+  /// of the largest stable explicit step, in seconds.
+  double stable_step_s() const;
+  /// Entries of the LDL^T factor below the diagonal (0 without one).
+  std::int64_t factor_nonzeros() const;
+  /// Node rest positions, 3 per node, in metres.
+  std::span<const double> rest_positions_m() const;
+  /// Lumped nodal masses in kilograms.
+  std::span<const double> nodal_masses_kg() const;
+
+  const detail::TetFemTables& tables() const { return *tables_; }
+  explicit TetFemModel(std::shared_ptr<const detail::TetFemTables> tables) : tables_(std::move(tables)) {}
+
+ private:
+  std::shared_ptr<const detail::TetFemTables> tables_;
+};
+
+/// The state and workspace of one TetFemModel, carved from one arena at init.
+struct TetFemData {
+  Arena arena;
+  std::span<double> positions_m;      ///< 3 per node
+  std::span<double> velocities_m_s;   ///< 3 per node
+  HealthFlags health;                 ///< raised by steps, cleared by the caller
+  TissueStepReport report;            ///< what the last step did
+  std::int64_t steps = 0;             ///< steps taken (refused steps not counted)
+
+  // Workspace (meaningless between steps).
+  std::span<double> forces_n, rhs, solution, residual, preconditioned, direction, product;
+  std::span<double> backup_positions_m, backup_velocities_m_s, free_work;
+  std::span<double> element_rotations;  ///< 9 per element (column-major 3x3), last good one
+  std::span<double> node_rotations;     ///< 9 per node, for warping
+
+  explicit TetFemData(Arena block) : arena(std::move(block)) {}
+};
+
+/// Builds the model. Errors name the parameter or region at fault: a material out of range,
+/// an element inverted or flat, a node index out of range, a quasi-static or implicit
+/// system left singular, a step that is not positive.
+Result<TetFemModel> make_tet_fem_model(const TetMesh& mesh, const TissueScene& scene, const TissueSolverOptions& options);
+
+/// The data of `model`, at rest with zero velocity.
+Result<TetFemData> make_tet_fem_data(const TetFemModel& model);
+
+/// Advances the tissue by one step of model.options().step_s under `inputs`.
+void step(const TetFemModel& model, TetFemData& data, const TissueInputs& inputs) noexcept;
+
+/// Elastic energy of the current positions, in joules (element rotations recomputed).
+double elastic_energy_j(const TetFemModel& model, const TetFemData& data) noexcept;
+
+/// Kinetic energy 1/2 v^T M v, in joules.
+double kinetic_energy_j(const TetFemModel& model, const TetFemData& data) noexcept;
+
+/// Potential of gravity -sum m g.x, in joules (zero at the origin).
+double gravity_energy_j(const TetFemModel& model, const TetFemData& data) noexcept;
+
+}  // namespace nav

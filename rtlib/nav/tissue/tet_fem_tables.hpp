@@ -1,0 +1,50 @@
+#pragma once
+// The precomputed tables of a TetFemModel, shared by its build, kernels and step. Internal
+// to rtlib/nav/tissue.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "nav/mesh/tet_mesh.hpp"
+#include "nav/tissue/elastic_material.hpp"
+#include "nav/tissue/sparse_ldlt.hpp"
+#include "nav/tissue/tissue_scene.hpp"
+
+namespace nav::detail {
+
+/// What a node's motion is decided by.
+enum class NodeKind : std::uint8_t { free, fixed, prescribed };
+
+/// Per-element, per-node and solver tables of a TetFemModel.
+struct TetFemTables {
+  TissueSolverOptions options;
+  std::int64_t node_count = 0;
+  std::vector<double> rest_m;                 // 3 per node
+  std::vector<double> mass_kg;                // 1 per node
+  std::vector<NodeKind> node_kind;
+  std::vector<std::int32_t> free_index;       // node -> index among free nodes, -1 if constrained
+  std::vector<std::int32_t> free_nodes;       // ascending
+  std::vector<std::int32_t> fixed_nodes, prescribed_nodes, spring_nodes, probe_nodes;
+  std::vector<std::int32_t> traction_nodes;   // ascending, with their share of the loaded area
+  std::vector<double> traction_area_m2;
+  double spring_stiffness_n_m = 0.0;
+  double probe_stiffness_n_m = 0.0;
+  Point3 gravity_m_s2{};
+  std::size_t max_point_forces = 0;
+
+  std::vector<std::array<std::int32_t, 4>> tets;
+  std::vector<double> gradients;              // 12 per element: row a = grad of vertex a, row-major
+  std::vector<double> volume_m3;
+  std::vector<LameParameters> lame;
+
+  // Implicit system A = mass_coefficient M + stiffness_coefficient K + spring_coefficient Ks.
+  double mass_coefficient = 0.0;
+  double stiffness_coefficient = 0.0;
+  double spring_coefficient = 0.0;
+  SparseLdlt factor;                          // of the rest A over free nodes (ldlt_warped)
+  std::vector<double> block_inverse;          // 9 per node: inverse of the rest A's 3x3 block
+  std::vector<double> diagonal_inverse;       // 3 per node: inverse of the rest A's diagonal
+  double stable_step_s = 0.0;
+};
+
+}  // namespace nav::detail

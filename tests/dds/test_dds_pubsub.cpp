@@ -1,0 +1,192 @@
+// Every station topic end to end through DDS in one process: poses into the per-tool
+// inbox, 1 MiB frames into a ring, the core's outputs from the outbox to a display's sinks;
+// and bad samples of each kind dropped at the boundary, counted, and published in health.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "dds_test_samples.hpp"
+#include "nav/dds/dds_node.hpp"
+#include "nav/dds/pose_inbox.hpp"
+#include "nav/dds/station_outbox.hpp"
+
+namespace nav::dds {
+namespace {
+
+using namespace testing;
+constexpr TimeNs kMatchTimeoutNs = 10 * kNsPerSecond;
+
+/// A publishing node and a subscribing node on one domain.
+struct NodePair {
+  std::unique_ptr<DdsNode> writer;
+  std::unique_ptr<DdsNode> reader;
+};
+
+NodePair make_pair(std::uint32_t domain_id) {
+  auto writer = DdsNode::create(local_network(domain_id));
+  auto reader = DdsNode::create(local_network(domain_id));
+  EXPECT_TRUE(writer.ok() && reader.ok());
+  return {std::move(writer).value(), std::move(reader).value()};
+}
+
+TEST(DdsPubSub, PosesReachThePoseInboxStampedAndIntact) {
+  NodePair nodes = make_pair(101);
+  PoseInbox inbox{1, 2};
+  ASSERT_TRUE(nodes.writer->advertise<ToolPose>().ok());
+  ASSERT_TRUE(nodes.reader->subscribe(inbox).ok());
+  ASSERT_TRUE(nodes.writer->wait_for_match(Topic::tool_pose, 1, kMatchTimeoutNs));
+  const MonotonicClock clock;
+  TimeNs sent_ns = 0;
+  ASSERT_TRUE(wait_until([&] {
+    sent_ns = clock.now_ns();
+    nodes.writer->write(make_pose(2, sent_ns));
+    return inbox.update(1);
+  }));
+  const ToolPose& pose = inbox.latest(1);
+  EXPECT_EQ(pose.tool_id, 2u);
+  EXPECT_EQ(pose.orientation_wxyz, make_pose(2, 0).orientation_wxyz);
+  EXPECT_GE(pose.receive_time_ns, pose.source_time_ns);
+  EXPECT_FALSE(inbox.update(0));  // tool 1 never sent
+  EXPECT_EQ(nodes.reader->boundary_counts().non_finite, 0u);
+}
+
+TEST(DdsPubSub, FullSizeFramesReachTheFrameRing) {
+  NodePair nodes = make_pair(102);
+  auto ring = std::make_unique<RingSink<UltrasoundFrame, 4>>();
+  ASSERT_TRUE(nodes.writer->advertise<UltrasoundFrame>().ok());
+  ASSERT_TRUE(nodes.reader->subscribe(*ring).ok());
+  ASSERT_TRUE(nodes.writer->wait_for_match(Topic::ultrasound_frame, 1, kMatchTimeoutNs));
+  auto frame = make_frame(1024, 1024, 1);
+  auto received = std::make_unique<UltrasoundFrame>();
+  ASSERT_TRUE(wait_until([&] {
+    ++frame->source_time_ns;
+    nodes.writer->write(*frame);
+    return ring->try_pop(*received);
+  }));
+  EXPECT_EQ(received->pixel_count(), kMaxFramePixels);
+  EXPECT_EQ(std::memcmp(received->pixels.data(), frame->pixels.data(), kMaxFramePixels), 0);
+  EXPECT_EQ(received->depth_m, frame->depth_m);
+}
+
+TEST(DdsPubSub, OutboxOutputsReachTheDisplayWithHealthCounters) {
+  NodePair nodes = make_pair(103);
+  auto outbox = std::make_unique<StationOutbox>();
+  OutboxPublisher publisher;
+  auto needle = std::make_unique<RingSink<NeedleState, 4>>();
+  auto predictions = std::make_unique<RingSink<TargetPrediction, 4>>();
+  auto surfaces = std::make_unique<RingSink<DeformedSurface, 2>>();
+  auto health = std::make_unique<RingSink<StationHealth, 4>>();
+  ASSERT_TRUE(nodes.writer->advertise<NeedleState>().ok());
+  ASSERT_TRUE(nodes.writer->advertise<TargetPrediction>().ok());
+  ASSERT_TRUE(nodes.writer->advertise<DeformedSurface>().ok());
+  ASSERT_TRUE(nodes.writer->advertise<StationHealth>().ok());
+  // Health is transient-local: published before the display subscribes, it still arrives.
+  ASSERT_TRUE(outbox->health.try_push(make_health(5)));
+  EXPECT_EQ(publisher.publish(*outbox, *nodes.writer), 1u);
+  ASSERT_TRUE(nodes.reader->subscribe(*needle).ok());
+  ASSERT_TRUE(nodes.reader->subscribe(*predictions).ok());
+  ASSERT_TRUE(nodes.reader->subscribe(*surfaces).ok());
+  ASSERT_TRUE(nodes.reader->subscribe(*health).ok());
+  for (const Topic topic : {Topic::needle_state, Topic::target_prediction, Topic::deformed_surface, Topic::station_health}) {
+    ASSERT_TRUE(nodes.writer->wait_for_match(topic, 1, kMatchTimeoutNs)) << topic_name(topic);
+  }
+  StationHealth late_health;
+  ASSERT_TRUE(wait_until([&] { return health->try_pop(late_health); }));
+  EXPECT_EQ(late_health.step_time_max_ns, 420'000);
+
+  ASSERT_TRUE(outbox->needle.try_push(make_needle(32, 10)));
+  ASSERT_TRUE(outbox->predictions.try_push(make_prediction(10)));
+  ASSERT_TRUE(outbox->surfaces.try_push(*make_surface(kMaxSurfaceVertices, 10)));
+  EXPECT_EQ(publisher.publish(*outbox, *nodes.writer), 3u);
+  NeedleState needle_in;
+  TargetPrediction prediction_in;
+  auto surface_in = std::make_unique<DeformedSurface>();
+  ASSERT_TRUE(wait_until([&] { return needle->try_pop(needle_in); }));
+  ASSERT_TRUE(wait_until([&] { return predictions->try_pop(prediction_in); }));
+  ASSERT_TRUE(wait_until([&] { return surfaces->try_pop(*surface_in); }));
+  EXPECT_EQ(needle_in.point_count, 32u);
+  EXPECT_EQ(needle_in.shape_points_m[31], make_needle(32, 10).shape_points_m[31]);
+  EXPECT_EQ(prediction_in.position_m, make_prediction(10).position_m);
+  EXPECT_EQ(surface_in->vertex_count, kMaxSurfaceVertices);
+  EXPECT_EQ(surface_in->vertex_positions_m[kMaxSurfaceVertices - 1],
+            make_surface(kMaxSurfaceVertices, 10)->vertex_positions_m[kMaxSurfaceVertices - 1]);
+}
+
+/// The bad samples of every kind, sent until each is counted; then the station's health
+/// carries the counts to a display.
+TEST(DdsPubSub, BadSamplesAreDroppedCountedAndPublishedInHealth) {
+  NodePair nodes = make_pair(104);
+  DdsNode& tracker = *nodes.writer;
+  DdsNode& station = *nodes.reader;
+  PoseInbox inbox{1};
+  auto frames = std::make_unique<RingSink<UltrasoundFrame, 2>>();
+  ASSERT_TRUE(tracker.advertise<ToolPose>().ok());
+  ASSERT_TRUE(tracker.advertise<UltrasoundFrame>().ok());
+  ASSERT_TRUE(station.subscribe(inbox).ok());
+  ASSERT_TRUE(station.subscribe(*frames).ok());
+  ASSERT_TRUE(tracker.wait_for_match(Topic::tool_pose, 1, kMatchTimeoutNs));
+  ASSERT_TRUE(tracker.wait_for_match(Topic::ultrasound_frame, 1, kMatchTimeoutNs));
+
+  TimeNs time_ns = 1'000'000;
+  ToolPose nan_pose = make_pose(1, 0);
+  nan_pose.position_m[0] = std::numeric_limits<double>::quiet_NaN();
+  ToolPose tilted = make_pose(1, 0);
+  tilted.orientation_wxyz = {0.9, 0.1, 0.0, 0.0};
+  auto frame = make_frame(64, 64, 0);
+  frame->width_px = 2048;  // 2048 x 1024 announced, at most 1 MiB sent: sizes disagree
+  frame->height_px = 1024;
+  const auto sent_until_counted = [&](auto send, auto counted) {
+    return wait_until([&] {
+      send();
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      return counted(station.boundary_counts()) >= 1;
+    });
+  };
+  EXPECT_TRUE(sent_until_counted([&] { nan_pose.source_time_ns = ++time_ns; tracker.write(nan_pose); },
+                                 [](const BoundaryCounts& c) { return c.non_finite; }));
+  EXPECT_TRUE(sent_until_counted([&] { tilted.source_time_ns = ++time_ns; tracker.write(tilted); },
+                                 [](const BoundaryCounts& c) { return c.non_unit_quaternion; }));
+  EXPECT_TRUE(sent_until_counted([&] { tracker.write(make_pose(9, ++time_ns)); },
+                                 [](const BoundaryCounts& c) { return c.unknown_tool; }));
+  EXPECT_TRUE(sent_until_counted(
+      [&] {
+        time_ns += 10;
+        tracker.write(make_pose(1, time_ns));
+        tracker.write(make_pose(1, time_ns - 5));
+      },
+      [](const BoundaryCounts& c) { return c.time_backwards; }));
+  EXPECT_TRUE(sent_until_counted([&] { frame->source_time_ns = ++time_ns; tracker.write(*frame); },
+                                 [](const BoundaryCounts& c) { return c.wrong_size; }));
+  // Nothing bad got through: the inbox holds a good pose, the frame ring nothing.
+  ASSERT_TRUE(inbox.update(0));
+  EXPECT_TRUE(std::isfinite(inbox.latest(0).position_m[0]));
+  EXPECT_EQ(inbox.latest(0).orientation_wxyz, make_pose(1, 0).orientation_wxyz);
+  auto popped = std::make_unique<UltrasoundFrame>();
+  EXPECT_FALSE(frames->try_pop(*popped));
+
+  // The counts leave in the station's health.
+  auto display = DdsNode::create(local_network(104));
+  ASSERT_TRUE(display.ok());
+  auto health = std::make_unique<RingSink<StationHealth, 4>>();
+  auto outbox = std::make_unique<StationOutbox>();
+  OutboxPublisher publisher;
+  ASSERT_TRUE(station.advertise<StationHealth>().ok());
+  ASSERT_TRUE(display.value()->subscribe(*health).ok());
+  ASSERT_TRUE(display.value()->wait_for_match(Topic::station_health, 1, kMatchTimeoutNs));
+  ASSERT_TRUE(outbox->health.try_push(make_health(time_ns)));
+  publisher.publish(*outbox, station);
+  StationHealth received;
+  ASSERT_TRUE(wait_until([&] { return health->try_pop(received); }));
+  const BoundaryCounts counts = station.boundary_counts();
+  EXPECT_GE(received.boundary.non_finite, 1u);
+  EXPECT_GE(received.boundary.non_unit_quaternion, 1u);
+  EXPECT_GE(received.boundary.unknown_tool, 1u);
+  EXPECT_GE(received.boundary.time_backwards, 1u);
+  EXPECT_GE(received.boundary.wrong_size, 1u);
+  EXPECT_LE(received.boundary.non_finite, counts.non_finite);
+  EXPECT_GE(received.boundary.accepted, 1u);
+}
+
+}  // namespace
+}  // namespace nav::dds

@@ -1,0 +1,139 @@
+// The boundary's value checks: each kind of bad sample is named by its fault, good samples
+// pass, time order is kept per stream and per tool, unknown tools are refused, and the
+// counters add up by reason.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "dds_test_samples.hpp"
+#include "nav/dds/pose_inbox.hpp"
+#include "nav/dds/sample_checks.hpp"
+
+namespace nav::dds {
+namespace {
+
+using namespace testing;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+TEST(DdsSampleChecks, ValidSamplesPass) {
+  EXPECT_EQ(check_sample(make_pose(1, 10)), SampleFault::none);
+  EXPECT_EQ(check_sample(*make_frame(640, 480, 10)), SampleFault::none);
+  EXPECT_EQ(check_sample(make_needle(20, 10)), SampleFault::none);
+  EXPECT_EQ(check_sample(make_prediction(10)), SampleFault::none);
+  EXPECT_EQ(check_sample(*make_surface(100, 10)), SampleFault::none);
+  EXPECT_EQ(check_sample(make_health(10)), SampleFault::none);
+}
+
+TEST(DdsSampleChecks, NaNOrInfinityAnywhereInAPoseIsNonFinite) {
+  ToolPose pose = make_pose(1, 10);
+  pose.position_m[1] = kNaN;
+  EXPECT_EQ(check_sample(pose), SampleFault::non_finite);
+  pose = make_pose(1, 10);
+  pose.orientation_wxyz[3] = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(check_sample(pose), SampleFault::non_finite);
+  pose = make_pose(1, 10);
+  pose.position_covariance_m2[4] = kNaN;
+  EXPECT_EQ(check_sample(pose), SampleFault::non_finite);
+  pose = make_pose(1, 10);
+  pose.quality = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(check_sample(pose), SampleFault::non_finite);
+}
+
+TEST(DdsSampleChecks, QuaternionMustBeUnitWithinTolerance) {
+  ToolPose pose = make_pose(1, 10);
+  pose.orientation_wxyz = {1.0, 0.0, 0.0, 0.0};
+  EXPECT_EQ(check_sample(pose), SampleFault::none);
+  pose.orientation_wxyz = {1.0 + 0.5 * kQuaternionNormTolerance, 0.0, 0.0, 0.0};
+  EXPECT_EQ(check_sample(pose), SampleFault::none);
+  pose.orientation_wxyz = {1.0 + 2.0 * kQuaternionNormTolerance, 0.0, 0.0, 0.0};
+  EXPECT_EQ(check_sample(pose), SampleFault::non_unit_quaternion);
+  pose.orientation_wxyz = {0.0, 0.0, 0.0, 0.0};
+  EXPECT_EQ(check_sample(pose), SampleFault::non_unit_quaternion);
+  pose.orientation_wxyz = {0.5, 0.5, 0.5, 0.6};
+  EXPECT_EQ(check_sample(pose), SampleFault::non_unit_quaternion);
+}
+
+TEST(DdsSampleChecks, FrameSizesAndGeometryAreChecked) {
+  auto frame = make_frame(640, 480, 10);
+  frame->width_px = 0;
+  EXPECT_EQ(check_sample(*frame), SampleFault::wrong_size);
+  frame->width_px = 2048;
+  frame->height_px = 1024;
+  EXPECT_EQ(check_sample(*frame), SampleFault::wrong_size);
+  frame = make_frame(640, 480, 10);
+  frame->pixel_spacing_m[0] = 0.0;
+  EXPECT_EQ(check_sample(*frame), SampleFault::wrong_size);
+  frame = make_frame(640, 480, 10);
+  frame->depth_m = kNaN;
+  EXPECT_EQ(check_sample(*frame), SampleFault::non_finite);
+}
+
+TEST(DdsSampleChecks, NonFiniteOutputsAreRefused) {
+  NeedleState needle = make_needle(10, 1);
+  needle.shape_points_m[9][2] = kNaN;
+  EXPECT_EQ(check_sample(needle), SampleFault::non_finite);
+  needle = make_needle(10, 1);
+  needle.shape_points_m[10][2] = kNaN;  // beyond point_count: not part of the sample
+  EXPECT_EQ(check_sample(needle), SampleFault::none);
+  needle.point_count = kMaxNeedlePoints + 1;
+  EXPECT_EQ(check_sample(needle), SampleFault::wrong_size);
+
+  TargetPrediction prediction = make_prediction(1);
+  prediction.covariance_m2[8] = kNaN;
+  EXPECT_EQ(check_sample(prediction), SampleFault::non_finite);
+
+  auto surface = make_surface(10, 1);
+  surface->vertex_positions_m[3][0] = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(check_sample(*surface), SampleFault::non_finite);
+}
+
+TEST(DdsSampleChecks, StreamOrderRefusesEarlierTimesOnly) {
+  StreamOrder order;
+  EXPECT_EQ(order.advance(100), SampleFault::none);
+  EXPECT_EQ(order.advance(100), SampleFault::none);
+  EXPECT_EQ(order.advance(99), SampleFault::time_backwards);
+  EXPECT_EQ(order.advance(101), SampleFault::none);
+  EXPECT_EQ(order.advance(100), SampleFault::time_backwards);
+}
+
+TEST(DdsSampleChecks, PoseInboxRefusesUnknownToolsAndKeepsTimeOrderPerTool) {
+  PoseInbox inbox{3, 8};
+  EXPECT_EQ(inbox.tool_count(), 2u);
+  EXPECT_EQ(inbox.slot_of(8), 1);
+  EXPECT_EQ(inbox.slot_of(4), -1);
+  EXPECT_EQ(inbox.offer(make_pose(4, 10)), SampleFault::unknown_tool);
+  EXPECT_EQ(inbox.offer(make_pose(3, 200)), SampleFault::none);
+  EXPECT_EQ(inbox.offer(make_pose(8, 100)), SampleFault::none);  // another tool: its own order
+  EXPECT_EQ(inbox.offer(make_pose(3, 150)), SampleFault::time_backwards);
+  ASSERT_TRUE(inbox.update(0));
+  EXPECT_EQ(inbox.latest(0).source_time_ns, 200);
+  EXPECT_FALSE(inbox.update(0));
+  ASSERT_TRUE(inbox.update(1));
+  EXPECT_EQ(inbox.latest(1).source_time_ns, 100);
+}
+
+TEST(DdsSampleChecks, CountersAddUpByReason) {
+  BoundaryCounters counters;
+  counters.count(SampleFault::none);
+  counters.count(SampleFault::none);
+  counters.count(SampleFault::wrong_size);
+  counters.count(SampleFault::non_finite);
+  counters.count(SampleFault::non_unit_quaternion);
+  counters.count(SampleFault::time_backwards);
+  counters.count(SampleFault::time_backwards);
+  counters.count(SampleFault::unknown_tool);
+  counters.count(SampleFault::buffer_full);
+  const BoundaryCounts counts = counters.snapshot();
+  EXPECT_EQ(counts.accepted, 2u);
+  EXPECT_EQ(counts.wrong_size, 1u);
+  EXPECT_EQ(counts.non_finite, 1u);
+  EXPECT_EQ(counts.non_unit_quaternion, 1u);
+  EXPECT_EQ(counts.time_backwards, 2u);
+  EXPECT_EQ(counts.unknown_tool, 1u);
+  EXPECT_EQ(counts.buffer_full, 1u);
+  EXPECT_STREQ(sample_fault_name(SampleFault::non_unit_quaternion), "non_unit_quaternion");
+}
+
+}  // namespace
+}  // namespace nav::dds

@@ -1,0 +1,80 @@
+#pragma once
+// Shared inputs of the tissue tests: structured box meshes, node and face selections on
+// planes, and a hash of a model's state for bitwise repeatability checks.
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <vector>
+
+#include "nav/mesh/tet_mesh.hpp"
+#include "nav/mesh/validation.hpp"
+#include "nav/mesher/kuhn_lattice.hpp"
+
+namespace nav::testing {
+
+/// The box [0, size] meshed by the structured Kuhn lattice of spacing element_size_m (which
+/// must divide every side), so that its faces are exactly flat.
+inline TetMesh box_mesh(const Point3& size_m, double element_size_m) {
+  const KuhnLattice lattice = lattice_over({{0.0, 0.0, 0.0}, size_m}, element_size_m);
+  const std::array<std::int64_t, 3> inner{std::llround(size_m[0] / element_size_m),
+                                          std::llround(size_m[1] / element_size_m),
+                                          std::llround(size_m[2] / element_size_m)};
+  TetMesh mesh;
+  std::vector<std::int32_t> compact(static_cast<std::size_t>(lattice.node_count()), -1);
+  for (std::int64_t k = 1; k <= inner[2]; ++k)
+    for (std::int64_t j = 1; j <= inner[1]; ++j)
+      for (std::int64_t i = 1; i <= inner[0]; ++i)
+        for (int t = 0; t < KuhnLattice::kTetsPerCube; ++t) {
+          std::array<std::int32_t, 4> tet{};
+          const auto lattice_nodes = lattice.tet_nodes(i, j, k, t);
+          for (int a = 0; a < 4; ++a) {
+            auto& index = compact[static_cast<std::size_t>(lattice_nodes[a])];
+            if (index < 0) {
+              index = static_cast<std::int32_t>(mesh.nodes_m.size());
+              mesh.nodes_m.push_back(lattice.node_position_m(lattice_nodes[a]));
+            }
+            tet[a] = index;
+          }
+          mesh.tets.push_back(tet);
+        }
+  return mesh;
+}
+
+/// Nodes whose coordinate `axis` equals value_m (to 1 nm).
+inline std::vector<std::int32_t> nodes_where(const TetMesh& mesh, int axis, double value_m) {
+  std::vector<std::int32_t> nodes;
+  for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n)
+    if (std::abs(mesh.nodes_m[n][axis] - value_m) < 1e-9) nodes.push_back(static_cast<std::int32_t>(n));
+  return nodes;
+}
+
+/// Boundary triangles (mesh node indices, outward) lying in the plane coordinate `axis` = value_m.
+inline std::vector<std::array<std::int32_t, 3>> faces_where(const TetMesh& mesh, int axis, double value_m) {
+  const TetMeshBoundary boundary = extract_boundary(mesh);
+  std::vector<std::array<std::int32_t, 3>> faces;
+  for (const auto& triangle : boundary.surface.triangles) {
+    bool on_plane = true;
+    std::array<std::int32_t, 3> nodes{};
+    for (int a = 0; a < 3; ++a) {
+      on_plane = on_plane && std::abs(boundary.surface.vertices_m[triangle[a]][axis] - value_m) < 1e-9;
+      nodes[a] = boundary.mesh_node_of_vertex[triangle[a]];
+    }
+    if (on_plane) faces.push_back(nodes);
+  }
+  return faces;
+}
+
+/// FNV-1a over the bytes of the values: equal hashes mean bitwise-equal states.
+inline std::uint64_t state_hash(std::span<const double> a, std::span<const double> b) {
+  std::uint64_t hash = 1469598103934665603ull;
+  for (std::span<const double> values : {a, b})
+    for (double value : values) {
+      unsigned char bytes[sizeof(double)];
+      std::memcpy(bytes, &value, sizeof(double));
+      for (unsigned char byte : bytes) hash = (hash ^ byte) * 1099511628211ull;
+    }
+  return hash;
+}
+
+}  // namespace nav::testing
