@@ -1,15 +1,17 @@
-// navbench: measurements of the station's plumbing, written as JSON for the records.
+// navbench: measurements of the station's plumbing and models, written as JSON for the records.
 #include <cstdio>
 #include <string>
 #include <vector>
 
+#include "bench_full.hpp"
 #include "dds_bench.hpp"
 
 namespace {
 
 constexpr const char* kUsage =
     "usage:\n"
-    "  navbench dds --json FILE [--domain D] [--pose-samples N] [--frame-samples N]\n";
+    "  navbench dds --json FILE [--domain D] [--pose-samples N] [--frame-samples N]\n"
+    "  navbench full --json FILE [--quick]\n";
 
 }  // namespace
 
@@ -19,6 +21,7 @@ int main(int argc, char** argv) {
     const std::vector<std::string> rest(args.begin() + 1, args.end());
     if (args[0] == "dds") return navbench::run_dds_bench(rest);
     if (args[0] == "dds-peer") return navbench::run_dds_peer(rest);
+    if (args[0] == "full") return navbench::run_full_bench(rest);
   }
   std::fputs(kUsage, stderr);
   return 2;

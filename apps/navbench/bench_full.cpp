@@ -1,0 +1,320 @@
+// navbench full: step time and error of every full-order tissue model on liver meshes of
+// about 1k, 5k and 22k elements, against the neo-Hookean reference on two scenes (gravity; a
+// probe pressing 2 cm), written as JSON records plus an SVG plot of error against step time.
+// --quick runs the 1k mesh only (for ctest); the full run takes some minutes.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "bench_full.hpp"
+#include "nav/mesh/geometry.hpp"
+#include "nav/mesh/load_mesh.hpp"
+#include "nav/mesh/validation.hpp"
+#include "nav/mesher/mesher.hpp"
+#include "nav/mesher/surface_domain.hpp"
+#include "nav/tissue/mass_spring_model.hpp"
+#include "nav/tissue/neo_hookean_static.hpp"
+#include "nav/tissue/tet_fem_model.hpp"
+
+namespace {
+
+using nav::ElementLaw;
+using nav::ElementRotation;
+using nav::Integrator;
+using nav::operator-;
+using nav::operator*;
+
+/// Simulated time each model gets to settle, in seconds, and its mass damping.
+constexpr double kSettleS = 1.0;
+constexpr double kDampingPerS = 40.0;
+
+std::string liver_dir() {
+  const std::string here = __FILE__;
+  return here.substr(0, here.rfind('/')) + "/../../../shared/data/liver/";
+}
+
+nav::TetMesh liver_mesh(int tet_count) {
+  if (tet_count >= 20000) return nav::load_tet_mesh(liver_dir() + "liverFine.vtu", nav::LengthUnit::centimetre).value();
+  const nav::TriSurface surface = nav::load_surface(liver_dir() + "liver-smoothUV.obj", nav::LengthUnit::centimetre).value();
+  nav::MesherOptions options;
+  options.element_size_m = nav::element_size_for_tet_count_m(nav::enclosed_volume_m3(surface), tet_count);
+  return nav::make_tet_mesh(nav::SurfaceDomain(surface), options).value().mesh;
+}
+
+/// One liver scene and its loads: the anchor's held box (or the 20 nodes nearest its centre).
+struct LiverScene {
+  std::string name;
+  nav::TissueScene scene;
+  nav::TissueInputs inputs;  ///< at the end of the ramp
+};
+
+std::vector<std::int32_t> nearest_nodes(const nav::TetMesh& mesh, const nav::Point3& centre, std::size_t count,
+                                        const std::vector<std::int32_t>& among) {
+  std::vector<std::pair<double, std::int32_t>> by_distance;
+  for (std::int32_t n : among) by_distance.emplace_back(nav::norm(mesh.nodes_m[static_cast<std::size_t>(n)] - centre), n);
+  std::sort(by_distance.begin(), by_distance.end());
+  std::vector<std::int32_t> nodes;
+  for (std::size_t k = 0; k < std::min(count, by_distance.size()); ++k) nodes.push_back(by_distance[k].second);
+  std::sort(nodes.begin(), nodes.end());
+  return nodes;
+}
+
+std::vector<LiverScene> liver_scenes(const nav::TetMesh& mesh) {
+  nav::TissueScene base;
+  base.default_material = {5000.0, 0.45, 1060.0};
+  std::vector<std::int32_t> all(mesh.nodes_m.size());
+  for (std::size_t n = 0; n < all.size(); ++n) all[n] = static_cast<std::int32_t>(n);
+  for (std::int32_t n : all) {
+    const nav::Point3& p = mesh.nodes_m[static_cast<std::size_t>(n)];
+    if (p[0] >= 0.0 && p[0] <= 0.02 && p[1] >= 0.03 && p[1] <= 0.05 && p[2] >= -0.01 && p[2] <= 0.02) base.fixed_nodes.push_back(n);
+  }
+  if (base.fixed_nodes.size() < 20) base.fixed_nodes = nearest_nodes(mesh, {0.01, 0.04, 0.005}, 20, all);
+  LiverScene gravity{"gravity", base, {}};
+  gravity.scene.gravity_m_s2 = {0.0, -9.81, 0.0};
+  // The probe: the surface patch of radius 1 cm around the surface point farthest from the
+  // held box, pushed 2 cm towards the box (a rigid probe with stick contact).
+  const nav::Point3 held_centre{0.01, 0.04, 0.005};
+  const std::vector<std::int32_t> surface = nav::extract_boundary(mesh).mesh_node_of_vertex;
+  std::int32_t tip = surface.front();
+  for (std::int32_t n : surface)
+    if (nav::norm(mesh.nodes_m[static_cast<std::size_t>(n)] - held_centre) >
+        nav::norm(mesh.nodes_m[static_cast<std::size_t>(tip)] - held_centre))
+      tip = n;
+  const nav::Point3 towards = held_centre - mesh.nodes_m[static_cast<std::size_t>(tip)];
+  LiverScene probe{"probe_2cm", base, {}};
+  probe.scene.gravity_m_s2 = {0.0, 0.0, 0.0};
+  for (std::int32_t n : surface)
+    if (nav::norm(mesh.nodes_m[static_cast<std::size_t>(n)] - mesh.nodes_m[static_cast<std::size_t>(tip)]) < 0.01)
+      probe.scene.prescribed_nodes.push_back(n);
+  std::sort(probe.scene.prescribed_nodes.begin(), probe.scene.prescribed_nodes.end());
+  probe.inputs.prescribed_displacement_m = (0.02 / nav::norm(towards)) * towards;
+  return {gravity, probe};
+}
+
+/// A real-time model under test.
+struct Case {
+  std::string model, integrator;
+  nav::TissueSolverOptions options;  ///< unused by the mass-spring model
+  bool mass_spring = false;
+};
+
+std::vector<Case> cases() {
+  std::vector<Case> all;
+  const auto fem = [&](const char* model, const char* integrator, ElementLaw law, ElementRotation rotation,
+                       Integrator scheme, double gain_pa, int cg_iterations) {
+    nav::TissueSolverOptions o;
+    o.law = law;
+    o.rotation = rotation;
+    o.integrator = scheme;
+    o.incompressibility_gain_pa = gain_pa;
+    o.cg_iterations = cg_iterations;
+    o.rayleigh_mass_per_s = kDampingPerS;
+    all.push_back({model, integrator, o, false});
+  };
+  fem("linear", "implicit_euler", ElementLaw::linear_elastic, ElementRotation::none, Integrator::implicit_euler, 0.0, 1);
+  fem("linear", "explicit_central_difference", ElementLaw::linear_elastic, ElementRotation::none,
+      Integrator::explicit_central_difference, 0.0, 1);
+  fem("corotational", "implicit_euler", ElementLaw::linear_elastic, ElementRotation::corotational, Integrator::implicit_euler, 0.0, 1);
+  fem("corotational", "explicit_central_difference", ElementLaw::linear_elastic, ElementRotation::corotational,
+      Integrator::explicit_central_difference, 0.0, 1);
+  fem("stvk", "implicit_euler", ElementLaw::st_venant_kirchhoff, ElementRotation::corotational, Integrator::implicit_euler, 0.0, 3);
+  fem("stvk_penalty", "implicit_euler", ElementLaw::st_venant_kirchhoff, ElementRotation::corotational,
+      Integrator::implicit_euler, 1.0e5, 3);
+  fem("stvk_penalty", "explicit_central_difference", ElementLaw::st_venant_kirchhoff, ElementRotation::none,
+      Integrator::explicit_central_difference, 1.0e5, 1);
+  all.push_back({"mass_spring_volume", "explicit_central_difference", {}, true});
+  return all;
+}
+
+struct Record {
+  std::string model, integrator, scene;
+  std::int64_t tets = 0;
+  double step_us_median = 0.0, step_us_p99 = 0.0, error_rms_m = 0.0, error_max_m = 0.0, volume_change_pct = 0.0;
+  int steps = 0;
+  bool healthy = true;
+};
+
+double mesh_volume_m3(const nav::TetMesh& mesh, std::span<const double> x) {
+  double volume_m3 = 0.0;
+  const auto at = [&](std::int32_t n) {
+    const std::size_t i = 3 * static_cast<std::size_t>(n);
+    return nav::Point3{x[i], x[i + 1], x[i + 2]};
+  };
+  for (const auto& t : mesh.tets) volume_m3 += nav::signed_tet_volume_m3(at(t[0]), at(t[1]), at(t[2]), at(t[3]));
+  return volume_m3;
+}
+
+/// Runs `steps` steps of `advance` (which gets the ramp fraction) and times each one.
+std::vector<double> timed_steps(int steps, const std::function<void(double)>& advance) {
+  std::vector<double> step_us;
+  for (int s = 0; s < steps; ++s) {
+    const double ramp = std::min(1.0, 2.0 * (s + 1) / steps);
+    const auto start = std::chrono::steady_clock::now();
+    advance(ramp);
+    step_us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count());
+  }
+  std::sort(step_us.begin(), step_us.end());
+  return step_us;
+}
+
+nav::TissueInputs ramped(const nav::TissueInputs& full, double fraction) {
+  nav::TissueInputs inputs = full;
+  for (int c = 0; c < 3; ++c) inputs.prescribed_displacement_m[c] *= fraction;
+  return inputs;
+}
+
+Record run_case(const Case& c, const nav::TetMesh& mesh, const LiverScene& scene, std::span<const double> reference) {
+  Record record{c.model, c.integrator, scene.name, static_cast<std::int64_t>(mesh.tets.size())};
+  std::vector<double> step_us, x;
+  if (c.mass_spring) {
+    nav::MassSpringOptions o;
+    o.damping_per_s = kDampingPerS;
+    o.step_s = 0.8 * nav::make_mass_spring_model(mesh, scene.scene, o).value().stable_step_s();
+    const nav::MassSpringModel model = nav::make_mass_spring_model(mesh, scene.scene, o).value();
+    auto data = nav::make_mass_spring_data(model).value();
+    record.steps = static_cast<int>(std::ceil(kSettleS / o.step_s));
+    step_us = timed_steps(record.steps, [&](double f) { nav::step(model, data, ramped(scene.inputs, f)); });
+    x.assign(data.positions_m.begin(), data.positions_m.end());
+    record.healthy = data.health.healthy();
+  } else {
+    nav::TissueSolverOptions o = c.options;
+    if (o.integrator == Integrator::explicit_central_difference)
+      o.step_s = 0.8 * nav::make_tet_fem_model(mesh, scene.scene, o).value().stable_step_s();
+    const nav::TetFemModel model = nav::make_tet_fem_model(mesh, scene.scene, o).value();
+    auto data = nav::make_tet_fem_data(model).value();
+    record.steps = static_cast<int>(std::ceil(kSettleS / o.step_s));
+    step_us = timed_steps(record.steps, [&](double f) { nav::step(model, data, ramped(scene.inputs, f)); });
+    x.assign(data.positions_m.begin(), data.positions_m.end());
+    record.healthy = !data.health.has(nav::HealthFlag::non_finite_state) && !data.health.has(nav::HealthFlag::inverted_element);
+  }
+  record.step_us_median = step_us[step_us.size() / 2];
+  record.step_us_p99 = step_us[std::min(step_us.size() - 1, step_us.size() * 99 / 100)];
+  double sum_m2 = 0.0;
+  for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n) {
+    double d2 = 0.0;
+    for (int i = 0; i < 3; ++i) d2 += (x[3 * n + i] - reference[3 * n + i]) * (x[3 * n + i] - reference[3 * n + i]);
+    sum_m2 += d2;
+    record.error_max_m = std::max(record.error_max_m, std::sqrt(d2));
+  }
+  record.error_rms_m = std::sqrt(sum_m2 / static_cast<double>(mesh.nodes_m.size()));
+  const double rest_m3 = nav::total_volume_m3(mesh);
+  record.volume_change_pct = 100.0 * (mesh_volume_m3(mesh, x) - rest_m3) / rest_m3;
+  return record;
+}
+
+void write_json(const std::string& path, const std::vector<Record>& records) {
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (!file) return;
+  std::fputs("[\n", file);
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    const Record& r = records[k];
+    std::fprintf(file,
+                 "  {\"model\": \"%s\", \"tetrahedra\": %lld, \"integrator\": \"%s\", \"scene\": \"%s\", "
+                 "\"step_us_median\": %.1f, \"step_us_p99\": %.1f, \"error_rms_m\": %.4e, \"error_max_m\": %.4e, "
+                 "\"volume_change_pct\": %.4f, \"steps\": %d, \"healthy\": %s}%s\n",
+                 r.model.c_str(), static_cast<long long>(r.tets), r.integrator.c_str(), r.scene.c_str(), r.step_us_median,
+                 r.step_us_p99, r.error_rms_m, r.error_max_m, r.volume_change_pct, r.steps, r.healthy ? "true" : "false",
+                 k + 1 < records.size() ? "," : "");
+  }
+  std::fputs("]\n", file);
+  std::fclose(file);
+}
+
+/// Log-log scatter of error_rms_m against step_us_median, one colour per model, circles for
+/// the gravity scene and squares for the probe.
+void write_svg(const std::string& path, const std::vector<Record>& records) {
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (!file) return;
+  const double width = 900, height = 600, left = 80, bottom = 60, right = 260, top = 30;
+  const double x_lo = 0.0, x_hi = 6.0, y_lo = -8.0, y_hi = -1.0;  // log10 of us and m
+  const auto px = [&](double us) { return left + (std::log10(std::max(us, 1.0)) - x_lo) / (x_hi - x_lo) * (width - left - right); };
+  const auto py = [&](double m) {
+    return top + (y_hi - std::log10(std::max(m, 1e-8))) / (y_hi - y_lo) * (height - top - bottom);
+  };
+  const std::vector<std::string> models{"linear", "corotational", "stvk", "stvk_penalty", "mass_spring_volume"};
+  const char* colours[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e"};
+  std::fprintf(file, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" font-family=\"sans-serif\" font-size=\"12\">\n", width, height);
+  std::fprintf(file, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n");
+  for (int d = 0; d <= 6; ++d)
+    std::fprintf(file, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">1e%d us</text>\n",
+                 px(std::pow(10.0, d)), top, px(std::pow(10.0, d)), height - bottom, px(std::pow(10.0, d)), height - bottom + 18, d);
+  for (int d = -8; d <= -1; ++d)
+    std::fprintf(file, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">1e%d m</text>\n",
+                 left, py(std::pow(10.0, d)), width - right, py(std::pow(10.0, d)), left - 6, py(std::pow(10.0, d)) + 4, d);
+  std::fprintf(file, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">median step time (log)</text>\n", (left + width - right) / 2, height - 20);
+  std::fprintf(file, "<text x=\"16\" y=\"%.1f\" transform=\"rotate(-90 16 %.1f)\" text-anchor=\"middle\">RMS error vs neo-Hookean (log)</text>\n",
+               (top + height - bottom) / 2, (top + height - bottom) / 2);
+  for (const Record& r : records) {
+    const std::size_t m = static_cast<std::size_t>(std::find(models.begin(), models.end(), r.model) - models.begin());
+    const char* colour = colours[std::min<std::size_t>(m, 4)];
+    const double cx = px(r.step_us_median), cy = py(r.error_rms_m);
+    if (r.scene == "gravity")
+      std::fprintf(file, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\"><title>%s %s %lld tets</title></circle>\n", cx, cy, colour,
+                   r.model.c_str(), r.integrator.c_str(), static_cast<long long>(r.tets));
+    else
+      std::fprintf(file, "<rect x=\"%.1f\" y=\"%.1f\" width=\"9\" height=\"9\" fill=\"%s\"><title>%s %s %lld tets</title></rect>\n", cx - 4.5,
+                   cy - 4.5, colour, r.model.c_str(), r.integrator.c_str(), static_cast<long long>(r.tets));
+  }
+  for (std::size_t m = 0; m < models.size(); ++m)
+    std::fprintf(file, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\"/><text x=\"%.1f\" y=\"%.1f\">%s</text>\n", width - right + 20,
+                 top + 20 + 20.0 * static_cast<double>(m), colours[m], width - right + 32, top + 24 + 20.0 * static_cast<double>(m),
+                 models[m].c_str());
+  std::fprintf(file, "<text x=\"%.1f\" y=\"%.1f\">circle: gravity, square: probe 2 cm</text>\n</svg>\n", width - right + 20,
+               top + 24 + 20.0 * static_cast<double>(models.size()));
+  std::fclose(file);
+}
+
+}  // namespace
+
+/// Entry point of "navbench full --json FILE [--quick]".
+namespace navbench {
+
+int run_full_bench(const std::vector<std::string>& args) {
+  std::string json_path;
+  bool quick = false;
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    if (args[k] == "--json" && k + 1 < args.size()) json_path = args[++k];
+    else if (args[k] == "--quick") quick = true;
+  }
+  if (json_path.empty()) {
+    std::fputs("usage: navbench full --json FILE [--quick]\n", stderr);
+    return 2;
+  }
+  std::vector<Record> records;
+  const std::vector<int> sizes = quick ? std::vector<int>{1000} : std::vector<int>{1000, 5000, 22019};
+  for (int size : sizes) {
+    const nav::TetMesh mesh = liver_mesh(size);
+    for (const LiverScene& scene : liver_scenes(mesh)) {
+      const auto start = std::chrono::steady_clock::now();
+      nav::NeoHookeanOptions reference_options;
+      reference_options.load_increments = 10;
+      const auto reference = nav::solve_neo_hookean_static(mesh, scene.scene, scene.inputs, {}, reference_options);
+      if (!reference.ok()) {
+        std::fprintf(stderr, "reference %s on %zu tets: %s\n", scene.name.c_str(), mesh.tets.size(),
+                     reference.error().describe().c_str());
+        return 1;
+      }
+      const double reference_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      std::fprintf(stderr, "%zu tets, %s: neo-Hookean reference in %.1f s (%d Newton iterations)\n", mesh.tets.size(),
+                   scene.name.c_str(), reference_s, reference.value().newton_iterations);
+      for (const Case& c : cases()) {
+        if (quick && c.integrator == "explicit_central_difference" && !c.mass_spring) continue;
+        records.push_back(run_case(c, mesh, scene, reference.value().positions_m));
+        const Record& r = records.back();
+        std::fprintf(stderr, "  %-18s %-28s %7.0f us (p99 %7.0f)  rms %.2e m  max %.2e m  dV %+.3f %%%s\n", r.model.c_str(),
+                     r.integrator.c_str(), r.step_us_median, r.step_us_p99, r.error_rms_m, r.error_max_m, r.volume_change_pct,
+                     r.healthy ? "" : "  (flagged)");
+      }
+    }
+  }
+  write_json(json_path, records);
+  const std::size_t dot = json_path.rfind('.');
+  write_svg((dot == std::string::npos ? json_path : json_path.substr(0, dot)) + ".svg", records);
+  return 0;
+}
+
+}  // namespace navbench
