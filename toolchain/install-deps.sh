@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Installs the build and runtime dependencies from Debian bookworm's packages.
 # Idempotent: packages already present are left as they are and apt is not asked twice.
-# Usage (as root): toolchain/install-deps.sh [--rtlib-only]
+# Usage (as root): toolchain/install-deps.sh [--rtlib-only] [--cross] [--fuzz]
+#   --rtlib-only  only what rtlib and its tests need (no station libraries)
+#   --cross       add the aarch64 cross compiler and qemu user emulation (preset aarch64)
+#   --fuzz        add clang with libFuzzer (NAV_FUZZ=ON, toolchain/fuzz)
 set -euo pipefail
 
 core_packages=(
@@ -13,10 +16,22 @@ station_packages=(
   libopencv-core-dev libopencv-imgproc-dev
   libapriltag-dev liburdfdom-dev
   libspectra-dev libyaml-cpp-dev libsuitesparse-dev zlib1g-dev
+  libx11-dev iproute2
 )
+cross_packages=(g++-aarch64-linux-gnu qemu-user)
+fuzz_packages=(clang-14 libclang-rt-14-dev)
 
 packages=("${core_packages[@]}")
-if [[ "${1:-}" != "--rtlib-only" ]]; then
+with_station=1
+for option in "$@"; do
+  case "$option" in
+    --rtlib-only) with_station=0 ;;
+    --cross) packages+=("${cross_packages[@]}") ;;
+    --fuzz) packages+=("${fuzz_packages[@]}") ;;
+    *) echo "install-deps: unknown option '$option' (--rtlib-only, --cross, --fuzz)" >&2; exit 2 ;;
+  esac
+done
+if [[ $with_station -eq 1 ]]; then
   packages+=("${station_packages[@]}")
 fi
 

@@ -12,10 +12,7 @@
 
 #include "bench_full.hpp"
 #include "nav/mesh/geometry.hpp"
-#include "nav/mesh/load_mesh.hpp"
-#include "nav/mesh/validation.hpp"
-#include "nav/mesher/mesher.hpp"
-#include "nav/mesher/surface_domain.hpp"
+#include "nav/tissue/liver_scenes.hpp"
 #include "nav/tissue/mass_spring_model.hpp"
 #include "nav/tissue/neo_hookean_static.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
@@ -25,8 +22,6 @@ namespace {
 using nav::ElementLaw;
 using nav::ElementRotation;
 using nav::Integrator;
-using nav::operator-;
-using nav::operator*;
 
 /// Simulated time each model gets to settle, in seconds, and its mass damping.
 constexpr double kSettleS = 1.0;
@@ -34,65 +29,7 @@ constexpr double kDampingPerS = 40.0;
 
 std::string liver_dir() {
   const std::string here = __FILE__;
-  return here.substr(0, here.rfind('/')) + "/../../../shared/data/liver/";
-}
-
-nav::TetMesh liver_mesh(int tet_count) {
-  if (tet_count >= 20000) return nav::load_tet_mesh(liver_dir() + "liverFine.vtu", nav::LengthUnit::centimetre).value();
-  const nav::TriSurface surface = nav::load_surface(liver_dir() + "liver-smoothUV.obj", nav::LengthUnit::centimetre).value();
-  nav::MesherOptions options;
-  options.element_size_m = nav::element_size_for_tet_count_m(nav::enclosed_volume_m3(surface), tet_count);
-  return nav::make_tet_mesh(nav::SurfaceDomain(surface), options).value().mesh;
-}
-
-/// One liver scene and its loads: the anchor's held box (or the 20 nodes nearest its centre).
-struct LiverScene {
-  std::string name;
-  nav::TissueScene scene;
-  nav::TissueInputs inputs;  ///< at the end of the ramp
-};
-
-std::vector<std::int32_t> nearest_nodes(const nav::TetMesh& mesh, const nav::Point3& centre, std::size_t count,
-                                        const std::vector<std::int32_t>& among) {
-  std::vector<std::pair<double, std::int32_t>> by_distance;
-  for (std::int32_t n : among) by_distance.emplace_back(nav::norm(mesh.nodes_m[static_cast<std::size_t>(n)] - centre), n);
-  std::sort(by_distance.begin(), by_distance.end());
-  std::vector<std::int32_t> nodes;
-  for (std::size_t k = 0; k < std::min(count, by_distance.size()); ++k) nodes.push_back(by_distance[k].second);
-  std::sort(nodes.begin(), nodes.end());
-  return nodes;
-}
-
-std::vector<LiverScene> liver_scenes(const nav::TetMesh& mesh) {
-  nav::TissueScene base;
-  base.default_material = {5000.0, 0.45, 1060.0};
-  std::vector<std::int32_t> all(mesh.nodes_m.size());
-  for (std::size_t n = 0; n < all.size(); ++n) all[n] = static_cast<std::int32_t>(n);
-  for (std::int32_t n : all) {
-    const nav::Point3& p = mesh.nodes_m[static_cast<std::size_t>(n)];
-    if (p[0] >= 0.0 && p[0] <= 0.02 && p[1] >= 0.03 && p[1] <= 0.05 && p[2] >= -0.01 && p[2] <= 0.02) base.fixed_nodes.push_back(n);
-  }
-  if (base.fixed_nodes.size() < 20) base.fixed_nodes = nearest_nodes(mesh, {0.01, 0.04, 0.005}, 20, all);
-  LiverScene gravity{"gravity", base, {}};
-  gravity.scene.gravity_m_s2 = {0.0, -9.81, 0.0};
-  // The probe: the surface patch of radius 1 cm around the surface point farthest from the
-  // held box, pushed 2 cm towards the box (a rigid probe with stick contact).
-  const nav::Point3 held_centre{0.01, 0.04, 0.005};
-  const std::vector<std::int32_t> surface = nav::extract_boundary(mesh).mesh_node_of_vertex;
-  std::int32_t tip = surface.front();
-  for (std::int32_t n : surface)
-    if (nav::norm(mesh.nodes_m[static_cast<std::size_t>(n)] - held_centre) >
-        nav::norm(mesh.nodes_m[static_cast<std::size_t>(tip)] - held_centre))
-      tip = n;
-  const nav::Point3 towards = held_centre - mesh.nodes_m[static_cast<std::size_t>(tip)];
-  LiverScene probe{"probe_2cm", base, {}};
-  probe.scene.gravity_m_s2 = {0.0, 0.0, 0.0};
-  for (std::int32_t n : surface)
-    if (nav::norm(mesh.nodes_m[static_cast<std::size_t>(n)] - mesh.nodes_m[static_cast<std::size_t>(tip)]) < 0.01)
-      probe.scene.prescribed_nodes.push_back(n);
-  std::sort(probe.scene.prescribed_nodes.begin(), probe.scene.prescribed_nodes.end());
-  probe.inputs.prescribed_displacement_m = (0.02 / nav::norm(towards)) * towards;
-  return {gravity, probe};
+  return here.substr(0, here.rfind('/')) + "/../../../shared/data/liver";
 }
 
 /// A real-time model under test.
@@ -121,6 +58,7 @@ std::vector<Case> cases() {
   fem("corotational", "implicit_euler", ElementLaw::linear_elastic, ElementRotation::corotational, Integrator::implicit_euler, 0.0, 1);
   fem("corotational", "explicit_central_difference", ElementLaw::linear_elastic, ElementRotation::corotational,
       Integrator::explicit_central_difference, 0.0, 1);
+  fem("corotational", "quasi_static", ElementLaw::linear_elastic, ElementRotation::corotational, Integrator::quasi_static, 0.0, 3);
   fem("stvk", "implicit_euler", ElementLaw::st_venant_kirchhoff, ElementRotation::corotational, Integrator::implicit_euler, 0.0, 3);
   fem("stvk_penalty", "implicit_euler", ElementLaw::st_venant_kirchhoff, ElementRotation::corotational,
       Integrator::implicit_euler, 1.0e5, 3);
@@ -161,13 +99,16 @@ std::vector<double> timed_steps(int steps, const std::function<void(double)>& ad
   return step_us;
 }
 
+/// The scene's loads and imposed displacement times `fraction` (a quasi-static step from rest
+/// under the full load would diverge).
 nav::TissueInputs ramped(const nav::TissueInputs& full, double fraction) {
   nav::TissueInputs inputs = full;
+  inputs.load_scale = fraction;
   for (int c = 0; c < 3; ++c) inputs.prescribed_displacement_m[c] *= fraction;
   return inputs;
 }
 
-Record run_case(const Case& c, const nav::TetMesh& mesh, const LiverScene& scene, std::span<const double> reference) {
+Record run_case(const Case& c, const nav::TetMesh& mesh, const nav::LiverScene& scene, std::span<const double> reference) {
   Record record{c.model, c.integrator, scene.name, static_cast<std::int64_t>(mesh.tets.size())};
   std::vector<double> step_us, x;
   if (c.mass_spring) {
@@ -287,8 +228,13 @@ int run_full_bench(const std::vector<std::string>& args) {
   std::vector<Record> records;
   const std::vector<int> sizes = quick ? std::vector<int>{1000} : std::vector<int>{1000, 5000, 22019};
   for (int size : sizes) {
-    const nav::TetMesh mesh = liver_mesh(size);
-    for (const LiverScene& scene : liver_scenes(mesh)) {
+    const auto mesh_or_error = nav::load_liver_mesh(liver_dir(), size);
+    if (!mesh_or_error.ok()) {
+      std::fprintf(stderr, "liver mesh of %d tets: %s\n", size, mesh_or_error.error().describe().c_str());
+      return 1;
+    }
+    const nav::TetMesh& mesh = mesh_or_error.value();
+    for (const nav::LiverScene& scene : nav::liver_scenes(mesh)) {
       const auto start = std::chrono::steady_clock::now();
       nav::NeoHookeanOptions reference_options;
       reference_options.load_increments = 10;

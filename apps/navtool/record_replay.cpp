@@ -98,6 +98,7 @@ int replay(const DdsToolArgs& args) {
   const nav::dds::ReplayReport report = nav::dds::replay(*recording.value(), *node.value(), pace, wait_for_readers_ns);
   if (report.first_damage) std::fprintf(stderr, "navtool replay: skipped: %s\n", report.first_damage->describe().c_str());
   std::printf("replayed %zu samples, skipped %zu\n", report.published, report.skipped);
+  if (!report.acknowledged) std::fprintf(stderr, "navtool replay: some reliable samples were not acknowledged\n");
   return recording.value()->damage() || report.skipped > 0 ? exit_failure : exit_ok;
 }
 

@@ -27,6 +27,7 @@ TEST(HealthFlags, RaiseClearAndMerge) {
 TEST(HealthFlags, EveryFlagHasADistinctName) {
   EXPECT_EQ(std::string(health_flag_name(HealthFlag::non_finite_state)), "non_finite_state");
   EXPECT_EQ(std::string(health_flag_name(HealthFlag::bad_sample)), "bad_sample");
+  EXPECT_EQ(std::string(health_flag_name(HealthFlag::unstable_step)), "unstable_step");
   EXPECT_NE(std::string(health_flag_name(HealthFlag::stale_input)),
             std::string(health_flag_name(HealthFlag::missing_input)));
 }

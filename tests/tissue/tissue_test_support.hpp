@@ -1,6 +1,7 @@
 #pragma once
 // Shared inputs of the tissue tests: structured box meshes, node and face selections on
-// planes, and a hash of a model's state for bitwise repeatability checks.
+// planes, a hash of a model's state for bitwise repeatability checks, and make_data for
+// tests written once for every tissue model.
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -10,6 +11,8 @@
 #include "nav/mesh/tet_mesh.hpp"
 #include "nav/mesh/validation.hpp"
 #include "nav/mesher/kuhn_lattice.hpp"
+#include "nav/tissue/mass_spring_model.hpp"
+#include "nav/tissue/tet_fem_model.hpp"
 
 namespace nav::testing {
 
@@ -76,5 +79,9 @@ inline std::uint64_t state_hash(std::span<const double> a, std::span<const doubl
     }
   return hash;
 }
+
+/// The data of a model, whichever model it is.
+inline Result<TetFemData> make_data(const TetFemModel& model) { return make_tet_fem_data(model); }
+inline Result<MassSpringData> make_data(const MassSpringModel& model) { return make_mass_spring_data(model); }
 
 }  // namespace nav::testing

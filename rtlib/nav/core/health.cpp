@@ -13,6 +13,7 @@ const char* health_flag_name(HealthFlag flag) noexcept {
     case HealthFlag::solver_not_converged: return "solver_not_converged";
     case HealthFlag::deadline_missed: return "deadline_missed";
     case HealthFlag::bad_sample: return "bad_sample";
+    case HealthFlag::unstable_step: return "unstable_step";
   }
   return "unknown";
 }

@@ -17,6 +17,7 @@ enum class HealthFlag : std::uint32_t {
   solver_not_converged = 1u << 6, // a fixed-count solver ended above its residual bound
   deadline_missed = 1u << 7,      // a tick started after its deadline
   bad_sample = 1u << 8,           // an input sample failed validation and was dropped
+  unstable_step = 1u << 9,        // an explicit step longer than its stable limit was taken
 };
 
 /// A set of HealthFlag bits, raised by step-time code and read by the loop and displays.

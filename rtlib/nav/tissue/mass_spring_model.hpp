@@ -80,7 +80,8 @@ Result<MassSpringData> make_mass_spring_data(const MassSpringModel& model);
 
 /// One explicit step, then the volume projection. Bad inputs are refused with the state
 /// untouched (bad_sample); a non-finite result is rolled back (non_finite_state); a step
-/// above the stable step raises solver_not_converged.
+/// above the stable step raises unstable_step; tetrahedra of the mesh turned inside out are
+/// counted in data.report and raise inverted_element.
 void step(const MassSpringModel& model, MassSpringData& data, const TissueInputs& inputs) noexcept;
 
 /// Volume enclosed by `triangles` (outward) at positions x: sum of x_a . (x_b x x_c) / 6.

@@ -1,11 +1,12 @@
 // Step of a MassSpringModel: springs and loads, central difference, then Promayon's volume
 // projection x = x^ + lambda G with G the volume gradient on free boundary nodes and lambda
-// the root nearest zero of the cubic V(x^ + lambda G) = V0.
+// the root nearest zero of the cubic V(x^ + lambda G) = V0; inverted tetrahedra are flagged.
 #include <algorithm>
 #include <cmath>
 
 #include "nav/tissue/explicit_update.hpp"
 #include "nav/tissue/mass_spring_model.hpp"
+#include "nav/tissue/tet_fem_kernels.hpp"
 #include "nav/tissue/tissue_loads.hpp"
 
 namespace nav {
@@ -102,7 +103,9 @@ void step(const MassSpringModel& model, MassSpringData& data, const TissueInputs
     const double lambda = project_volume(tables, data.positions_m, data.volume_gradient);
     for (std::size_t i = 0; i < data.velocities_m_s.size(); ++i) data.velocities_m_s[i] += lambda * data.volume_gradient[i] / h;
   }
-  if (h > tables.stable_step_s) data.health.raise(HealthFlag::solver_not_converged);
+  if (h > tables.stable_step_s) data.health.raise(HealthFlag::unstable_step);
+  data.report.inverted_elements = detail::count_inverted_elements(fem, data.positions_m);
+  if (data.report.inverted_elements > 0) data.health.raise(HealthFlag::inverted_element);
   if (!all_finite(data.positions_m) || !all_finite(data.velocities_m_s)) {
     std::copy(data.backup_positions_m.begin(), data.backup_positions_m.end(), data.positions_m.begin());
     std::copy(data.backup_velocities_m_s.begin(), data.backup_velocities_m_s.end(), data.velocities_m_s.begin());

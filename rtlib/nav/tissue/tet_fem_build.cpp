@@ -183,7 +183,8 @@ Result<TetFemData> make_tet_fem_data(const TetFemModel& model) {
   const std::size_t e9 = 9 * tables.tets.size();
   ArenaPlan plan;
   for (int k = 0; k < 11; ++k) plan.add<double>(n3);
-  plan.add<double>(2 * free3).add<double>(e9).add<double>(3 * n3);
+  const std::size_t stress_count = tables.options.law == ElementLaw::st_venant_kirchhoff ? e9 : 0;
+  plan.add<double>(2 * free3).add<double>(e9).add<double>(3 * n3).add<double>(stress_count);
   TetFemData data(Arena("tet_fem_data", plan.bytes()));
   std::span<double>* full[] = {&data.positions_m, &data.velocities_m_s, &data.forces_n, &data.rhs, &data.solution,
                                &data.residual, &data.preconditioned, &data.direction, &data.product,
@@ -199,6 +200,9 @@ Result<TetFemData> make_tet_fem_data(const TetFemModel& model) {
   if (!free_work.ok()) return free_work.error();
   if (!element_rotations.ok()) return element_rotations.error();
   if (!node_rotations.ok()) return node_rotations.error();
+  auto tangent_stresses = data.arena.allocate<double>("tangent stresses", stress_count);
+  if (!tangent_stresses.ok()) return tangent_stresses.error();
+  data.tangent_stresses = tangent_stresses.value();
   data.free_work = free_work.value();
   data.element_rotations = element_rotations.value();
   data.node_rotations = node_rotations.value();

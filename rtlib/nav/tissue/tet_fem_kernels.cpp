@@ -25,8 +25,9 @@ void scatter_add(const std::array<std::int32_t, 4>& tet, const Matrix34& values,
 
 Gradients gradients_of(const TetFemTables& tables, std::size_t e) { return Gradients(tables.gradients.data() + 12 * e); }
 
-Eigen::Map<const Eigen::Matrix3d> rotation_of(std::span<const double> rotations, std::size_t e) {
-  return Eigen::Map<const Eigen::Matrix3d>(rotations.data() + 9 * e);
+/// Element e's 3x3 matrix (column-major) in a table of 9 per element.
+Eigen::Map<const Eigen::Matrix3d> matrix_of(std::span<const double> matrices, std::size_t e) {
+  return Eigen::Map<const Eigen::Matrix3d>(matrices.data() + 9 * e);
 }
 
 }  // namespace
@@ -47,13 +48,20 @@ int update_element_rotations(const TetFemTables& tables, std::span<const double>
   return inverted;
 }
 
+int count_inverted_elements(const TetFemTables& tables, std::span<const double> x) noexcept {
+  int inverted = 0;
+  for (std::size_t e = 0; e < tables.tets.size(); ++e)
+    if (!((gather(tables.tets[e], x) * gradients_of(tables, e)).determinant() > 0.0)) ++inverted;
+  return inverted;
+}
+
 void update_node_rotations(const TetFemTables& tables, std::span<const double> element_rotations,
                            std::span<double> node_rotations) noexcept {
   std::fill(node_rotations.begin(), node_rotations.end(), 0.0);
   for (std::size_t e = 0; e < tables.tets.size(); ++e)
     for (std::int32_t node : tables.tets[e])
       Eigen::Map<Eigen::Matrix3d>(node_rotations.data() + 9 * static_cast<std::size_t>(node)) +=
-          rotation_of(element_rotations, e);
+          matrix_of(element_rotations, e);
   const auto load = [&](std::size_t node, Eigen::Matrix3d& sum) {
     Eigen::Map<Eigen::Matrix3d> stored(node_rotations.data() + 9 * node);
     sum = stored;
@@ -78,7 +86,7 @@ void add_elastic_forces(const TetFemTables& tables, std::span<const double> x, s
     if (stvk) {
       stress = stvk_stress(f, tables.lame[e], gain_pa);
     } else {
-      const auto r = rotation_of(rotations, e);
+      const auto r = matrix_of(rotations, e);
       Eigen::Matrix3d h = r.transpose() * f;
       h.diagonal().array() -= 1.0;
       stress = r * linear_stress(h, tables.lame[e]);
@@ -88,8 +96,17 @@ void add_elastic_forces(const TetFemTables& tables, std::span<const double> x, s
   }
 }
 
+void update_tangent_stresses(const TetFemTables& tables, std::span<const double> x,
+                             std::span<double> tangent_stresses) noexcept {
+  if (tables.options.law != ElementLaw::st_venant_kirchhoff) return;
+  for (std::size_t e = 0; e < tables.tets.size(); ++e)
+    Eigen::Map<Eigen::Matrix3d>(tangent_stresses.data() + 9 * e) =
+        stvk_tangent_stress(gather(tables.tets[e], x) * gradients_of(tables, e), tables.lame[e]);
+}
+
 void add_stiffness_product(const TetFemTables& tables, std::span<const double> x, std::span<const double> rotations,
-                           std::span<const double> p, double scale, std::span<double> out) noexcept {
+                           std::span<const double> tangent_stresses, std::span<const double> p, double scale,
+                           std::span<double> out) noexcept {
   const bool stvk = tables.options.law == ElementLaw::st_venant_kirchhoff;
   const double gain_pa = tables.options.incompressibility_gain_pa;
   for (std::size_t e = 0; e < tables.tets.size(); ++e) {
@@ -97,9 +114,10 @@ void add_stiffness_product(const TetFemTables& tables, std::span<const double> x
     const Eigen::Matrix3d df = gather(tables.tets[e], p) * g;
     Eigen::Matrix3d stress;
     if (stvk) {
-      stress = stvk_stress_derivative(gather(tables.tets[e], x) * g, df, tables.lame[e], gain_pa);
+      stress = stvk_stress_derivative(gather(tables.tets[e], x) * g, df, matrix_of(tangent_stresses, e),
+                                      tables.lame[e], gain_pa);
     } else {
-      const auto r = rotation_of(rotations, e);
+      const auto r = matrix_of(rotations, e);
       stress = r * linear_stress(r.transpose() * df, tables.lame[e]);
     }
     const Matrix34 element_product = (scale * tables.volume_m3[e]) * stress * g.transpose();

@@ -29,8 +29,9 @@ class TetFemModel {
   /// Degrees of freedom left after fixed and prescribed nodes.
   std::int64_t free_dof_count() const;
   const TissueSolverOptions& options() const;
-  /// 2 / omega_max of the lumped-mass rest system (power iteration at init): the estimate
-  /// of the largest stable explicit step, in seconds.
+  /// 2 / omega_max of the lumped-mass rest system (power iteration at init), reduced under
+  /// the incompressibility penalty for element volume changes up to 10 %: the estimate of the
+  /// largest stable explicit step, in seconds.
   double stable_step_s() const;
   /// Entries of the LDL^T factor below the diagonal (0 without one).
   std::int64_t factor_nonzeros() const;
@@ -60,6 +61,7 @@ struct TetFemData {
   std::span<double> backup_positions_m, backup_velocities_m_s, free_work;
   std::span<double> element_rotations;  ///< 9 per element (column-major 3x3), last good one
   std::span<double> node_rotations;     ///< 9 per node, for warping
+  std::span<double> tangent_stresses;   ///< 9 per element, St Venant-Kirchhoff only (else empty)
 
   explicit TetFemData(Arena block) : arena(std::move(block)) {}
 };

@@ -23,6 +23,8 @@ void compute_forces(const TetFemTables& tables, TetFemData& data, const TissueIn
   std::fill(data.forces_n.begin(), data.forces_n.end(), 0.0);
   detail::add_external_forces(tables, inputs, data.positions_m, data.forces_n, data.report);
   detail::add_elastic_forces(tables, data.positions_m, data.element_rotations, data.forces_n);
+  if (tables.options.integrator != Integrator::explicit_central_difference)
+    detail::update_tangent_stresses(tables, data.positions_m, data.tangent_stresses);
 }
 
 /// A dv = h (f - a M v) - (h b + h^2) K_R v - h^2 Ks v, then v += dv, x += h v.
@@ -34,7 +36,8 @@ void implicit_euler(const TetFemTables& tables, TetFemData& data) {
   detail::zero_constrained(tables, v_free);
   for (std::size_t i = 0; i < data.rhs.size(); ++i)
     data.rhs[i] = h * (data.forces_n[i] - o.rayleigh_mass_per_s * tables.mass_kg[i / 3] * data.velocities_m_s[i]);
-  detail::add_stiffness_product(tables, data.positions_m, data.element_rotations, v_free, -(h * o.rayleigh_stiffness_s + h * h), data.rhs);
+  detail::add_stiffness_product(tables, data.positions_m, data.element_rotations, data.tangent_stresses, v_free,
+                                -(h * o.rayleigh_stiffness_s + h * h), data.rhs);
   detail::add_spring_product(tables, v_free, -h * h, data.rhs);
   detail::zero_constrained(tables, data.rhs);
   detail::solve_system(tables, data);
@@ -67,7 +70,7 @@ void central_difference(const TetFemTables& tables, TetFemData& data) {
                                     data.velocities_m_s);
   data.report.solver_iterations = 0;
   data.report.solver_relative_residual = 0.0;
-  if (h > tables.stable_step_s) data.health.raise(HealthFlag::solver_not_converged);
+  if (h > tables.stable_step_s) data.health.raise(HealthFlag::unstable_step);
 }
 
 bool all_finite(std::span<const double> values) {

@@ -38,7 +38,7 @@ void add_probe_forces(const TetFemTables& tables, const SphereProbe& probe, std:
 }  // namespace
 
 bool inputs_are_valid(const TetFemTables& tables, const TissueInputs& inputs) noexcept {
-  if (inputs.point_forces.size() > tables.max_point_forces) return false;
+  if (inputs.point_forces.size() > tables.max_point_forces || !std::isfinite(inputs.load_scale)) return false;
   for (const PointForce& force : inputs.point_forces)
     if (force.node < 0 || force.node >= tables.node_count || !finite(force.force_n)) return false;
   const auto& q = inputs.spring_frame.rotation_wxyz;
@@ -71,13 +71,15 @@ void move_kinematic_nodes(const TetFemTables& tables, const TissueInputs& inputs
 
 void add_external_forces(const TetFemTables& tables, const TissueInputs& inputs, std::span<const double> x,
                          std::span<double> forces, TissueStepReport& report) noexcept {
+  const double s = inputs.load_scale;
   for (std::int64_t n = 0; n < tables.node_count; ++n)
-    for (int c = 0; c < 3; ++c) forces[3 * n + c] += tables.mass_kg[n] * tables.gravity_m_s2[c];
+    for (int c = 0; c < 3; ++c) forces[3 * n + c] += s * tables.mass_kg[n] * tables.gravity_m_s2[c];
   for (const PointForce& force : inputs.point_forces)
-    for (int c = 0; c < 3; ++c) forces[3 * static_cast<std::size_t>(force.node) + c] += force.force_n[c];
+    for (int c = 0; c < 3; ++c) forces[3 * static_cast<std::size_t>(force.node) + c] += s * force.force_n[c];
   for (std::size_t k = 0; k < tables.traction_nodes.size(); ++k)
     for (int c = 0; c < 3; ++c)
-      forces[3 * static_cast<std::size_t>(tables.traction_nodes[k]) + c] += tables.traction_area_m2[k] * inputs.traction_pa[c];
+      forces[3 * static_cast<std::size_t>(tables.traction_nodes[k]) + c] +=
+          s * tables.traction_area_m2[k] * inputs.traction_pa[c];
   if (!tables.spring_nodes.empty()) {
     const std::array<double, 9> r = rotation_matrix(inputs.spring_frame.rotation_wxyz);
     const Point3& t = inputs.spring_frame.translation_m;

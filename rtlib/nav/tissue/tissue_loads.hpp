@@ -18,7 +18,8 @@ bool inputs_are_valid(const TetFemTables& tables, const TissueInputs& inputs) no
 void move_kinematic_nodes(const TetFemTables& tables, const TissueInputs& inputs, double step_s, std::span<double> x,
                           std::span<double> v) noexcept;
 
-/// forces += gravity, point forces, traction, frame springs and probe at positions x.
+/// forces += gravity, point forces and traction (times inputs.load_scale), frame springs and
+/// probe at positions x.
 void add_external_forces(const TetFemTables& tables, const TissueInputs& inputs, std::span<const double> x,
                          std::span<double> forces, TissueStepReport& report) noexcept;
 

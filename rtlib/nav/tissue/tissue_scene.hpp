@@ -110,6 +110,10 @@ struct SphereProbe {
 /// What drives one step. Every value is checked at the boundary: a step with a non-finite
 /// value, an out-of-range node or too many point forces is refused with the state untouched.
 struct TissueInputs {
+  /// Factor on gravity, point forces and traction, for a load ramp: a quasi-static solve
+  /// from rest diverges under the full load at once (its first step is linear), and reaches
+  /// it in a few steps of a growing factor. 1 in normal use.
+  double load_scale = 1.0;
   std::span<const PointForce> point_forces;
   /// Traction on TissueScene::traction_triangles, per unit rest area.
   Point3 traction_pa{};

@@ -1,5 +1,6 @@
 #include "nav/dds/dds_node.hpp"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <mutex>
@@ -193,6 +194,21 @@ bool DdsNode::wait_for_match(Topic topic, std::size_t count, TimeNs timeout_ns) 
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   return true;
+}
+
+bool DdsNode::wait_for_acknowledgments(TimeNs timeout_ns) const {
+  const MonotonicClock clock;
+  const TimeNs deadline_ns = clock.now_ns() + timeout_ns;
+  bool all_acknowledged = true;
+  for (fdds::DataWriter* writer : impl_->writers) {
+    if (writer == nullptr) continue;
+    const TimeNs left_ns = std::max<TimeNs>(0, deadline_ns - clock.now_ns());
+    const eprosima::fastrtps::Duration_t left(static_cast<std::int32_t>(left_ns / kNsPerSecond),
+                                              static_cast<std::uint32_t>(left_ns % kNsPerSecond));
+    all_acknowledged = writer->wait_for_acknowledgments(left) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK &&
+                       all_acknowledged;
+  }
+  return all_acknowledged;
 }
 
 BoundaryCounts DdsNode::boundary_counts() const noexcept { return impl_->counters.snapshot(); }

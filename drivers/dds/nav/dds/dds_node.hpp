@@ -45,6 +45,11 @@ class DdsNode {
   /// Polls matched(topic) until it reaches `count` or `timeout_ns` passes; true on success.
   bool wait_for_match(Topic topic, std::size_t count, TimeNs timeout_ns) const;
 
+  /// Waits until every reliable sample written so far is acknowledged by the matched
+  /// readers, or `timeout_ns` passes; true when all were. Call before closing a node whose
+  /// last samples must arrive (destroying a writer drops what is unacknowledged).
+  bool wait_for_acknowledgments(TimeNs timeout_ns) const;
+
   /// Samples accepted and dropped by this node's readers, by reason.
   BoundaryCounts boundary_counts() const noexcept;
 

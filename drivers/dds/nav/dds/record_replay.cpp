@@ -8,6 +8,7 @@ namespace nav::dds {
 namespace {
 
 constexpr TimeNs kSettleNs = 100 * kNsPerMs;
+constexpr TimeNs kAcknowledgmentTimeoutNs = 5 * kNsPerSecond;
 
 /// Calls `visit` with a null pointer of every sample type, in topic order.
 template <typename Visit>
@@ -111,6 +112,7 @@ ReplayReport replay(RecordingReader& recording, DdsNode& node, ReplayPace pace, 
     });
     published ? ++report.published : ++report.skipped;
   }
+  report.acknowledged = node.wait_for_acknowledgments(kAcknowledgmentTimeoutNs);
   return report;
 }
 

@@ -52,11 +52,13 @@ struct ReplayReport {
   std::size_t published = 0;
   std::size_t skipped = 0;  // damaged or undecodable records
   std::optional<Error> first_damage;
+  bool acknowledged = false;  // every reliable sample acknowledged by its readers at the end
 };
 
 /// Publishes every intact record of `recording` on `node`. Each topic is advertised at its
 /// first record, which waits up to `wait_for_readers_ns` for a reader (the pace resumes
-/// after). Damaged records are skipped and the first is reported.
+/// after). Damaged records are skipped and the first is reported. Returns once the reliable
+/// samples are acknowledged (or a few seconds passed), so that closing the node loses none.
 ReplayReport replay(RecordingReader& recording, DdsNode& node, ReplayPace pace, TimeNs wait_for_readers_ns);
 
 }  // namespace nav::dds

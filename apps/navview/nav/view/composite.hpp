@@ -1,0 +1,48 @@
+#pragma once
+// navview's picture: the ultrasound panel (frame, needle, target, uncertainty) on the left
+// and the 3-D panel (deformed surface, needle, target) on the right, each with a caption.
+// Pure drawing from plain samples: no DDS, no window, so tests can check its pixels.
+#include <opencv2/core/mat.hpp>
+
+#include "nav/dds/samples.hpp"
+#include "nav/view/surface_view.hpp"
+
+namespace nav::view {
+
+/// The newest sample of each stream the display shows; null when none arrived yet.
+struct DisplayInputs {
+  const dds::UltrasoundFrame* frame = nullptr;
+  const dds::NeedleState* needle = nullptr;
+  const dds::TargetPrediction* prediction = nullptr;
+  const dds::DeformedSurface* surface = nullptr;
+};
+
+/// The composite's size and the 3-D panel's viewing angles.
+struct CompositeOptions {
+  int panel_height_px = 512;      // both panels; the 3-D panel is square
+  double view_azimuth_deg = 30.0;
+  double view_elevation_deg = 20.0;
+  bool captions = true;           // one line of figures at the top of each panel
+};
+
+/// Renders composites into one canvas it keeps. The 3-D camera is fitted to the first
+/// surface drawn and then kept, so that deformation shows as motion, not as re-framing.
+class Composer {
+ public:
+  Composer(const CompositeOptions& options, SurfaceTriangles surface_triangles);
+
+  /// The composite of `inputs` (valid until the next call). Its width is the frame panel's
+  /// (the frame scaled to panel_height_px, or a square while no frame arrived) plus the
+  /// 3-D panel's.
+  const cv::Mat& render(const DisplayInputs& inputs);
+
+ private:
+  CompositeOptions options_;
+  SurfaceTriangles surface_triangles_;
+  SurfacePainter painter_;
+  OrthoCamera camera_;
+  bool camera_fitted_ = false;
+  cv::Mat canvas_;
+};
+
+}  // namespace nav::view

@@ -1,0 +1,15 @@
+#pragma once
+// The colours of navview's drawings (OpenCV BGR order), shared with the tests that look
+// for them in the pixels.
+#include <opencv2/core/types.hpp>
+
+namespace nav::view::palette {
+
+inline const cv::Scalar kNeedle{0, 255, 255};              // yellow
+inline const cv::Scalar kTarget{0, 0, 255};                // red
+inline const cv::Scalar kUncertainty{255, 128, 0};         // azure
+inline const cv::Scalar kSurface{150, 170, 230};           // flesh, lit head-on
+inline const cv::Scalar kSurfaceBackground{40, 25, 20};    // dark blue-gray
+inline const cv::Scalar kText{255, 255, 255};
+
+}  // namespace nav::view::palette

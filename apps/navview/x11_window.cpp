@@ -1,0 +1,106 @@
+// Window output through Xlib: the composite is copied into a 32-bit XImage and put on a
+// plain window, repainted on Expose; closing the window ends navview.
+#include "image_output.hpp"
+
+#include <cstdint>
+#include <vector>
+
+#include <X11/Xlib.h>
+#include <X11/Xutil.h>
+#undef Status  // Xlib's macro for int; nav::Status is meant below
+
+namespace navview {
+namespace {
+
+/// One top-level window on a 24-bit TrueColor display.
+class X11Window final : public ImageOutput {
+ public:
+  X11Window(Display* display, Window window, Atom delete_message)
+      : display_(display), window_(window), delete_message_(delete_message), gc_(XCreateGC(display, window, 0, nullptr)) {}
+
+  ~X11Window() override {
+    release_image();
+    XFreeGC(display_, gc_);
+    XDestroyWindow(display_, window_);
+    XCloseDisplay(display_);
+  }
+  X11Window(const X11Window&) = delete;
+  X11Window& operator=(const X11Window&) = delete;
+
+  nav::Status show(const cv::Mat& image) override {
+    if (image_ == nullptr || image_->width != image.cols || image_->height != image.rows) {
+      release_image();
+      pixels_.assign(static_cast<std::size_t>(image.cols) * static_cast<std::size_t>(image.rows), 0);
+      image_ = XCreateImage(display_, DefaultVisual(display_, DefaultScreen(display_)), 24, ZPixmap, 0,
+                            reinterpret_cast<char*>(pixels_.data()), static_cast<unsigned>(image.cols),
+                            static_cast<unsigned>(image.rows), 32, 0);
+      if (image_ == nullptr) return nav::Error{"Xlib could not create the window's image", "", 0, ""};
+      XResizeWindow(display_, window_, static_cast<unsigned>(image.cols), static_cast<unsigned>(image.rows));
+    }
+    for (int y = 0; y < image.rows; ++y) {
+      const std::uint8_t* bgr = image.ptr<std::uint8_t>(y);
+      std::uint32_t* out = &pixels_[static_cast<std::size_t>(y) * static_cast<std::size_t>(image.cols)];
+      for (int x = 0; x < image.cols; ++x, bgr += 3) out[x] = (std::uint32_t{bgr[2]} << 16) | (std::uint32_t{bgr[1]} << 8) | bgr[0];
+    }
+    paint();
+    return nav::Done{};
+  }
+
+  void poll_events() override {
+    while (XPending(display_) > 0) {
+      XEvent event;
+      XNextEvent(display_, &event);
+      if (event.type == Expose && event.xexpose.count == 0) paint();
+      if (event.type == ClientMessage && static_cast<Atom>(event.xclient.data.l[0]) == delete_message_) closed_ = true;
+    }
+  }
+
+  bool closed() const override { return closed_; }
+
+ private:
+  void paint() {
+    if (image_ == nullptr) return;
+    XPutImage(display_, window_, gc_, image_, 0, 0, 0, 0, static_cast<unsigned>(image_->width),
+              static_cast<unsigned>(image_->height));
+    XFlush(display_);
+  }
+
+  /// Frees the XImage but not the pixels, which pixels_ owns.
+  void release_image() {
+    if (image_ == nullptr) return;
+    image_->data = nullptr;
+    XDestroyImage(image_);
+    image_ = nullptr;
+  }
+
+  Display* display_;
+  Window window_;
+  Atom delete_message_;
+  GC gc_;
+  XImage* image_ = nullptr;
+  std::vector<std::uint32_t> pixels_;
+  bool closed_ = false;
+};
+
+}  // namespace
+
+nav::Result<std::unique_ptr<ImageOutput>> open_window(const std::string& title) {
+  Display* display = XOpenDisplay(nullptr);
+  if (display == nullptr) return nav::Error{"cannot open the X display ($DISPLAY); use --headless", "", 0, ""};
+  const int screen = DefaultScreen(display);
+  if (DefaultDepth(display, screen) != 24) {
+    XCloseDisplay(display);
+    return nav::Error{"navview needs a 24-bit TrueColor display; use --headless", "", 0, ""};
+  }
+  const Window window = XCreateSimpleWindow(display, RootWindow(display, screen), 0, 0, 640, 480, 0,
+                                            BlackPixel(display, screen), BlackPixel(display, screen));
+  XStoreName(display, window, title.c_str());
+  XSelectInput(display, window, ExposureMask | StructureNotifyMask);
+  Atom delete_message = XInternAtom(display, "WM_DELETE_WINDOW", False);
+  XSetWMProtocols(display, window, &delete_message, 1);
+  XMapWindow(display, window);
+  XFlush(display);
+  return std::unique_ptr<ImageOutput>(new X11Window(display, window, delete_message));
+}
+
+}  // namespace navview

@@ -1,0 +1,69 @@
+#include "nav/needle/beam_element.hpp"
+
+#include "nav/needle/rotation_vector.hpp"
+
+namespace nav {
+
+Matrix12d beam_local_stiffness(const NeedleParameters& p, const NeedleSection& s, double l) {
+  const double E = p.youngs_modulus_pa, G = s.shear_modulus_pa, I = s.second_moment_m4;
+  const double phi = p.theory == BeamTheory::timoshenko ? 12.0 * E * I / (G * s.shear_coefficient * s.area_m2 * l * l) : 0.0;
+  Matrix12d k = Matrix12d::Zero();
+  const double axial = E * s.area_m2 / l, torsion = G * s.polar_moment_m4 / l;
+  k(0, 0) = k(6, 6) = axial;
+  k(0, 6) = -axial;
+  k(3, 3) = k(9, 9) = torsion;
+  k(3, 9) = -torsion;
+  const double c = E * I / ((1.0 + phi) * l * l * l);
+  // Bending in the local xy plane: v with theta_z.
+  k(1, 1) = k(7, 7) = 12.0 * c;
+  k(1, 7) = -12.0 * c;
+  k(1, 5) = k(1, 11) = 6.0 * l * c;
+  k(5, 7) = k(7, 11) = -6.0 * l * c;
+  k(5, 5) = k(11, 11) = (4.0 + phi) * l * l * c;
+  k(5, 11) = (2.0 - phi) * l * l * c;
+  // Bending in the local xz plane: w with theta_y (opposite coupling sign).
+  k(2, 2) = k(8, 8) = 12.0 * c;
+  k(2, 8) = -12.0 * c;
+  k(2, 4) = k(2, 10) = -6.0 * l * c;
+  k(4, 8) = k(8, 10) = 6.0 * l * c;
+  k(4, 4) = k(10, 10) = (4.0 + phi) * l * l * c;
+  k(4, 10) = (2.0 - phi) * l * l * c;
+  for (int i = 0; i < 12; ++i)
+    for (int j = 0; j < i; ++j) k(i, j) = k(j, i);
+  return k;
+}
+
+BeamResponse corotational_beam_response(const Matrix12d& local_stiffness, double rest_length_m,
+                                        const BeamEnds& ends) noexcept {
+  const Eigen::Vector3d chord = ends.position_b_m - ends.position_a_m;
+  const double length_m = chord.norm();
+  const Eigen::Vector3d e1 = chord / length_m;
+  // Mean node frame: half way from a to b.
+  const Eigen::Quaterniond relative = ends.rotation_a.conjugate() * ends.rotation_b;
+  const Eigen::Quaterniond mean = ends.rotation_a * quaternion_from_rotation_vector(0.5 * rotation_vector_from_quaternion(relative));
+  const Eigen::Vector3d y_mean = mean * Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d e3 = e1.cross(y_mean).normalized();
+  const Eigen::Vector3d e2 = e3.cross(e1);
+  Eigen::Matrix3d frame;
+  frame.col(0) = e1;
+  frame.col(1) = e2;
+  frame.col(2) = e3;
+  const Eigen::Quaterniond element(frame);
+
+  Vector12d local = Vector12d::Zero();
+  local(6) = length_m - rest_length_m;
+  local.segment<3>(3) = rotation_vector_from_quaternion(element.conjugate() * ends.rotation_a);
+  local.segment<3>(9) = rotation_vector_from_quaternion(element.conjugate() * ends.rotation_b);
+  const Vector12d local_forces = local_stiffness * local;
+
+  BeamResponse response;
+  for (int block = 0; block < 4; ++block)
+    response.forces.segment<3>(3 * block).noalias() = frame * local_forces.segment<3>(3 * block);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      response.tangent.block<3, 3>(3 * i, 3 * j).noalias() =
+          frame * local_stiffness.block<3, 3>(3 * i, 3 * j) * frame.transpose();
+  return response;
+}
+
+}  // namespace nav

@@ -1,0 +1,40 @@
+#pragma once
+// One corotational 3-D beam element (Przemieniecki's 12x12 stiffness, Euler-Bernoulli or
+// Timoshenko) between two node frames: its local stiffness, and its nodal forces and
+// tangent in world axes from the current node positions and rotations.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "nav/needle/needle_parameters.hpp"
+
+namespace nav {
+
+using Matrix12d = Eigen::Matrix<double, 12, 12>;
+using Vector12d = Eigen::Matrix<double, 12, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+/// The local stiffness of a straight element of rest length `length_m`, dof order
+/// (u, v, w, theta_x, theta_y, theta_z) of node a then node b, local x along the element.
+Matrix12d beam_local_stiffness(const NeedleParameters& parameters, const NeedleSection& section, double length_m);
+
+/// The two end frames of an element in its current configuration.
+struct BeamEnds {
+  Eigen::Vector3d position_a_m, position_b_m;
+  Eigen::Quaterniond rotation_a, rotation_b;  ///< node frames (x along the shaft at rest)
+};
+
+/// Internal forces of an element in world axes: (force_a, moment_a, force_b, moment_b),
+/// and its tangent R K_local R^T (the element rotation held fixed).
+struct BeamResponse {
+  Vector12d forces;
+  Matrix12d tangent;
+};
+
+/// Corotational response: the element frame follows the chord and the mean node frame, the
+/// local deformation is the stretch and the node rotations relative to that frame. A rigid
+/// motion of both ends gives exactly zero force.
+BeamResponse corotational_beam_response(const Matrix12d& local_stiffness, double rest_length_m,
+                                        const BeamEnds& ends) noexcept;
+
+}  // namespace nav

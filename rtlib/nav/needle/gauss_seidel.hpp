@@ -1,0 +1,27 @@
+#pragma once
+// Projected Gauss-Seidel on delta = delta_free + W lambda with the row laws of
+// ConstraintRow: a fixed number of sweeps in the rows' fixed order, warm-started from the
+// given forces, then the largest law violation as the residual. No allocation.
+#include <span>
+
+#include "nav/needle/constraint_row.hpp"
+
+namespace nav {
+
+/// Runs `sweeps` sweeps. `w` is m x m column-major, `forces` (m) holds the warm start on
+/// entry and the solution on exit, `gaps` (m) receives delta_free + W lambda. Returns the
+/// largest violation of the laws, in metres.
+double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const double> w, int sweeps,
+                          std::span<double> forces, std::span<double> gaps) noexcept;
+
+/// The violation of one row's law by (gap, force), in metres (0 when it holds).
+double law_violation_m(const ConstraintRow& row, double gap_m, double force_n, double limit_n) noexcept;
+
+/// The violation of Coulomb's disk by a tangent pair: stick inside the disk, slip opposite
+/// to the force on its rim, in metres.
+double coulomb_disk_violation_m(std::span<const double> gaps, std::span<const double> forces, double limit_n) noexcept;
+
+/// The force bound of a friction or Coulomb row given the current forces.
+double row_limit_n(std::span<const ConstraintRow> rows, std::size_t row, std::span<const double> forces) noexcept;
+
+}  // namespace nav

@@ -1,0 +1,44 @@
+#pragma once
+// The needle's step and its pieces, which the needle-tissue solver calls in between: accept
+// the tracked base pose, the free motion (fixed Newton iterations on the block-tridiagonal
+// system), and the correction by constraint forces through the same factor.
+#include <span>
+
+#include "nav/needle/needle_model.hpp"
+
+namespace nav {
+
+/// Checks the pose (finite, unit quaternion within 1e-3, no point of the needle moved more
+/// than max_pose_jump_m from the last accepted pose). A bad pose raises bad_sample, counts
+/// in report.rejected_poses and leaves the state untouched; returns whether it was accepted.
+bool accept_base_pose(const NeedleModel& model, NeedleData& data, const NeedlePose& base) noexcept;
+
+/// Saves the state, moves the needle rigidly with the base increment, then runs the fixed
+/// Newton iterations of the step under the inputs' tip wrench. Leaves the factored system
+/// (A = M/h^2 + K, or K quasi-static) in data.system for compliance and correction. Call
+/// only after accept_base_pose() returned true. False (state restored, non_finite_state
+/// raised) when the system or the state is not usable.
+bool needle_free_motion(const NeedleModel& model, NeedleData& data, const NeedleInputs& inputs) noexcept;
+
+/// Moves the free nodes by A^-1 f for nodal forces f (6 per node: force then moment, world
+/// axes; node 0's entries ignored) and updates the velocities accordingly.
+void apply_needle_correction(const NeedleModel& model, NeedleData& data, std::span<double> nodal_forces) noexcept;
+
+/// Fills data.translational_compliance with the blocks of A^-1 between the free nodes
+/// first_node .. n (node indices, first_node >= 1), 9 doubles per (i, j) pair.
+void update_needle_compliance(NeedleData& data, int first_node) noexcept;
+
+/// The 3x3 translational compliance block between nodes i and j (both >= 1), column-major.
+inline const double* needle_compliance_block(const NeedleData& data, int node_i, int node_j) noexcept {
+  return data.translational_compliance.data() +
+         9 * (static_cast<std::size_t>(node_i - 1) * static_cast<std::size_t>(data.system.blocks) + static_cast<std::size_t>(node_j - 1));
+}
+
+/// One needle step without tissue: pose check, free motion, finite check.
+void step(const NeedleModel& model, NeedleData& data, const NeedleInputs& inputs) noexcept;
+
+/// Tip position and unit shaft direction at the tip (the tip node frame's x axis).
+Eigen::Vector3d needle_tip_m(const NeedleData& data) noexcept;
+Eigen::Vector3d needle_tip_direction(const NeedleData& data) noexcept;
+
+}  // namespace nav

@@ -1,0 +1,100 @@
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "nav/needle/needle_tissue_model.hpp"
+#include "nav/needle/tissue_points.hpp"
+
+namespace nav {
+
+namespace {
+
+Error scene_error(const std::string& field, const char* message) { return Error{message, "", 0, "scene." + field}; }
+
+bool positive(double v) { return std::isfinite(v) && v > 0.0; }
+bool non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
+
+Status validate_scene(const NeedleTissueScene& s) {
+  for (std::size_t l = 0; l < s.layers.size(); ++l) {
+    const TissueLayer& layer = s.layers[l];
+    const std::string at = "layers[" + std::to_string(l) + "].";
+    const double n2 = layer.outward_normal[0] * layer.outward_normal[0] + layer.outward_normal[1] * layer.outward_normal[1] +
+                      layer.outward_normal[2] * layer.outward_normal[2];
+    if (!(std::abs(n2 - 1.0) < 1e-9)) return scene_error(at + "outward_normal", "must be a unit vector");
+    for (double v : layer.surface_point_m)
+      if (!std::isfinite(v)) return scene_error(at + "surface_point_m", "must be finite");
+    if (!positive(layer.puncture_force_n)) return scene_error(at + "puncture_force_n", "must be positive");
+    if (!non_negative(layer.cutting_force_n)) return scene_error(at + "cutting_force_n", "must be finite and >= 0");
+    if (!non_negative(layer.friction_per_length_n_m)) return scene_error(at + "friction_per_length_n_m", "must be finite and >= 0");
+    if (!non_negative(layer.surface_friction_coefficient)) return scene_error(at + "surface_friction_coefficient", "must be finite and >= 0");
+  }
+  if (s.layers.size() > 16) return scene_error("layers", "at most 16 layers");
+  if (!positive(s.point_compliance_m_per_n)) return scene_error("point_compliance_m_per_n", "must be positive");
+  if (!positive(s.compliance_correlation_length_m)) return scene_error("compliance_correlation_length_m", "must be positive");
+  if (!non_negative(s.shaft_friction_coefficient)) return scene_error("shaft_friction_coefficient", "must be finite and >= 0");
+  if (!positive(s.path_spacing_m)) return scene_error("path_spacing_m", "must be positive");
+  if (s.max_path_points < 0 || s.max_path_points > 256) return scene_error("max_path_points", "must be within [0, 256]");
+  if (!positive(s.hole_radius_m)) return scene_error("hole_radius_m", "must be positive");
+  if (!non_negative(s.bevel_steering_gain) || s.bevel_steering_gain > 1.0) return scene_error("bevel_steering_gain", "must be within [0, 1]");
+  if (s.gauss_seidel_sweeps < 1 || s.gauss_seidel_sweeps > 1000) return scene_error("gauss_seidel_sweeps", "must be within [1, 1000]");
+  if (!positive(s.residual_bound_m)) return scene_error("residual_bound_m", "must be positive");
+  return Done{};
+}
+
+}  // namespace
+
+Result<NeedleTissueModel> make_needle_tissue_model(const NeedleParameters& needle, const NeedleTissueScene& scene,
+                                                   std::span<const double> tissue_rest_m) {
+  auto needle_model = make_needle_model(needle);
+  if (!needle_model.ok()) return needle_model.error();
+  if (auto valid = validate_scene(scene); !valid) return valid.error();
+  if (tissue_rest_m.size() % 3 != 0) return Error{"must hold 3 coordinates per node", "", 0, "tissue_rest_m"};
+  NeedleTissueModel model{std::move(needle_model).value(), scene, 0.0, {tissue_rest_m.begin(), tissue_rest_m.end()}};
+  if (scene.bevel_steering) model.bevel_tilt_rad = scene.bevel_steering_gain * (0.5 * std::numbers::pi - needle.bevel_angle_rad);
+  return model;
+}
+
+Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model, const NeedlePose& base) {
+  auto needle = make_needle_data(model.needle, base);
+  if (!needle.ok()) return needle.error();
+  const auto layers = static_cast<std::size_t>(model.layer_count());
+  const auto slots = static_cast<std::size_t>(model.slot_count());
+  const auto nodes = static_cast<std::size_t>(model.needle.node_count());
+  ArenaPlan plan;
+  plan.add<LayerState>(layers).add<PathPoint>(static_cast<std::size_t>(model.scene.max_path_points));
+  plan.add<double>(slots).add<double>(slots).add<ConstraintRow>(slots);
+  plan.add<double>(slots * slots).add<double>(slots).add<double>(slots).add<double>(6 * nodes);
+  NeedleTissueData data(Arena("needle_tissue_data", plan.bytes()), std::move(needle).value());
+  auto layer_states = data.arena.allocate<LayerState>("layers", layers);
+  auto path = data.arena.allocate<PathPoint>("path points", static_cast<std::size_t>(model.scene.max_path_points));
+  auto rows = data.arena.allocate<ConstraintRow>("constraint rows", slots);
+  if (!layer_states.ok()) return layer_states.error();
+  if (!path.ok()) return path.error();
+  if (!rows.ok()) return rows.error();
+  data.layers = layer_states.value();
+  data.path = path.value();
+  data.rows = rows.value();
+  struct Buffer {
+    std::span<double>* span;
+    std::size_t count;
+    const char* what;
+  };
+  const Buffer buffers[] = {{&data.slot_forces, slots, "slot forces"},
+                            {&data.applied_forces, slots, "applied forces"},
+                            {&data.compliance, slots * slots, "compliance"},
+                            {&data.row_forces, slots, "row forces"},
+                            {&data.row_gaps, slots, "row gaps"},
+                            {&data.nodal_forces, 6 * nodes, "nodal forces"}};
+  for (const Buffer& b : buffers) {
+    auto carved = data.arena.allocate<double>(b.what, b.count);
+    if (!carved.ok()) return carved.error();
+    *b.span = carved.value();
+  }
+  for (std::size_t l = 0; l < layers; ++l) {
+    const Point3& p = model.scene.layers[l].surface_point_m;
+    data.layers[l].surface = tissue_point_at(model, Eigen::Vector3d(p[0], p[1], p[2]), {});
+  }
+  return data;
+}
+
+}  // namespace nav

@@ -1,0 +1,129 @@
+#pragma once
+// Needle-tissue interaction as constraints (Duriez, section 2.5): a puncture state machine
+// per layer, cutting at the tip, shaft friction with stick and slip, path constraints from a
+// preallocated pool, and the bevel's steering behind a switch, solved by projected
+// Gauss-Seidel on W = H A^-1 H^T + W_tissue after the needle's free motion, then corrected.
+// Model/Data: the model is immutable after init, the data is one arena, step() is noexcept,
+// allocation-free, of fixed cost and bitwise repeatable.
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "nav/core/arena.hpp"
+#include "nav/core/error.hpp"
+#include "nav/core/health.hpp"
+#include "nav/needle/constraint_row.hpp"
+#include "nav/needle/needle_model.hpp"
+#include "nav/needle/needle_tissue_scene.hpp"
+
+namespace nav {
+
+/// Where the tip stands with one layer.
+enum class LayerPhase : std::uint8_t {
+  outside,    ///< not touching (possibly holed by an earlier puncture)
+  touching,   ///< on the surface, pushing it in up to f_p
+  punctured,  ///< the surface gave way; the layer has a hole and a cut front
+};
+
+/// A material point of the tissue: its rest position and the tissue node whose displacement
+/// carries it (-1 when the tissue does not move as a whole, as in the stand-alone scene).
+struct TissuePoint {
+  Eigen::Vector3d rest_m = Eigen::Vector3d::Zero();
+  std::int32_t node = -1;
+};
+
+/// The state of one layer.
+struct LayerState {
+  LayerPhase phase = LayerPhase::outside;
+  bool holed = false;
+  TissuePoint surface;    ///< the layer's surface point, carried by the tissue
+  TissuePoint contact;    ///< the surface point under the tip while touching
+  TissuePoint hole;       ///< where the surface was punctured
+  TissuePoint cut_front;  ///< the deepest point cut so far
+};
+
+/// One path constraint: a tissue point held on the needle at needle arclength s.
+struct PathPoint {
+  bool active = false;
+  double arclength_m = 0.0;
+  TissuePoint tissue;
+  std::int32_t layer = 0;
+};
+
+/// The immutable interaction: the needle, the scene and the pool sizes.
+struct NeedleTissueModel {
+  NeedleModel needle;
+  NeedleTissueScene scene;
+  double bevel_tilt_rad = 0.0;  ///< 0 unless bevel_steering
+  /// Tissue rest positions (3 per node) that tissue points attach to; empty stand-alone.
+  std::vector<double> tissue_rest_m;
+  int layer_count() const { return static_cast<int>(scene.layers.size()); }
+  /// Slots of forces: 3 per layer (contact), 1 at the tip (cutting), 3 per path point.
+  int slot_count() const { return 3 * layer_count() + 1 + 3 * scene.max_path_points; }
+  int tip_slot() const { return 3 * layer_count(); }
+  int path_slot(int point) const { return 3 * layer_count() + 1 + 3 * point; }
+};
+
+/// What drives one interaction step.
+struct NeedleTissueInputs {
+  NeedleInputs needle;
+  /// Displacement of the tissue nodes (3 per node), empty stand-alone.
+  std::span<const double> tissue_displacements_m;
+};
+
+/// Insertion force along the base axis, positive when it resists insertion, and its parts.
+struct InsertionForces {
+  double total_n = 0.0;
+  double stiffness_n = 0.0;  ///< surfaces pushed before they give way
+  double cutting_n = 0.0;
+  double friction_n = 0.0;   ///< shaft friction
+};
+
+/// What the last interaction step did.
+struct NeedleTissueReport {
+  InsertionForces forces;
+  double residual_m = 0.0;     ///< largest law violation after the fixed Gauss-Seidel sweeps
+  int active_rows = 0;
+  int active_path_points = 0;
+  int lost_path_points = 0;    ///< path points that found the pool full, since the data was made
+  int punctures = 0;           ///< surfaces punctured, since the data was made
+  double tip_depth_m = 0.0;    ///< tip depth below the outermost surface
+};
+
+/// State and workspace of the interaction, in one arena (the needle keeps its own).
+struct NeedleTissueData {
+  Arena arena;
+  NeedleData needle;
+  HealthFlags health;
+  NeedleTissueReport report;
+  std::int64_t steps = 0;
+  std::span<LayerState> layers;
+  std::span<PathPoint> path;
+  TissuePoint tip_anchor;         ///< the tissue point at the tip (where the next path point goes)
+  std::span<double> slot_forces;  ///< per slot: last solution (warm start)
+  std::span<double> applied_forces;  ///< per slot: forces the tissue model already carries
+  // Workspace of one step.
+  std::span<ConstraintRow> rows;
+  std::span<double> compliance, row_forces, row_gaps, nodal_forces;
+  int row_count = 0;
+
+  NeedleTissueData(Arena block, NeedleData needle_data) : arena(std::move(block)), needle(std::move(needle_data)) {}
+};
+
+/// Builds the model; the Error names the field at fault (needle.*, scene.*).
+/// `tissue_rest_m` (3 per node) lets tissue points attach to the nearest tissue node.
+Result<NeedleTissueModel> make_needle_tissue_model(const NeedleParameters& needle, const NeedleTissueScene& scene,
+                                                   std::span<const double> tissue_rest_m = {});
+
+/// The data, with the needle straight at `base`, no layer touched and empty pools.
+Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model, const NeedlePose& base);
+
+/// One step: pose check, needle free motion, constraints, Gauss-Seidel, correction, state
+/// machines and pools. A refused pose leaves everything untouched (flags raised).
+void step(const NeedleTissueModel& model, NeedleTissueData& data, const NeedleTissueInputs& inputs) noexcept;
+
+/// The current position of a tissue point, given the tissue displacements (may be empty).
+Eigen::Vector3d tissue_point_position_m(const TissuePoint& point, std::span<const double> displacements_m) noexcept;
+
+}  // namespace nav

@@ -1,0 +1,127 @@
+// Same inputs, same bits on every architecture: deterministic tissue runs hashed and compared
+// with golden values recorded on x86_64. The aarch64 build (qemu emulation in CI) must
+// reproduce them exactly. It can because the build forbids fused multiply-add contraction
+// (-ffp-contract=off) and keeps Eigen from calling the NEON fused multiply-add itself (see
+// CMakeLists.txt); the runs use no libm function whose last bit may differ between C
+// libraries (only +, -, *, / and sqrt, which IEEE 754 rounds exactly), and SSE2 and NEON
+// both hold two doubles per packet, so Eigen sums in the same order on both.
+// A deliberate change to the tissue numerics (or the mesher) changes these values: record
+// the new ones from this test's output on x86_64, and check that aarch64 agrees.
+#include <gtest/gtest.h>
+
+#include <cinttypes>
+#include <cstdio>
+#include <span>
+#include <vector>
+
+#include "nav/mesher/embedded_liver.hpp"
+#include "nav/tissue/tet_fem_model.hpp"
+#include "tissue/tissue_test_support.hpp"
+
+namespace nav {
+namespace {
+
+using testing::box_mesh;
+using testing::faces_where;
+using testing::nodes_where;
+using testing::state_hash;
+
+/// Inputs of step i: a ramped traction, a sliding and turning spring frame and a probe moving
+/// in, from arithmetic alone (no libm call).
+TissueInputs ramp_inputs(int i, const Point3& probe_start_m, std::span<const PointForce> forces) {
+  const double t = 0.05 * i;
+  TissueInputs inputs;
+  inputs.point_forces = forces;
+  inputs.traction_pa = {2.0 * t, 0.0, 1.0 - t};
+  const double half_turn = 0.01 * t;  // quaternion (1, 0, s, 0) normalised by step()
+  inputs.spring_frame.rotation_wxyz = {1.0, 0.0, half_turn, 0.0};
+  inputs.spring_frame.translation_m = {0.0005 * t, 0.0, 0.0};
+  inputs.prescribed_displacement_m = {0.0, 0.001 * t, 0.0};
+  inputs.probe = {true, {probe_start_m[0], probe_start_m[1], probe_start_m[2] - 0.0004 * i}, 0.012};
+  return inputs;
+}
+
+/// Positions and velocities after `steps` steps of `model` under ramp_inputs, hashed.
+std::uint64_t run_hash(const TetMesh& mesh, const TissueScene& scene, const TissueSolverOptions& options, int steps,
+                       const Point3& probe_start_m) {
+  auto model = make_tet_fem_model(mesh, scene, options);
+  EXPECT_TRUE(model.ok()) << model.error().describe();
+  auto data = make_tet_fem_data(model.value());
+  EXPECT_TRUE(data.ok());
+  const std::vector<PointForce> forces{{3, {0.0, 0.01, 0.0}}, {11, {0.0, 0.0, -0.02}}};
+  for (int i = 0; i < steps; ++i) step(model.value(), data.value(), ramp_inputs(i, probe_start_m, forces));
+  EXPECT_EQ(data.value().steps, steps);
+  EXPECT_FALSE(data.value().health.has(HealthFlag::non_finite_state));
+  const std::uint64_t hash = state_hash(data.value().positions_m, data.value().velocities_m_s);
+  std::printf("state hash after %d steps: 0x%016" PRIx64 "\n", steps, hash);
+  return hash;
+}
+
+/// A 2 x 2 x 6 cm block with every support and load in use.
+struct BoxScene {
+  TetMesh mesh = box_mesh({0.02, 0.02, 0.06}, 0.005);
+  TissueScene scene;
+  BoxScene() {
+    scene.default_material = {3.0e3, 0.45, 1000.0};
+    scene.fixed_nodes = nodes_where(mesh, 2, 0.0);
+    scene.prescribed_nodes = nodes_where(mesh, 2, 0.06);
+    scene.spring_nodes = nodes_where(mesh, 0, 0.0);
+    scene.spring_stiffness_n_m = 50.0;
+    scene.traction_triangles = faces_where(mesh, 0, 0.02);
+    scene.probe_stiffness_n_m = 200.0;
+  }
+};
+
+TissueSolverOptions damped(Integrator integrator, LinearSolver solver, double step_s) {
+  TissueSolverOptions options;
+  options.integrator = integrator;
+  options.solver = solver;
+  options.step_s = step_s;
+  options.cg_iterations = solver == LinearSolver::ldlt_warped ? 2 : 20;
+  options.rayleigh_mass_per_s = 0.5;
+  if (integrator != Integrator::explicit_central_difference) options.rayleigh_stiffness_s = 0.01;
+  return options;
+}
+
+const Point3 kBoxProbeStart{0.03, 0.01, 0.03};
+
+}  // namespace
+
+TEST(TissueGoldenHash, BoxCorotationalImplicitLdlt) {
+  const BoxScene box;
+  const auto options = damped(Integrator::implicit_euler, LinearSolver::ldlt_warped, 0.01);
+  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 40, kBoxProbeStart), 0xbc7374d20fa4adadULL);
+}
+
+TEST(TissueGoldenHash, BoxCorotationalImplicitBlockJacobi) {
+  const BoxScene box;
+  const auto options = damped(Integrator::implicit_euler, LinearSolver::cg_block_jacobi, 0.01);
+  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 40, kBoxProbeStart), 0x29ccd04313ff5b44ULL);
+}
+
+TEST(TissueGoldenHash, BoxCorotationalQuasiStatic) {
+  const BoxScene box;
+  const auto options = damped(Integrator::quasi_static, LinearSolver::ldlt_warped, 0.01);
+  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 20, kBoxProbeStart), 0x52b1ae05ea6f0958ULL);
+}
+
+TEST(TissueGoldenHash, BoxCorotationalExplicit) {
+  const BoxScene box;
+  const auto options = damped(Integrator::explicit_central_difference, LinearSolver::ldlt_warped, 2e-4);
+  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 200, kBoxProbeStart), 0xdbec5ae69d1f9f6fULL);
+}
+
+// The embedded liver, meshed here (the mesher is part of the run), held at its attachments
+// by springs, under gravity and a probe pressing down above the tumour.
+TEST(TissueGoldenHash, EmbeddedLiverCorotationalImplicit) {
+  const EmbeddedLiver liver = make_embedded_liver(kEmbeddedLiverElementSizeM);
+  TissueScene scene;
+  scene.spring_nodes = liver.attachment_nodes;
+  scene.spring_stiffness_n_m = 20.0;
+  scene.probe_stiffness_n_m = 500.0;
+  const Point3 probe_start{liver.tumour_centre_m[0], liver.tumour_centre_m[1], liver.tumour_centre_m[2] + 0.06};
+  const auto options = damped(Integrator::implicit_euler, LinearSolver::ldlt_warped, 0.01);
+  EXPECT_EQ(run_hash(liver.mesh, scene, options, 10, probe_start), 0x4074874f76065b6fULL);
+}
+
+}  // namespace nav
