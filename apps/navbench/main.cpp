@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "bench_full.hpp"
+#include "bench_needle.hpp"
 #include "dds_bench.hpp"
 
 namespace {
@@ -11,7 +12,8 @@ namespace {
 constexpr const char* kUsage =
     "usage:\n"
     "  navbench dds --json FILE [--domain D] [--pose-samples N] [--frame-samples N]\n"
-    "  navbench full --json FILE [--quick]\n";
+    "  navbench full --json FILE [--quick]\n"
+    "  navbench needle --json FILE [--quick]\n";
 
 }  // namespace
 
@@ -22,6 +24,7 @@ int main(int argc, char** argv) {
     if (args[0] == "dds") return navbench::run_dds_bench(rest);
     if (args[0] == "dds-peer") return navbench::run_dds_peer(rest);
     if (args[0] == "full") return navbench::run_full_bench(rest);
+    if (args[0] == "needle") return navbench::run_needle_bench(rest);
   }
   std::fputs(kUsage, stderr);
   return 2;

@@ -13,60 +13,34 @@
 #include <string>
 #include <vector>
 
-#include "nav/mesh/geometry.hpp"
-#include "nav/mesh/load_mesh.hpp"
-#include "nav/mesher/mesher.hpp"
-#include "nav/mesher/surface_domain.hpp"
+#include "nav/tissue/liver_scenes.hpp"
 #include "nav/tissue/node_selection.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 
 namespace {
 
-/// ../shared/data/liver/ next to the repository, found from this file's path (the benchmark
+/// ../shared/data/liver next to the repository, found from this file's path (the benchmark
 /// programs get no data-folder definition from the build).
 std::string liver_dir() {
   const std::string here = __FILE__;
-  return here.substr(0, here.rfind('/')) + "/../../../shared/data/liver/";
+  return here.substr(0, here.rfind('/')) + "/../../../shared/data/liver";
 }
 
-/// The liver at about `tet_count` elements: liverFine.vtu itself for 22k, the mesher on the
-/// liver surface for smaller counts. Built once per count.
+/// The liver at about `tet_count` elements (nav::load_liver_mesh), built once per count.
 const nav::TetMesh& liver_mesh(int tet_count) {
   static std::map<int, nav::TetMesh> meshes;
   auto found = meshes.find(tet_count);
   if (found != meshes.end()) return found->second;
-  nav::TetMesh mesh;
-  if (tet_count >= 20000) {
-    mesh = nav::load_tet_mesh(liver_dir() + "liverFine.vtu", nav::LengthUnit::centimetre).value();
-  } else {
-    const nav::TriSurface surface =
-        nav::load_surface(liver_dir() + "liver-smoothUV.obj", nav::LengthUnit::centimetre).value();
-    nav::MesherOptions options;
-    options.element_size_m = nav::element_size_for_tet_count_m(nav::enclosed_volume_m3(surface), tet_count);
-    mesh = nav::make_tet_mesh(nav::SurfaceDomain(surface), options).value().mesh;
-  }
-  return meshes.emplace(tet_count, std::move(mesh)).first->second;
+  return meshes.emplace(tet_count, nav::load_liver_mesh(liver_dir(), tet_count).value()).first->second;
 }
 
-/// The anchor scene's supports and loads in SI: the box x in [0,2], y in [3,5], z in [-1,2] cm
-/// held, gravity 9.81 m/s^2 along -y, 0.3 kg spread evenly over the nodes.
+/// The anchor scene's supports and loads in SI: the held box x in [0,2], y in [3,5], z in
+/// [-1,2] cm and gravity 9.81 m/s^2 along -y of nav::liver_scenes, with E 5000 Pa, nu 0.3 and
+/// 0.3 kg spread evenly over the nodes.
 nav::TissueScene anchor_scene(const nav::TetMesh& mesh) {
-  nav::TissueScene scene;
+  nav::TissueScene scene = nav::liver_scenes(mesh).front().scene;
   scene.default_material = {5000.0, 0.3, 1000.0};
   scene.uniform_total_mass_kg = 0.3;
-  scene.gravity_m_s2 = {0.0, -9.81, 0.0};
-  auto held = nav::nodes_in_box(mesh, {{0.0, 0.03, -0.01}, {0.02, 0.05, 0.02}}, "held_box");
-  if (!held.ok()) {  // a coarser mesh may miss the box: hold its nodes nearest the box's centre
-    using nav::operator-;
-    const nav::Point3 centre{0.01, 0.04, 0.005};
-    std::vector<std::pair<double, std::int32_t>> by_distance;
-    for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n)
-      by_distance.emplace_back(nav::norm(mesh.nodes_m[n] - centre), static_cast<std::int32_t>(n));
-    std::sort(by_distance.begin(), by_distance.end());
-    for (std::size_t k = 0; k < std::min<std::size_t>(20, by_distance.size()); ++k) scene.fixed_nodes.push_back(by_distance[k].second);
-  } else {
-    scene.fixed_nodes = held.value();
-  }
   return scene;
 }
 

@@ -16,6 +16,8 @@ const std::string& write_input_file(const std::uint8_t* data, std::size_t size, 
     const auto name = "navrt-fuzz-" + std::to_string(::getpid()) + "-input" + extension;
     entry->second = (std::filesystem::temp_directory_path() / name).string();
   }
+  // A new file each time: rewriting one in place makes ext4 flush it to disk on close.
+  std::remove(entry->second.c_str());
   std::FILE* file = std::fopen(entry->second.c_str(), "wb");
   const bool written = file != nullptr && std::fwrite(data, 1, size, file) == size;
   if (file == nullptr || std::fclose(file) != 0 || !written) {

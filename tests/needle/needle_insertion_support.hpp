@@ -1,6 +1,7 @@
 #pragma once
 // A stand-alone insertion rig for the needle-tissue tests: the needle along +x, layers
 // facing it, and a driver that moves the base at a constant speed and records the forces.
+#include <algorithm>
 #include <cmath>
 #include <vector>
 

@@ -27,6 +27,7 @@ struct ConstraintRow {
   double weight = 0.0;
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();
   Eigen::Vector3d tissue_point_m = Eigen::Vector3d::Zero();  ///< where the tissue is touched
+  std::int32_t tissue_node = -1;  ///< the tissue node that carries that point (-1 stand-alone)
   double gap_free_m = 0.0;
   double cap = 0.0;             ///< f_p, the cutting force or the friction limit, newtons
   double friction_coefficient = 0.0;  ///< mu of friction_axial and coulomb_pair rows

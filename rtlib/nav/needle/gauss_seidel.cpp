@@ -11,6 +11,7 @@ namespace {
 constexpr double kAtBound = 1e-9;
 
 void add_column(std::span<const double> w, std::size_t m, std::size_t column, double change, std::span<double> gaps) {
+  if (change == 0.0) return;  // a force held at its bound
   const double* c = w.data() + column * m;
   for (std::size_t i = 0; i < m; ++i) gaps[i] += c[i] * change;
 }

@@ -74,6 +74,17 @@ struct NeedleData {
   explicit NeedleData(Arena block) : arena(std::move(block)) {}
 };
 
+/// The position (3 values per node) of `node` in a node array, in metres.
+inline Eigen::Vector3d node_position_m(std::span<const double> positions_m, int node) noexcept {
+  return Eigen::Map<const Eigen::Vector3d>(positions_m.data() + 3 * static_cast<std::size_t>(node));
+}
+
+/// The frame (4 values per node, w x y z) of `node` in a node array.
+inline Eigen::Quaterniond node_rotation(std::span<const double> rotations_wxyz, int node) noexcept {
+  const double* q = rotations_wxyz.data() + 4 * static_cast<std::size_t>(node);
+  return Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
+}
+
 /// Builds the model; the Error names the parameter at fault.
 Result<NeedleModel> make_needle_model(const NeedleParameters& parameters);
 

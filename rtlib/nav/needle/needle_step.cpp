@@ -12,21 +12,12 @@ namespace {
 using Vec3Map = Eigen::Map<Eigen::Vector3d>;
 using ConstVec3Map = Eigen::Map<const Eigen::Vector3d>;
 
-Eigen::Quaterniond node_rotation(std::span<const double> rotations, int node) {
-  const double* q = rotations.data() + 4 * static_cast<std::size_t>(node);
-  return Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
-}
-
 void set_node_rotation(std::span<double> rotations, int node, const Eigen::Quaterniond& q) {
   double* out = rotations.data() + 4 * static_cast<std::size_t>(node);
   out[0] = q.w();
   out[1] = q.x();
   out[2] = q.y();
   out[3] = q.z();
-}
-
-Eigen::Vector3d node_position(std::span<const double> positions, int node) {
-  return ConstVec3Map(positions.data() + 3 * static_cast<std::size_t>(node));
 }
 
 Eigen::Quaterniond pose_rotation(const NeedlePose& pose) {
@@ -53,7 +44,7 @@ void assemble(const NeedleModel& model, NeedleData& data, const NeedleInputs& in
   std::fill(data.system.diagonal.begin(), data.system.diagonal.end(), 0.0);
   std::fill(data.system.upper.begin(), data.system.upper.end(), 0.0);
   for (int e = 0; e < model.element_count; ++e) {
-    const BeamEnds ends{node_position(data.positions_m, e), node_position(data.positions_m, e + 1),
+    const BeamEnds ends{node_position_m(data.positions_m, e), node_position_m(data.positions_m, e + 1),
                         node_rotation(data.rotations_wxyz, e), node_rotation(data.rotations_wxyz, e + 1)};
     const BeamResponse response = corotational_beam_response(model.local_stiffness, model.element_length_m, ends);
     Eigen::Map<Vector12d>(data.forces.data() + 6 * static_cast<std::size_t>(e)) += response.forces;
@@ -64,7 +55,7 @@ void assemble(const NeedleModel& model, NeedleData& data, const NeedleInputs& in
   }
   for (int node = 1; node < n; ++node) {
     const std::size_t i = static_cast<std::size_t>(node);
-    const Eigen::Vector3d dx = node_position(data.positions_m, node) - node_position(data.start_positions_m, node);
+    const Eigen::Vector3d dx = node_position_m(data.positions_m, node) - node_position_m(data.start_positions_m, node);
     const Eigen::Vector3d dtheta = rotation_vector_from_quaternion(node_rotation(data.rotations_wxyz, node) *
                                                                    node_rotation(data.start_rotations_wxyz, node).conjugate());
     const double m = model.node_mass_kg(node), j = model.node_rotary_inertia_kg_m2(node);
@@ -101,7 +92,7 @@ void update_velocities(const NeedleModel& model, NeedleData& data) {
   for (int node = 0; node < model.node_count(); ++node) {
     const std::size_t i = static_cast<std::size_t>(node);
     Vec3Map(data.velocities_m_s.data() + 3 * i) =
-        (node_position(data.positions_m, node) - node_position(data.start_positions_m, node)) / h;
+        (node_position_m(data.positions_m, node) - node_position_m(data.start_positions_m, node)) / h;
     Vec3Map(data.angular_velocities_rad_s.data() + 3 * i) =
         rotation_vector_from_quaternion(node_rotation(data.rotations_wxyz, node) *
                                         node_rotation(data.start_rotations_wxyz, node).conjugate()) / h;
@@ -127,7 +118,7 @@ bool accept_base_pose(const NeedleModel& model, NeedleData& data, const NeedlePo
   if (ok) {
     // The farthest any needle point moves under the rigid base increment: |dp| + L * angle.
     const Eigen::Quaterniond turn = pose_rotation(base) * node_rotation(data.rotations_wxyz, 0).conjugate();
-    const double jump_m = (ConstVec3Map(base.position_m.data()) - node_position(data.positions_m, 0)).norm() +
+    const double jump_m = (ConstVec3Map(base.position_m.data()) - node_position_m(data.positions_m, 0)).norm() +
                           model.parameters.length_m * rotation_vector_from_quaternion(turn).norm();
     ok = jump_m <= model.parameters.max_pose_jump_m;
   }
@@ -149,7 +140,7 @@ bool needle_free_motion(const NeedleModel& model, NeedleData& data, const Needle
   // Carry the whole needle rigidly with the base increment: the first Newton iterate.
   const Eigen::Quaterniond base_rotation = pose_rotation(inputs.base);
   const Eigen::Quaterniond turn = base_rotation * node_rotation(data.rotations_wxyz, 0).conjugate();
-  const Eigen::Vector3d old_base = node_position(data.positions_m, 0), new_base = ConstVec3Map(inputs.base.position_m.data());
+  const Eigen::Vector3d old_base = node_position_m(data.positions_m, 0), new_base = ConstVec3Map(inputs.base.position_m.data());
   for (int node = 0; node < model.node_count(); ++node) {
     Vec3Map p(data.positions_m.data() + 3 * static_cast<std::size_t>(node));
     p = new_base + turn * (Eigen::Vector3d(p) - old_base);
@@ -193,7 +184,7 @@ void step(const NeedleModel& model, NeedleData& data, const NeedleInputs& inputs
 }
 
 Eigen::Vector3d needle_tip_m(const NeedleData& data) noexcept {
-  return node_position(data.positions_m, data.system.blocks);
+  return node_position_m(data.positions_m, data.system.blocks);
 }
 
 Eigen::Vector3d needle_tip_direction(const NeedleData& data) noexcept {

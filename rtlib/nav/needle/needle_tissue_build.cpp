@@ -49,7 +49,11 @@ Result<NeedleTissueModel> make_needle_tissue_model(const NeedleParameters& needl
   if (!needle_model.ok()) return needle_model.error();
   if (auto valid = validate_scene(scene); !valid) return valid.error();
   if (tissue_rest_m.size() % 3 != 0) return Error{"must hold 3 coordinates per node", "", 0, "tissue_rest_m"};
-  NeedleTissueModel model{std::move(needle_model).value(), scene, 0.0, {tissue_rest_m.begin(), tissue_rest_m.end()}};
+  NeedleTissueModel model;
+  model.needle = std::move(needle_model).value();
+  model.scene = scene;
+  model.tissue_rest_m.assign(tissue_rest_m.begin(), tissue_rest_m.end());
+  model.compliance_tensor_m_per_n = scene.point_compliance_m_per_n * Eigen::Matrix3d::Identity();
   if (scene.bevel_steering) model.bevel_tilt_rad = scene.bevel_steering_gain * (0.5 * std::numbers::pi - needle.bevel_angle_rad);
   return model;
 }
@@ -64,6 +68,7 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
   plan.add<LayerState>(layers).add<PathPoint>(static_cast<std::size_t>(model.scene.max_path_points));
   plan.add<double>(slots).add<double>(slots).add<ConstraintRow>(slots);
   plan.add<double>(slots * slots).add<double>(slots).add<double>(slots).add<double>(6 * nodes);
+  plan.add<double>(3 * slots * nodes).add<double>(slots * slots).add<std::int32_t>(slots);
   NeedleTissueData data(Arena("needle_tissue_data", plan.bytes()), std::move(needle).value());
   auto layer_states = data.arena.allocate<LayerState>("layers", layers);
   auto path = data.arena.allocate<PathPoint>("path points", static_cast<std::size_t>(model.scene.max_path_points));
@@ -84,12 +89,17 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
                             {&data.compliance, slots * slots, "compliance"},
                             {&data.row_forces, slots, "row forces"},
                             {&data.row_gaps, slots, "row gaps"},
-                            {&data.nodal_forces, 6 * nodes, "nodal forces"}};
+                            {&data.nodal_forces, 6 * nodes, "nodal forces"},
+                            {&data.needle_response, 3 * slots * nodes, "needle response"},
+                            {&data.point_decay, slots * slots, "point decay"}};
   for (const Buffer& b : buffers) {
     auto carved = data.arena.allocate<double>(b.what, b.count);
     if (!carved.ok()) return carved.error();
     *b.span = carved.value();
   }
+  auto row_point = data.arena.allocate<std::int32_t>("row points", slots);
+  if (!row_point.ok()) return row_point.error();
+  data.row_point = row_point.value();
   for (std::size_t l = 0; l < layers; ++l) {
     const Point3& p = model.scene.layers[l].surface_point_m;
     data.layers[l].surface = tissue_point_at(model, Eigen::Vector3d(p[0], p[1], p[2]), {});

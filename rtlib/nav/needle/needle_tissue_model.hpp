@@ -37,7 +37,7 @@ struct TissuePoint {
 struct LayerState {
   LayerPhase phase = LayerPhase::outside;
   bool holed = false;
-  TissuePoint surface;    ///< the layer's surface point, carried by the tissue
+  TissuePoint surface;    ///< the layer's surface point, carried by its nearest tissue node
   TissuePoint contact;    ///< the surface point under the tip while touching
   TissuePoint hole;       ///< where the surface was punctured
   TissuePoint cut_front;  ///< the deepest point cut so far
@@ -56,6 +56,9 @@ struct NeedleTissueModel {
   NeedleModel needle;
   NeedleTissueScene scene;
   double bevel_tilt_rad = 0.0;  ///< 0 unless bevel_steering
+  /// The tissue's 3x3 point compliance (m/N): scene.point_compliance_m_per_n times the
+  /// identity, or the tensor probed from a tissue model.
+  Eigen::Matrix3d compliance_tensor_m_per_n = Eigen::Matrix3d::Identity();
   /// Tissue rest positions (3 per node) that tissue points attach to; empty stand-alone.
   std::vector<double> tissue_rest_m;
   int layer_count() const { return static_cast<int>(scene.layers.size()); }
@@ -83,6 +86,7 @@ struct InsertionForces {
 /// What the last interaction step did.
 struct NeedleTissueReport {
   InsertionForces forces;
+  double contact_force_n = 0.0;  ///< largest normal force on a touched surface
   double residual_m = 0.0;     ///< largest law violation after the fixed Gauss-Seidel sweeps
   int active_rows = 0;
   int active_path_points = 0;
@@ -106,6 +110,9 @@ struct NeedleTissueData {
   // Workspace of one step.
   std::span<ConstraintRow> rows;
   std::span<double> compliance, row_forces, row_gaps, nodal_forces;
+  std::span<double> needle_response;  ///< per row, 3 per free node: displacement under its unit force
+  std::span<double> point_decay;      ///< Gaussian decay between the rows' distinct tissue points
+  std::span<std::int32_t> row_point;  ///< per row, the index of its distinct tissue point
   int row_count = 0;
 
   NeedleTissueData(Arena block, NeedleData needle_data) : arena(std::move(block)), needle(std::move(needle_data)) {}

@@ -12,15 +12,6 @@ namespace {
 
 Eigen::Vector3d vec(const Point3& p) { return Eigen::Vector3d(p[0], p[1], p[2]); }
 
-Eigen::Vector3d node_position(const NeedleData& data, int node) {
-  return Eigen::Map<const Eigen::Vector3d>(data.positions_m.data() + 3 * static_cast<std::size_t>(node));
-}
-
-Eigen::Quaterniond node_rotation(const NeedleData& data, int node) {
-  const double* q = data.rotations_wxyz.data() + 4 * static_cast<std::size_t>(node);
-  return Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
-}
-
 /// Two unit vectors completing `axis` to an orthonormal frame, the first taken from `hint`.
 void complete_frame(const Eigen::Vector3d& axis, const Eigen::Vector3d& hint, Eigen::Vector3d& first, Eigen::Vector3d& second) {
   first = (hint - hint.dot(axis) * axis).normalized();
@@ -35,7 +26,8 @@ double signed_distance_m(const NeedleTissueModel& model, const NeedleTissueData&
 
 /// Appends one row and returns its index.
 int add_row(NeedleTissueData& data, RowLaw law, int slot, int node, double weight, const Eigen::Vector3d& direction,
-            const Eigen::Vector3d& needle_point_m, const Eigen::Vector3d& tissue_point_m, double cap, double mu) {
+            const Eigen::Vector3d& needle_point_m, const Eigen::Vector3d& tissue_point_m, std::int32_t tissue_node, double cap,
+            double mu) {
   ConstraintRow& row = data.rows[static_cast<std::size_t>(data.row_count)];
   row.law = law;
   row.slot = slot;
@@ -43,6 +35,7 @@ int add_row(NeedleTissueData& data, RowLaw law, int slot, int node, double weigh
   row.weight = weight;
   row.direction = direction;
   row.tissue_point_m = tissue_point_m;
+  row.tissue_node = tissue_node;
   row.gap_free_m = direction.dot(needle_point_m - tissue_point_m);
   row.cap = cap;
   row.friction_coefficient = mu;
@@ -58,10 +51,11 @@ void add_contact_rows(const NeedleTissueModel& model, NeedleTissueData& data, in
   const Eigen::Vector3d contact = tissue_point_position_m(data.layers[static_cast<std::size_t>(layer)].contact, displacements_m);
   Eigen::Vector3d t1, t2;
   complete_frame(n, std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY(), t1, t2);
-  const int normal = add_row(data, RowLaw::unilateral_capped, slot, tip_node, 0.0, n, tip, contact, spec.puncture_force_n, 0.0);
-  const int first = add_row(data, RowLaw::coulomb_pair, slot + 1, tip_node, 0.0, t1, tip, contact, 0.0,
+  const std::int32_t node = data.layers[static_cast<std::size_t>(layer)].contact.node;
+  const int normal = add_row(data, RowLaw::unilateral_capped, slot, tip_node, 0.0, n, tip, contact, node, spec.puncture_force_n, 0.0);
+  const int first = add_row(data, RowLaw::coulomb_pair, slot + 1, tip_node, 0.0, t1, tip, contact, node, 0.0,
                             spec.surface_friction_coefficient);
-  const int second = add_row(data, RowLaw::coulomb_second, slot + 2, tip_node, 0.0, t2, tip, contact, 0.0,
+  const int second = add_row(data, RowLaw::coulomb_second, slot + 2, tip_node, 0.0, t2, tip, contact, node, 0.0,
                              spec.surface_friction_coefficient);
   data.rows[static_cast<std::size_t>(first)].linked[0] = normal;
   data.rows[static_cast<std::size_t>(second)].linked[0] = normal;
@@ -70,10 +64,9 @@ void add_contact_rows(const NeedleTissueModel& model, NeedleTissueData& data, in
 void add_tip_row(const NeedleTissueModel& model, NeedleTissueData& data, int layer, std::span<const double> displacements_m) {
   const int tip_node = model.needle.element_count;
   const Eigen::Vector3d d = needle_tip_direction(data.needle), tip = needle_tip_m(data.needle);
-  const Eigen::Vector3d front =
-      tissue_point_position_m(data.layers[static_cast<std::size_t>(layer)].cut_front, displacements_m);
-  add_row(data, RowLaw::unilateral_capped, model.tip_slot(), tip_node, 0.0, -d, tip, front,
-          model.scene.layers[static_cast<std::size_t>(layer)].cutting_force_n, 0.0);
+  const TissuePoint& front = data.layers[static_cast<std::size_t>(layer)].cut_front;
+  add_row(data, RowLaw::unilateral_capped, model.tip_slot(), tip_node, 0.0, -d, tip, tissue_point_position_m(front, displacements_m),
+          front.node, model.scene.layers[static_cast<std::size_t>(layer)].cutting_force_n, 0.0);
 }
 
 void add_path_rows(const NeedleTissueModel& model, NeedleTissueData& data, int point, std::span<const double> displacements_m) {
@@ -82,35 +75,19 @@ void add_path_rows(const NeedleTissueModel& model, NeedleTissueData& data, int p
   const Eigen::Vector3d tissue = tissue_point_position_m(path.tissue, displacements_m);
   const int slot = model.path_slot(point);
   const TissueLayer& layer = model.scene.layers[static_cast<std::size_t>(path.layer)];
-  const int first = add_row(data, RowLaw::bilateral, slot, at.node, at.weight, at.normal1, at.point_m, tissue, 0.0, 0.0);
-  const int second = add_row(data, RowLaw::bilateral, slot + 1, at.node, at.weight, at.normal2, at.point_m, tissue, 0.0, 0.0);
-  const int axial = add_row(data, RowLaw::friction_axial, slot + 2, at.node, at.weight, at.tangent, at.point_m, tissue,
+  const std::int32_t node = path.tissue.node;
+  const int first = add_row(data, RowLaw::bilateral, slot, at.node, at.weight, at.normal1, at.point_m, tissue, node, 0.0, 0.0);
+  const int second = add_row(data, RowLaw::bilateral, slot + 1, at.node, at.weight, at.normal2, at.point_m, tissue, node, 0.0, 0.0);
+  const int axial = add_row(data, RowLaw::friction_axial, slot + 2, at.node, at.weight, at.tangent, at.point_m, tissue, node,
                             layer.friction_per_length_n_m * model.scene.path_spacing_m, model.scene.shaft_friction_coefficient);
   data.rows[static_cast<std::size_t>(axial)].linked[0] = first;
   data.rows[static_cast<std::size_t>(axial)].linked[1] = second;
 }
 
-/// n_r^T (sum of the needle's compliance blocks between the rows' interpolation nodes) n_s.
-double needle_coupling(const NeedleData& needle, const ConstraintRow& r, const ConstraintRow& s) {
-  double sum = 0.0;
-  for (int a = 0; a < 2; ++a) {
-    const int node_a = r.node + a;
-    const double wa = a == 0 ? 1.0 - r.weight : r.weight;
-    if (node_a < 1 || wa == 0.0) continue;
-    for (int b = 0; b < 2; ++b) {
-      const int node_b = s.node + b;
-      const double wb = b == 0 ? 1.0 - s.weight : s.weight;
-      if (node_b < 1 || wb == 0.0) continue;
-      const Eigen::Map<const Eigen::Matrix3d> c(needle_compliance_block(needle, node_a, node_b));
-      sum += wa * wb * r.direction.dot(c * s.direction);
-    }
-  }
-  return sum;
-}
-
-double tissue_kernel(const NeedleTissueModel& model, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+/// The Gaussian decay of the tissue's compliance between two points.
+double tissue_decay(const NeedleTissueModel& model, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const double l = model.scene.compliance_correlation_length_m;
-  return model.scene.point_compliance_m_per_n * std::exp(-(a - b).squaredNorm() / (2.0 * l * l));
+  return std::exp(-(a - b).squaredNorm() / (2.0 * l * l));
 }
 
 }  // namespace
@@ -120,10 +97,10 @@ NeedleFrameAt needle_frame_at(const NeedleModel& model, const NeedleData& data, 
   const double position = arclength_m / model.element_length_m;
   at.node = std::clamp(static_cast<int>(std::floor(position)), 0, model.element_count - 1);
   at.weight = std::clamp(position - at.node, 0.0, 1.0);
-  const Eigen::Vector3d a = node_position(data, at.node), b = node_position(data, at.node + 1);
+  const Eigen::Vector3d a = node_position_m(data.positions_m, at.node), b = node_position_m(data.positions_m, at.node + 1);
   at.point_m = (1.0 - at.weight) * a + at.weight * b;
   at.tangent = (b - a).normalized();
-  complete_frame(at.tangent, node_rotation(data, at.node) * Eigen::Vector3d::UnitY(), at.normal1, at.normal2);
+  complete_frame(at.tangent, node_rotation(data.rotations_wxyz, at.node) * Eigen::Vector3d::UnitY(), at.normal1, at.normal2);
   return at;
 }
 
@@ -138,8 +115,7 @@ int cutting_layer(const NeedleTissueModel& model, const NeedleTissueData& data, 
 
 Eigen::Vector3d bevel_force_n(const NeedleTissueModel& model, const NeedleTissueData& data) noexcept {
   if (model.bevel_tilt_rad == 0.0) return Eigen::Vector3d::Zero();
-  const double* q = data.needle.rotations_wxyz.data() + 4 * static_cast<std::size_t>(model.needle.element_count);
-  const Eigen::Vector3d side = Eigen::Quaterniond(q[0], q[1], q[2], q[3]) * Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d side = node_rotation(data.needle.rotations_wxyz, model.needle.element_count) * Eigen::Vector3d::UnitY();
   return std::tan(model.bevel_tilt_rad) * data.slot_forces[static_cast<std::size_t>(model.tip_slot())] * side;
 }
 
@@ -171,18 +147,61 @@ void build_rows(const NeedleTissueModel& model, NeedleTissueData& data, std::spa
 void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data) noexcept {
   const auto m = static_cast<std::size_t>(data.row_count);
   if (m == 0) return;
-  int first_node = model.needle.element_count;
+  const int last_node = model.needle.element_count;
+  int first_node = last_node;
   for (std::size_t r = 0; r < m; ++r) first_node = std::min(first_node, std::max(1, data.rows[r].node));
   update_needle_compliance(data.needle, first_node);
+  const auto free_nodes = static_cast<std::size_t>(last_node);
+  // Each row's unit force displaces the needle's nodes by sum_a w_a C_ba n (3 per node).
+  for (std::size_t s = 0; s < m; ++s) {
+    const ConstraintRow& row = data.rows[s];
+    for (int b = first_node; b <= last_node; ++b) {
+      Eigen::Vector3d v = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 2; ++k) {
+        const int a = row.node + k;
+        const double w = k == 0 ? 1.0 - row.weight : row.weight;
+        if (a < 1 || w == 0.0) continue;
+        v.noalias() += w * (Eigen::Map<const Eigen::Matrix3d>(needle_compliance_block(data.needle, b, a)) * row.direction);
+      }
+      Eigen::Map<Eigen::Vector3d>(data.needle_response.data() + 3 * (s * free_nodes + static_cast<std::size_t>(b - 1))) = v;
+    }
+  }
+  // Rows of one constraint point share its tissue point: one decay per pair of points.
+  std::size_t points = 0;
+  for (std::size_t r = 0; r < m; ++r) {
+    const bool same = r > 0 && data.rows[r].tissue_point_m == data.rows[r - 1].tissue_point_m;
+    data.row_point[r] = static_cast<std::int32_t>(same ? points - 1 : points++);
+  }
+  const auto first_of_point = [&](std::size_t r) { return r == 0 || data.row_point[r] != data.row_point[r - 1]; };
+  for (std::size_t r = 0; r < m; ++r) {
+    if (!first_of_point(r)) continue;
+    for (std::size_t s = 0; s <= r; ++s) {
+      if (!first_of_point(s)) continue;
+      const auto p = static_cast<std::size_t>(data.row_point[r]), q = static_cast<std::size_t>(data.row_point[s]);
+      data.point_decay[p * points + q] = data.point_decay[q * points + p] =
+          tissue_decay(model, data.rows[r].tissue_point_m, data.rows[s].tissue_point_m);
+    }
+  }
   for (std::size_t r = 0; r < m; ++r) {
     ConstraintRow& row = data.rows[r];
+    const Eigen::Vector3d tissue_direction = model.compliance_tensor_m_per_n * row.direction;
     for (std::size_t s = 0; s <= r; ++s) {
       const ConstraintRow& other = data.rows[s];
-      const double tissue = tissue_kernel(model, row.tissue_point_m, other.tissue_point_m) * row.direction.dot(other.direction);
-      const double w = needle_coupling(data.needle, row, other) + tissue;
-      data.compliance[r * m + s] = data.compliance[s * m + r] = w;
-      row.gap_free_m += tissue * data.applied_forces[static_cast<std::size_t>(other.slot)];
-      if (s != r) data.rows[s].gap_free_m += tissue * data.applied_forces[static_cast<std::size_t>(row.slot)];
+      double needle = 0.0;
+      for (int k = 0; k < 2; ++k) {
+        const int b = row.node + k;
+        const double w = k == 0 ? 1.0 - row.weight : row.weight;
+        if (b < 1 || w == 0.0) continue;
+        needle += w * row.direction.dot(
+                          Eigen::Map<const Eigen::Vector3d>(data.needle_response.data() + 3 * (s * free_nodes + static_cast<std::size_t>(b - 1))));
+      }
+      const double tissue =
+          data.point_decay[static_cast<std::size_t>(data.row_point[r]) * points + static_cast<std::size_t>(data.row_point[s])] *
+          other.direction.dot(tissue_direction);
+      data.compliance[r * m + s] = data.compliance[s * m + r] = needle + tissue;
+      // The tissue displacements already hold its response to the applied forces.
+      row.gap_free_m -= tissue * data.applied_forces[static_cast<std::size_t>(other.slot)];
+      if (s != r) data.rows[s].gap_free_m -= tissue * data.applied_forces[static_cast<std::size_t>(row.slot)];
     }
   }
 }
@@ -193,7 +212,7 @@ Eigen::Vector3d compliant_displacement_m(const NeedleTissueModel& model, const N
   for (int r = 0; r < data.row_count; ++r) {
     const ConstraintRow& row = data.rows[static_cast<std::size_t>(r)];
     const double pending = data.row_forces[static_cast<std::size_t>(r)] - data.applied_forces[static_cast<std::size_t>(row.slot)];
-    u -= tissue_kernel(model, point_m, row.tissue_point_m) * pending * row.direction;
+    u -= tissue_decay(model, point_m, row.tissue_point_m) * pending * (model.compliance_tensor_m_per_n * row.direction);
   }
   return u;
 }

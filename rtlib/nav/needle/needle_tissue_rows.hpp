@@ -30,8 +30,8 @@ Eigen::Vector3d bevel_force_n(const NeedleTissueModel& model, const NeedleTissue
 /// fills data.rows (data.row_count) with warm-start forces in data.row_forces.
 void build_rows(const NeedleTissueModel& model, NeedleTissueData& data, std::span<const double> displacements_m) noexcept;
 
-/// Fills data.compliance (row_count^2) and adds the tissue's response to the forces it
-/// already carries (applied_forces) to the rows' free gaps.
+/// Fills data.compliance (row_count^2) and takes the tissue's response to the forces it
+/// already carries (applied_forces, in the displacements) out of the rows' free gaps.
 void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data) noexcept;
 
 /// Displacement of the tissue at `point_m` under the forces not yet carried by the tissue

@@ -45,8 +45,7 @@ void apply_correction(const NeedleTissueModel& model, NeedleTissueData& data) {
 
 /// Insertion force along the base axis and its parts, from the rows' forces.
 InsertionForces insertion_forces(const NeedleTissueModel& model, const NeedleTissueData& data) {
-  const double* q = data.needle.rotations_wxyz.data();
-  const Eigen::Vector3d axis = Eigen::Quaterniond(q[0], q[1], q[2], q[3]) * Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d axis = node_rotation(data.needle.rotations_wxyz, 0) * Eigen::Vector3d::UnitX();
   InsertionForces f;
   for (int r = 0; r < data.row_count; ++r) {
     const ConstraintRow& row = data.rows[static_cast<std::size_t>(r)];
@@ -59,8 +58,11 @@ InsertionForces insertion_forces(const NeedleTissueModel& model, const NeedleTis
   return f;
 }
 
+/// Frees slots: no force, and none counted as carried by the tissue (a force the tissue
+/// model still holds from a freed slot is corrected at its next step).
 void zero_slots(NeedleTissueData& data, int first_slot, int count) {
   std::fill_n(data.slot_forces.begin() + first_slot, count, 0.0);
+  std::fill_n(data.applied_forces.begin() + first_slot, count, 0.0);
 }
 
 /// Puncture, release and surface slip of the touching layers.
@@ -109,32 +111,28 @@ void update_path(const NeedleTissueModel& model, NeedleTissueData& data, std::sp
       data.layers[static_cast<std::size_t>(cut)].cut_front = point_now_at(model, data, tip, displacements_m);
   }
   data.tip_anchor = point_now_at(model, data, tip, displacements_m);
+  // Slip: a tissue point at its friction bound now faces another material point of the
+  // needle, shifted by the axial gap left after the correction.
+  const std::span<const ConstraintRow> rows(data.rows.data(), static_cast<std::size_t>(data.row_count));
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    if (rows[r].law != RowLaw::friction_axial) continue;
+    const double limit_n = row_limit_n(rows, r, data.row_forces);
+    if (std::abs(data.row_forces[r]) >= limit_n * (1.0 - kAtBound))
+      data.path[static_cast<std::size_t>((rows[r].slot - model.path_slot(0)) / 3)].arclength_m -= data.row_gaps[r];
+  }
   double newest_m = -1.0;
   for (int p = 0; p < model.scene.max_path_points; ++p) {
     PathPoint& point = data.path[static_cast<std::size_t>(p)];
     if (!point.active) continue;
-    const int slot = model.path_slot(p);
-    const double axial_n = data.slot_forces[static_cast<std::size_t>(slot + 2)];
-    const double limit_n = model.scene.layers[static_cast<std::size_t>(point.layer)].friction_per_length_n_m * model.scene.path_spacing_m +
-                           model.scene.shaft_friction_coefficient *
-                               std::hypot(data.slot_forces[static_cast<std::size_t>(slot)], data.slot_forces[static_cast<std::size_t>(slot + 1)]);
-    if (std::abs(axial_n) >= limit_n * (1.0 - kAtBound)) {
-      // Slip: the tissue point now faces another material point of the needle.
-      const detail::NeedleFrameAt at = detail::needle_frame_at(model.needle, data.needle, point.arclength_m);
-      point.arclength_m -= at.tangent.dot(at.point_m - position_after(model, data, point.tissue, displacements_m));
-    }
     if (point.arclength_m > length_m || point.arclength_m < 0.0) {
       point.active = false;
-      zero_slots(data, slot, 3);
+      zero_slots(data, model.path_slot(p), 3);
       continue;
     }
     newest_m = std::max(newest_m, point.arclength_m);
   }
-  // A new point at the tip once the newest is a spacing behind it (the first once the tip
-  // is half a spacing deep).
-  const double spacing_m = model.scene.path_spacing_m;
-  const bool due = newest_m >= 0.0 ? length_m - newest_m >= spacing_m : data.report.tip_depth_m >= 0.5 * spacing_m;
-  if (cut < 0 || !due) return;
+  // A new point at the tip once the newest is a spacing behind it (the first at once).
+  if (cut < 0 || (newest_m >= 0.0 && length_m - newest_m < model.scene.path_spacing_m)) return;
   for (int p = 0; p < model.scene.max_path_points; ++p) {
     PathPoint& point = data.path[static_cast<std::size_t>(p)];
     if (point.active) continue;
@@ -180,6 +178,10 @@ void step(const NeedleTissueModel& model, NeedleTissueData& data, const NeedleTi
     data.slot_forces[static_cast<std::size_t>(data.rows[r].slot)] = data.row_forces[r];
   apply_correction(model, data);
   data.report.forces = insertion_forces(model, data);
+  data.report.contact_force_n = 0.0;
+  for (int l = 0; l < model.layer_count(); ++l)
+    if (data.layers[static_cast<std::size_t>(l)].phase == LayerPhase::touching)
+      data.report.contact_force_n = std::max(data.report.contact_force_n, data.slot_forces[static_cast<std::size_t>(3 * l)]);
   data.report.active_rows = data.row_count;
   if (model.layer_count() > 0) {
     const TissueLayer& outer = model.scene.layers[0];

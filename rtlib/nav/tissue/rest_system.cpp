@@ -15,9 +15,9 @@ namespace {
 void set_coefficients(TetFemTables& tables) {
   const TissueSolverOptions& o = tables.options;
   const double h = o.step_s;
-  if (o.integrator == Integrator::quasi_static) {
-    tables.mass_coefficient = 0.0;
-    tables.stiffness_coefficient = 1.0;
+  if (o.integrator == Integrator::quasi_static) {  // Rayleigh damping against du / h, no inertia
+    tables.mass_coefficient = o.rayleigh_mass_per_s / h;
+    tables.stiffness_coefficient = 1.0 + o.rayleigh_stiffness_s / h;
     tables.spring_coefficient = 1.0;
   } else {
     tables.mass_coefficient = 1.0 + h * o.rayleigh_mass_per_s;

@@ -49,7 +49,10 @@ void implicit_euler(const TetFemTables& tables, TetFemData& data) {
     }
 }
 
-/// (K_R + Ks) du = f, then x += du; the velocity reported is du / h.
+/// (K_R + Ks + a/h M + b/h K_R) du = f, then x += du; the velocity reported is du / h. The
+/// Rayleigh terms are the damping forces of the motion du over the step: they leave the
+/// equilibrium unchanged and keep the iteration from overshooting where the corotational
+/// tangent (which leaves out the derivative of the rotations) is far from the exact one.
 void quasi_static(const TetFemTables& tables, TetFemData& data) {
   std::copy(data.forces_n.begin(), data.forces_n.end(), data.rhs.begin());
   detail::zero_constrained(tables, data.rhs);

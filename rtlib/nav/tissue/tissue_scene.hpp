@@ -56,7 +56,8 @@ enum class ElementLaw {
 /// The time integration of a step.
 enum class Integrator {
   implicit_euler,               ///< backward Euler, one linearisation per step
-  quasi_static,                 ///< one Newton step towards equilibrium per call
+  quasi_static,                 ///< one Newton step towards equilibrium per call (Rayleigh
+                                ///< damping, if any, resists the step: see TissueSolverOptions)
   explicit_central_difference,  ///< lumped mass, conditionally stable
 };
 
@@ -83,7 +84,9 @@ struct TissueSolverOptions {
   int cg_iterations = 20;  ///< 1 to 3 are typical with ldlt_warped, 20 to 200 with the others
   /// A CG solve that ends above this relative residual raises solver_not_converged.
   double cg_residual_bound = 1e-2;
-  /// Rayleigh damping C = a M + b K (b is not available to the explicit integrator).
+  /// Rayleigh damping C = a M + b K (b is not available to the explicit integrator). In a
+  /// quasi-static step it acts on the step's motion du / h only: a relaxation of the Newton
+  /// step that does not move the equilibrium.
   double rayleigh_mass_per_s = 0.0;
   double rayleigh_stiffness_s = 0.0;
 };

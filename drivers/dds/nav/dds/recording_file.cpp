@@ -126,9 +126,10 @@ Result<std::unique_ptr<RecordingReader>> RecordingReader::open(const std::string
   if (!read_at(file, 0, magic, sizeof(magic)) || std::memcmp(magic, kFileMagic, sizeof(magic)) != 0) {
     return Error{"not a navigation recording (bad file header)", path, 0, ""};
   }
-  fseeko(file, 0, SEEK_END);
-  const auto file_size = static_cast<std::uint64_t>(ftello(file));
-  if (!reader->load_index(file_size)) reader->scan(file_size);
+  const off_t end = fseeko(file, 0, SEEK_END) == 0 ? ftello(file) : -1;
+  if (end < 0) return Error{"cannot read the recording's size", path, 0, ""};
+  reader->file_size_ = static_cast<std::uint64_t>(end);
+  if (!reader->load_index(reader->file_size_)) reader->scan(reader->file_size_);
   return reader;
 }
 
@@ -141,7 +142,8 @@ bool RecordingReader::load_index(std::uint64_t file_size) {
   if (std::memcmp(footer + 16, kIndexMagic, sizeof(kIndexMagic)) != 0) return false;
   const auto index_offset = get<std::uint64_t>(footer);
   const auto count = get<std::uint64_t>(footer + 8);
-  if (index_offset < sizeof(kFileMagic) || index_offset + count * 8 + kFooterBytes != file_size) return false;
+  if (count > (file_size - kFooterBytes) / 8) return false;  // checked first: count * 8 must not wrap
+  if (index_offset < sizeof(kFileMagic) || index_offset != file_size - kFooterBytes - count * 8) return false;
   std::vector<std::uint8_t> index(count * 8);
   if (!read_at(file_, index_offset, index.data(), index.size())) return false;
   offsets_.resize(count);
@@ -182,6 +184,9 @@ Result<RecordedSample> RecordingReader::read(std::size_t index) {
   const RecordHeader header = decode_header(head);
   if (header.magic != kRecordMagic || header.topic >= kTopicCount) {
     return damage_at(path_, offset, "no record starts here (bad record magic or topic)");
+  }
+  if (header.payload_bytes > file_size_ - offset - kRecordHeaderBytes) {  // before allocating it
+    return damage_at(path_, offset, "truncated record payload");
   }
   RecordedSample sample;
   sample.topic = static_cast<Topic>(header.topic);

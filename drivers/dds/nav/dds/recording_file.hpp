@@ -78,6 +78,7 @@ class RecordingReader {
   void scan(std::uint64_t file_size);
   std::FILE* file_;
   std::string path_;
+  std::uint64_t file_size_ = 0;
   std::vector<std::uint64_t> offsets_;
   bool indexed_ = false;
   std::optional<Error> damage_;

@@ -29,7 +29,7 @@ bool encode_sample(const Sample& sample, std::vector<std::uint8_t>& bytes) {
 template <typename Sample>
 SampleFault decode_sample(const std::uint8_t* bytes, std::size_t size, Sample& sample) {
   typename WireTraits<Sample>::PubSubType type;
-  if (size > type.m_typeSize) return SampleFault::wrong_size;
+  if (size == 0 || size > type.m_typeSize) return SampleFault::wrong_size;  // empty: no buffer to copy into
   eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(size));
   std::memcpy(payload.data, bytes, size);
   payload.length = static_cast<std::uint32_t>(size);

@@ -1,0 +1,262 @@
+// navbench needle: median and p99 step times of the needle alone (20, 30, 40 elements), of
+// the needle with 8, 16 and 32 path constraints (30 elements), and of the needle coupled to
+// the full-order corotational embedded liver (about 5k tetrahedra) with the tissue stepping
+// every tick or every 10 ticks; and the force profile of an insertion-retraction cycle
+// against depth with its stiffness, cutting and friction parts, as an SVG next to the JSON.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "bench_needle.hpp"
+#include "nav/mesh/validation.hpp"
+#include "nav/mesher/embedded_liver.hpp"
+#include "nav/needle/tissue_coupling.hpp"
+
+namespace {
+
+using namespace navbench::needle_scenes;
+
+struct Record {
+  std::string name;
+  int elements = 0, constraint_points = 0, rows = 0;
+  long long tets = 0;
+  int needle_steps_per_tissue_step = 0;
+  double median_us = 0.0, p99_us = 0.0, residual_m = 0.0;
+};
+
+/// Times `ticks` calls of `tick` (given the tick index); returns (median, p99) in microseconds.
+std::pair<double, double> time_ticks(int ticks, const std::function<void(int)>& tick) {
+  std::vector<double> us;
+  us.reserve(static_cast<std::size_t>(ticks));
+  for (int k = 0; k < ticks; ++k) {
+    const auto start = std::chrono::steady_clock::now();
+    tick(k);
+    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count());
+  }
+  std::sort(us.begin(), us.end());
+  return {us[us.size() / 2], us[std::min(us.size() - 1, us.size() * 99 / 100)]};
+}
+
+/// Base position of a back-and-forth motion of +-0.2 mm around x0 in 20 um steps.
+double oscillating_x_m(double x0_m, int tick) {
+  const int phase = tick % 40;
+  return x0_m + 2e-5 * (phase < 20 ? phase - 10 : 30 - phase);
+}
+
+Record needle_alone(int elements, int ticks) {
+  const nav::NeedleModel model = nav::make_needle_model(needle(elements)).value();
+  nav::NeedleData data = nav::make_needle_data(model, {}).value();
+  nav::NeedleInputs inputs;
+  inputs.tip_force_n = {0.0, 0.05, 0.0};
+  const auto [median, p99] = time_ticks(ticks, [&](int k) {
+    inputs.base.position_m = {oscillating_x_m(0.0, k), 0.0, 0.0};
+    nav::step(model, data, inputs);
+  });
+  return {"needle_alone", elements, 0, 0, 0, 0, median, p99, 0.0};
+}
+
+Record needle_with_constraints(int points, int ticks) {
+  const double spacing_m = 0.004;
+  const nav::NeedleTissueModel model = nav::make_needle_tissue_model(needle(30), capsule_and_parenchyma(spacing_m)).value();
+  nav::NeedleTissueData data = nav::make_needle_tissue_data(model, {}).value();
+  // The tip starts 5 mm off the capsule: insert until `points` path points hold the shaft.
+  double x = 0.0;
+  while (data.report.active_path_points < points) drive_base_to(model, data, x += 1e-3);
+  nav::NeedleTissueInputs inputs;
+  int rows = 0;
+  double residual_m = 0.0;
+  const auto [median, p99] = time_ticks(ticks, [&](int k) {
+    inputs.needle.base.position_m = {oscillating_x_m(x, k), 1e-3 * std::sin(1e-2 * k), 0.0};
+    nav::step(model, data, inputs);
+    rows = std::max(rows, data.row_count);
+    residual_m = std::max(residual_m, data.report.residual_m);
+  });
+  return {"needle_constraints", 30, data.report.active_path_points, rows, 0, 0, median, p99, residual_m};
+}
+
+/// The embedded liver held at its attachments, quasi-static corotational.
+struct Liver {
+  nav::EmbeddedLiver liver = nav::make_embedded_liver(nav::kEmbeddedLiverElementSizeM);
+  nav::TetFemModel tissue = make_model();
+  nav::TetFemModel make_model() const {
+    nav::TissueScene scene;
+    scene.default_material = {5000.0, 0.45, 1060.0};
+    scene.gravity_m_s2 = {0.0, 0.0, 0.0};
+    scene.fixed_nodes = liver.attachment_nodes;
+    scene.max_point_forces = 64;
+    nav::TissueSolverOptions options;
+    options.integrator = nav::Integrator::quasi_static;
+    options.cg_iterations = 2;
+    return nav::make_tet_fem_model(liver.mesh, scene, options).value();
+  }
+};
+
+/// The needle aimed at the tumour from the nearest boundary node, its tip 5 mm off it.
+struct Approach {
+  Eigen::Vector3d entry_m, direction;
+  nav::NeedlePose base_at(double advanced_m) const {
+    const Eigen::Vector3d base = entry_m - (0.155 - advanced_m) * direction;
+    const Eigen::Quaterniond q = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), direction);
+    return {{base.x(), base.y(), base.z()}, {q.w(), q.x(), q.y(), q.z()}};
+  }
+};
+
+Approach approach_tumour(const Liver& liver) {
+  const Eigen::Vector3d tumour(liver.liver.tumour_centre_m[0], liver.liver.tumour_centre_m[1], liver.liver.tumour_centre_m[2]);
+  Eigen::Vector3d entry = Eigen::Vector3d::Zero();
+  double best_m = -1.0;
+  for (std::int32_t node : nav::extract_boundary(liver.liver.mesh).mesh_node_of_vertex) {
+    const nav::Point3& p = liver.liver.mesh.nodes_m[static_cast<std::size_t>(node)];
+    const Eigen::Vector3d x(p[0], p[1], p[2]);
+    if (best_m < 0.0 || (x - tumour).norm() < best_m) {
+      best_m = (x - tumour).norm();
+      entry = x;
+    }
+  }
+  return {entry, (tumour - entry).normalized()};
+}
+
+Record coupled(const Liver& liver, int ratio, int ticks) {
+  const Approach approach = approach_tumour(liver);
+  // The liver capsule, with forces scaled to the coarse mesh (each constraint loads one node).
+  nav::NeedleTissueScene scene = capsule_and_parenchyma(0.01);
+  scene.layers.resize(1);
+  nav::TissueLayer& capsule = scene.layers[0];
+  capsule.surface_point_m = {approach.entry_m.x(), approach.entry_m.y(), approach.entry_m.z()};
+  capsule.outward_normal = {-approach.direction.x(), -approach.direction.y(), -approach.direction.z()};
+  capsule.puncture_force_n = 0.3;
+  capsule.cutting_force_n = 0.1;
+  capsule.friction_per_length_n_m = 3.0;
+  const nav::CoupledNeedleModel model = nav::make_coupled_needle_model(needle(30), scene, liver.tissue, 64, ratio).value();
+  std::fprintf(stderr, "  liver compliance at the entry: %.2e m/N (normal %.2e), correlation length %.1f mm\n",
+               model.interaction.scene.point_compliance_m_per_n,
+               approach.direction.dot(model.interaction.compliance_tensor_m_per_n * approach.direction),
+               1e3 * model.interaction.scene.compliance_correlation_length_m);
+  nav::CoupledNeedleData data = nav::make_coupled_needle_data(model, approach.base_at(0.0)).value();
+  nav::NeedleInputs inputs;
+  int rows = 0;
+  const auto [median, p99] = time_ticks(ticks, [&](int k) {
+    inputs.base = approach.base_at(2e-5 * (k + 1));
+    nav::step(model, data, inputs);
+    rows = std::max(rows, data.interaction.row_count);
+  });
+  std::fprintf(stderr, "  coupled 1:%d: punctures %d, path points %d, tip depth %.1f mm, health bits %u (tissue %u)\n", ratio,
+               data.interaction.report.punctures, data.interaction.report.active_path_points,
+               1e3 * data.interaction.report.tip_depth_m, data.interaction.health.bits(), data.tissue.health.bits());
+  return {"coupled_full_order_corotational", 30, data.interaction.report.active_path_points, rows,
+          static_cast<long long>(liver.liver.mesh.tets.size()), ratio, median, p99, data.interaction.report.residual_m};
+}
+
+/// One point of the force profile.
+struct ProfilePoint {
+  double depth_mm;
+  nav::InsertionForces forces;
+};
+
+/// Insert 40 mm, hold, retract 10 mm, re-insert 15 mm, retract fully.
+std::vector<ProfilePoint> insertion_profile() {
+  const nav::NeedleTissueModel model = nav::make_needle_tissue_model(needle(30), capsule_and_parenchyma(0.005)).value();
+  nav::NeedleTissueData data = nav::make_needle_tissue_data(model, {}).value();
+  std::vector<ProfilePoint> profile;
+  nav::NeedleTissueInputs inputs;
+  double x = 0.0;
+  for (double target : {0.045, 0.045, 0.035, 0.05, -0.005}) {
+    for (int k = 0; k < 300 || std::abs(target - x) > 1e-12; ++k) {
+      x += std::max(-2e-5, std::min(2e-5, target - x));
+      inputs.needle.base.position_m = {x, 0.0, 0.0};
+      nav::step(model, data, inputs);
+      if (k % 5 == 0) profile.push_back({1e3 * data.report.tip_depth_m, data.report.forces});
+    }
+  }
+  return profile;
+}
+
+void write_profile_svg(const std::string& path, const std::vector<ProfilePoint>& profile) {
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (!file) return;
+  const double width = 900, height = 560, left = 70, right = 170, top = 30, bottom = 60;
+  const double x_lo = -6.0, x_hi = 46.0, y_lo = -1.2, y_hi = 1.4;
+  const auto px = [&](double mm) { return left + (mm - x_lo) / (x_hi - x_lo) * (width - left - right); };
+  const auto py = [&](double n) { return top + (y_hi - n) / (y_hi - y_lo) * (height - top - bottom); };
+  std::fprintf(file, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" font-family=\"sans-serif\" font-size=\"12\">\n", width, height);
+  std::fprintf(file, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n");
+  for (int mm = 0; mm <= 45; mm += 5)
+    std::fprintf(file, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">%d</text>\n",
+                 px(mm), top, px(mm), height - bottom, px(mm), height - bottom + 16, mm);
+  for (int k = -12; k <= 14; k += 2) {
+    const double n = 0.1 * k;
+    std::fprintf(file, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\"/><text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">%.1f</text>\n",
+                 left, py(n), width - right, py(n), k == 0 ? "#888" : "#ddd", left - 6, py(n) + 4, n);
+  }
+  std::fprintf(file, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">tip depth below the capsule (mm)</text>\n", (left + width - right) / 2, height - 20);
+  std::fprintf(file, "<text x=\"16\" y=\"%.1f\" transform=\"rotate(-90 16 %.1f)\" text-anchor=\"middle\">force resisting insertion (N)</text>\n",
+               (top + height - bottom) / 2, (top + height - bottom) / 2);
+  const char* names[] = {"total", "stiffness (capsule)", "cutting", "shaft friction"};
+  const char* colours[] = {"#000000", "#1f77b4", "#d62728", "#2ca02c"};
+  for (int series = 0; series < 4; ++series) {
+    std::fprintf(file, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"%s\" points=\"", colours[series], series == 0 ? "2" : "1.2");
+    for (const ProfilePoint& p : profile) {
+      const double values[] = {p.forces.total_n, p.forces.stiffness_n, p.forces.cutting_n, p.forces.friction_n};
+      std::fprintf(file, "%.1f,%.1f ", px(std::clamp(p.depth_mm, x_lo, x_hi)), py(std::clamp(values[series], y_lo, y_hi)));
+    }
+    std::fprintf(file, "\"/>\n<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" stroke-width=\"2\"/><text x=\"%.1f\" y=\"%.1f\">%s</text>\n",
+                 width - right + 12, top + 20 + 20.0 * series, width - right + 32, top + 20 + 20.0 * series, colours[series],
+                 width - right + 38, top + 24 + 20.0 * series, names[series]);
+  }
+  std::fprintf(file, "<text x=\"%.1f\" y=\"%.1f\">insert 40 mm, hold, retract 10,</text><text x=\"%.1f\" y=\"%.1f\">re-insert 15, retract all</text>\n</svg>\n",
+               width - right + 12, top + 120, width - right + 12, top + 136);
+  std::fclose(file);
+}
+
+void write_json(const std::string& path, const std::vector<Record>& records) {
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (!file) return;
+  std::fputs("[\n", file);
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    const Record& r = records[k];
+    std::fprintf(file,
+                 "  {\"case\": \"%s\", \"elements\": %d, \"constraint_points\": %d, \"rows\": %d, \"tetrahedra\": %lld, "
+                 "\"needle_steps_per_tissue_step\": %d, \"step_us_median\": %.2f, \"step_us_p99\": %.2f, \"residual_m\": %.3e}%s\n",
+                 r.name.c_str(), r.elements, r.constraint_points, r.rows, r.tets, r.needle_steps_per_tissue_step, r.median_us,
+                 r.p99_us, r.residual_m, k + 1 < records.size() ? "," : "");
+  }
+  std::fputs("]\n", file);
+  std::fclose(file);
+}
+
+}  // namespace
+
+namespace navbench {
+
+int run_needle_bench(const std::vector<std::string>& args) {
+  std::string json_path;
+  bool quick = false;
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    if (args[k] == "--json" && k + 1 < args.size()) json_path = args[++k];
+    else if (args[k] == "--quick") quick = true;
+  }
+  if (json_path.empty()) {
+    std::fputs("usage: navbench needle --json FILE [--quick]\n", stderr);
+    return 2;
+  }
+  const int ticks = quick ? 500 : 20000;
+  std::vector<Record> records;
+  for (int elements : {20, 30, 40}) records.push_back(needle_alone(elements, ticks));
+  for (int points : {8, 16, 32}) records.push_back(needle_with_constraints(points, ticks));
+  const Liver liver;
+  for (int ratio : {1, 10}) records.push_back(coupled(liver, ratio, quick ? 600 : 2000));
+  for (const Record& r : records)
+    std::fprintf(stderr, "%-32s %2d elements %2d points %3d rows %5lld tets 1:%-2d  median %9.1f us  p99 %9.1f us  residual %.1e m\n",
+                 r.name.c_str(), r.elements, r.constraint_points, r.rows, r.tets, r.needle_steps_per_tissue_step, r.median_us,
+                 r.p99_us, r.residual_m);
+  write_json(json_path, records);
+  const std::size_t dot = json_path.rfind('.');
+  write_profile_svg((dot == std::string::npos ? json_path : json_path.substr(0, dot)) + "_force_profile.svg", insertion_profile());
+  return 0;
+}
+
+}  // namespace navbench

@@ -1,0 +1,48 @@
+// Step times of the flexible needle: alone at 20, 30 and 40 elements, and with 8, 16 and 32
+// path constraints (30 elements, projected Gauss-Seidel, 30 sweeps), on the scenes of
+// `navbench needle` (which also times the coupling to the full-order liver and writes the
+// force profile).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+
+#include "../../apps/navbench/bench_needle.hpp"
+
+namespace {
+
+using namespace navbench::needle_scenes;
+
+void BM_NeedleAlone(benchmark::State& state) {
+  const nav::NeedleModel model = nav::make_needle_model(needle(static_cast<int>(state.range(0)))).value();
+  nav::NeedleData data = nav::make_needle_data(model, {}).value();
+  nav::NeedleInputs inputs;
+  inputs.tip_force_n = {0.0, 0.05, 0.0};
+  int tick = 0;
+  for (auto _ : state) {
+    inputs.base.position_m = {2e-5 * (tick++ % 20), 0.0, 0.0};
+    nav::step(model, data, inputs);
+    benchmark::DoNotOptimize(data.positions_m.data());
+  }
+}
+BENCHMARK(BM_NeedleAlone)->Arg(20)->Arg(30)->Arg(40)->Unit(benchmark::kMicrosecond);
+
+void BM_NeedleWithPathConstraints(benchmark::State& state) {
+  const nav::NeedleTissueModel model = nav::make_needle_tissue_model(needle(30), capsule_and_parenchyma(0.004)).value();
+  nav::NeedleTissueData data = nav::make_needle_tissue_data(model, {}).value();
+  double x = 0.0;
+  while (data.report.active_path_points < state.range(0)) drive_base_to(model, data, x += 1e-3);
+  nav::NeedleTissueInputs inputs;
+  int tick = 0;
+  for (auto _ : state) {
+    const int phase = tick % 40;
+    inputs.needle.base.position_m = {x + 2e-5 * (phase < 20 ? phase - 10 : 30 - phase), 1e-3 * std::sin(1e-2 * tick), 0.0};
+    ++tick;
+    nav::step(model, data, inputs);
+    benchmark::DoNotOptimize(data.slot_forces.data());
+  }
+  state.counters["rows"] = data.row_count;
+  state.counters["residual_m"] = data.report.residual_m;
+}
+BENCHMARK(BM_NeedleWithPathConstraints)->Arg(8)->Arg(16)->Arg(32)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
