@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_args.hpp"
 #include "bench_full.hpp"
 #include "nav/mesh/geometry.hpp"
 #include "nav/tissue/liver_scenes.hpp"
@@ -229,16 +230,10 @@ void write_svg(const std::string& path, const std::vector<Record>& records) {
 namespace navbench {
 
 int run_full_bench(const std::vector<std::string>& args) {
-  std::string json_path;
-  bool quick = false;
-  for (std::size_t k = 0; k < args.size(); ++k) {
-    if (args[k] == "--json" && k + 1 < args.size()) json_path = args[++k];
-    else if (args[k] == "--quick") quick = true;
-  }
-  if (json_path.empty()) {
-    std::fputs("usage: navbench full --json FILE [--quick]\n", stderr);
-    return 2;
-  }
+  const auto parsed = parse_bench_args(args, "usage: navbench full --json FILE [--quick]\n");
+  if (!parsed) return 2;
+  const std::string& json_path = parsed->json_path;
+  const bool quick = parsed->quick;
   std::vector<Record> records;
   const std::vector<int> sizes = quick ? std::vector<int>{1000} : std::vector<int>{1000, 5000, 22019};
   for (int size : sizes) {

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_args.hpp"
 #include "bench_needle.hpp"
 #include "nav/mesh/validation.hpp"
 #include "nav/mesher/embedded_liver.hpp"
@@ -233,16 +234,10 @@ void write_json(const std::string& path, const std::vector<Record>& records) {
 namespace navbench {
 
 int run_needle_bench(const std::vector<std::string>& args) {
-  std::string json_path;
-  bool quick = false;
-  for (std::size_t k = 0; k < args.size(); ++k) {
-    if (args[k] == "--json" && k + 1 < args.size()) json_path = args[++k];
-    else if (args[k] == "--quick") quick = true;
-  }
-  if (json_path.empty()) {
-    std::fputs("usage: navbench needle --json FILE [--quick]\n", stderr);
-    return 2;
-  }
+  const auto parsed = parse_bench_args(args, "usage: navbench needle --json FILE [--quick]\n");
+  if (!parsed) return 2;
+  const std::string& json_path = parsed->json_path;
+  const bool quick = parsed->quick;
   const int ticks = quick ? 500 : 20000;
   std::vector<Record> records;
   for (int elements : {20, 30, 40}) records.push_back(needle_alone(elements, ticks));
