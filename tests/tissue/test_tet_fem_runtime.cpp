@@ -217,7 +217,8 @@ TEST(TissueRuntime, ExplicitStepBeyondTheStableLimitIsFlagged) {
   TissueScene scene;
   scene.default_material = {1.0e4, 0.3, 1000.0};
   scene.fixed_nodes = nodes_where(mesh, 2, 0.0);
-  const std::span<const double> rest_m = make_tet_fem_model(mesh, scene, {}).value().rest_positions_m();
+  const TetFemModel rest_model = make_tet_fem_model(mesh, scene, {}).value();  // outlives rest_m
+  const std::span<const double> rest_m = rest_model.rest_positions_m();
   const auto run = [&](const auto& model, double fraction, bool must_blow_up, const std::string& what) {
     auto data = make_data(model);
     double largest_m = 0.0;

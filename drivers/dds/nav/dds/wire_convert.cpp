@@ -92,7 +92,7 @@ SampleFault from_wire(const nav_msgs::UltrasoundFrame& wire, UltrasoundFrame& sa
   sample.depth_m = wire.depth_m();
   const std::size_t count = wire.pixels().size();
   if (count != sample.pixel_count() || count > kMaxFramePixels) return SampleFault::wrong_size;
-  std::memcpy(sample.pixels.data(), wire.pixels().data(), count);
+  std::copy(wire.pixels().begin(), wire.pixels().end(), sample.pixels.begin());  // not memcpy: data() may be null
   return SampleFault::none;
 }
 
