@@ -23,9 +23,6 @@
 namespace nav {
 namespace {
 
-using testing::box_mesh;
-using testing::faces_where;
-using testing::nodes_where;
 using testing::state_hash;
 
 /// Inputs of step i: a ramped traction, a sliding and turning spring frame and a probe moving
@@ -59,21 +56,6 @@ std::uint64_t run_hash(const TetMesh& mesh, const TissueScene& scene, const Tiss
   return hash;
 }
 
-/// A 2 x 2 x 6 cm block with every support and load in use.
-struct BoxScene {
-  TetMesh mesh = box_mesh({0.02, 0.02, 0.06}, 0.005);
-  TissueScene scene;
-  BoxScene() {
-    scene.default_material = {3.0e3, 0.45, 1000.0};
-    scene.fixed_nodes = nodes_where(mesh, 2, 0.0);
-    scene.prescribed_nodes = nodes_where(mesh, 2, 0.06);
-    scene.spring_nodes = nodes_where(mesh, 0, 0.0);
-    scene.spring_stiffness_n_m = 50.0;
-    scene.traction_triangles = faces_where(mesh, 0, 0.02);
-    scene.probe_stiffness_n_m = 200.0;
-  }
-};
-
 TissueSolverOptions damped(Integrator integrator, LinearSolver solver, double step_s) {
   TissueSolverOptions options;
   options.integrator = integrator;
@@ -90,25 +72,25 @@ const Point3 kBoxProbeStart{0.03, 0.01, 0.03};
 }  // namespace
 
 TEST(TissueGoldenHash, BoxCorotationalImplicitLdlt) {
-  const BoxScene box;
+  const testing::BusyBoxScene box;
   const auto options = damped(Integrator::implicit_euler, LinearSolver::ldlt_warped, 0.01);
   EXPECT_EQ(run_hash(box.mesh, box.scene, options, 40, kBoxProbeStart), 0xbc7374d20fa4adadULL);
 }
 
 TEST(TissueGoldenHash, BoxCorotationalImplicitBlockJacobi) {
-  const BoxScene box;
+  const testing::BusyBoxScene box;
   const auto options = damped(Integrator::implicit_euler, LinearSolver::cg_block_jacobi, 0.01);
   EXPECT_EQ(run_hash(box.mesh, box.scene, options, 40, kBoxProbeStart), 0x29ccd04313ff5b44ULL);
 }
 
 TEST(TissueGoldenHash, BoxCorotationalQuasiStatic) {
-  const BoxScene box;
+  const testing::BusyBoxScene box;
   const auto options = damped(Integrator::quasi_static, LinearSolver::ldlt_warped, 0.01);
   EXPECT_EQ(run_hash(box.mesh, box.scene, options, 20, kBoxProbeStart), 0x8e44e1bd6ce3211eULL);
 }
 
 TEST(TissueGoldenHash, BoxCorotationalExplicit) {
-  const BoxScene box;
+  const testing::BusyBoxScene box;
   const auto options = damped(Integrator::explicit_central_difference, LinearSolver::ldlt_warped, 2e-4);
   EXPECT_EQ(run_hash(box.mesh, box.scene, options, 200, kBoxProbeStart), 0xdbec5ae69d1f9f6fULL);
 }

@@ -20,25 +20,10 @@ namespace nav {
 namespace {
 
 using testing::box_mesh;
-using testing::faces_where;
+using testing::BusyBoxScene;
 using testing::make_data;
 using testing::nodes_where;
 using testing::state_hash;
-
-/// A 2 x 2 x 6 cm block with every boundary condition and load in use.
-struct BusyScene {
-  TetMesh mesh = box_mesh({0.02, 0.02, 0.06}, 0.005);
-  TissueScene scene;
-  BusyScene() {
-    scene.default_material = {3.0e3, 0.45, 1000.0};
-    scene.fixed_nodes = nodes_where(mesh, 2, 0.0);
-    scene.prescribed_nodes = nodes_where(mesh, 2, 0.06);
-    scene.spring_nodes = nodes_where(mesh, 0, 0.0);
-    scene.spring_stiffness_n_m = 50.0;
-    scene.traction_triangles = faces_where(mesh, 0, 0.02);
-    scene.probe_stiffness_n_m = 200.0;
-  }
-};
 
 /// Inputs of step i of a scripted sequence: load ramp, moving frame, breathing, probe, forces.
 TissueInputs scripted_inputs(int i, std::span<const PointForce> forces) {
@@ -157,7 +142,7 @@ void expect_runtime_contract(const Model& model, std::size_t node_count, std::si
 }  // namespace
 
 TEST(TissueRuntime, EveryTetFemConfigurationKeepsTheContract) {
-  const BusyScene busy;
+  const BusyBoxScene busy;
   for (const auto& [name, options] : every_configuration()) {
     auto model = make_tet_fem_model(busy.mesh, busy.scene, options);
     ASSERT_TRUE(model.ok()) << name << ": " << model.error().describe();
@@ -166,7 +151,7 @@ TEST(TissueRuntime, EveryTetFemConfigurationKeepsTheContract) {
 }
 
 TEST(TissueRuntime, MassSpringKeepsTheContract) {
-  const BusyScene busy;
+  const BusyBoxScene busy;
   MassSpringOptions options;
   options.damping_per_s = 0.5;
   options.step_s = 0.8 * make_mass_spring_model(busy.mesh, busy.scene, options).value().stable_step_s();

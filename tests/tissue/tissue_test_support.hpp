@@ -84,4 +84,20 @@ inline std::uint64_t state_hash(std::span<const double> a, std::span<const doubl
 inline Result<TetFemData> make_data(const TetFemModel& model) { return make_tet_fem_data(model); }
 inline Result<MassSpringData> make_data(const MassSpringModel& model) { return make_mass_spring_data(model); }
 
+/// A 2 x 2 x 6 cm block with every boundary condition and load in use: held at z = 0,
+/// prescribed at z = 6 cm, springs on x = 0, traction on x = 2 cm, the probe active.
+struct BusyBoxScene {
+  TetMesh mesh = box_mesh({0.02, 0.02, 0.06}, 0.005);
+  TissueScene scene;
+  BusyBoxScene() {
+    scene.default_material = {3.0e3, 0.45, 1000.0};
+    scene.fixed_nodes = nodes_where(mesh, 2, 0.0);
+    scene.prescribed_nodes = nodes_where(mesh, 2, 0.06);
+    scene.spring_nodes = nodes_where(mesh, 0, 0.0);
+    scene.spring_stiffness_n_m = 50.0;
+    scene.traction_triangles = faces_where(mesh, 0, 0.02);
+    scene.probe_stiffness_n_m = 200.0;
+  }
+};
+
 }  // namespace nav::testing
