@@ -9,13 +9,13 @@ set -euo pipefail
 
 core_packages=(
   build-essential cmake ninja-build git ca-certificates pkg-config
-  libeigen3-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libeigen3-dev libspectra-dev libgtest-dev libgmock-dev libbenchmark-dev
 )
 station_packages=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libopencv-core-dev libopencv-imgproc-dev
   libapriltag-dev liburdfdom-dev
-  libspectra-dev libyaml-cpp-dev libsuitesparse-dev zlib1g-dev
+  libyaml-cpp-dev libsuitesparse-dev zlib1g-dev
   libx11-dev iproute2
 )
 cross_packages=(g++-aarch64-linux-gnu qemu-user)

@@ -1,5 +1,5 @@
 // navbench needle: median and p99 step times of the needle alone (20, 30, 40 elements), of
-// the needle with 8, 16 and 32 path constraints (30 elements), and of the needle coupled to
+// the needle with 8, 16 and 32 path constraints (30 elements; 32 also at 20 elements), and of the needle coupled to
 // the full-order corotational embedded liver (about 5k tetrahedra) with the tissue stepping
 // every tick or every 10 ticks; and the force profile of an insertion-retraction cycle
 // against depth with its stiffness, cutting and friction parts, as an SVG next to the JSON.
@@ -60,9 +60,9 @@ Record needle_alone(int elements, int ticks) {
   return {"needle_alone", elements, 0, 0, 0, 0, median, p99, 0.0};
 }
 
-Record needle_with_constraints(int points, int ticks) {
+Record needle_with_constraints(int elements, int points, int ticks) {
   const double spacing_m = 0.004;
-  const nav::NeedleTissueModel model = nav::make_needle_tissue_model(needle(30), capsule_and_parenchyma(spacing_m)).value();
+  const nav::NeedleTissueModel model = nav::make_needle_tissue_model(needle(elements), capsule_and_parenchyma(spacing_m)).value();
   nav::NeedleTissueData data = nav::make_needle_tissue_data(model, {}).value();
   // The tip starts 5 mm off the capsule: insert until `points` path points hold the shaft.
   double x = 0.0;
@@ -76,7 +76,7 @@ Record needle_with_constraints(int points, int ticks) {
     rows = std::max(rows, data.row_count);
     residual_m = std::max(residual_m, data.report.residual_m);
   });
-  return {"needle_constraints", 30, data.report.active_path_points, rows, 0, 0, median, p99, residual_m};
+  return {"needle_constraints", elements, data.report.active_path_points, rows, 0, 0, median, p99, residual_m};
 }
 
 /// The embedded liver held at its attachments, quasi-static corotational.
@@ -241,7 +241,8 @@ int run_needle_bench(const std::vector<std::string>& args) {
   const int ticks = quick ? 500 : 20000;
   std::vector<Record> records;
   for (int elements : {20, 30, 40}) records.push_back(needle_alone(elements, ticks));
-  for (int points : {8, 16, 32}) records.push_back(needle_with_constraints(points, ticks));
+  for (int points : {8, 16, 32}) records.push_back(needle_with_constraints(30, points, ticks));
+  records.push_back(needle_with_constraints(20, 32, ticks));
   const Liver liver;
   for (int ratio : {1, 10}) records.push_back(coupled(liver, ratio, quick ? 600 : 2000));
   for (const Record& r : records)

@@ -20,4 +20,26 @@ int mesh_make(const std::vector<std::string>& args);
 /// [--as-fast-as-possible] [--domain D] ...: args start with "record" or "replay".
 int record_replay(const std::vector<std::string>& args);
 
+/// navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --method M --r R
+/// --force F [--samples M] [--seed S] --out FILE [--json]: see reduce.cpp.
+int reduce(const std::vector<std::string>& args);
+
+/// navtool calib pivot --poses FILE.csv [--tool NAME] [--urdf FILE [--out FILE] [--joint J]]
+int calib_pivot(const std::vector<std::string>& args);
+
+/// navtool calib handeye --marker-poses FILE.csv --camera-poses FILE.csv [--tool NAME] [--urdf ...]
+int calib_handeye(const std::vector<std::string>& args);
+
+/// navtool calib probe --recording F.mha --phantom DEVICESET.xml [--validation F.mha] [--urdf FILE ...]
+int calib_probe(const std::vector<std::string>& args);
+
+/// navtool calib temporal --video F.mha --tracker F.mha [--max-lag-s S] [--out FILE]
+int calib_temporal(const std::vector<std::string>& args);
+
+/// navtool calib register --model-points F --tracked-points F [--surface F --unit U --surface-points F] [--urdf ...]
+int calib_register(const std::vector<std::string>& args);
+
+/// navtool calib camera --images DIR --tag-size S --pitch P --cols C --rows R --out FILE
+int calib_camera(const std::vector<std::string>& args);
+
 }  // namespace navtool

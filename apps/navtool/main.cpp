@@ -12,7 +12,17 @@ constexpr const char* kUsage =
     "  navtool mesh info FILE [--unit mm|cm|m] [--json]\n"
     "  navtool mesh make (--liver | --surface FILE [--unit mm|cm|m] | --labels FILE) --size H_M --out FILE.vtu\n"
     "  navtool record --out FILE [--duration-s S] [--domain D] [--local-address A] [--peer A]...\n"
-    "  navtool replay FILE [--as-fast-as-possible] [--domain D] [--local-address A] [--peer A]...\n";
+    "  navtool replay FILE [--as-fast-as-possible] [--domain D] [--local-address A] [--peer A]...\n"
+    "  navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --method modes|modal-derivatives|pod\n"
+    "                 --r R --force linear|corotational|stvk|stvk-cubic [--samples M] [--seed S] --out FILE [--json]\n"
+    "  navtool calib pivot --poses FILE.csv [--tool NAME] [--urdf FILE [--out FILE] [--joint J]]\n"
+    "  navtool calib handeye --marker-poses FILE.csv --camera-poses FILE.csv [--tool NAME] [--urdf FILE ...]\n"
+    "  navtool calib register --model-points F.csv --tracked-points F.csv [--surface F --unit U --surface-points F.csv]\n"
+    "                         [--urdf FILE ...]\n"
+    "  navtool calib camera --images DIR --tag-size S_M --pitch P_M --cols C --rows R --out FILE\n"
+    "  navtool calib probe --recording F.mha --phantom DEVICESET.xml [--validation F.mha] [--probe T] [--reference T]\n"
+    "                      [--min-frames N] [--urdf FILE [--out FILE] [--joint J]]\n"
+    "  navtool calib temporal --video F.mha --tracker F.mha [--probe T] [--reference T] [--max-lag-s S] [--out FILE]\n";
 
 }  // namespace
 
@@ -23,7 +33,17 @@ int main(int argc, char** argv) {
     if (args[1] == "info") return navtool::mesh_info(rest);
     if (args[1] == "make") return navtool::mesh_make(rest);
   }
+  if (!args.empty() && args[0] == "reduce") return navtool::reduce({args.begin() + 1, args.end()});
   if (!args.empty() && (args[0] == "record" || args[0] == "replay")) return navtool::record_replay(args);
+  if (args.size() >= 2 && args[0] == "calib") {
+    const std::vector<std::string> calib_args(args.begin() + 2, args.end());
+    if (args[1] == "pivot") return navtool::calib_pivot(calib_args);
+    if (args[1] == "handeye") return navtool::calib_handeye(calib_args);
+    if (args[1] == "register") return navtool::calib_register(calib_args);
+    if (args[1] == "camera") return navtool::calib_camera(calib_args);
+    if (args[1] == "probe") return navtool::calib_probe(calib_args);
+    if (args[1] == "temporal") return navtool::calib_temporal(calib_args);
+  }
   std::fputs(kUsage, stderr);
   return navtool::exit_bad_input;
 }

@@ -1,5 +1,5 @@
 // Step times of the flexible needle: alone at 20, 30 and 40 elements, and with 8, 16 and 32
-// path constraints (30 elements, projected Gauss-Seidel, 30 sweeps), on the scenes of
+// path constraints (20 and 30 elements, projected Gauss-Seidel with the scene's sweeps), on the scenes of
 // `navbench needle` (which also times the coupling to the full-order liver and writes the
 // force profile).
 #include <benchmark/benchmark.h>
@@ -27,7 +27,7 @@ void BM_NeedleAlone(benchmark::State& state) {
 BENCHMARK(BM_NeedleAlone)->Arg(20)->Arg(30)->Arg(40)->Unit(benchmark::kMicrosecond);
 
 void BM_NeedleWithPathConstraints(benchmark::State& state) {
-  const nav::NeedleTissueModel model = nav::make_needle_tissue_model(needle(30), capsule_and_parenchyma(0.004)).value();
+  const nav::NeedleTissueModel model = nav::make_needle_tissue_model(needle(static_cast<int>(state.range(1))), capsule_and_parenchyma(0.004)).value();
   nav::NeedleTissueData data = nav::make_needle_tissue_data(model, {}).value();
   double x = 0.0;
   while (data.report.active_path_points < state.range(0)) drive_base_to(model, data, x += 1e-3);
@@ -43,6 +43,6 @@ void BM_NeedleWithPathConstraints(benchmark::State& state) {
   state.counters["rows"] = data.row_count;
   state.counters["residual_m"] = data.report.residual_m;
 }
-BENCHMARK(BM_NeedleWithPathConstraints)->Arg(8)->Arg(16)->Arg(32)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_NeedleWithPathConstraints)->ArgsProduct({{8, 16, 32}, {20, 30}})->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -4,12 +4,18 @@
 // settings without undoing any of these. Topic QoS as the issue states it.
 #include <gtest/gtest.h>
 
+#include <sched.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
 #include <fstream>
 
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
 
+#include "nav/dds/dds_node.hpp"
 #include "nav/dds/participant_qos.hpp"
 #include "nav/dds/topic_qos.hpp"
 
@@ -81,6 +87,49 @@ TEST(DdsParticipantQos, AddressesThatAreNotOneNamedLocalUnicastAddressAreRefused
   EXPECT_TRUE(refused("127.0.0.1", "239.255.0.1", "peer_addresses"));
   EXPECT_TRUE(refused("127.0.0.1", "0.0.0.0", "peer_addresses"));
   EXPECT_TRUE(refused("127.0.0.1", "host-b", "peer_addresses"));
+}
+
+/// In a child process with its own network namespace (so the host's interfaces are left
+/// alone) holding a veth pair whose end navdown0 (10.209.0.1) is up but has no carrier, its
+/// peer being down: 0 when `check` holds, 2 when the namespace cannot be made, 1 otherwise.
+template <typename Check>
+int in_own_network_namespace(Check check) {
+  const pid_t child = fork();
+  if (child == 0) {
+    if (unshare(CLONE_NEWNET) != 0) _exit(2);
+    if (std::system("ip link add navdown0 type veth peer name navdown1 && ip addr add 10.209.0.1/24 dev navdown0 && "
+                    "ip link set navdown0 up") != 0) _exit(2);
+    _exit(check() ? 0 : 1);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
+}
+
+TEST(DdsParticipantQos, AnAddressOnAnInterfaceThatIsNotRunningIsRefusedNotDropped) {
+  if (geteuid() != 0) GTEST_SKIP() << "needs root for a network namespace";
+  // Fast DDS drops a whitelisted interface that is not running and would run with no UDP
+  // transport: the node must refuse to start instead, naming the interface and the field.
+  const int down = in_own_network_namespace([] {
+    NetworkConfig config;
+    config.local_address = "10.209.0.1";
+    const auto qos = make_participant_qos(config);
+    const auto node = DdsNode::create(config);
+    std::fprintf(stderr, "refused: %s\n", qos.ok() ? "(accepted)" : qos.error().message.c_str());
+    return !qos.ok() && qos.error().field == "local_address" && qos.error().message.find("navdown0") != std::string::npos &&
+           qos.error().message.find("no carrier") != std::string::npos &&
+           !node.ok() && node.error().field == "local_address";
+  });
+  if (down == 2) GTEST_SKIP() << "no network namespace or veth pair here";
+  EXPECT_EQ(down, 0);
+  // The same address once the peer is up too (the link then has a carrier) is accepted.
+  const int up = in_own_network_namespace([] {
+    if (std::system("ip link set navdown1 up") != 0) return false;
+    NetworkConfig config;
+    config.local_address = "10.209.0.1";
+    return make_participant_qos(config).ok();
+  });
+  EXPECT_EQ(up, 0);
 }
 
 TEST(DdsParticipantQos, MissingProfileFileIsAnErrorNeverAFallback) {

@@ -14,6 +14,7 @@ const char* health_flag_name(HealthFlag flag) noexcept {
     case HealthFlag::deadline_missed: return "deadline_missed";
     case HealthFlag::bad_sample: return "bad_sample";
     case HealthFlag::unstable_step: return "unstable_step";
+    case HealthFlag::reduced_out_of_envelope: return "reduced_out_of_envelope";
   }
   return "unknown";
 }

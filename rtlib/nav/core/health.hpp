@@ -18,6 +18,7 @@ enum class HealthFlag : std::uint32_t {
   deadline_missed = 1u << 7,      // a tick started after its deadline
   bad_sample = 1u << 8,           // an input sample failed validation and was dropped
   unstable_step = 1u << 9,        // an explicit step longer than its stable limit was taken
+  reduced_out_of_envelope = 1u << 10,  // a reduced model's state left its training envelope
 };
 
 /// A set of HealthFlag bits, raised by step-time code and read by the loop and displays.

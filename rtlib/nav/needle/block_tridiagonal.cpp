@@ -1,7 +1,7 @@
 #include "nav/needle/block_tridiagonal.hpp"
 
-#include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <cmath>
 #include <cstddef>
 
 namespace nav {
@@ -14,12 +14,39 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 std::size_t at(int k) { return 36 * static_cast<std::size_t>(k); }
 
-/// Y := S^-1 Y with S = G G^T, G the stored lower factor.
-template <typename Rhs>
-void schur_solve(const double* factor, Rhs&& y) {
-  const ConstBlock g(factor);
-  g.triangularView<Eigen::Lower>().solveInPlace(y);
-  g.transpose().triangularView<Eigen::Upper>().solveInPlace(y);
+/// The inverse of a symmetric positive definite 6x6 matrix through its Cholesky factor, by
+/// fixed-size loops (Eigen's general triangular solves cost more than the arithmetic here).
+/// False when the matrix is not positive definite.
+bool spd_inverse(const Matrix6d& s, Matrix6d& inverse) {
+  Matrix6d g = Matrix6d::Zero();  // s = g g^T, g lower
+  for (int j = 0; j < 6; ++j) {
+    double d = s(j, j);
+    for (int k = 0; k < j; ++k) d -= g(j, k) * g(j, k);
+    if (!(d > 0.0)) return false;
+    g(j, j) = std::sqrt(d);
+    for (int i = j + 1; i < 6; ++i) {
+      double v = s(i, j);
+      for (int k = 0; k < j; ++k) v -= g(i, k) * g(j, k);
+      g(i, j) = v / g(j, j);
+    }
+  }
+  Matrix6d h = Matrix6d::Zero();  // h = g^-1, lower
+  for (int j = 0; j < 6; ++j) {
+    h(j, j) = 1.0 / g(j, j);
+    for (int i = j + 1; i < 6; ++i) {
+      double v = 0.0;
+      for (int k = j; k < i; ++k) v -= g(i, k) * h(k, j);
+      h(i, j) = v / g(i, i);
+    }
+  }
+  // s^-1 = h^T h, symmetric by construction.
+  for (int j = 0; j < 6; ++j)
+    for (int i = j; i < 6; ++i) {
+      double v = 0.0;
+      for (int k = i; k < 6; ++k) v += h(k, i) * h(k, j);
+      inverse(i, j) = inverse(j, i) = v;
+    }
+  return true;
 }
 
 }  // namespace
@@ -29,26 +56,26 @@ bool factor_block_tridiagonal(BlockTridiagonal& m) noexcept {
     Matrix6d s = ConstBlock(m.diagonal.data() + at(k));
     if (k > 0) {
       const ConstBlock previous_upper(m.upper.data() + at(k - 1));
-      Matrix6d y = previous_upper;  // S_k-1^-1 A_k-1,k
-      schur_solve(m.schur.data() + at(k - 1), y);
-      Block multiplier(m.multiplier.data() + at(k));
-      multiplier.noalias() = y.transpose();
+      const Matrix6d y = ConstBlock(m.schur.data() + at(k - 1)) * previous_upper;  // S_k-1^-1 A_k-1,k
+      Block(m.multiplier.data() + at(k)).noalias() = y.transpose();
       s.noalias() -= previous_upper.transpose() * y;
     }
-    const Eigen::LLT<Matrix6d> llt(s);
-    if (llt.info() != Eigen::Success) return false;
-    Block(m.schur.data() + at(k)) = llt.matrixLLT();
+    Matrix6d inverse;
+    if (!spd_inverse(s, inverse)) return false;
+    Block(m.schur.data() + at(k)) = inverse;
   }
   return true;
 }
 
 void solve_block_tridiagonal(const BlockTridiagonal& m, std::span<double> rhs) noexcept {
   using Segment = Eigen::Map<Eigen::Matrix<double, 6, 1>>;
+  using Vector6d = Eigen::Matrix<double, 6, 1>;
   for (int k = 1; k < m.blocks; ++k)
     Segment(rhs.data() + 6 * k).noalias() -= ConstBlock(m.multiplier.data() + at(k)) * Segment(rhs.data() + 6 * (k - 1));
   for (int k = 0; k < m.blocks; ++k) {
     Segment y(rhs.data() + 6 * k);
-    schur_solve(m.schur.data() + at(k), y);
+    const Vector6d b = y;
+    y.noalias() = ConstBlock(m.schur.data() + at(k)) * b;
   }
   for (int k = m.blocks - 2; k >= 0; --k)
     Segment(rhs.data() + 6 * k).noalias() -=
@@ -61,8 +88,7 @@ void translational_inverse_blocks(const BlockTridiagonal& m, int first, std::spa
   const int n = m.blocks;
   // Diagonal blocks of the inverse, bottom up: Sigma_kk = S_k^-1 - L_k+1^T Sigma_k+1,k.
   for (int k = n - 1; k >= first; --k) {
-    Matrix6d inverse = Matrix6d::Identity();
-    schur_solve(m.schur.data() + at(k), inverse);
+    Matrix6d inverse = ConstBlock(m.schur.data() + at(k));
     if (k + 1 < n) {
       const ConstBlock next_multiplier(m.multiplier.data() + at(k + 1));
       const Matrix6d below = ConstBlock(diagonal_work.data() + at(k + 1));

@@ -1,7 +1,8 @@
 #pragma once
 // The O(n) solver of the needle: a symmetric positive definite block-tridiagonal matrix with
-// 6x6 blocks (one per free node) factored as L D L^T by block Cholesky of the Schur
-// complements, solved by one forward and one backward sweep, and the translational blocks of
+// 6x6 blocks (one per free node) factored as L D L^T with D the Schur complements (kept as
+// their inverses, from a fixed-size Cholesky), solved by one forward and one backward sweep
+// of 6x6 products, and the translational blocks of
 // its inverse (Duriez's compliance, Eq. 1.15) by the Takahashi recurrence. Storage is
 // preallocated by the caller; nothing here allocates.
 #include <span>
@@ -13,7 +14,7 @@ struct BlockTridiagonal {
   int blocks = 0;
   std::span<double> diagonal;    ///< A_kk
   std::span<double> upper;       ///< A_k,k+1 (the last one unused)
-  std::span<double> schur;       ///< Cholesky factor (lower) of S_k = A_kk - L_k A_k-1,k
+  std::span<double> schur;       ///< S_k^-1, S_k = A_kk - L_k A_k-1,k (symmetric)
   std::span<double> multiplier;  ///< L_k = A_k-1,k^T S_k-1^-1 (the first one unused)
 };
 

@@ -34,4 +34,13 @@ struct ConstraintRow {
   std::int32_t linked[2] = {-1, -1};  ///< rows (indices in the active list) a limit depends on
 };
 
+/// Rows of one constraint point: at most this many, consecutive, sharing the needle point
+/// (node and weight) and the tissue point. The solver and the compliance work per point.
+inline constexpr int kMaxRowsPerPoint = 3;
+
+/// Whether `next` belongs to the same constraint point as `row`.
+inline bool same_constraint_point(const ConstraintRow& row, const ConstraintRow& next) {
+  return next.node == row.node && next.weight == row.weight && next.tissue_point_m == row.tissue_point_m;
+}
+
 }  // namespace nav

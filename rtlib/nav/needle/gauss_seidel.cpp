@@ -16,6 +16,32 @@ void add_column(std::span<const double> w, std::size_t m, std::size_t column, do
   for (std::size_t i = 0; i < m; ++i) gaps[i] += c[i] * change;
 }
 
+constexpr auto kMaxGroup = static_cast<std::size_t>(kMaxRowsPerPoint);
+
+/// Local sweeps over one point's rows per visit (its block is solved nearly exactly, which
+/// the coupled rows of a path point - two bilateral, one friction - need).
+constexpr int kLocalSweeps = 3;
+
+/// One past the last row of the constraint point whose first row is `first`.
+std::size_t group_end(std::span<const ConstraintRow> rows, std::size_t first) {
+  std::size_t end = first + 1;
+  while (end < rows.size() && end - first < kMaxGroup && same_constraint_point(rows[first], rows[end])) ++end;
+  return end;
+}
+
+/// gaps += W[:, first:end] change, in one pass over the gaps.
+void add_columns(std::span<const double> w, std::size_t m, std::size_t first, std::size_t end, const double* change,
+                 std::span<double> gaps) {
+  const double* a = w.data() + first * m;
+  if (end - first == 3) {
+    const double* b = a + m;
+    const double* c = b + m;
+    for (std::size_t i = 0; i < m; ++i) gaps[i] += (a[i] * change[0] + b[i] * change[1]) + c[i] * change[2];
+    return;
+  }
+  for (std::size_t j = first; j < end; ++j) add_column(w, m, j, change[j - first], gaps);
+}
+
 double force_of(std::span<const double> forces, std::int32_t row) {
   return row >= 0 ? forces[static_cast<std::size_t>(row)] : 0.0;
 }
@@ -34,7 +60,10 @@ double row_limit_n(std::span<const ConstraintRow> rows, std::size_t r, std::span
   const ConstraintRow& row = rows[r];
   switch (row.law) {
     case RowLaw::friction_axial:
-      return row.cap + row.friction_coefficient * std::hypot(force_of(forces, row.linked[0]), force_of(forces, row.linked[1]));
+      {
+      const double a = force_of(forces, row.linked[0]), b = force_of(forces, row.linked[1]);
+      return row.cap + row.friction_coefficient * std::sqrt(a * a + b * b);
+    }
     case RowLaw::coulomb_pair:
     case RowLaw::coulomb_second:
       return row.friction_coefficient * std::max(0.0, force_of(forces, row.linked[0]));
@@ -77,33 +106,49 @@ double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const d
   for (std::size_t i = 0; i < m; ++i) gaps[i] = rows[i].gap_free_m;
   for (std::size_t j = 0; j < m; ++j) add_column(w, m, j, forces[j], gaps);
   for (int sweep = 0; sweep < sweeps; ++sweep) {
-    for (std::size_t r = 0; r < m; ++r) {
-      const ConstraintRow& row = rows[r];
-      const double wrr = w[r * m + r];
-      if (row.law == RowLaw::coulomb_second || !(wrr > 0.0)) continue;
-      if (row.law == RowLaw::coulomb_pair) {
-        // Both tangent rows, then back onto the disk of radius mu * normal force.
-        const double w2 = w[(r + 1) * m + r + 1];
-        double f1 = forces[r] - gaps[r] / wrr, f2 = forces[r + 1] - gaps[r + 1] / w2;
-        const double limit = row_limit_n(rows, r, forces), size = std::hypot(f1, f2);
-        if (size > limit) {
-          f1 *= limit / size;
-          f2 *= limit / size;
+    for (std::size_t first = 0; first < m;) {
+      const std::size_t end = group_end(rows, first), size = end - first;
+      // The point's rows in order, their gaps kept up to date within the point's block; the
+      // other rows' gaps follow once per point.
+      double block[kMaxGroup][kMaxGroup] = {}, inverse_diagonal[kMaxGroup] = {}, change[kMaxGroup] = {};
+      for (std::size_t i = 0; i < size; ++i) {
+        for (std::size_t j = 0; j < size; ++j) block[i][j] = w[(first + j) * m + first + i];
+        inverse_diagonal[i] = block[i][i] > 0.0 ? 1.0 / block[i][i] : 0.0;
+      }
+      const auto gap_now = [&](std::size_t i) {
+        double g = gaps[first + i];
+        for (std::size_t j = 0; j < size; ++j) g += block[i][j] * change[j];
+        return g;
+      };
+      for (std::size_t i = 0; i < size; ++i) {
+        const std::size_t r = first + i;
+        const ConstraintRow& row = rows[r];
+        if (row.law == RowLaw::coulomb_second || inverse_diagonal[i] == 0.0) continue;
+        if (row.law == RowLaw::coulomb_pair && i + 1 < size) {
+          // Both tangent rows, then back onto the disk of radius mu * normal force.
+          double f1 = forces[r] - gap_now(i) * inverse_diagonal[i], f2 = forces[r + 1] - gap_now(i + 1) * inverse_diagonal[i + 1];
+          const double limit = row_limit_n(rows, r, forces), length = std::sqrt(f1 * f1 + f2 * f2);
+          if (length > limit) {
+            f1 *= limit / length;
+            f2 *= limit / length;
+          }
+          change[i] += f1 - forces[r];
+          change[i + 1] += f2 - forces[r + 1];
+          forces[r] = f1;
+          forces[r + 1] = f2;
+          continue;
         }
-        add_column(w, m, r, f1 - forces[r], gaps);
-        add_column(w, m, r + 1, f2 - forces[r + 1], gaps);
-        forces[r] = f1;
-        forces[r + 1] = f2;
-        continue;
+        double f = forces[r] - gap_now(i) * inverse_diagonal[i];
+        if (row.law == RowLaw::unilateral_capped) f = std::clamp(f, 0.0, row.cap);
+        if (row.law == RowLaw::friction_axial) {
+          const double limit = row_limit_n(rows, r, forces);
+          f = std::clamp(f, -limit, limit);
+        }
+        change[i] += f - forces[r];
+        forces[r] = f;
       }
-      double f = forces[r] - gaps[r] / wrr;
-      if (row.law == RowLaw::unilateral_capped) f = std::clamp(f, 0.0, row.cap);
-      if (row.law == RowLaw::friction_axial) {
-        const double limit = row_limit_n(rows, r, forces);
-        f = std::clamp(f, -limit, limit);
-      }
-      add_column(w, m, r, f - forces[r], gaps);
-      forces[r] = f;
+      add_columns(w, m, first, end, change, gaps);
+      first = end;
     }
   }
   double worst = 0.0;

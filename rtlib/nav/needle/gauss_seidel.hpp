@@ -1,6 +1,7 @@
 #pragma once
 // Projected Gauss-Seidel on delta = delta_free + W lambda with the row laws of
-// ConstraintRow: a fixed number of sweeps in the rows' fixed order, warm-started from the
+// ConstraintRow: a fixed number of sweeps in the rows' fixed order (the rows of one constraint
+// point in turn, their effect on the others applied once per point), warm-started from the
 // given forces, then the largest law violation as the residual. No allocation.
 #include <span>
 

@@ -68,7 +68,7 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
   plan.add<LayerState>(layers).add<PathPoint>(static_cast<std::size_t>(model.scene.max_path_points));
   plan.add<double>(slots).add<double>(slots).add<ConstraintRow>(slots);
   plan.add<double>(slots * slots).add<double>(slots).add<double>(slots).add<double>(6 * nodes);
-  plan.add<double>(3 * slots * nodes).add<double>(slots * slots).add<std::int32_t>(slots);
+  plan.add<double>(3 * slots).add<double>(slots * slots).add<std::int32_t>(slots + 1);
   NeedleTissueData data(Arena("needle_tissue_data", plan.bytes()), std::move(needle).value());
   auto layer_states = data.arena.allocate<LayerState>("layers", layers);
   auto path = data.arena.allocate<PathPoint>("path points", static_cast<std::size_t>(model.scene.max_path_points));
@@ -90,16 +90,16 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
                             {&data.row_forces, slots, "row forces"},
                             {&data.row_gaps, slots, "row gaps"},
                             {&data.nodal_forces, 6 * nodes, "nodal forces"},
-                            {&data.needle_response, 3 * slots * nodes, "needle response"},
+                            {&data.row_tissue_direction, 3 * slots, "row tissue directions"},
                             {&data.point_decay, slots * slots, "point decay"}};
   for (const Buffer& b : buffers) {
     auto carved = data.arena.allocate<double>(b.what, b.count);
     if (!carved.ok()) return carved.error();
     *b.span = carved.value();
   }
-  auto row_point = data.arena.allocate<std::int32_t>("row points", slots);
-  if (!row_point.ok()) return row_point.error();
-  data.row_point = row_point.value();
+  auto first_rows = data.arena.allocate<std::int32_t>("point first rows", slots + 1);
+  if (!first_rows.ok()) return first_rows.error();
+  data.point_first_row = first_rows.value();
   for (std::size_t l = 0; l < layers; ++l) {
     const Point3& p = model.scene.layers[l].surface_point_m;
     data.layers[l].surface = tissue_point_at(model, Eigen::Vector3d(p[0], p[1], p[2]), {});

@@ -110,10 +110,11 @@ struct NeedleTissueData {
   // Workspace of one step.
   std::span<ConstraintRow> rows;
   std::span<double> compliance, row_forces, row_gaps, nodal_forces;
-  std::span<double> needle_response;  ///< per row, 3 per free node: displacement under its unit force
-  std::span<double> point_decay;      ///< Gaussian decay between the rows' distinct tissue points
-  std::span<std::int32_t> row_point;  ///< per row, the index of its distinct tissue point
+  std::span<double> row_tissue_direction;  ///< per row, 3: the tissue compliance times its direction
+  std::span<double> point_decay;           ///< Gaussian decay between the constraint points' tissue points
+  std::span<std::int32_t> point_first_row;  ///< per constraint point (and one past the last), its first row
   int row_count = 0;
+  int point_count = 0;  ///< constraint points of the rows (see same_constraint_point)
 
   NeedleTissueData(Arena block, NeedleData needle_data) : arena(std::move(block)), needle(std::move(needle_data)) {}
 };

@@ -146,62 +146,67 @@ void build_rows(const NeedleTissueModel& model, NeedleTissueData& data, std::spa
 
 void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data) noexcept {
   const auto m = static_cast<std::size_t>(data.row_count);
+  data.point_count = 0;
   if (m == 0) return;
   const int last_node = model.needle.element_count;
   int first_node = last_node;
   for (std::size_t r = 0; r < m; ++r) first_node = std::min(first_node, std::max(1, data.rows[r].node));
   update_needle_compliance(data.needle, first_node);
-  const auto free_nodes = static_cast<std::size_t>(last_node);
-  // Each row's unit force displaces the needle's nodes by sum_a w_a C_ba n (3 per node).
-  for (std::size_t s = 0; s < m; ++s) {
-    const ConstraintRow& row = data.rows[s];
-    for (int b = first_node; b <= last_node; ++b) {
-      Eigen::Vector3d v = Eigen::Vector3d::Zero();
-      for (int k = 0; k < 2; ++k) {
-        const int a = row.node + k;
-        const double w = k == 0 ? 1.0 - row.weight : row.weight;
-        if (a < 1 || w == 0.0) continue;
-        v.noalias() += w * (Eigen::Map<const Eigen::Matrix3d>(needle_compliance_block(data.needle, b, a)) * row.direction);
-      }
-      Eigen::Map<Eigen::Vector3d>(data.needle_response.data() + 3 * (s * free_nodes + static_cast<std::size_t>(b - 1))) = v;
+  // Constraint points (rows sharing a needle point and a tissue point), their tissue
+  // directions and the Gaussian decay between their tissue points.
+  for (std::size_t r = 0; r < m; ++r) {
+    const std::size_t first = data.point_count > 0 ? static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(data.point_count - 1)]) : 0;
+    if (r == 0 || r - first >= kMaxRowsPerPoint || !same_constraint_point(data.rows[first], data.rows[r]))
+      data.point_first_row[static_cast<std::size_t>(data.point_count++)] = static_cast<std::int32_t>(r);
+    Eigen::Map<Eigen::Vector3d>(data.row_tissue_direction.data() + 3 * r) = model.compliance_tensor_m_per_n * data.rows[r].direction;
+  }
+  const auto points = static_cast<std::size_t>(data.point_count);
+  data.point_first_row[points] = static_cast<std::int32_t>(m);
+  const auto rows_of = [&](std::size_t p, std::size_t& begin, std::size_t& end) {
+    begin = static_cast<std::size_t>(data.point_first_row[p]);
+    end = static_cast<std::size_t>(data.point_first_row[p + 1]);
+  };
+  for (std::size_t p = 0; p < points; ++p)
+    for (std::size_t q = 0; q <= p; ++q) {
+      const ConstraintRow& a = data.rows[static_cast<std::size_t>(data.point_first_row[p])];
+      const ConstraintRow& b = data.rows[static_cast<std::size_t>(data.point_first_row[q])];
+      data.point_decay[p * points + q] = data.point_decay[q * points + p] = tissue_decay(model, a.tissue_point_m, b.tissue_point_m);
     }
-  }
-  // Rows of one constraint point share its tissue point: one decay per pair of points.
-  std::size_t points = 0;
-  for (std::size_t r = 0; r < m; ++r) {
-    const bool same = r > 0 && data.rows[r].tissue_point_m == data.rows[r - 1].tissue_point_m;
-    data.row_point[r] = static_cast<std::int32_t>(same ? points - 1 : points++);
-  }
-  const auto first_of_point = [&](std::size_t r) { return r == 0 || data.row_point[r] != data.row_point[r - 1]; };
-  for (std::size_t r = 0; r < m; ++r) {
-    if (!first_of_point(r)) continue;
-    for (std::size_t s = 0; s <= r; ++s) {
-      if (!first_of_point(s)) continue;
-      const auto p = static_cast<std::size_t>(data.row_point[r]), q = static_cast<std::size_t>(data.row_point[s]);
-      data.point_decay[p * points + q] = data.point_decay[q * points + p] =
-          tissue_decay(model, data.rows[r].tissue_point_m, data.rows[s].tissue_point_m);
-    }
-  }
-  for (std::size_t r = 0; r < m; ++r) {
-    ConstraintRow& row = data.rows[r];
-    const Eigen::Vector3d tissue_direction = model.compliance_tensor_m_per_n * row.direction;
-    for (std::size_t s = 0; s <= r; ++s) {
-      const ConstraintRow& other = data.rows[s];
-      double needle = 0.0;
-      for (int k = 0; k < 2; ++k) {
-        const int b = row.node + k;
-        const double w = k == 0 ? 1.0 - row.weight : row.weight;
-        if (b < 1 || w == 0.0) continue;
-        needle += w * row.direction.dot(
-                          Eigen::Map<const Eigen::Vector3d>(data.needle_response.data() + 3 * (s * free_nodes + static_cast<std::size_t>(b - 1))));
+  for (std::size_t p = 0; p < points; ++p) {
+    std::size_t p_begin = 0, p_end = 0;
+    rows_of(p, p_begin, p_end);
+    const ConstraintRow& at_p = data.rows[p_begin];
+    for (std::size_t q = 0; q <= p; ++q) {
+      std::size_t q_begin = 0, q_end = 0;
+      rows_of(q, q_begin, q_end);
+      const ConstraintRow& at_q = data.rows[q_begin];
+      // The needle's compliance between the two interpolated points: sum_ab w_a w_b C_ab.
+      Eigen::Matrix3d needle = Eigen::Matrix3d::Zero();
+      for (int i = 0; i < 2; ++i) {
+        const int node_a = at_p.node + i;
+        const double w_a = i == 0 ? 1.0 - at_p.weight : at_p.weight;
+        if (node_a < 1 || w_a == 0.0) continue;
+        for (int j = 0; j < 2; ++j) {
+          const int node_b = at_q.node + j;
+          const double w_b = j == 0 ? 1.0 - at_q.weight : at_q.weight;
+          if (node_b < 1 || w_b == 0.0) continue;
+          needle.noalias() += (w_a * w_b) * Eigen::Map<const Eigen::Matrix3d>(needle_compliance_block(data.needle, node_a, node_b));
+        }
       }
-      const double tissue =
-          data.point_decay[static_cast<std::size_t>(data.row_point[r]) * points + static_cast<std::size_t>(data.row_point[s])] *
-          other.direction.dot(tissue_direction);
-      data.compliance[r * m + s] = data.compliance[s * m + r] = needle + tissue;
-      // The tissue displacements already hold its response to the applied forces.
-      row.gap_free_m -= tissue * data.applied_forces[static_cast<std::size_t>(other.slot)];
-      if (s != r) data.rows[s].gap_free_m -= tissue * data.applied_forces[static_cast<std::size_t>(row.slot)];
+      const double decay = data.point_decay[p * points + q];
+      for (std::size_t r = p_begin; r < p_end; ++r) {
+        ConstraintRow& row = data.rows[r];
+        const Eigen::Vector3d needle_row = needle.transpose() * row.direction;
+        const Eigen::Map<const Eigen::Vector3d> tissue_direction(data.row_tissue_direction.data() + 3 * r);
+        for (std::size_t s = q_begin; s < q_end && s <= r; ++s) {
+          ConstraintRow& other = data.rows[s];
+          const double tissue = decay * other.direction.dot(tissue_direction);
+          data.compliance[r * m + s] = data.compliance[s * m + r] = needle_row.dot(other.direction) + tissue;
+          // The tissue displacements already hold its response to the applied forces.
+          row.gap_free_m -= tissue * data.applied_forces[static_cast<std::size_t>(other.slot)];
+          if (s != r) other.gap_free_m -= tissue * data.applied_forces[static_cast<std::size_t>(row.slot)];
+        }
+      }
     }
   }
 }
@@ -209,10 +214,13 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
 Eigen::Vector3d compliant_displacement_m(const NeedleTissueModel& model, const NeedleTissueData& data,
                                          const Eigen::Vector3d& point_m) noexcept {
   Eigen::Vector3d u = Eigen::Vector3d::Zero();
-  for (int r = 0; r < data.row_count; ++r) {
-    const ConstraintRow& row = data.rows[static_cast<std::size_t>(r)];
-    const double pending = data.row_forces[static_cast<std::size_t>(r)] - data.applied_forces[static_cast<std::size_t>(row.slot)];
-    u -= tissue_decay(model, point_m, row.tissue_point_m) * pending * (model.compliance_tensor_m_per_n * row.direction);
+  for (int p = 0; p < data.point_count; ++p) {
+    const auto begin = static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(p)]);
+    const auto end = static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(p) + 1]);
+    Eigen::Vector3d pending_n = Eigen::Vector3d::Zero();  // not yet carried by the tissue model
+    for (std::size_t r = begin; r < end; ++r)
+      pending_n += (data.row_forces[r] - data.applied_forces[static_cast<std::size_t>(data.rows[r].slot)]) * data.rows[r].direction;
+    u -= tissue_decay(model, point_m, data.rows[begin].tissue_point_m) * (model.compliance_tensor_m_per_n * pending_n);
   }
   return u;
 }

@@ -172,6 +172,7 @@ void step(const NeedleTissueModel& model, NeedleTissueData& data, const NeedleTi
     std::fill(data.slot_forces.begin(), data.slot_forces.end(), 0.0);
     data.health.raise(HealthFlag::non_finite_state);
     data.row_count = 0;
+    data.point_count = 0;
   }
   if (data.report.residual_m > model.scene.residual_bound_m) data.health.raise(HealthFlag::solver_not_converged);
   for (std::size_t r = 0; r < static_cast<std::size_t>(data.row_count); ++r)

@@ -2,10 +2,12 @@
 
 #include <arpa/inet.h>
 #include <ifaddrs.h>
+#include <net/if.h>
 #include <netinet/in.h>
 
 #include <filesystem>
 #include <memory>
+#include <string>
 
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
@@ -37,17 +39,30 @@ Result<rtps::Locator_t> unicast_locator(const std::string& address, const char* 
   return locator;
 }
 
-/// True when `address` is assigned to an interface of this host (UDP must bind a real one).
-bool is_local_interface_address(const in_addr& address) {
+/// Why `address` cannot carry the UDP transport, or empty when it can: it must be assigned
+/// to an interface of this host that is up and running (has a carrier). Fast DDS silently
+/// drops a whitelisted interface that is not running, and the participant would then run
+/// with no UDP transport at all.
+std::string interface_problem(const std::string& text, const in_addr& address) {
   ifaddrs* interfaces = nullptr;
-  if (getifaddrs(&interfaces) != 0) return false;
-  bool found = false;
-  for (const ifaddrs* entry = interfaces; entry != nullptr && !found; entry = entry->ifa_next) {
+  if (getifaddrs(&interfaces) != 0) return "the host's interfaces cannot be listed";
+  std::string problem = "'" + text + "' is not an address of this host's interfaces";
+  for (const ifaddrs* entry = interfaces; entry != nullptr; entry = entry->ifa_next) {
     if (entry->ifa_addr == nullptr || entry->ifa_addr->sa_family != AF_INET) continue;
-    found = reinterpret_cast<const sockaddr_in*>(entry->ifa_addr)->sin_addr.s_addr == address.s_addr;
+    if (reinterpret_cast<const sockaddr_in*>(entry->ifa_addr)->sin_addr.s_addr != address.s_addr) continue;
+    const unsigned flags = entry->ifa_flags;
+    if ((flags & IFF_UP) == 0) {
+      problem = "interface " + std::string(entry->ifa_name) + " holding '" + text + "' is down; Fast DDS would drop the UDP transport";
+    } else if ((flags & IFF_RUNNING) == 0) {
+      problem = "interface " + std::string(entry->ifa_name) + " holding '" + text +
+                "' has no carrier (not running); Fast DDS would drop the UDP transport";
+    } else {
+      problem.clear();
+      break;
+    }
   }
   freeifaddrs(interfaces);
-  return found;
+  return problem;
 }
 
 /// Applies the XML profile named in `config` to `qos`, or returns why it cannot.
@@ -84,8 +99,8 @@ Result<fdds::DomainParticipantQos> make_participant_qos(const NetworkConfig& con
   if (!local) return local.error();
   in_addr local_address{};
   inet_pton(AF_INET, config.local_address.c_str(), &local_address);
-  if (!is_local_interface_address(local_address)) {
-    return Error{"'" + config.local_address + "' is not an address of this host's interfaces", "", 0, "local_address"};
+  if (const std::string problem = interface_problem(config.local_address, local_address); !problem.empty()) {
+    return Error{problem, "", 0, "local_address"};
   }
 
   auto& transport = qos.transport();

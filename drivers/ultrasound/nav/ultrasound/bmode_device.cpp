@@ -1,0 +1,46 @@
+#include "nav/ultrasound/bmode_device.hpp"
+
+#include <cstring>
+
+namespace nav::ultrasound {
+namespace {
+
+void set_name(dds::FrameName& name, const char* text) {
+  name.fill('\0');
+  std::strncpy(name.data(), text, dds::kMaxFrameNameChars);
+}
+
+}  // namespace
+
+BmodeDevice::BmodeDevice(BmodeSimulator simulator, const Eigen::Isometry3d& image_to_probe, std::uint32_t probe_tool_id)
+    : simulator_(std::move(simulator)), image_to_probe_(image_to_probe), probe_tool_id_(probe_tool_id),
+      frame_(std::make_unique<dds::UltrasoundFrame>()) {
+  const BmodeGeometry& geometry = simulator_.geometry();
+  frame_->width_px = geometry.width_px;
+  frame_->height_px = geometry.height_px;
+  frame_->pixel_spacing_m = {geometry.spacing_m, geometry.spacing_m};
+  frame_->depth_m = geometry.height_px * geometry.spacing_m;
+  frame_->probe_tool_id = probe_tool_id;
+}
+
+BmodeTruth BmodeDevice::publish(dds::DdsNode& node, const Eigen::Isometry3d& probe_in_liver, TimeNs time_ns,
+                                bool& published) {
+  const BmodeTruth truth = simulator_.render(probe_in_liver * image_to_probe_, frame_->pixels.data());
+  frame_->sequence_number = sequence_number_;
+  frame_->source_time_ns = time_ns;
+  dds::ToolPose pose;
+  pose.tool_id = probe_tool_id_;
+  pose.sequence_number = sequence_number_++;
+  pose.source_time_ns = time_ns;
+  pose.position_m = {probe_in_liver.translation().x(), probe_in_liver.translation().y(), probe_in_liver.translation().z()};
+  const Eigen::Quaterniond rotation(probe_in_liver.linear());
+  pose.orientation_wxyz = {rotation.w(), rotation.x(), rotation.y(), rotation.z()};
+  pose.quality = 1.0f;
+  set_name(pose.frame_to, "liver");
+  set_name(pose.frame_from, "probe");
+  published = node.write(pose);
+  published = node.write(*frame_) && published;
+  return truth;
+}
+
+}  // namespace nav::ultrasound

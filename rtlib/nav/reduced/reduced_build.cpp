@@ -1,0 +1,275 @@
+// Init-time construction of a ReducedModel and its data.
+#include <cmath>
+#include <string>
+
+#include "nav/reduced/dense_cholesky.hpp"
+#include "nav/reduced/full_system.hpp"
+#include "nav/reduced/reduced_tables.hpp"
+#include "nav/reduced/stvk_polynomial.hpp"
+#include "nav/tissue/tet_kernels.hpp"
+
+namespace nav {
+namespace {
+
+using detail::ReducedTables;
+using detail::TetFemTables;
+
+Error error(std::string message, std::string field) { return Error{std::move(message), "", 0, std::move(field)}; }
+
+Status check_options(const ReducedSolverOptions& o) {
+  if (!(std::isfinite(o.step_s) && o.step_s > 0.0)) return error("the step must be a positive number of seconds", "step_s");
+  if (o.newton_iterations < 1) return error("at least one Newton iteration is needed", "newton_iterations");
+  if (!(o.rayleigh_mass_per_s >= 0.0 && std::isfinite(o.rayleigh_mass_per_s)))
+    return error("Rayleigh damping must be a non-negative number", "rayleigh_mass_per_s");
+  if (!(o.rayleigh_stiffness_s >= 0.0 && std::isfinite(o.rayleigh_stiffness_s)))
+    return error("Rayleigh damping must be a non-negative number", "rayleigh_stiffness_s");
+  if (!(o.envelope_factor > 0.0 && std::isfinite(o.envelope_factor)))
+    return error("the envelope factor must be a positive number", "envelope_factor");
+  return Done{};
+}
+
+Status check_basis(const TetMesh& mesh, const ReducedBasis& b) {
+  const auto n3 = 3 * mesh.nodes_m.size();
+  const auto r = static_cast<std::size_t>(b.basis_size);
+  if (b.mesh_fingerprint != mesh_fingerprint(mesh)) return error("the basis belongs to another mesh", "mesh_fingerprint");
+  if (b.node_count != static_cast<std::int32_t>(mesh.nodes_m.size())) return error("the node count differs from the mesh's", "node_count");
+  if (b.basis_size < 1 || b.basis.size() != n3 * r) return error("the basis is not 3 node_count x basis_size", "basis");
+  if (!b.diaphragm_lift.empty() && b.diaphragm_lift.size() != 3 * n3) return error("the lift is not 3 node_count x 3", "diaphragm_lift");
+  if (b.sample_tets.size() != b.sample_weights.size()) return error("one weight per sampled tetrahedron is needed", "sample_weights");
+  for (std::size_t s = 0; s < b.sample_tets.size(); ++s) {
+    if (b.sample_tets[s] < 0 || static_cast<std::size_t>(b.sample_tets[s]) >= mesh.tets.size())
+      return error("sample " + std::to_string(s) + " is not a tetrahedron of the mesh", "sample_tets");
+    if (!(b.sample_weights[s] >= 0.0 && std::isfinite(b.sample_weights[s])))
+      return error("sample " + std::to_string(s) + " has a negative or non-finite weight", "sample_weights");
+  }
+  const bool cubature = b.force_kind == ReducedForceKind::corotational_cubature || b.force_kind == ReducedForceKind::stvk_cubature;
+  if (cubature && b.sample_tets.empty()) return error("a cubature force needs sampled tetrahedra", "sample_tets");
+  if (b.force_kind == ReducedForceKind::stvk_cubic_polynomial) {
+    if (b.polynomial_coefficients.size() != detail::stvk_polynomial_size(b.basis_size))
+      return error("the cubic polynomial needs " + std::to_string(detail::stvk_polynomial_size(b.basis_size)) + " coefficients",
+                   "polynomial_coefficients");
+    if (!b.diaphragm_lift.empty()) return error("the cubic polynomial force has no diaphragm lift", "diaphragm_lift");
+  }
+  if (!b.training_q_bound.empty() && b.training_q_bound.size() != r) return error("one bound per column is needed", "training_q_bound");
+  for (double value : b.basis)
+    if (!std::isfinite(value)) return error("the basis has a non-finite value", "basis");
+  return Done{};
+}
+
+/// Rows (3 x r) of `node` of the column-major basis, appended to `out`.
+void append_rows(const ReducedBasis& b, std::int64_t node, std::vector<double>& out) {
+  const auto n3 = static_cast<std::size_t>(3 * b.node_count);
+  for (int c = 0; c < 3; ++c)
+    for (int j = 0; j < b.basis_size; ++j) out.push_back(b.basis[static_cast<std::size_t>(j) * n3 + 3 * static_cast<std::size_t>(node) + c]);
+}
+
+void append_lift_rows(const ReducedBasis& b, std::int64_t node, std::vector<double>& out) {
+  const auto n3 = static_cast<std::size_t>(3 * b.node_count);
+  for (int c = 0; c < 3; ++c)
+    for (int k = 0; k < 3; ++k) out.push_back(b.diaphragm_lift[static_cast<std::size_t>(k) * n3 + 3 * static_cast<std::size_t>(node) + c]);
+}
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+/// U^T M U, U^T K U, U^T K L, U^T M g and the traction shares.
+Status build_projections(const TetFemTables& full, ReducedTables& t) {
+  const int r = t.r;
+  const Eigen::Map<const RowMatrix> u(t.rows.data(), 3 * full.node_count, r);
+  Eigen::MatrixXd mass_r = Eigen::MatrixXd::Zero(r, r), stiffness = Eigen::MatrixXd::Zero(r, r), lift = Eigen::MatrixXd::Zero(r, 3);
+  for (std::int64_t node = 0; node < full.node_count; ++node) {
+    const auto block = u.middleRows(3 * node, 3);
+    mass_r += full.mass_kg[static_cast<std::size_t>(node)] * block.transpose() * block;
+  }
+  if ((mass_r - Eigen::MatrixXd::Identity(r, r)).cwiseAbs().maxCoeff() > 1e-6)
+      return error("the basis is not mass-orthonormal (U^T M U differs from I by more than 1e-6)", "basis");
+  for (std::size_t e = 0; e < full.tets.size(); ++e) {
+    Matrix43 gradients;
+    for (int a = 0; a < 4; ++a)
+      for (int c = 0; c < 3; ++c) gradients(a, c) = full.gradients[12 * e + 3 * a + c];
+    const Matrix12 ke = element_stiffness(gradients, full.lame[e], full.volume_m3[e]);
+    Eigen::Matrix<double, 12, Eigen::Dynamic> ue(12, r);
+    Eigen::Matrix<double, 12, 3> le = Eigen::Matrix<double, 12, 3>::Zero();
+    for (int a = 0; a < 4; ++a) {
+      const std::int64_t node = full.tets[e][a];
+      ue.middleRows<3>(3 * a) = u.middleRows(3 * node, 3);
+      if (t.has_lift) le.middleRows<3>(3 * a) = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(t.lift_rows.data() + 9 * node);
+    }
+    const Eigen::MatrixXd kue = ke * ue;
+    stiffness += ue.transpose() * kue;
+    lift += kue.transpose() * le;
+  }
+  stiffness = 0.5 * (stiffness + stiffness.transpose()).eval();
+  t.stiffness_r.resize(static_cast<std::size_t>(r * r));
+  Eigen::Map<RowMatrix>(t.stiffness_r.data(), r, r) = stiffness;
+  t.stiffness_lift_r.resize(static_cast<std::size_t>(3 * r));
+  Eigen::Map<RowMatrix>(t.stiffness_lift_r.data(), r, 3) = lift;
+  Eigen::VectorXd gravity = Eigen::VectorXd::Zero(r);
+  for (std::int64_t node = 0; node < full.node_count; ++node)
+    for (int c = 0; c < 3; ++c)
+      gravity += full.mass_kg[static_cast<std::size_t>(node)] * full.gravity_m_s2[c] * u.row(3 * node + c).transpose();
+  t.gravity_r.assign(gravity.data(), gravity.data() + r);
+  t.traction_r.assign(static_cast<std::size_t>(3 * r), 0.0);
+  for (std::size_t k = 0; k < full.traction_nodes.size(); ++k)
+    for (int c = 0; c < 3; ++c)
+      for (int j = 0; j < r; ++j)
+        t.traction_r[static_cast<std::size_t>(c * r + j)] += full.traction_area_m2[k] * u(3 * full.traction_nodes[k] + c, j);
+  return Done{};
+}
+
+void build_springs(const TetFemTables& full, ReducedTables& t) {
+  const int r = t.r;
+  t.spring_stiffness_n_m = full.spring_stiffness_n_m;
+  Eigen::MatrixXd springs = Eigen::MatrixXd::Zero(r, r);
+  const Eigen::Map<const RowMatrix> u(t.rows.data(), 3 * full.node_count, r);
+  for (std::int32_t node : full.spring_nodes) {
+    if (full.free_index[static_cast<std::size_t>(node)] < 0) continue;
+    t.spring_nodes.push_back(node);
+    for (int c = 0; c < 3; ++c) t.spring_rest_m.push_back(full.rest_m[3 * static_cast<std::size_t>(node) + c]);
+    springs += full.spring_stiffness_n_m * u.middleRows(3 * node, 3).transpose() * u.middleRows(3 * node, 3);
+  }
+  t.spring_stiffness_r.resize(static_cast<std::size_t>(r * r));
+  Eigen::Map<RowMatrix>(t.spring_stiffness_r.data(), r, r) = springs;
+}
+
+void build_samples(const TetFemTables& full, const ReducedBasis& b, ReducedTables& t) {
+  const int r = t.r;
+  t.sample_count = static_cast<int>(b.sample_tets.size());
+  Eigen::MatrixXd rest_tangent = Eigen::MatrixXd::Zero(r, r);
+  for (std::size_t s = 0; s < b.sample_tets.size(); ++s) {
+    const auto e = static_cast<std::size_t>(b.sample_tets[s]);
+    for (int a = 0; a < 4; ++a) {
+      const std::int64_t node = full.tets[e][a];
+      t.sample_rows.insert(t.sample_rows.end(), t.rows.begin() + 3 * node * r, t.rows.begin() + 3 * (node + 1) * r);
+      if (t.has_lift) t.sample_lift.insert(t.sample_lift.end(), t.lift_rows.begin() + 9 * node, t.lift_rows.begin() + 9 * (node + 1));
+      for (int c = 0; c < 3; ++c) t.sample_rest_m.push_back(full.rest_m[3 * static_cast<std::size_t>(node) + c]);
+    }
+    Matrix43 gradients;
+    for (int k = 0; k < 12; ++k) {
+      t.sample_gradients.push_back(full.gradients[12 * e + k]);
+      gradients(k / 3, k % 3) = full.gradients[12 * e + k];
+    }
+    const double weight_volume = b.sample_weights[s] * full.volume_m3[e];
+    t.sample_weight_volume.push_back(weight_volume);
+    t.sample_lame.push_back(full.lame[e]);
+    // K_e = V B^T D B = G^T G with G = sqrt(V) L^T B, D = L L^T.
+    const Matrix6 root = Eigen::LLT<Matrix6>(elasticity_matrix(full.lame[e])).matrixU();
+    const Matrix6x12 g = std::sqrt(weight_volume) * root * strain_displacement(gradients);
+    for (int i = 0; i < 6; ++i)
+      for (int k = 0; k < 12; ++k) t.sample_root_stiffness.push_back(g(i, k));
+    Eigen::Matrix<double, 12, Eigen::Dynamic> rows(12, r);
+    for (int k = 0; k < 12; ++k)
+      for (int j = 0; j < r; ++j) rows(k, j) = t.sample_rows[(12 * s + static_cast<std::size_t>(k)) * static_cast<std::size_t>(r) + static_cast<std::size_t>(j)];
+    const Eigen::MatrixXd v = g * rows;
+    rest_tangent += v.transpose() * v;
+  }
+  t.sample_rest_tangent_r.resize(static_cast<std::size_t>(r * r));
+  Eigen::Map<RowMatrix>(t.sample_rest_tangent_r.data(), r, r) = rest_tangent;
+}
+
+/// The frozen system matrix, factored: see detail::system_coefficients.
+Status build_frozen_factor(ReducedTables& t) {
+  const detail::SystemCoefficients c = detail::system_coefficients(t.options);
+  t.frozen_factor.resize(static_cast<std::size_t>(t.r * t.r));
+  detail::system_matrix(t.stiffness_r, t.spring_stiffness_r, c.identity, c.stiffness, c.spring, t.r, t.frozen_factor);
+  if (!detail::cholesky_in_place(t.frozen_factor, t.r)) {
+    const bool implicit = t.options.integrator == ReducedIntegrator::implicit_euler;
+    return error(implicit ? "the reduced system is not positive definite" :
+                            "the quasi-static reduced system is singular: the scene needs fixed nodes, springs or a prescribed region",
+                 implicit ? "step_s" : "fixed_nodes");
+  }
+  return Done{};
+}
+
+}  // namespace
+
+Result<ReducedModel> make_reduced_model(const TetMesh& mesh, const TissueScene& scene, const TissueSolverOptions& solver,
+                                        const ReducedBasis& basis, const ReducedSolverOptions& options) {
+  if (auto s = check_options(options); !s) return s.error();
+  if (auto s = check_basis(mesh, basis); !s) return s.error();
+  if (scene.probe_stiffness_n_m > 0.0) return error("the reduced model has no probe contact", "probe_stiffness_n_m");
+  auto system = detail::make_full_system(mesh, scene, solver);
+  if (!system.ok()) return system.error();
+  const TetFemTables& full = system.value().model.tables();
+  if (full.prescribed_nodes.empty() != basis.diaphragm_lift.empty())
+    return error("the lift must be present exactly when the scene prescribes nodes", "diaphragm_lift");
+  auto t = std::make_shared<ReducedTables>();
+  t->options = options;
+  t->force_kind = basis.force_kind;
+  t->r = basis.basis_size;
+  t->node_count = full.node_count;
+  t->has_lift = !basis.diaphragm_lift.empty();
+  t->max_point_forces = full.max_point_forces;
+  t->gain_pa = solver.law == ElementLaw::st_venant_kirchhoff ? solver.incompressibility_gain_pa : 0.0;
+  t->rows.reserve(basis.basis.size());
+  for (std::int64_t node = 0; node < full.node_count; ++node) {
+    append_rows(basis, node, t->rows);
+    if (t->has_lift) append_lift_rows(basis, node, t->lift_rows);
+  }
+  if (auto s = build_projections(full, *t); !s) return s.error();
+  build_springs(full, *t);
+  if (basis.force_kind == ReducedForceKind::corotational_cubature || basis.force_kind == ReducedForceKind::stvk_cubature)
+    build_samples(full, basis, *t);
+  if (basis.force_kind == ReducedForceKind::stvk_cubic_polynomial) t->polynomial = basis.polynomial_coefficients;
+  if (auto s = build_frozen_factor(*t); !s) return s.error();
+  t->q_bound = basis.training_q_bound;
+  return ReducedModel(std::move(t));
+}
+
+Result<ReducedData> make_reduced_data(const ReducedModel& model) {
+  const ReducedTables& t = model.tables();
+  const auto r = static_cast<std::size_t>(t.r);
+  const auto m = static_cast<std::size_t>(t.sample_count);
+  ArenaPlan plan;
+  const std::size_t monomial_count = t.polynomial.empty() ? 0 : r * (r + 1) / 2 + r * (r + 1) * (r + 2) / 6;
+  plan.add<double>(9 * r).add<double>(2 * r * r).add<double>(12 * m).add<double>(9 * m).add<double>(6 * r);
+  plan.add<double>(monomial_count);
+  ReducedData data(Arena("reduced_data", plan.bytes()));
+  std::span<double>* vectors[] = {&data.q, &data.q_velocity, &data.q_start, &data.v_start, &data.v_iterate,
+                                  &data.force, &data.external, &data.residual, &data.correction};
+  for (std::span<double>* vector : vectors) {
+    auto carved = data.arena.allocate<double>("reduced vector", r);
+    if (!carved.ok()) return carved.error();
+    *vector = carved.value();
+  }
+  auto tangent = data.arena.allocate<double>("reduced tangent", r * r);
+  auto factor = data.arena.allocate<double>("reduced factor", r * r);
+  auto displacements = data.arena.allocate<double>("sample displacements", 12 * m);
+  auto rotations = data.arena.allocate<double>("sample rotations", 9 * m);
+  auto strains = data.arena.allocate<double>("sample tangent rows", 6 * r);
+  if (!tangent.ok()) return tangent.error();
+  if (!factor.ok()) return factor.error();
+  if (!displacements.ok()) return displacements.error();
+  if (!rotations.ok()) return rotations.error();
+  if (!strains.ok()) return strains.error();
+  auto monomials = data.arena.allocate<double>("polynomial monomials", monomial_count);
+  if (!monomials.ok()) return monomials.error();
+  data.monomials = monomials.value();
+  data.tangent = tangent.value();
+  data.factor = factor.value();
+  data.sample_displacements = displacements.value();
+  data.sample_rotations = rotations.value();
+  data.sample_tangent_rows = strains.value();
+  for (std::size_t s = 0; s < m; ++s)
+    for (int d = 0; d < 3; ++d) data.sample_rotations[9 * s + 4 * static_cast<std::size_t>(d)] = 1.0;
+  return data;
+}
+
+std::int64_t ReducedModel::node_count() const { return tables_->node_count; }
+int ReducedModel::basis_size() const { return tables_->r; }
+const ReducedSolverOptions& ReducedModel::options() const { return tables_->options; }
+ReducedForceKind ReducedModel::force_kind() const { return tables_->force_kind; }
+int ReducedModel::sample_count() const { return tables_->sample_count; }
+
+std::int64_t ReducedModel::memory_bytes() const {
+  const ReducedTables& t = *tables_;
+  std::size_t doubles = 0;
+  for (const std::vector<double>* v : {&t.rows, &t.lift_rows, &t.gravity_r, &t.traction_r, &t.stiffness_r, &t.stiffness_lift_r,
+                                       &t.spring_stiffness_r, &t.frozen_factor, &t.spring_rest_m,
+                                       &t.sample_rows, &t.sample_lift, &t.sample_rest_m, &t.sample_gradients,
+                                       &t.sample_root_stiffness, &t.sample_weight_volume, &t.sample_rest_tangent_r, &t.polynomial, &t.q_bound})
+    doubles += v->size();
+  return static_cast<std::int64_t>(sizeof(ReducedTables) + 8 * doubles + 4 * t.spring_nodes.size() +
+                                   sizeof(LameParameters) * t.sample_lame.size());
+}
+
+}  // namespace nav

@@ -1,0 +1,146 @@
+// Step times of the reduced liver on liverFine.vtu (22019 tetrahedra, the "gravity" scene of
+// nav::liver_scenes): a corotational cubature of r = 8, 16, 32, 64 vibration modes on
+// m = 32, 64, 128 sampled tetrahedra, implicit Euler with one Newton iteration, the rest
+// tangent frozen or rebuilt every step; the linear reduced step; and the reconstruction of
+// 2000 nodes (the 1603 surface nodes plus interior ones). The samples are evenly spaced with
+// equal weights (speed does not depend on which tetrahedra ECSW picks). Each case reports
+// step_us_median and step_us_p99 over its timed steps. Skipped when ../shared/data is missing.
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nav/reduced/reduced_model.hpp"
+#include "nav/reduced/reduction.hpp"
+#include "nav/tissue/liver_scenes.hpp"
+
+namespace {
+
+std::string liver_dir() {
+  const std::string here = __FILE__;
+  return here.substr(0, here.rfind('/')) + "/../../../shared/data/liver";
+}
+
+/// liverFine, its gravity scene and its 64 lowest modes, built once (nullopt: data missing).
+struct Liver {
+  nav::TetMesh mesh;
+  nav::TissueScene scene;
+  nav::ReducedBasis modes;
+};
+
+const std::optional<Liver>& liver() {
+  static const std::optional<Liver> built = []() -> std::optional<Liver> {
+    auto mesh = nav::load_liver_mesh(liver_dir(), 22019);
+    if (!mesh.ok()) return std::nullopt;
+    Liver l{std::move(mesh).value(), {}, {}};
+    l.scene = nav::liver_scenes(l.mesh).front().scene;
+    nav::ReductionOptions options;
+    options.source = nav::ReducedBasisSource::linear_modes;
+    options.basis_size = 64;
+    auto modes = nav::make_modal_basis(l.mesh, l.scene, nav::TissueSolverOptions{}, options);
+    if (!modes.ok()) return std::nullopt;
+    l.modes = std::move(modes).value();
+    return l;
+  }();
+  return built;
+}
+
+/// The first r modes with m evenly spaced samples of equal weight.
+nav::ReducedBasis truncated(const Liver& l, int r, int m, nav::ReducedForceKind kind) {
+  nav::ReducedBasis basis = l.modes;
+  basis.basis_size = r;
+  basis.force_kind = kind;
+  basis.basis.resize(3 * l.mesh.nodes_m.size() * static_cast<std::size_t>(r));
+  basis.column_values.resize(static_cast<std::size_t>(r));
+  for (int s = 0; s < m && kind != nav::ReducedForceKind::linear; ++s) {
+    basis.sample_tets.push_back(static_cast<std::int32_t>(static_cast<std::size_t>(s) * l.mesh.tets.size() / static_cast<std::size_t>(m)));
+    basis.sample_weights.push_back(static_cast<double>(l.mesh.tets.size()) / m);
+  }
+  return basis;
+}
+
+void report(benchmark::State& state, std::vector<double>& us) {
+  std::sort(us.begin(), us.end());
+  state.counters["step_us_median"] = us[us.size() / 2];
+  state.counters["step_us_p99"] = us[std::min(us.size() - 1, (us.size() * 99) / 100)];
+}
+
+void run_step(benchmark::State& state, nav::ReducedForceKind kind, bool frozen) {
+  if (!liver()) {
+    state.SkipWithError("shared data missing: ../shared/data/liver/liverFine.vtu");
+    return;
+  }
+  const int r = static_cast<int>(state.range(0)), m = static_cast<int>(state.range(1));
+  nav::ReducedSolverOptions options;
+  options.frozen_tangent = frozen;
+  options.step_s = 0.001;
+  auto model = nav::make_reduced_model(liver()->mesh, liver()->scene, nav::TissueSolverOptions{}, truncated(*liver(), r, m, kind), options);
+  if (!model.ok()) {
+    state.SkipWithError(model.error().describe().c_str());
+    return;
+  }
+  auto data = nav::make_reduced_data(model.value()).value();
+  std::vector<double> us;
+  us.reserve(static_cast<std::size_t>(state.max_iterations));
+  const nav::TissueInputs inputs;
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    nav::step(model.value(), data, inputs);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.SetIterationTime(seconds);
+    us.push_back(seconds * 1e6);
+  }
+  report(state, us);
+  state.counters["healthy"] = data.health.healthy() ? 1.0 : 0.0;
+  state.counters["memory_kb"] = static_cast<double>(model.value().memory_bytes()) / 1024.0;
+}
+
+void BM_ReducedCorotationalFrozen(benchmark::State& s) { run_step(s, nav::ReducedForceKind::corotational_cubature, true); }
+void BM_ReducedCorotationalTangent(benchmark::State& s) { run_step(s, nav::ReducedForceKind::corotational_cubature, false); }
+void BM_ReducedLinear(benchmark::State& s) { run_step(s, nav::ReducedForceKind::linear, true); }
+
+void BM_ReconstructNodes(benchmark::State& state) {
+  if (!liver()) {
+    state.SkipWithError("shared data missing: ../shared/data/liver/liverFine.vtu");
+    return;
+  }
+  const int r = static_cast<int>(state.range(0));
+  auto model = nav::make_reduced_model(liver()->mesh, liver()->scene, nav::TissueSolverOptions{},
+                                       truncated(*liver(), r, 0, nav::ReducedForceKind::linear), {}).value();
+  auto data = nav::make_reduced_data(model).value();
+  nav::TissueInputs inputs;
+  for (int i = 0; i < 10; ++i) nav::step(model, data, inputs);
+  std::vector<std::int32_t> nodes(2000);
+  const std::size_t n = liver()->mesh.nodes_m.size();
+  for (std::size_t k = 0; k < nodes.size(); ++k) nodes[k] = static_cast<std::int32_t>(k * n / nodes.size());
+  std::vector<double> out(3 * nodes.size());
+  std::vector<double> us;
+  us.reserve(static_cast<std::size_t>(state.max_iterations));
+  for (auto _ : state) {
+    const auto start = std::chrono::steady_clock::now();
+    nav::reconstruct_displacements_m(model, data, nodes, out);
+    benchmark::DoNotOptimize(out.data());
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    state.SetIterationTime(seconds);
+    us.push_back(seconds * 1e6);
+  }
+  report(state, us);
+}
+
+void cubature_cases(benchmark::internal::Benchmark* b) {
+  for (int r : {8, 16, 32, 64})
+    for (int m : {32, 64, 128}) b->Args({r, m});
+  b->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(3000);
+}
+
+BENCHMARK(BM_ReducedCorotationalFrozen)->Apply(cubature_cases);
+BENCHMARK(BM_ReducedCorotationalTangent)->Apply(cubature_cases);
+BENCHMARK(BM_ReducedLinear)->Args({8, 0})->Args({16, 0})->Args({32, 0})->Args({64, 0})->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(3000);
+BENCHMARK(BM_ReconstructNodes)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(3000);
+
+}  // namespace
