@@ -123,14 +123,20 @@ TEST(BmodeDevice, PublishesFramesATrackerCanUseOverDds) {
   const Eigen::Isometry3d image_to_probe(Eigen::Translation3d(-0.038, 0.0, 0.0));
   BmodeDevice device(BmodeSimulator(geometry, scene, 5), image_to_probe, 2);
   const Eigen::Isometry3d probe_in_liver = plane_through_tumour(geometry, scene, 0.0, kDepth_m) * image_to_probe.inverse();
-  bool published = false;
-  const BmodeTruth truth = device.publish(*link.device, probe_in_liver, 1000, published);
-  ASSERT_TRUE(published);
-  ASSERT_TRUE(link.device->wait_for_acknowledgments(10 * kNsPerSecond));
+  // Frames and poses are best effort, as from a real scanner: the device publishes again
+  // until the station has both (the first samples may leave before the station's side of
+  // the match is complete).
+  BmodeTruth truth;
   auto frame = std::make_unique<dds::UltrasoundFrame>();
-  ASSERT_TRUE(testing::next_frame(link, *frame));
   dds::ToolPose pose;
-  ASSERT_TRUE(link.poses->try_pop(pose));
+  bool received = false;
+  for (int attempt = 0; attempt < 20 && !received; ++attempt) {
+    bool published = false;
+    truth = device.publish(*link.device, probe_in_liver, 1000 + attempt, published);
+    ASSERT_TRUE(published);
+    received = testing::next_frame(link, *frame) && link.poses->try_pop(pose);
+  }
+  ASSERT_TRUE(received) << "no frame and pose reached the station in 20 publications";
   EXPECT_NEAR(pose.position_m[2], probe_in_liver.translation().z(), 1e-15);
   TumourTracker tracker;
   const TumourDetection found = tracker.update(frame->pixels.data(), frame->width_px, frame->height_px);

@@ -13,7 +13,8 @@
 
 namespace nav::ultrasound::testing {
 
-/// Both ends of one domain, matched; `ok` is false (with a test failure) otherwise.
+/// Both ends of one domain, matched on both sides (so that the station's readers know the
+/// device's writers before the first sample); `ok` is false (with a test failure) otherwise.
 struct DeviceLink {
   std::unique_ptr<dds::DdsNode> device;
   std::unique_ptr<dds::DdsNode> station;
@@ -38,7 +39,9 @@ inline DeviceLink link_device(std::uint32_t domain_id) {
   link.ok = link.station->subscribe(*link.frames).ok() && link.station->subscribe(*link.poses).ok() &&
             link.device->advertise<dds::UltrasoundFrame>().ok() && link.device->advertise<dds::ToolPose>().ok() &&
             link.device->wait_for_match(dds::Topic::ultrasound_frame, 1, 10 * kNsPerSecond) &&
-            link.device->wait_for_match(dds::Topic::tool_pose, 1, 10 * kNsPerSecond);
+            link.device->wait_for_match(dds::Topic::tool_pose, 1, 10 * kNsPerSecond) &&
+            link.station->wait_for_match(dds::Topic::ultrasound_frame, 1, 10 * kNsPerSecond) &&
+            link.station->wait_for_match(dds::Topic::tool_pose, 1, 10 * kNsPerSecond);
   EXPECT_TRUE(link.ok) << "the device and the station did not match";
   return link;
 }
