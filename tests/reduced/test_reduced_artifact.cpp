@@ -42,7 +42,9 @@ ReducedBasis synthetic_basis(const TetMesh& mesh, int r, ReducedForceKind kind) 
 
 void expect_bit_equal(const std::vector<double>& a, const std::vector<double>& b) {
   ASSERT_EQ(a.size(), b.size());
-  EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0);
+  if (!a.empty()) {
+    EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0);
+  }
 }
 
 void expect_identical(const ReducedBasis& a, const ReducedBasis& b) {
