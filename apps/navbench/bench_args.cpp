@@ -1,6 +1,8 @@
 #include "bench_args.hpp"
 
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 
 namespace navbench {
 
@@ -15,6 +17,12 @@ std::optional<BenchArgs> parse_bench_args(const std::vector<std::string>& args, 
     return std::nullopt;
   }
   return parsed;
+}
+
+std::FILE* open_bench_output(const std::string& path) {
+  std::FILE* file = std::fopen(path.c_str(), "w");
+  if (!file) std::fprintf(stderr, "navbench: cannot write %s: %s\n", path.c_str(), std::strerror(errno));
+  return file;
 }
 
 }  // namespace navbench

@@ -198,9 +198,9 @@ std::vector<Record> stability_cases(const nav::TetMesh& mesh, int steps, const s
   return records;
 }
 
-void write_json(const std::string& path, const std::vector<Record>& records) {
-  std::FILE* file = std::fopen(path.c_str(), "w");
-  if (!file) return;
+bool write_json(const std::string& path, const std::vector<Record>& records) {
+  std::FILE* file = navbench::open_bench_output(path);
+  if (!file) return false;
   std::fputs("[\n", file);
   for (std::size_t k = 0; k < records.size(); ++k) {
     const Record& r = records[k];
@@ -218,7 +218,7 @@ void write_json(const std::string& path, const std::vector<Record>& records) {
     std::fprintf(file, ", \"health\": %u}%s\n", r.health, k + 1 < records.size() ? "," : "");
   }
   std::fputs("]\n", file);
-  std::fclose(file);
+  return std::fclose(file) == 0;
 }
 
 }  // namespace
@@ -245,7 +245,7 @@ int run_connective_bench(const std::vector<std::string>& args) {
     std::fprintf(stderr, "%-26s %-18s %4lld frames %5lld points %5lld tets  E %8.1e  median %9.1f us  p99 %9.1f us  largest %.4f m  diff %.4f m  stable %d  health %u\n",
                  r.name.c_str(), r.solver.c_str(), r.frames, r.points, r.tets, r.youngs_modulus_pa, r.median_us, r.p99_us,
                  r.largest_displacement_m, r.difference_max_m, r.stable, r.health);
-  write_json(parsed->json_path, records);
+  if (!write_json(parsed->json_path, records)) return 1;
   return 0;
 }
 

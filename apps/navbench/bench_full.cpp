@@ -162,9 +162,9 @@ std::optional<Record> run_case(const Case& c, const nav::TetMesh& mesh, const na
   return record;
 }
 
-void write_json(const std::string& path, const std::vector<Record>& records) {
-  std::FILE* file = std::fopen(path.c_str(), "w");
-  if (!file) return;
+bool write_json(const std::string& path, const std::vector<Record>& records) {
+  std::FILE* file = navbench::open_bench_output(path);
+  if (!file) return false;
   std::fputs("[\n", file);
   for (std::size_t k = 0; k < records.size(); ++k) {
     const Record& r = records[k];
@@ -177,13 +177,13 @@ void write_json(const std::string& path, const std::vector<Record>& records) {
                  k + 1 < records.size() ? "," : "");
   }
   std::fputs("]\n", file);
-  std::fclose(file);
+  return std::fclose(file) == 0;
 }
 
 /// Log-log scatter of error_rms_m against step_us_median, one colour per model, circles for
 /// the gravity scene and squares for the probe.
 void write_svg(const std::string& path, const std::vector<Record>& records) {
-  std::FILE* file = std::fopen(path.c_str(), "w");
+  std::FILE* file = navbench::open_bench_output(path);
   if (!file) return;
   const double width = 900, height = 600, left = 80, bottom = 60, right = 260, top = 30;
   const double x_lo = 0.0, x_hi = 6.0, y_lo = -8.0, y_hi = -1.0;  // log10 of us and m
@@ -272,7 +272,7 @@ int run_full_bench(const std::vector<std::string>& args) {
       }
     }
   }
-  write_json(json_path, records);
+  if (!write_json(json_path, records)) return 1;
   const std::size_t dot = json_path.rfind('.');
   write_svg((dot == std::string::npos ? json_path : json_path.substr(0, dot)) + ".svg", records);
   return 0;

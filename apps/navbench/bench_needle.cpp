@@ -177,7 +177,7 @@ std::vector<ProfilePoint> insertion_profile() {
 }
 
 void write_profile_svg(const std::string& path, const std::vector<ProfilePoint>& profile) {
-  std::FILE* file = std::fopen(path.c_str(), "w");
+  std::FILE* file = navbench::open_bench_output(path);
   if (!file) return;
   const double width = 900, height = 560, left = 70, right = 170, top = 30, bottom = 60;
   const double x_lo = -6.0, x_hi = 46.0, y_lo = -1.2, y_hi = 1.4;
@@ -213,9 +213,9 @@ void write_profile_svg(const std::string& path, const std::vector<ProfilePoint>&
   std::fclose(file);
 }
 
-void write_json(const std::string& path, const std::vector<Record>& records) {
-  std::FILE* file = std::fopen(path.c_str(), "w");
-  if (!file) return;
+bool write_json(const std::string& path, const std::vector<Record>& records) {
+  std::FILE* file = navbench::open_bench_output(path);
+  if (!file) return false;
   std::fputs("[\n", file);
   for (std::size_t k = 0; k < records.size(); ++k) {
     const Record& r = records[k];
@@ -226,7 +226,7 @@ void write_json(const std::string& path, const std::vector<Record>& records) {
                  r.p99_us, r.residual_m, k + 1 < records.size() ? "," : "");
   }
   std::fputs("]\n", file);
-  std::fclose(file);
+  return std::fclose(file) == 0;
 }
 
 }  // namespace
@@ -249,7 +249,7 @@ int run_needle_bench(const std::vector<std::string>& args) {
     std::fprintf(stderr, "%-32s %2d elements %2d points %3d rows %5lld tets 1:%-2d  median %9.1f us  p99 %9.1f us  residual %.1e m\n",
                  r.name.c_str(), r.elements, r.constraint_points, r.rows, r.tets, r.needle_steps_per_tissue_step, r.median_us,
                  r.p99_us, r.residual_m);
-  write_json(json_path, records);
+  if (!write_json(json_path, records)) return 1;
   const std::size_t dot = json_path.rfind('.');
   write_profile_svg((dot == std::string::npos ? json_path : json_path.substr(0, dot)) + "_force_profile.svg", insertion_profile());
   return 0;

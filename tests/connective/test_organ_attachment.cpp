@@ -13,6 +13,7 @@
 #include "nav/reduced/reduced_model.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
+#include "support/allocation_guard.hpp"
 
 namespace nav {
 namespace {
@@ -103,17 +104,20 @@ TetFemModel liver_model(const OrganAttachment& attachment, bool fixed) {
 
 /// Steps the ligaments and one liver rung together, staggered, for `steps` steps: the rung
 /// is given by its node positions (3 per node, refreshed by `positions()`) and its step.
+/// Returns the heap allocations made by the coupled steps (none is allowed).
 template <class Positions, class Advance>
-void step_held(const OrganLigaments& held, int steps, Positions positions, Advance advance, HealthFlags& health) {
+std::size_t step_held(const OrganLigaments& held, int steps, Positions positions, Advance advance, HealthFlags& health) {
   FrameTissueData ligament = make_frame_tissue_data(held.model).value();
   AttachmentBuffers buffers = make_attachment_buffers(held.attachment);
   TissueInputs inputs;
+  const nav::testing::AllocationGuard guard;
   for (int k = 0; k < steps; ++k) {
     step_attached(held.model, ligament, held.attachment, buffers, positions(), 1.0);
     inputs.point_forces = buffers.point_forces;
     advance(inputs);
   }
   health.merge(ligament.health);
+  return guard.allocations();
 }
 
 /// The liver's node displacements after `steps` steps, held by the ligaments (staggered) or,
@@ -124,7 +128,7 @@ std::vector<double> settle(const OrganLigaments* held, const TetFemModel& model,
   if (held == nullptr) {
     for (int k = 0; k < steps; ++k) advance({});
   } else {
-    step_held(*held, steps, [&] { return std::span<const double>(data.positions_m); }, advance, health);
+    EXPECT_EQ(step_held(*held, steps, [&] { return std::span<const double>(data.positions_m); }, advance, health), 0u);
   }
   health.merge(data.health);
   std::vector<double> displacement(data.positions_m.size());
@@ -220,7 +224,7 @@ TEST(OrganAttachment, LigamentsHoldTheReducedLiverAsTheyHoldTheFullOrderOne) {
     for (std::size_t i = 0; i < positions_m.size(); ++i) positions_m[i] = full.rest_positions_m()[i] + reduced_m[i];
     return std::span<const double>(positions_m);
   };
-  step_held(held, 60, positions, [&](const TissueInputs& inputs) { step(reduced, data, inputs); }, reduced_health);
+  EXPECT_EQ(step_held(held, 60, positions, [&](const TissueInputs& inputs) { step(reduced, data, inputs); }, reduced_health), 0u);
   reduced_health.merge(data.health);
   positions();
 

@@ -4,24 +4,22 @@
 #include <fstream>
 #include <string>
 
+#include "fuzz/seed_generator.hpp"
 #include "nav/trackers/ndi_protocol.hpp"
 
-int main(int argc, char** argv) {
-  if (argc != 2) return 2;
+bool write_fuzz_seeds(const std::filesystem::path& folder) {
   namespace ndi = nav::trackers::ndi;
-  const std::string folder = argv[1];
-  std::filesystem::create_directories(folder);
   ndi::TrackingReply reply;
   reply.handles = {{0x01, nav::trackers::ToolState::ok, {1, 0, 0, 0}, {1.5, -2.25, -1000.0}, 0.12, 0x21, 5},
                    {0x02, nav::trackers::ToolState::partly_out_of_volume, {0, 1, 0, 0}, {0, 0, -900}, 0.3, 0xA1, 5},
                    {0x03, nav::trackers::ToolState::missing, {1, 0, 0, 0}, {}, 0.0, 0x21, 5},
                    {0x04, nav::trackers::ToolState::disabled, {1, 0, 0, 0}, {}, 0.0, 0, 0}};
   const auto write = [&](const char* name, const std::string& bytes) {
-    std::ofstream(folder + "/" + name, std::ios::binary) << bytes;
+    std::ofstream file(folder / name, std::ios::binary);
+    file << bytes;
+    return static_cast<bool>(file);
   };
-  write("bx", ndi::encode_bx(reply));
-  write("tx", ndi::frame_reply(ndi::encode_tx(reply)));
-  write("phsr", ndi::frame_reply(ndi::encode_phsr({{0x01, 0x031}, {0x02, 0x001}})));
-  write("okay", ndi::frame_reply("OKAY"));
-  return 0;
+  return write("bx", ndi::encode_bx(reply)) && write("tx", ndi::frame_reply(ndi::encode_tx(reply))) &&
+         write("phsr", ndi::frame_reply(ndi::encode_phsr({{0x01, 0x031}, {0x02, 0x001}}))) &&
+         write("okay", ndi::frame_reply("OKAY"));
 }

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <string>
 
+#include "fuzz/seed_generator.hpp"
 #include "nav/ultrasound/plus_sequence_writer.hpp"
 
 namespace {
@@ -39,13 +40,7 @@ bool write_text(const std::filesystem::path& path, const std::string& text) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s SEED_FOLDER\n", argv[0]);
-    return 2;
-  }
-  const std::filesystem::path folder = argv[1];
-  std::filesystem::create_directories(folder);
+bool write_fuzz_seeds(const std::filesystem::path& folder) {
   const auto frames = two_frames(4, 3);
   const std::string nrrd =
       "NRRD0004\n# a raw NRRD sequence\ndimension: 3\nencoding: raw\nsizes: 2 2 1\ntype: uint8\n"
@@ -57,7 +52,7 @@ int main(int argc, char** argv) {
                   write_text(folder / "raw.nrrd", nrrd);
   if (!ok) {
     std::fprintf(stderr, "cannot write the seeds into %s\n", folder.c_str());
-    return 1;
+    return false;
   }
-  return 0;
+  return true;
 }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "fuzz/seed_generator.hpp"
 #include "dds/dds_test_samples.hpp"
 #include "nav/dds/recording_file.hpp"
 #include "nav/dds/sample_codec.hpp"
@@ -36,20 +37,14 @@ bool write_recording(const std::string& path) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s SEED_FOLDER\n", argv[0]);
-    return 2;
-  }
-  const std::filesystem::path folder = argv[1];
-  std::filesystem::create_directories(folder);
+bool write_fuzz_seeds(const std::filesystem::path& folder) {
   const auto indexed = folder / "indexed.navrec";
   const auto cut = folder / "without_footer.navrec";
   if (!write_recording(indexed.string())) {
     std::fprintf(stderr, "cannot write %s\n", indexed.c_str());
-    return 1;
+    return false;
   }
   std::filesystem::copy_file(indexed, cut, std::filesystem::copy_options::overwrite_existing);
   std::filesystem::resize_file(cut, std::filesystem::file_size(indexed) - kFooterBytes);
-  return 0;
+  return true;
 }

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <string>
 
+#include "fuzz/seed_generator.hpp"
 #include "nav/reduced/reduced_artifact.hpp"
 
 namespace {
@@ -34,13 +35,7 @@ nav::ReducedBasis seed_basis(nav::ReducedForceKind kind, bool lift) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s SEED_FOLDER\n", argv[0]);
-    return 2;
-  }
-  const std::filesystem::path folder = argv[1];
-  std::filesystem::create_directories(folder);
+bool write_fuzz_seeds(const std::filesystem::path& folder) {
   const struct {
     const char* name;
     nav::ReducedForceKind kind;
@@ -53,8 +48,8 @@ int main(int argc, char** argv) {
     const auto saved = nav::save_reduced_basis(path, seed_basis(seed.kind, seed.lift));
     if (!saved.ok()) {
       std::fprintf(stderr, "%s\n", saved.error().describe().c_str());
-      return 1;
+      return false;
     }
   }
-  return 0;
+  return true;
 }
