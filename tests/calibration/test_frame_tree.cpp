@@ -103,8 +103,39 @@ TEST(FrameTree, BadFilesNameTheFileAndTheElement) {
       "<robot name='r'><link name='a'/><joint name='k' type='fixed'><parent link='a'/><child link='zz'/></joint></robot>",
       "u.urdf");
   ASSERT_FALSE(unknown_link.ok());
-  EXPECT_NE(unknown_link.error().message.find("urdfdom"), std::string::npos);
+  EXPECT_EQ(unknown_link.error().field, "joint k");
+  EXPECT_NE(unknown_link.error().message.find("zz"), std::string::npos);
   EXPECT_FALSE(FrameTree::load(temporary_path("missing.urdf")).ok());
+}
+
+TEST(FrameTree, JointsThatDoNotFormOneTreeAreRejectedWithTheirName) {
+  const auto parse = [](const std::string& body) {
+    return FrameTree::parse("<robot name='r'><link name='a'/><link name='b'/><link name='c'/>" + body + "</robot>",
+                            "t.urdf");
+  };
+  const std::string a_to_b = "<joint name='ab' type='fixed'><parent link='a'/><child link='b'/></joint>";
+  const std::string b_to_c = "<joint name='bc' type='fixed'><parent link='b'/><child link='c'/></joint>";
+  ASSERT_TRUE(parse(a_to_b + b_to_c).ok());
+
+  auto cycle = parse(a_to_b + b_to_c + "<joint name='ca' type='fixed'><parent link='c'/><child link='a'/></joint>");
+  ASSERT_FALSE(cycle.ok());
+  EXPECT_NE(cycle.error().message.find("cycle"), std::string::npos) << cycle.error().message;
+
+  auto self_loop = parse(a_to_b + "<joint name='cc' type='fixed'><parent link='c'/><child link='c'/></joint>");
+  ASSERT_FALSE(self_loop.ok());
+  EXPECT_EQ(self_loop.error().field, "link c");
+
+  auto two_parents = parse(a_to_b + "<joint name='cb' type='fixed'><parent link='c'/><child link='b'/></joint>");
+  ASSERT_FALSE(two_parents.ok());
+  EXPECT_EQ(two_parents.error().field, "joint cb");
+
+  auto two_roots = parse(a_to_b);
+  ASSERT_FALSE(two_roots.ok());
+  EXPECT_EQ(two_roots.error().field, "robot");
+
+  auto duplicate_joint = parse(a_to_b + "<joint name='ab' type='fixed'><parent link='b'/><child link='c'/></joint>");
+  ASSERT_FALSE(duplicate_joint.ok());
+  EXPECT_EQ(duplicate_joint.error().field, "joint ab");
 }
 
 }  // namespace

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 
 namespace nav::calibration {
@@ -24,6 +26,48 @@ bool parse_triple(const char* text, Eigen::Vector3d& out) {
   stream >> out.x() >> out.y() >> out.z();
   std::string rest;
   return !stream.fail() && !(stream >> rest) && out.allFinite();
+}
+
+/// Checks that links and joints form one tree: unique names, joints between declared links, every
+/// link the child of at most one joint, no cycle, a single root. urdfdom rejects such graphs too,
+/// but without saying where, and a cyclic one leaks inside it.
+Status check_topology(const tinyxml2::XMLElement& robot, const std::string& path) {
+  std::map<std::string, const tinyxml2::XMLElement*> links;
+  for (const auto* link = robot.FirstChildElement("link"); link; link = link->NextSiblingElement("link")) {
+    if (!links.emplace(link->Attribute("name"), link).second) {
+      return xml_error(path, link, std::string("link ") + link->Attribute("name"), "duplicate link name");
+    }
+  }
+  std::map<std::string, std::string> parent_of;
+  std::set<std::string> joint_names;
+  for (const auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
+    const std::string field = std::string("joint ") + joint->Attribute("name");
+    if (!joint_names.insert(joint->Attribute("name")).second) return xml_error(path, joint, field, "duplicate joint name");
+    const std::string parent = joint->FirstChildElement("parent")->Attribute("link");
+    const std::string child = joint->FirstChildElement("child")->Attribute("link");
+    for (const std::string& end : {parent, child}) {
+      if (links.count(end) == 0) return xml_error(path, joint, field, "no <link name=\"" + end + "\">");
+    }
+    if (!parent_of.emplace(child, parent).second) {
+      return xml_error(path, joint, field, "link " + child + " is already the child of another joint");
+    }
+  }
+  std::size_t roots = 0;
+  for (const auto& [name, element] : links) {
+    if (parent_of.count(name) == 0) {
+      ++roots;
+      continue;
+    }
+    std::string ancestor = name;
+    for (std::size_t depth = 0; parent_of.count(ancestor) != 0; ++depth) {
+      if (depth > links.size()) return xml_error(path, element, "link " + name, "the joints form a cycle through this link");
+      ancestor = parent_of.at(ancestor);
+    }
+  }
+  if (roots != 1) {
+    return xml_error(path, &robot, "robot", "the links form " + std::to_string(roots) + " trees; a station has one root");
+  }
+  return Done{};
 }
 
 /// Checks what urdfdom only reports on its console: every link and joint is complete, joint
@@ -58,7 +102,7 @@ Status check_elements(const tinyxml2::XMLDocument& document, const std::string& 
       }
     }
   }
-  return Done{};
+  return check_topology(*robot, path);
 }
 
 Transform to_transform(const urdf::Pose& pose) {
@@ -98,7 +142,11 @@ Result<FrameTree> FrameTree::parse(const std::string& xml, const std::string& pa
   }
   if (Status checked = check_elements(document, path); !checked) return checked.error();
   console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
-  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(xml);
+  // urdfdom reads the <robot> element exactly as checked above, printed back by tinyxml2: its own
+  // XML parser would read malformed text differently and could meet a graph we never saw.
+  tinyxml2::XMLPrinter checked_robot;
+  document.FirstChildElement("robot")->Accept(&checked_robot);
+  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(checked_robot.CStr());
   if (!model || !model->getRoot()) {
     return Error{"urdfdom rejected the model (unknown link, duplicate name, several roots or a cycle)", path, 0,
                  "robot"};
