@@ -48,7 +48,7 @@ Result<std::vector<VtkCellSpan>> cell_spans_from_counts(const VtkArray<std::int6
                                                         const std::string& path) {
   const auto size = static_cast<std::int64_t>(cells.values.size());
   std::vector<VtkCellSpan> spans;
-  spans.reserve(cell_count);
+  spans.reserve(std::min(cell_count, cells.values.size()));  // a cell takes one value at least
   std::int64_t position = 0;
   for (std::size_t c = 0; c < cell_count; ++c) {
     if (position >= size) {
