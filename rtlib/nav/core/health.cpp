@@ -15,6 +15,8 @@ const char* health_flag_name(HealthFlag flag) noexcept {
     case HealthFlag::bad_sample: return "bad_sample";
     case HealthFlag::unstable_step: return "unstable_step";
     case HealthFlag::reduced_out_of_envelope: return "reduced_out_of_envelope";
+    case HealthFlag::clock_went_backwards: return "clock_went_backwards";
+    case HealthFlag::pose_jump_rejected: return "pose_jump_rejected";
   }
   return "unknown";
 }

@@ -19,6 +19,8 @@ enum class HealthFlag : std::uint32_t {
   bad_sample = 1u << 8,           // an input sample failed validation and was dropped
   unstable_step = 1u << 9,        // an explicit step longer than its stable limit was taken
   reduced_out_of_envelope = 1u << 10,  // a reduced model's state left its training envelope
+  clock_went_backwards = 1u << 11,     // a sample's timestamp was not after the previous one
+  pose_jump_rejected = 1u << 12,       // a pose moved faster than its limits and was dropped
 };
 
 /// A set of HealthFlag bits, raised by step-time code and read by the loop and displays.

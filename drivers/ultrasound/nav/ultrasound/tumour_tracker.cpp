@@ -1,5 +1,6 @@
 #include "nav/ultrasound/tumour_tracker.hpp"
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -24,6 +25,8 @@ double median_of(const cv::Mat& image) {
 }
 
 }  // namespace
+
+TumourTracker::TumourTracker(const TumourTrackerOptions& options) : options_(options) { cv::setNumThreads(0); }
 
 TumourDetection TumourTracker::update(const std::uint8_t* pixels, std::uint32_t width_px, std::uint32_t height_px) {
   const cv::Mat frame(static_cast<int>(height_px), static_cast<int>(width_px), CV_8U, const_cast<std::uint8_t*>(pixels));

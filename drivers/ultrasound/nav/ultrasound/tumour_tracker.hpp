@@ -30,7 +30,10 @@ struct TumourDetection {
 /// Detects the tumour frame after frame, preferring the region nearest the last detection.
 class TumourTracker {
  public:
-  explicit TumourTracker(const TumourTrackerOptions& options = {}) : options_(options) {}
+  /// Image processing runs on the station's I/O thread alone: OpenCV's worker threads would
+  /// compete with the real-time core, so a tracker switches OpenCV's parallel loops off
+  /// (process-wide).
+  explicit TumourTracker(const TumourTrackerOptions& options = {});
 
   /// Looks for the tumour in an 8-bit row-major frame.
   TumourDetection update(const std::uint8_t* pixels, std::uint32_t width_px, std::uint32_t height_px);

@@ -1,0 +1,88 @@
+// The memory footprint of a built station: what each model reports (ReducedModel's
+// memory_bytes, every data arena's capacity), and estimates from element counts where a
+// model does not report its tables.
+#include <cstdio>
+
+#include "nav/station/station_build.hpp"
+
+namespace nav::station {
+
+namespace {
+
+std::int64_t mesh_bytes(const TetMesh& mesh) {
+  return static_cast<std::int64_t>(mesh.nodes_m.size() * sizeof(Point3) + mesh.tets.size() * sizeof(mesh.tets[0]) +
+                                   mesh.tet_regions.size() * sizeof(std::int32_t));
+}
+
+/// TetFemModel's tables from its counts: per node the rest position, mass, 3x3 block
+/// inverse, diagonal inverse and indices (about 140 bytes); per element the corners,
+/// shape gradients, volume and Lamé pair (136 bytes); per factor entry a value and a row
+/// index (12 bytes).
+std::int64_t tet_fem_table_estimate(const TetFemModel& model) {
+  return 140 * model.node_count() + 136 * model.tet_count() + 12 * model.factor_nonzeros();
+}
+
+std::int64_t arena_bytes(const Arena& arena) { return static_cast<std::int64_t>(arena.capacity_bytes()); }
+
+}  // namespace
+
+std::int64_t MemoryFootprint::total_bytes() const {
+  std::int64_t total = 0;
+  for (const FootprintLine& line : lines) total += line.bytes;
+  return total;
+}
+
+std::int64_t MemoryFootprint::model_bytes(const std::string& model) const {
+  std::int64_t total = 0;
+  for (const FootprintLine& line : lines)
+    if (line.model == model) total += line.bytes;
+  return total;
+}
+
+MemoryFootprint measure_footprint(const StationModels& models) {
+  MemoryFootprint f;
+  const LiverModels& liver = models.liver;
+  f.lines.push_back({"liver", "mesh", mesh_bytes(liver.mesh), false});
+  if (liver.full) {
+    f.lines.push_back({"liver", "full-order tables", tet_fem_table_estimate(*liver.full), true});
+    f.lines.push_back({"liver", "full-order data arena", arena_bytes(liver.full_data->arena), false});
+  }
+  if (liver.reduced) {
+    f.lines.push_back({"liver", "reduced tables", liver.reduced->memory_bytes(), false});
+    f.lines.push_back({"liver", "reduced data arena", arena_bytes(liver.reduced_data->arena), false});
+  }
+  if (models.needle) {
+    const NeedleTissueModel& needle = *models.needle;
+    const auto tables = sizeof(NeedleTissueModel) + needle.tissue_rest_m.size() * sizeof(double) +
+                        needle.scene.layers.size() * sizeof(TissueLayer);
+    f.lines.push_back({"needle", "tables", static_cast<std::int64_t>(tables), false});
+    f.lines.push_back({"needle", "beam data arena", arena_bytes(models.needle_data->needle.arena), false});
+    f.lines.push_back({"needle", "interaction data arena", arena_bytes(models.needle_data->arena), false});
+  }
+  if (models.ligaments) {
+    const OrganAttachment& a = models.ligaments->attachment;
+    const auto attachment = a.corners.size() * (sizeof(a.corners[0]) + sizeof(a.barycentric[0]) + sizeof(a.slots[0])) +
+                            a.nodes.size() * (sizeof(std::int32_t) + 3 * sizeof(double));
+    f.lines.push_back({"ligaments", "attachment", static_cast<std::int64_t>(attachment), false});
+    f.lines.push_back({"ligaments", "frame data arena", arena_bytes(models.ligament_data->arena), false});
+  }
+  return f;
+}
+
+std::string format_footprint(const MemoryFootprint& footprint) {
+  std::string text;
+  char line[160];
+  std::snprintf(line, sizeof line, "%-10s %-24s %14s\n", "model", "part", "bytes");
+  text += line;
+  for (const FootprintLine& entry : footprint.lines) {
+    std::snprintf(line, sizeof line, "%-10s %-24s %13lld%s\n", entry.model.c_str(), entry.part.c_str(),
+                  static_cast<long long>(entry.bytes), entry.estimated ? "~" : " ");
+    text += line;
+  }
+  std::snprintf(line, sizeof line, "%-35s %13lld  (%.2f MiB; ~ estimated from element counts)\n", "total",
+                static_cast<long long>(footprint.total_bytes()), static_cast<double>(footprint.total_bytes()) / (1024.0 * 1024.0));
+  text += line;
+  return text;
+}
+
+}  // namespace nav::station

@@ -1,0 +1,333 @@
+#include "nav/station/scene.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <new>
+#include <set>
+
+#include "nav/station/yaml_reader.hpp"
+
+namespace nav::station {
+
+namespace {
+
+using detail::MapReader;
+using detail::Range;
+
+constexpr Range kPositive{0.0, 1e12, true};
+constexpr Range kNonNegative{0.0, 1e12};
+constexpr Range kFraction{0.0, 1.0};
+
+/// `path` relative to the scene file's folder (absolute paths are kept).
+std::string resolve(const std::string& scene_path, const std::string& path) {
+  const std::filesystem::path given(path);
+  if (given.is_absolute()) return given.lexically_normal().string();
+  return (std::filesystem::path(scene_path).parent_path() / given).lexically_normal().string();
+}
+
+/// Turns an Error of an rtlib validator, whose field is `prefix` + a key of `reader`'s map,
+/// into a failure at that key.
+void check(const Status& status, const MapReader& reader, const std::string& prefix) {
+  if (status.ok()) return;
+  const std::string& field = status.error().field;
+  const std::string key = field.rfind(prefix, 0) == 0 ? field.substr(prefix.size()) : std::string();
+  reader.fail_at(reader.has(key) ? key : std::string(), status.error().message);
+}
+
+StationSettings read_station(MapReader r) {
+  StationSettings s;
+  s.name = r.text("name");
+  s.loop_rate_hz = r.number("loop_rate_hz", Range{0.0, 1000.0, true});
+  s.tissue_rate_hz = r.number("tissue_rate_hz", Range{0.0, s.loop_rate_hz, true});
+  const double ratio = s.loop_rate_hz / s.tissue_rate_hz;
+  if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio)
+    r.fail_at("tissue_rate_hz", "must divide loop_rate_hz a whole number of times");
+  s.display_latency_ms = r.number("display_latency_ms", Range{0.0, 1000.0});
+  MapReader cores = r.map("cores");
+  s.realtime_core = static_cast<int>(cores.integer("realtime", 0, 1023));
+  s.io_core = static_cast<int>(cores.integer("io", 0, 1023));
+  if (s.realtime_core == s.io_core) cores.fail_at("io", "must differ from cores.realtime");
+  cores.finish();
+  s.realtime_priority = static_cast<int>(r.integer("realtime_priority", 1, 99, 80));
+  s.lock_memory = r.boolean("lock_memory", true);
+  r.finish();
+  return s;
+}
+
+ElasticMaterial read_material(MapReader r, ElasticMaterial fallback) {
+  ElasticMaterial m;
+  m.youngs_modulus_pa = r.number("youngs_modulus_pa", kPositive, fallback.youngs_modulus_pa);
+  m.poisson_ratio = r.number("poisson_ratio", Range{-1.0, 0.4999}, fallback.poisson_ratio);
+  m.density_kg_m3 = r.number("density_kg_m3", kPositive, fallback.density_kg_m3);
+  r.finish();
+  return m;
+}
+
+LiverMeshSettings read_mesh(MapReader& liver, const std::string& scene_path) {
+  LiverMeshSettings mesh;
+  const YAML::Node node = liver.required("mesh");
+  if (node.IsScalar()) {
+    if (node.Scalar() != "generated") liver.fail_at("mesh", "expected 'generated' or a map with 'path' and 'unit'");
+    return mesh;
+  }
+  MapReader r(liver.file(), node, liver.path_of("mesh"), liver.mark());
+  mesh.source = static_cast<LiverMeshSource>(r.choice("source", {"generated", "file"}));
+  if (mesh.source == LiverMeshSource::file) {
+    mesh.path = resolve(scene_path, r.text("path"));
+    mesh.unit = static_cast<LengthUnit>(r.choice("unit", {"m", "cm", "mm"}));
+  } else {
+    mesh.element_size_m = r.number("element_size_m", Range{0.004, 0.05}, mesh.element_size_m);
+  }
+  r.finish();
+  return mesh;
+}
+
+void read_full_order(MapReader& r, double tissue_rate_hz, TissueSolverOptions& o) {
+  o.law = static_cast<ElementLaw>(r.choice("law", {"linear_elastic", "st_venant_kirchhoff"}));
+  o.rotation = static_cast<ElementRotation>(r.choice("rotation", {"corotational", "none"}, 0));
+  o.integrator = static_cast<Integrator>(r.choice("integrator", {"implicit_euler", "quasi_static", "explicit_central_difference"}));
+  o.solver = static_cast<LinearSolver>(r.choice("solver", {"ldlt_warped", "cg_jacobi", "cg_block_jacobi"}, 0));
+  o.cg_iterations = static_cast<int>(r.integer("cg_iterations", 1, 500, 3));
+  o.incompressibility_gain_pa = r.number("incompressibility_gain_pa", kNonNegative, 0.0);
+  o.rayleigh_mass_per_s = r.number("rayleigh_mass_per_s", kNonNegative, 0.0);
+  o.rayleigh_stiffness_s = r.number("rayleigh_stiffness_s", kNonNegative, 0.0);
+  o.step_s = 1.0 / tissue_rate_hz;
+}
+
+void read_reduced(MapReader& r, const std::string& scene_path, double tissue_rate_hz, LiverSettings& liver) {
+  liver.reduced_artifact_path = resolve(scene_path, r.text("artifact"));
+  ReducedSolverOptions& o = liver.reduced;
+  o.integrator = static_cast<ReducedIntegrator>(r.choice("integrator", {"implicit_euler", "quasi_static"}, 0));
+  o.newton_iterations = static_cast<int>(r.integer("newton_iterations", 1, 50, 1));
+  o.frozen_tangent = r.boolean("frozen_tangent", true);
+  o.rayleigh_mass_per_s = r.number("rayleigh_mass_per_s", kNonNegative, 0.0);
+  o.rayleigh_stiffness_s = r.number("rayleigh_stiffness_s", kNonNegative, 0.0);
+  o.envelope_factor = r.number("envelope_factor", Range{1.0, 100.0}, o.envelope_factor);
+  o.step_s = 1.0 / tissue_rate_hz;
+}
+
+LiverSettings read_liver(MapReader r, const std::string& scene_path, double tissue_rate_hz) {
+  LiverSettings liver;
+  liver.line = r.line();
+  liver.mesh = read_mesh(r, scene_path);
+  if (r.optional("material")) liver.material = read_material(r.map("material"), liver.material);
+  MapReader model = r.map("model");
+  liver.rung = static_cast<LiverRung>(model.choice("rung", {"full", "reduced"}));
+  if (liver.rung == LiverRung::full) {
+    read_full_order(model, tissue_rate_hz, liver.full);
+  } else {
+    read_reduced(model, scene_path, tissue_rate_hz, liver);
+  }
+  model.finish();
+  if (r.optional("tumour_m")) liver.tumour_m = r.point("tumour_m");
+  if (!liver.tumour_m && liver.mesh.source == LiverMeshSource::file)
+    r.fail_at("tumour_m", "required with a mesh file (the tumour's centre in the model frame, metres)");
+  r.finish();
+  return liver;
+}
+
+TissueLayer read_layer(MapReader r) {
+  TissueLayer layer;
+  layer.surface_point_m = r.point("surface_point_m");
+  layer.outward_normal = r.point("outward_normal");
+  const Point3& n = layer.outward_normal;
+  const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+  if (!(length > 1e-9)) r.fail_at("outward_normal", "must not be zero");
+  for (double& v : layer.outward_normal) v /= length;
+  layer.puncture_force_n = r.number("puncture_force_n", kPositive, layer.puncture_force_n);
+  layer.cutting_force_n = r.number("cutting_force_n", kNonNegative, layer.cutting_force_n);
+  layer.friction_per_length_n_m = r.number("friction_per_length_n_m", kNonNegative, layer.friction_per_length_n_m);
+  layer.surface_friction_coefficient = r.number("surface_friction_coefficient", kNonNegative, layer.surface_friction_coefficient);
+  r.finish();
+  return layer;
+}
+
+NeedleSettings read_needle(MapReader r, double loop_rate_hz) {
+  NeedleSettings needle;
+  needle.line = r.line();
+  NeedleParameters& p = needle.parameters;
+  p.length_m = r.number("length_m", Range{0.0, 1.0, true}, p.length_m);
+  p.outer_diameter_m = r.number("outer_diameter_m", Range{0.0, 0.01, true}, p.outer_diameter_m);
+  p.inner_diameter_m = r.number("inner_diameter_m", Range{0.0, 0.01}, p.inner_diameter_m);
+  p.youngs_modulus_pa = r.number("youngs_modulus_pa", kPositive, p.youngs_modulus_pa);
+  p.poisson_ratio = r.number("poisson_ratio", Range{-1.0, 0.4999}, p.poisson_ratio);
+  p.density_kg_m3 = r.number("density_kg_m3", kPositive, p.density_kg_m3);
+  p.bevel_angle_rad = r.number("bevel_angle_rad", Range{0.0, 1.5708, true}, p.bevel_angle_rad);
+  p.theory = static_cast<BeamTheory>(r.choice("theory", {"euler_bernoulli", "timoshenko"}, 1));
+  p.element_count = static_cast<int>(r.integer("element_count", 1, 200, p.element_count));
+  p.integrator = static_cast<NeedleIntegrator>(r.choice("integrator", {"implicit_euler", "quasi_static"}, 0));
+  p.newton_iterations = static_cast<int>(r.integer("newton_iterations", 1, 20, p.newton_iterations));
+  p.max_pose_jump_m = r.number("max_pose_jump_m", kPositive, p.max_pose_jump_m);
+  p.step_s = 1.0 / loop_rate_hz;
+  check(validate_needle_parameters(p), r, "needle.");
+  NeedleTissueScene& s = needle.interaction;
+  if (r.optional("layers")) {
+    const YAML::Node layers = r.required("layers");
+    if (!layers.IsSequence()) r.fail_at("layers", "expected a list of layers");
+    if (layers.size() > 16) r.fail_at("layers", "at most 16 layers");
+    for (std::size_t i = 0; i < layers.size(); ++i)
+      s.layers.push_back(read_layer(MapReader(r.file(), layers[i], r.path_of("layers") + "[" + std::to_string(i) + "]", r.mark())));
+  }
+  s.point_compliance_m_per_n = r.number("point_compliance_m_per_n", kPositive, s.point_compliance_m_per_n);
+  s.max_path_points = static_cast<int>(r.integer("max_path_points", 0, 256, s.max_path_points));
+  s.gauss_seidel_sweeps = static_cast<int>(r.integer("gauss_seidel_sweeps", 1, 1000, s.gauss_seidel_sweeps));
+  s.bevel_steering = r.boolean("bevel_steering", s.bevel_steering);
+  r.finish();
+  return needle;
+}
+
+LigamentSpec read_block(MapReader r) {
+  LigamentSpec b;
+  const std::vector<double> centre = r.numbers("footprint_centre_m", 2, Range{-1.0, 1.0});
+  b.footprint_centre_m = {centre[0], centre[1], 0.0};
+  b.width_m = r.number("width_m", Range{0.0, 0.2, true}, b.width_m);
+  b.depth_m = r.number("depth_m", Range{0.0, 0.2, true}, b.depth_m);
+  b.length_m = r.number("length_m", Range{0.0, 0.2, true}, b.length_m);
+  if (r.optional("frames")) {
+    const std::vector<double> frames = r.numbers("frames", 3, Range{2.0, 12.0});
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (frames[i] != std::floor(frames[i])) r.fail_at("frames", "expected whole numbers of frames");
+      b.frames[i] = static_cast<int>(frames[i]);
+    }
+  }
+  b.embed_m = r.number("embed_m", Range{0.0, 0.05, true}, b.embed_m);
+  r.finish();
+  return b;
+}
+
+LigamentSettings read_ligaments(MapReader r) {
+  LigamentSettings l;
+  l.line = r.line();
+  if (r.optional("material")) l.material = read_material(r.map("material"), l.material);
+  l.rayleigh_mass_per_s = r.number("rayleigh_mass_per_s", kNonNegative, l.rayleigh_mass_per_s);
+  const YAML::Node blocks = r.required("blocks");
+  if (!blocks.IsSequence() || blocks.size() == 0 || blocks.size() > 8) r.fail_at("blocks", "expected a list of 1 to 8 ligament blocks");
+  for (std::size_t i = 0; i < blocks.size(); ++i)
+    l.blocks.push_back(read_block(MapReader(r.file(), blocks[i], r.path_of("blocks") + "[" + std::to_string(i) + "]", r.mark())));
+  r.finish();
+  return l;
+}
+
+TrackerSettings read_tracker(MapReader r) {
+  TrackerSettings t;
+  t.kind = static_cast<TrackerKind>(r.choice("kind", {"simulated", "ndi", "apriltag"}));
+  switch (t.kind) {
+    case TrackerKind::simulated:
+      t.rate_hz = r.number("rate_hz", Range{0.0, 1000.0, true}, t.rate_hz);
+      t.latency_ms = r.number("latency_ms", Range{0.0, 1000.0}, t.latency_ms);
+      t.position_noise_m = r.number("position_noise_m", Range{0.0, 0.1}, t.position_noise_m);
+      t.rotation_noise_rad = r.number("rotation_noise_rad", Range{0.0, 1.0}, t.rotation_noise_rad);
+      t.dropout_probability = r.number("dropout_probability", kFraction, t.dropout_probability);
+      t.seed = static_cast<std::uint64_t>(r.integer("seed", 0, 1LL << 62, 1));
+      break;
+    case TrackerKind::ndi:
+      if (r.has("serial") == r.has("host")) r.fail_at("", "give either 'serial' (a device) or 'host' and 'port'");
+      if (r.has("serial")) {
+        t.serial_device = r.text("serial");
+      } else {
+        t.host = r.text("host");
+        t.port = static_cast<int>(r.integer("port", 1, 65535));
+      }
+      break;
+    case TrackerKind::apriltag:
+      t.camera_device = r.text("camera");
+      t.tag_size_m = r.number("tag_size_m", Range{0.0, 1.0, true});
+      break;
+  }
+  r.finish();
+  return t;
+}
+
+UltrasoundSettings read_ultrasound(MapReader r, const std::string& scene_path) {
+  UltrasoundSettings u;
+  u.kind = static_cast<UltrasoundKind>(r.choice("kind", {"simulated", "plus"}));
+  if (u.kind == UltrasoundKind::simulated) {
+    u.rate_hz = r.number("rate_hz", Range{0.0, 200.0, true}, u.rate_hz);
+    u.target_noise_m = r.number("target_noise_m", Range{0.0, 0.1}, u.target_noise_m);
+    u.seed = static_cast<std::uint64_t>(r.integer("seed", 0, 1LL << 62, 1));
+  } else {
+    u.recording_path = resolve(scene_path, r.text("recording"));
+  }
+  r.finish();
+  return u;
+}
+
+DeviceSettings read_devices(MapReader r, const std::string& scene_path) {
+  DeviceSettings d;
+  d.tracker = read_tracker(r.map("tracker"));
+  d.ultrasound = read_ultrasound(r.map("ultrasound"), scene_path);
+  r.finish();
+  return d;
+}
+
+/// A DDS topic name: letters, digits, '_' and '/', not starting with '/' or a digit.
+std::string read_topic(MapReader& r, const std::string& key, const std::string& fallback) {
+  std::string name = r.text(key.c_str(), fallback.c_str());
+  bool valid = name.size() <= 200 && name.front() != '/' && !(name.front() >= '0' && name.front() <= '9');
+  for (char c : name)
+    valid = valid && ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '/');
+  if (!valid) r.fail_at(key, "'" + name + "' is not a topic name (letters, digits, '_' and '/')");
+  return name;
+}
+
+TopicSettings read_topics(MapReader r) {
+  TopicSettings t;
+  t.domain_id = static_cast<std::uint32_t>(r.integer("domain_id", 0, 232, 0));
+  t.poses = read_topic(r, "poses", t.poses);
+  t.images = read_topic(r, "images", t.images);
+  t.predictions = read_topic(r, "predictions", t.predictions);
+  t.surfaces = read_topic(r, "surfaces", t.surfaces);
+  std::set<std::string> distinct{t.poses, t.images, t.predictions, t.surfaces};
+  if (distinct.size() != 4) r.fail_at("", "every topic needs its own name");
+  r.finish();
+  return t;
+}
+
+Scene read_scene(const YAML::Node& document, const std::string& path) {
+  Scene scene;
+  scene.source_path = path;
+  MapReader root(path, document, "", YAML::Mark::null_mark());
+  scene.station = read_station(root.map("station"));
+  MapReader frames = root.map("frames");
+  scene.frames.line = frames.line();
+  scene.frames.urdf_path = resolve(path, frames.text("urdf"));
+  frames.finish();
+  scene.liver = read_liver(root.map("liver"), path, scene.station.tissue_rate_hz);
+  if (root.optional("needle")) scene.needle = read_needle(root.map("needle"), scene.station.loop_rate_hz);
+  if (root.optional("ligaments")) scene.ligaments = read_ligaments(root.map("ligaments"));
+  scene.devices = read_devices(root.map("devices"), path);
+  if (root.optional("topics")) scene.topics = read_topics(root.map("topics"));
+  root.finish();
+  return scene;
+}
+
+}  // namespace
+
+Result<Scene> parse_scene(const std::string& text, const std::string& path) {
+  if (text.size() > kMaxSceneBytes)
+    return Error{"larger than " + std::to_string(kMaxSceneBytes) + " bytes: not a scene file", path, 0, ""};
+  try {
+    return read_scene(YAML::Load(text), path);
+  } catch (const detail::SceneFailure& failure) {
+    return failure.error;
+  } catch (const YAML::Exception& e) {
+    Error error{e.msg, path, e.mark.is_null() ? 0 : e.mark.line + 1, ""};
+    if (!e.mark.is_null()) error.message += " (column " + std::to_string(e.mark.column + 1) + ")";
+    return error;
+  } catch (const std::bad_alloc&) {
+    return Error{"out of memory while parsing", path, 0, ""};
+  }
+}
+
+Result<Scene> load_scene(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return Error{"cannot open the scene file", path, 0, ""};
+  std::string text;
+  text.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+  if (file.bad()) return Error{"cannot read the scene file", path, 0, ""};
+  return parse_scene(text, path);
+}
+
+}  // namespace nav::station

@@ -1,0 +1,156 @@
+#pragma once
+// The station scene: one YAML file that declares what a navigation station runs (rates and
+// cores, the URDF of its frames, the liver and its model rung, the optional needle and
+// ligaments, its devices and DDS topics), parsed into plain structs. Paths in the file are
+// relative to the file's own folder. Init-time code: it allocates and never throws; every
+// error names the file, the line and the key path (e.g. `liver.model.rung`).
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nav/connective/organ_ligaments.hpp"
+#include "nav/core/error.hpp"
+#include "nav/core/units.hpp"
+#include "nav/needle/needle_parameters.hpp"
+#include "nav/needle/needle_tissue_scene.hpp"
+#include "nav/reduced/reduced_model.hpp"
+#include "nav/tissue/elastic_material.hpp"
+#include "nav/tissue/tissue_scene.hpp"
+
+namespace nav::station {
+
+/// Scene files larger than this are refused before parsing.
+inline constexpr std::size_t kMaxSceneBytes = 1u << 20;
+
+/// `station:` rates, latency and the two cores of the station's threads.
+struct StationSettings {
+  std::string name;
+  double loop_rate_hz = 1000.0;        ///< the real-time loop (needle and forces), at most 1 kHz
+  double tissue_rate_hz = 100.0;       ///< the tissue step; divides loop_rate_hz
+  double display_latency_ms = 50.0;    ///< how far ahead predictions look
+  int realtime_core = 1;               ///< core of the real-time loop
+  int io_core = 0;                     ///< core of the I/O thread (DDS, drivers, images)
+  int realtime_priority = 80;          ///< SCHED_FIFO priority asked for, 1..99
+  bool lock_memory = true;             ///< mlockall(MCL_CURRENT | MCL_FUTURE) at start
+};
+
+/// `frames:` the URDF of the station's rigid frames.
+struct FrameSettings {
+  std::string urdf_path;  ///< resolved against the scene's folder
+  int line = 0;           ///< line of `frames:` in the scene file
+};
+
+/// Where the liver mesh comes from.
+enum class LiverMeshSource { generated, file };
+
+/// `liver.mesh:` the embedded default liver, or a tetrahedral mesh file.
+struct LiverMeshSettings {
+  LiverMeshSource source = LiverMeshSource::generated;
+  std::string path;                      ///< file only, resolved against the scene's folder
+  LengthUnit unit = LengthUnit::metre;   ///< file only
+  double element_size_m = 0.012;         ///< generated only
+};
+
+/// The liver's rung on the model ladder.
+enum class LiverRung { full, reduced };
+
+/// `liver:` mesh, material, model rung and the tumour (the navigation target).
+struct LiverSettings {
+  LiverMeshSettings mesh;
+  ElasticMaterial material;
+  LiverRung rung = LiverRung::full;
+  /// Full order: law, rotation, integrator, solver (step_s comes from tissue_rate_hz).
+  TissueSolverOptions full;
+  /// Reduced: the artifact written by `navtool reduce` and the online solver settings.
+  std::string reduced_artifact_path;
+  ReducedSolverOptions reduced;
+  /// The tumour's centre in the model frame (metres); optional on the generated liver,
+  /// which places its own.
+  std::optional<Point3> tumour_m;
+  int line = 0;  ///< line of `liver:`
+};
+
+/// `needle:` the needle and what it meets (present only when the scene has a needle).
+struct NeedleSettings {
+  NeedleParameters parameters;     ///< step_s comes from loop_rate_hz
+  NeedleTissueScene interaction;   ///< its layers and constraint settings
+  int line = 0;
+};
+
+/// `ligaments:` blocks hanging the liver from the wall above it.
+struct LigamentSettings {
+  ElasticMaterial material{1e5, 0.45, 1100.0};
+  double rayleigh_mass_per_s = 1.0;
+  std::vector<LigamentSpec> blocks;
+  int line = 0;
+};
+
+/// The kinds of tracker a station can read.
+enum class TrackerKind { simulated, ndi, apriltag };
+
+/// `devices.tracker:` one of the three kinds with its settings.
+struct TrackerSettings {
+  TrackerKind kind = TrackerKind::simulated;
+  // simulated
+  double rate_hz = 60.0;
+  double latency_ms = 0.0;
+  double position_noise_m = 0.0;
+  double rotation_noise_rad = 0.0;
+  double dropout_probability = 0.0;
+  std::uint64_t seed = 1;
+  // ndi: a serial device, or host and port
+  std::string serial_device;
+  std::string host;
+  int port = 0;
+  // apriltag: a camera device and the printed tag size
+  std::string camera_device;
+  double tag_size_m = 0.0;
+};
+
+/// The kinds of ultrasound source.
+enum class UltrasoundKind { simulated, plus };
+
+/// `devices.ultrasound:` a synthetic B-mode scanner or a PLUS recording played back.
+struct UltrasoundSettings {
+  UltrasoundKind kind = UltrasoundKind::simulated;
+  double rate_hz = 20.0;            ///< simulated
+  double target_noise_m = 0.0;      ///< simulated: noise of the observed tumour point
+  std::uint64_t seed = 1;           ///< simulated
+  std::string recording_path;       ///< plus, resolved against the scene's folder
+};
+
+/// `devices:`
+struct DeviceSettings {
+  TrackerSettings tracker;
+  UltrasoundSettings ultrasound;
+};
+
+/// `topics:` DDS domain and topic names (defaults: the names of nav::dds::topic_name).
+struct TopicSettings {
+  std::uint32_t domain_id = 0;
+  std::string poses = "nav/tool_pose";
+  std::string images = "nav/ultrasound_frame";
+  std::string predictions = "nav/target_prediction";
+  std::string surfaces = "nav/deformed_surface";
+};
+
+/// A whole scene file.
+struct Scene {
+  std::string source_path;  ///< the scene file as given
+  StationSettings station;
+  FrameSettings frames;
+  LiverSettings liver;
+  std::optional<NeedleSettings> needle;
+  std::optional<LigamentSettings> ligaments;
+  DeviceSettings devices;
+  TopicSettings topics;
+};
+
+/// Parses scene text; `path` names it in errors and anchors its relative paths.
+Result<Scene> parse_scene(const std::string& text, const std::string& path);
+
+/// Reads and parses the scene file at `path`.
+Result<Scene> load_scene(const std::string& path);
+
+}  // namespace nav::station

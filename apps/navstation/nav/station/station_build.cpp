@@ -1,0 +1,151 @@
+#include "nav/station/station_build.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "nav/connective/organ_attachment.hpp"
+#include "nav/mesh/load_mesh.hpp"
+#include "nav/mesher/embedded_liver.hpp"
+#include "nav/reduced/reduced_artifact.hpp"
+#include "nav/reduced/training_loads.hpp"
+
+namespace nav::station {
+
+namespace {
+
+/// An Error of a builder, placed at `section`'s line of the scene file.
+Error at_section(const Error& inner, const Scene& scene, int line, const std::string& section) {
+  Error error{inner.file.empty() ? inner.message : inner.describe(), scene.source_path, line, section};
+  if (inner.file.empty() && !inner.field.empty()) error.field += " (" + inner.field + ")";
+  return error;
+}
+
+/// The frames the scene's models are placed by.
+Status check_frames(const calibration::FrameTree& tree, const Scene& scene) {
+  std::vector<std::string> needed{"tracker", "liver_model", "probe_marker", "image_plane"};
+  if (scene.needle) needed.insert(needed.end(), {"needle_base", "needle_tip"});
+  const std::vector<std::string> frames = tree.frames();
+  for (const std::string& name : needed)
+    if (std::find(frames.begin(), frames.end(), name) == frames.end())
+      return Error{"the URDF " + scene.frames.urdf_path + " has no frame '" + name + "'", scene.source_path, scene.frames.line,
+                   "frames.urdf"};
+  return Done{};
+}
+
+/// The liver mesh, and the tumour and attachments of the generated one.
+Status load_liver(const LiverSettings& settings, LiverModels& liver, std::vector<std::int32_t>& attachments) {
+  if (settings.mesh.source == LiverMeshSource::file) {
+    auto mesh = load_tet_mesh(settings.mesh.path, settings.mesh.unit);
+    if (!mesh.ok()) return mesh.error();
+    liver.mesh = std::move(mesh).value();
+  } else {
+    try {
+      EmbeddedLiver generated = make_embedded_liver(settings.mesh.element_size_m);
+      liver.mesh = std::move(generated.mesh);
+      liver.tumour_m = generated.tumour_centre_m;
+      attachments = std::move(generated.attachment_nodes);
+    } catch (const std::invalid_argument& e) {
+      return Error{e.what(), "", 0, "mesh.element_size_m"};
+    }
+  }
+  if (settings.tumour_m) liver.tumour_m = *settings.tumour_m;
+  const auto inside = locate_in_tets(liver.mesh, liver.tumour_m, "tumour_m");
+  if (!inside.ok()) return Error{"the tumour point lies outside the liver mesh", "", 0, "tumour_m"};
+  return Done{};
+}
+
+/// The liver's supports: the generated liver held at its attachments under gravity (-z,
+/// its frame's inferior direction); a mesh file, and every reduced liver, on the scene that
+/// `navtool reduce` trains on (liver_reduction_scene).
+TissueScene liver_scene(const LiverSettings& settings, const TetMesh& mesh, const std::vector<std::int32_t>& attachments) {
+  TissueScene scene;
+  if (settings.mesh.source == LiverMeshSource::generated && settings.rung == LiverRung::full) {
+    scene.fixed_nodes = attachments;
+    scene.gravity_m_s2 = {0.0, 0.0, -9.81};
+  } else {
+    scene = liver_reduction_scene(mesh);
+  }
+  scene.default_material = settings.material;
+  return scene;
+}
+
+Status build_liver_model(const LiverSettings& settings, LiverModels& liver) {
+  if (settings.rung == LiverRung::full) {
+    auto model = make_tet_fem_model(liver.mesh, liver.scene, settings.full);
+    if (!model.ok()) return model.error();
+    auto data = make_tet_fem_data(model.value());
+    if (!data.ok()) return data.error();
+    liver.full = std::move(model).value();
+    liver.full_data = std::move(data).value();
+    return Done{};
+  }
+  auto basis = load_reduced_basis(settings.reduced_artifact_path, &liver.mesh);
+  if (!basis.ok()) return basis.error();
+  const TissueSolverOptions solver = reduction_solver_options(basis.value().force_kind);
+  auto model = make_reduced_model(liver.mesh, liver.scene, solver, basis.value(), settings.reduced);
+  if (!model.ok()) return model.error();
+  auto data = make_reduced_data(model.value());
+  if (!data.ok()) return data.error();
+  liver.reduced = std::move(model).value();
+  liver.reduced_data = std::move(data).value();
+  return Done{};
+}
+
+Status build_ligaments(const LigamentSettings& settings, const StationSettings& station, StationModels& models) {
+  FrameTissueOptions options;
+  options.step_s = 1.0 / station.tissue_rate_hz;
+  options.rayleigh_mass_per_s = settings.rayleigh_mass_per_s;
+  auto ligaments = make_organ_ligaments(models.liver.mesh, settings.blocks, settings.material, options,
+                                        models.liver.scene.gravity_m_s2);
+  if (!ligaments.ok()) return ligaments.error();
+  auto data = make_frame_tissue_data(ligaments.value().model);
+  if (!data.ok()) return data.error();
+  declare_attachment(ligaments.value().attachment, models.liver.scene);
+  models.ligaments = std::move(ligaments).value();
+  models.ligament_data = std::move(data).value();
+  return Done{};
+}
+
+Status build_needle(const NeedleSettings& settings, StationModels& models) {
+  std::vector<double> rest_m;
+  rest_m.reserve(3 * models.liver.mesh.nodes_m.size());
+  for (const Point3& node : models.liver.mesh.nodes_m) rest_m.insert(rest_m.end(), node.begin(), node.end());
+  auto model = make_needle_tissue_model(settings.parameters, settings.interaction, rest_m);
+  if (!model.ok()) return model.error();
+  auto data = make_needle_tissue_data(model.value(), NeedlePose{});
+  if (!data.ok()) return data.error();
+  models.needle = std::move(model).value();
+  models.needle_data = std::move(data).value();
+  return Done{};
+}
+
+}  // namespace
+
+Result<BuiltStation> build_station(Scene scene) {
+  auto frames = calibration::FrameTree::load(scene.frames.urdf_path);
+  if (!frames.ok()) return at_section(frames.error(), scene, scene.frames.line, "frames.urdf");
+  const Status frames_complete = check_frames(frames.value(), scene);
+  if (!frames_complete.ok()) return frames_complete.error();
+  BuiltStation built{StationModels{std::move(scene), std::move(frames).value(), {}, {}, {}, {}, {}}, {}};
+  StationModels& models = built.models;
+  const Scene& s = models.scene;
+
+  std::vector<std::int32_t> attachments;
+  Status step = load_liver(s.liver, models.liver, attachments);
+  if (!step.ok()) return at_section(step.error(), s, s.liver.line, "liver");
+  models.liver.scene = liver_scene(s.liver, models.liver.mesh, attachments);
+  if (s.ligaments) {
+    step = build_ligaments(*s.ligaments, s.station, models);
+    if (!step.ok()) return at_section(step.error(), s, s.ligaments->line, "ligaments");
+  }
+  step = build_liver_model(s.liver, models.liver);
+  if (!step.ok()) return at_section(step.error(), s, s.liver.line, "liver.model");
+  if (s.needle) {
+    step = build_needle(*s.needle, models);
+    if (!step.ok()) return at_section(step.error(), s, s.needle->line, "needle");
+  }
+  built.footprint = measure_footprint(models);
+  return built;
+}
+
+}  // namespace nav::station

@@ -1,0 +1,76 @@
+#pragma once
+// Builds what a scene declares, and only that: the frame tree, the liver mesh and its model
+// (full order or reduced), the needle (if `needle:`), the ligaments (if `ligaments:`), each
+// with its data at rest, and reports their memory footprint. Init-time code: it reads files,
+// allocates and returns errors that name the scene file, the section's line and its key.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "nav/calibration/frame_tree.hpp"
+#include "nav/connective/organ_ligaments.hpp"
+#include "nav/core/error.hpp"
+#include "nav/mesh/tet_mesh.hpp"
+#include "nav/needle/needle_tissue_model.hpp"
+#include "nav/reduced/reduced_model.hpp"
+#include "nav/tissue/tet_fem_model.hpp"
+#include "nav/station/scene.hpp"
+
+namespace nav::station {
+
+/// The liver as built: its mesh and scene, and the model of the declared rung with its data.
+struct LiverModels {
+  TetMesh mesh;
+  TissueScene scene;
+  Point3 tumour_m{};  ///< the tumour's centre, model frame, inside the mesh
+  std::optional<TetFemModel> full;
+  std::optional<TetFemData> full_data;
+  std::optional<ReducedModel> reduced;
+  std::optional<ReducedData> reduced_data;
+};
+
+/// Everything a station runs, built from one Scene.
+struct StationModels {
+  Scene scene;
+  calibration::FrameTree frames;
+  LiverModels liver;
+  std::optional<NeedleTissueModel> needle;
+  std::optional<NeedleTissueData> needle_data;
+  std::optional<OrganLigaments> ligaments;
+  std::optional<FrameTissueData> ligament_data;
+};
+
+/// One line of the footprint: a part of one model and its bytes.
+struct FootprintLine {
+  std::string model;   ///< "liver", "needle", "ligaments"
+  std::string part;    ///< "mesh", "tables", "data arena", ...
+  std::int64_t bytes = 0;
+  bool estimated = false;  ///< from element counts, where the model does not report its size
+};
+
+/// The memory a station's models hold.
+struct MemoryFootprint {
+  std::vector<FootprintLine> lines;
+  std::int64_t total_bytes() const;
+  /// The lines of `model`'s name (empty if it was not built).
+  std::int64_t model_bytes(const std::string& model) const;
+};
+
+/// A built station and its footprint.
+struct BuiltStation {
+  StationModels models;
+  MemoryFootprint footprint;
+};
+
+/// The footprint of built models: meshes, model tables (reported by the model, or estimated
+/// from its element counts) and data arenas.
+MemoryFootprint measure_footprint(const StationModels& models);
+
+/// Builds the models `scene` declares.
+Result<BuiltStation> build_station(Scene scene);
+
+/// The footprint as an aligned text table with a total.
+std::string format_footprint(const MemoryFootprint& footprint);
+
+}  // namespace nav::station

@@ -1,0 +1,169 @@
+// Building a scene: only what it declares is built (and listed in the footprint), errors of
+// the builders name the scene file, the section's line and key, the reduced rung loads its
+// artifact, and `navstation --scene FILE --check` runs on the example scene.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+
+#include "nav/mesher/embedded_liver.hpp"
+#include "nav/mesher/liver_shape.hpp"
+#include "nav/reduced/reduced_artifact.hpp"
+#include "nav/reduced/reduction.hpp"
+#include "nav/reduced/training_loads.hpp"
+#include "nav/station/station_build.hpp"
+#include "scene_text.hpp"
+#include "support/run_command.hpp"
+
+namespace nav::station {
+namespace {
+
+using testing::demo_text;
+using testing::edited;
+using testing::example_scene_path;
+using testing::line_of;
+
+/// Builds `text` as if it were the demo scene's file.
+Result<BuiltStation> build_text(const std::string& text) {
+  auto scene = parse_scene(text, example_scene_path("demo.yaml"));
+  if (!scene.ok()) return scene.error();
+  return build_station(std::move(scene).value());
+}
+
+bool lists(const MemoryFootprint& footprint, const std::string& model) {
+  for (const FootprintLine& line : footprint.lines)
+    if (line.model == model) return true;
+  return false;
+}
+
+TEST(StationBuild, DemoBuildsItsLiverAndNeedleAndNothingElse) {
+  const auto built = build_text(demo_text());
+  ASSERT_TRUE(built.ok()) << built.error().describe();
+  const StationModels& m = built.value().models;
+  const MemoryFootprint& f = built.value().footprint;
+  EXPECT_TRUE(m.liver.full.has_value());
+  EXPECT_FALSE(m.liver.reduced.has_value());
+  ASSERT_TRUE(m.needle.has_value());
+  EXPECT_EQ(m.needle->layer_count(), 2);
+  EXPECT_FALSE(m.ligaments.has_value());
+  EXPECT_TRUE(lists(f, "liver"));
+  EXPECT_TRUE(lists(f, "needle"));
+  EXPECT_FALSE(lists(f, "ligaments"));
+  // The generated liver's own tumour, its nodes and the data arenas as the models report them.
+  EXPECT_EQ(m.liver.tumour_m, LiverLandmarks{}.tumour_centre_m);
+  EXPECT_EQ(m.liver.full->node_count(), static_cast<std::int64_t>(m.liver.mesh.nodes_m.size()));
+  EXPECT_EQ(f.model_bytes("needle"), f.lines[3].bytes + f.lines[4].bytes + f.lines[5].bytes);
+  EXPECT_GE(f.lines[2].bytes, static_cast<std::int64_t>(m.liver.full_data->arena.used_bytes()));
+  EXPECT_EQ(f.total_bytes(), f.model_bytes("liver") + f.model_bytes("needle"));
+  const std::string table = format_footprint(f);
+  EXPECT_NE(table.find("needle"), std::string::npos);
+  EXPECT_NE(table.find(std::to_string(f.total_bytes())), std::string::npos);
+}
+
+TEST(StationBuild, AbsentSectionsBuildNothingAndCostNothing) {
+  const auto with_needle = build_text(demo_text());
+  const std::string text = demo_text();
+  const std::string without = text.substr(0, text.find("needle:\n")) + text.substr(text.find("devices:\n"));
+  const auto no_needle = build_text(without);
+  ASSERT_TRUE(with_needle.ok() && no_needle.ok()) << (no_needle.ok() ? "" : no_needle.error().describe());
+  EXPECT_FALSE(no_needle.value().models.needle.has_value());
+  EXPECT_FALSE(no_needle.value().models.needle_data.has_value());
+  EXPECT_FALSE(lists(no_needle.value().footprint, "needle"));
+  EXPECT_EQ(no_needle.value().footprint.total_bytes(),
+            with_needle.value().footprint.total_bytes() - with_needle.value().footprint.model_bytes("needle"));
+}
+
+TEST(StationBuild, DeclaredLigamentsAreBuiltAndAttachedToTheLiver) {
+  const std::string ligaments =
+      "ligaments:\n"
+      "  material: {youngs_modulus_pa: 100000, poisson_ratio: 0.45, density_kg_m3: 1100}\n"
+      "  blocks:\n"
+      "    - {footprint_centre_m: [-0.045, 0.0], embed_m: 0.006}\n"
+      "    - {footprint_centre_m: [0.035, 0.015], embed_m: 0.006}\n"
+      "devices:\n";
+  const auto built = build_text(edited(demo_text(), "devices:\n", ligaments));
+  ASSERT_TRUE(built.ok()) << built.error().describe();
+  const StationModels& m = built.value().models;
+  ASSERT_TRUE(m.ligaments.has_value());
+  EXPECT_EQ(m.ligaments->grids.size(), 2u);
+  EXPECT_TRUE(lists(built.value().footprint, "ligaments"));
+  // The attachment's nodes carry the stabilising springs in the liver's scene.
+  EXPECT_EQ(m.liver.scene.spring_nodes.size(), m.ligaments->attachment.nodes.size());
+  EXPECT_GT(m.liver.scene.spring_stiffness_n_m, 0.0);
+}
+
+TEST(StationBuild, BuilderErrorsNameTheSceneSectionAndLine) {
+  const std::string bad_urdf = edited(demo_text(), "  urdf: ../../../calibration/urdf/station.urdf", "  urdf: missing.urdf");
+  const auto frames = build_text(bad_urdf);
+  ASSERT_FALSE(frames.ok());
+  EXPECT_EQ(frames.error().file, example_scene_path("demo.yaml"));
+  EXPECT_EQ(frames.error().field, "frames.urdf");
+  EXPECT_EQ(frames.error().line, line_of(bad_urdf, "  urdf:"));
+  const std::string outside = edited(demo_text(), "  # tumour_m:", "  tumour_m: [0.5, 0.5, 0.5]\n  #");
+  const auto tumour = build_text(outside);
+  ASSERT_FALSE(tumour.ok());
+  EXPECT_EQ(tumour.error().field, "liver (tumour_m)");
+  EXPECT_EQ(tumour.error().line, line_of(outside, "  mesh: generated"));
+  EXPECT_NE(tumour.error().message.find("outside the liver"), std::string::npos);
+  const std::string no_mesh = edited(demo_text(), "  mesh: generated ", "  tumour_m: [0, 0, 0]\n  mesh: {source: file, path: none.vtu, unit: cm}");
+  const auto mesh = build_text(no_mesh);
+  ASSERT_FALSE(mesh.ok());
+  EXPECT_EQ(mesh.error().field, "liver");
+  EXPECT_NE(mesh.error().message.find("none.vtu"), std::string::npos) << mesh.error().describe();
+}
+
+/// A reduced basis of the generated liver at `element_size_m` (4 linear modes of the scene
+/// navtool reduce trains on), saved at `path`.
+void save_generated_liver_basis(double element_size_m, const std::string& path) {
+  const EmbeddedLiver liver = make_embedded_liver(element_size_m);
+  const TissueScene scene = liver_reduction_scene(liver.mesh);
+  ReductionOptions options;
+  options.source = ReducedBasisSource::linear_modes;
+  options.force_kind = ReducedForceKind::linear;
+  options.basis_size = 4;
+  const auto basis = make_modal_basis(liver.mesh, scene, reduction_solver_options(options.force_kind), options);
+  ASSERT_TRUE(basis.ok()) << basis.error().describe();
+  ASSERT_TRUE(save_reduced_basis(path, basis.value()).ok());
+}
+
+TEST(StationBuild, ReducedRungLoadsItsArtifactAndRefusesOneOfAnotherMesh) {
+  const std::string artifact = testing::temporary_path("station_generated_liver.navrb");
+  save_generated_liver_basis(0.02, artifact);
+  const std::string text = demo_text().substr(0, demo_text().find("liver:\n") + 7) + "  mesh: {source: generated, element_size_m: 0.02}\n" +
+                           "  model: {rung: reduced, artifact: " + artifact + "}\n" + demo_text().substr(demo_text().find("\nneedle:") + 1);
+  const auto built = build_text(text);
+  ASSERT_TRUE(built.ok()) << built.error().describe();
+  const LiverModels& liver = built.value().models.liver;
+  ASSERT_TRUE(liver.reduced.has_value());
+  EXPECT_FALSE(liver.full.has_value());
+  EXPECT_EQ(liver.reduced->basis_size(), 4);
+  EXPECT_EQ(built.value().footprint.lines[1].part, "reduced tables");
+  EXPECT_EQ(built.value().footprint.lines[1].bytes, liver.reduced->memory_bytes());
+  const std::string other_mesh = edited(text, "element_size_m: 0.02", "element_size_m: 0.018");
+  const auto refused = build_text(other_mesh);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().field, "liver.model");
+  EXPECT_NE(refused.error().message.find("another mesh"), std::string::npos) << refused.error().describe();
+}
+
+TEST(StationBuild, NavstationCheckPrintsTheFootprintAndTheRealtimeSetup) {
+  const std::string command = testing::executable_path("navstation") + " --scene " + example_scene_path("demo.yaml") + " --check 2>&1";
+  const auto run = testing::run_command(command);
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  for (const char* expected : {"station 'demo'", "memory footprint", "needle", "total", "pin to core", "lock memory", "SCHED_FIFO"})
+    EXPECT_NE(run.output.find(expected), std::string::npos) << expected << "\n" << run.output;
+  const std::string bad = testing::temporary_path("station_bad_scene.yaml");
+  {
+    std::ofstream file(bad);
+    file << edited(demo_text(), "rung: full", "rung: medium");
+  }
+  const auto failed = testing::run_command(testing::executable_path("navstation") + " --scene " + bad + " --check 2>&1");
+  EXPECT_EQ(failed.exit_code, 1);
+  EXPECT_NE(failed.output.find(bad + ":" + std::to_string(line_of(demo_text(), "rung: full")) + ": liver.model.rung"),
+            std::string::npos)
+      << failed.output;
+  EXPECT_EQ(testing::run_command(testing::executable_path("navstation") + " --check 2>&1").exit_code, 2);
+}
+
+}  // namespace
+}  // namespace nav::station

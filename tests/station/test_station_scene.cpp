@@ -1,0 +1,164 @@
+// The scene loader: the example scenes parse into the values they state; every kind of
+// error (YAML syntax, unknown key, wrong type, out of range, missing key, bad choice,
+// repeated key, inconsistent values, unreadable file) names the file, the line of the key
+// at fault (counted here in the text itself) and its key path.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+#include "nav/station/scene.hpp"
+#include "scene_text.hpp"
+
+namespace nav::station {
+namespace {
+
+using testing::demo_text;
+using testing::edited;
+using testing::example_scene_path;
+using testing::line_of;
+
+/// The Error of `text` parsed as the demo scene's file; fails the test if it parses.
+Error error_of(const std::string& text) {
+  const auto scene = parse_scene(text, example_scene_path("demo.yaml"));
+  EXPECT_FALSE(scene.ok());
+  return scene.ok() ? Error{} : scene.error();
+}
+
+/// Checks the error of the demo scene with `from` replaced by `to`: its file, the line where
+/// `to` stands, its key path and a word of its message.
+void expect_error(const std::string& from, const std::string& to, const std::string& field, const std::string& word) {
+  const std::string text = edited(demo_text(), from, to);
+  const Error error = error_of(text);
+  EXPECT_EQ(error.file, example_scene_path("demo.yaml"));
+  EXPECT_EQ(error.line, line_of(text, to)) << error.describe();
+  EXPECT_EQ(error.field, field) << error.describe();
+  EXPECT_NE(error.message.find(word), std::string::npos) << error.describe();
+  EXPECT_NE(error.message.find("(column "), std::string::npos) << error.describe();
+}
+
+TEST(StationScene, DemoSceneParsesIntoItsStatedValues) {
+  const auto parsed = load_scene(example_scene_path("demo.yaml"));
+  ASSERT_TRUE(parsed.ok()) << parsed.error().describe();
+  const Scene& s = parsed.value();
+  EXPECT_EQ(s.station.name, "demo");
+  EXPECT_EQ(s.station.loop_rate_hz, 1000.0);
+  EXPECT_EQ(s.station.tissue_rate_hz, 100.0);
+  EXPECT_EQ(s.station.realtime_core, 1);
+  EXPECT_EQ(s.station.io_core, 0);
+  const std::filesystem::path folder = std::filesystem::path(example_scene_path("demo.yaml")).parent_path();
+  EXPECT_EQ(s.frames.urdf_path, (folder / "../../../calibration/urdf/station.urdf").lexically_normal().string());
+  EXPECT_EQ(s.liver.mesh.source, LiverMeshSource::generated);
+  EXPECT_EQ(s.liver.rung, LiverRung::full);
+  EXPECT_EQ(s.liver.full.integrator, Integrator::implicit_euler);
+  EXPECT_DOUBLE_EQ(s.liver.full.step_s, 0.01);  // 1 / tissue_rate_hz
+  EXPECT_FALSE(s.liver.tumour_m.has_value());
+  ASSERT_TRUE(s.needle.has_value());
+  EXPECT_DOUBLE_EQ(s.needle->parameters.step_s, 0.001);  // 1 / loop_rate_hz
+  EXPECT_EQ(s.needle->parameters.outer_diameter_m, 0.00127);
+  ASSERT_EQ(s.needle->interaction.layers.size(), 2u);
+  EXPECT_EQ(s.needle->interaction.layers[1].puncture_force_n, 2.0);
+  EXPECT_FALSE(s.ligaments.has_value());
+  EXPECT_EQ(s.devices.tracker.kind, TrackerKind::simulated);
+  EXPECT_EQ(s.devices.tracker.position_noise_m, 0.00025);
+  EXPECT_EQ(s.devices.ultrasound.kind, UltrasoundKind::simulated);
+  EXPECT_EQ(s.devices.ultrasound.target_noise_m, 0.001);
+  EXPECT_EQ(s.topics.poses, "nav/tool_pose");
+}
+
+TEST(StationScene, ReducedSceneResolvesItsPathsAgainstItsOwnFolder) {
+  const auto parsed = load_scene(example_scene_path("liver_reduced.yaml"));
+  ASSERT_TRUE(parsed.ok()) << parsed.error().describe();
+  const Scene& s = parsed.value();
+  const std::filesystem::path folder = std::filesystem::path(example_scene_path("liver_reduced.yaml")).parent_path();
+  EXPECT_EQ(s.liver.mesh.source, LiverMeshSource::file);
+  EXPECT_EQ(s.liver.mesh.path, (folder / "../../../../shared/data/liver/liverFine.vtu").lexically_normal().string());
+  EXPECT_EQ(s.liver.mesh.unit, LengthUnit::centimetre);
+  EXPECT_EQ(s.liver.rung, LiverRung::reduced);
+  EXPECT_EQ(s.liver.reduced_artifact_path, (folder / "../../../build/liver_fine.navrb").lexically_normal().string());
+  EXPECT_DOUBLE_EQ(s.liver.reduced.step_s, 1.0 / 500.0);
+  ASSERT_TRUE(s.liver.tumour_m.has_value());
+  EXPECT_EQ((*s.liver.tumour_m)[1], 0.04);
+  EXPECT_FALSE(s.needle.has_value());
+  EXPECT_EQ(s.devices.tracker.kind, TrackerKind::ndi);
+  EXPECT_EQ(s.devices.tracker.port, 8765);
+  EXPECT_EQ(s.devices.ultrasound.kind, UltrasoundKind::plus);
+  EXPECT_EQ(s.topics.surfaces, "nav/deformed_surface");  // the default when `topics:` is absent
+}
+
+TEST(StationScene, UnknownKeysAreNamedWithTheirPath) {
+  expect_error("  lock_memory: true", "  lock_memry: true", "station.lock_memry", "unknown key");
+  expect_error("    cg_iterations: 3", "    cg_iteration: 3", "liver.model.cg_iteration", "unknown key");
+  expect_error("topics:\n", "topic:\n", "topic", "unknown key");
+}
+
+TEST(StationScene, WrongTypesAreNamed) {
+  expect_error("loop_rate_hz: 1000", "loop_rate_hz: fast", "station.loop_rate_hz", "expected a finite number");
+  expect_error("element_count: 20", "element_count: 2.5", "needle.element_count", "expected an integer");
+  expect_error("lock_memory: true", "lock_memory: maybe", "station.lock_memory", "expected true or false");
+  expect_error("  name: demo", "  name: [a, b]", "station.name", "expected a single value");
+  expect_error("  urdf: ../../../calibration/urdf/station.urdf", "  urdf: {path: x}", "frames.urdf", "expected a single value");
+}
+
+TEST(StationScene, OutOfRangeValuesAreNamed) {
+  expect_error("loop_rate_hz: 1000", "loop_rate_hz: 2000", "station.loop_rate_hz", "outside (0, 1000]");
+  expect_error("tissue_rate_hz: 100", "tissue_rate_hz: 1500", "station.tissue_rate_hz", "outside");
+  expect_error("tissue_rate_hz: 100", "tissue_rate_hz: 300", "station.tissue_rate_hz", "must divide");
+  expect_error("poisson_ratio: 0.45", "poisson_ratio: 0.5", "liver.material.poisson_ratio", "outside");
+  expect_error("position_noise_m: 0.00025", "position_noise_m: .nan", "devices.tracker.position_noise_m", "finite");
+  expect_error("cores: {realtime: 1, io: 0}", "cores: {realtime: 1, io: 1}", "station.cores.io", "must differ");
+  expect_error("outward_normal: [0, 1, 0], puncture_force_n: 2.0", "outward_normal: [0, 1], puncture_force_n: 2.0",
+               "needle.layers[1].outward_normal", "list of 3 numbers");
+  // A value each range allows but the needle's own validation refuses (bore wider than the tube).
+  expect_error("inner_diameter_m: 0.00084", "inner_diameter_m: 0.002", "needle.inner_diameter_m", "");
+}
+
+TEST(StationScene, BadChoicesListTheAllowedOnes) {
+  expect_error("rung: full", "rung: medium", "liver.model.rung", "'medium' is not one of full|reduced");
+  expect_error("kind: simulated\n    rate_hz: 60", "kind: optical\n    rate_hz: 60", "devices.tracker.kind", "simulated|ndi|apriltag");
+  expect_error("mesh: generated", "mesh: procedural", "liver.mesh", "expected 'generated'");
+  expect_error("poses: nav/tool_pose", "poses: nav/tool pose", "topics.poses", "not a topic name");
+}
+
+TEST(StationScene, MissingRequiredKeysNameTheMapThatLacksThem) {
+  const std::string no_rung = edited(demo_text(), "    rung: full\n", "");
+  const Error rung = error_of(no_rung);
+  EXPECT_EQ(rung.field, "liver.model.rung");
+  EXPECT_EQ(rung.line, line_of(no_rung, "    law:"));  // where the map `model:` starts
+  EXPECT_NE(rung.message.find("missing required key"), std::string::npos);
+  const std::string no_io = edited(demo_text(), "cores: {realtime: 1, io: 0}", "cores: {realtime: 1}");
+  EXPECT_EQ(error_of(no_io).field, "station.cores.io");
+  EXPECT_EQ(error_of(no_io).line, line_of(no_io, "  cores:"));
+  const std::string no_frames = edited(demo_text(), "frames:\n  urdf: ../../../calibration/urdf/station.urdf\n", "");
+  EXPECT_EQ(error_of(no_frames).field, "frames");
+  const std::string file_without_tumour =
+      edited(demo_text(), "  mesh: generated ", "  mesh: {source: file, path: liver.vtu, unit: cm}");
+  const Error tumour = error_of(file_without_tumour);
+  EXPECT_EQ(tumour.field, "liver.tumour_m");
+  EXPECT_EQ(tumour.line, line_of(file_without_tumour, "  mesh: {source"));
+}
+
+TEST(StationScene, RepeatedKeysAndSyntaxErrorsAreLocated) {
+  expect_error("  lock_memory: true", "  loop_rate_hz: 500", "station.loop_rate_hz", "key given twice");
+  const std::string broken = edited(demo_text(), "  cores: {realtime: 1, io: 0}", "  cores: {realtime: 1, io: 0");
+  const Error syntax = error_of(broken);
+  EXPECT_EQ(syntax.file, example_scene_path("demo.yaml"));
+  EXPECT_GE(syntax.line, line_of(broken, "  cores:"));
+  EXPECT_FALSE(syntax.message.empty());
+  const Error scalar = error_of("just a line of text\n");
+  EXPECT_EQ(scalar.field, "(document)");
+  EXPECT_NE(scalar.message.find("expected a map"), std::string::npos);
+}
+
+TEST(StationScene, UnreadableAndOversizedFilesAreRefused) {
+  const auto missing = load_scene("/nonexistent/scene.yaml");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().file, "/nonexistent/scene.yaml");
+  EXPECT_NE(missing.error().message.find("cannot open"), std::string::npos);
+  const auto huge = parse_scene(std::string(kMaxSceneBytes + 1, '#'), "huge.yaml");
+  ASSERT_FALSE(huge.ok());
+  EXPECT_EQ(huge.error().file, "huge.yaml");
+}
+
+}  // namespace
+}  // namespace nav::station
