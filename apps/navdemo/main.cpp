@@ -1,4 +1,4 @@
-// navdemo: the liver deformation demo (the README's main job until the station loop exists).
+// navdemo: the liver deformation demo (the first part of the README's demo command).
 // Builds the embedded default liver with its tumour and attachments, solves its static
 // deformation under gravity and under gravity plus an ultrasound probe pressing on the
 // anterior surface above the tumour, prints the figures and writes the result as a .vtu.

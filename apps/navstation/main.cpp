@@ -1,18 +1,36 @@
-// navstation: the navigation station. `--scene FILE --check` loads the scene, builds the
-// models it declares, prints their memory footprint and what the real-time setup would do
-// on this machine, and exits (0, or 1 with the error).
+// navstation: the navigation station.
+//   --scene FILE --check   loads the scene, builds the models it declares, prints their memory
+//                          footprint and what the real-time setup would do here, and exits.
+//   --scene FILE           runs the scene on its simulated world: the real-time loop and the
+//                          I/O thread for --seconds (default 10), then prints the summary.
+//   --demo                 the same on the demo scene (scenes/demo.yaml).
+//   --seconds S, --plot FILE.svg (the error over time), --json FILE (the summary's figures).
+// Exit code 0, 1 with the error, 2 on a usage error.
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <string>
 
 #include "nav/station/realtime_thread.hpp"
 #include "nav/station/scene.hpp"
 #include "nav/station/station_build.hpp"
+#include "nav/station/station_session.hpp"
 
 namespace {
 
-constexpr const char* kUsage = "usage: navstation --scene FILE --check\n";
+constexpr const char* kUsage =
+    "usage: navstation --scene FILE --check\n"
+    "       navstation (--demo | --scene FILE) [--seconds S] [--plot FILE.svg] [--json FILE]\n";
 constexpr int kExitError = 1;
 constexpr int kExitUsage = 2;
+
+/// The command line.
+struct Arguments {
+  std::string scene_path;
+  bool check = false, demo = false;
+  double seconds = 10.0;
+  std::string plot_path, json_path;
+};
 
 void print_plan(const nav::station::Scene& scene) {
   const nav::station::StationSettings& s = scene.station;
@@ -33,33 +51,9 @@ void print_realtime(const nav::station::StationSettings& s) {
                           : "the station would run anyway, without what was refused\n");
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  std::string scene_path;
-  bool check = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    if (arg == "--scene" && i + 1 < argc) {
-      scene_path = argv[++i];
-    } else if (arg == "--check") {
-      check = true;
-    } else {
-      std::fprintf(stderr, "navstation: unknown argument '%s'\n%s", arg.c_str(), kUsage);
-      return kExitUsage;
-    }
-  }
-  if (scene_path.empty() || !check) {
-    std::fprintf(stderr, "%s", kUsage);
-    return kExitUsage;
-  }
-  auto scene = nav::station::load_scene(scene_path);
-  if (!scene.ok()) {
-    std::fprintf(stderr, "navstation: %s\n", scene.error().describe().c_str());
-    return kExitError;
-  }
-  print_plan(scene.value());
-  auto built = nav::station::build_station(std::move(scene).value());
+int check_scene(nav::station::Scene scene) {
+  print_plan(scene);
+  auto built = nav::station::build_station(std::move(scene));
   if (!built.ok()) {
     std::fprintf(stderr, "navstation: %s\n", built.error().describe().c_str());
     return kExitError;
@@ -67,4 +61,85 @@ int main(int argc, char** argv) {
   std::printf("memory footprint:\n%s", nav::station::format_footprint(built.value().footprint).c_str());
   print_realtime(built.value().models.scene.station);
   return 0;
+}
+
+bool write_file(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) std::fprintf(stderr, "navstation: cannot write %s\n", path.c_str());
+  return static_cast<bool>(out);
+}
+
+int run_scene(const nav::station::Scene& scene, const Arguments& args) {
+  print_plan(scene);
+  std::printf("building the liver, its reduced loop and the full-order world, then running %.1f s ...\n", args.seconds);
+  std::fflush(stdout);
+  nav::station::SessionOptions options;
+  options.world.duration_ns = static_cast<nav::TimeNs>(args.seconds * 1e9);
+  auto session = nav::station::run_session(scene, options);
+  if (!session.ok()) {
+    std::fprintf(stderr, "navstation: %s\n", session.error().describe().c_str());
+    return kExitError;
+  }
+  std::printf("%s", nav::station::format_summary(scene, session.value()).c_str());
+  bool written = true;
+  if (!args.plot_path.empty()) {
+    written = write_file(args.plot_path, nav::station::error_plot_svg("station '" + scene.station.name + "': tumour prediction error",
+                                                                      nav::station::error_series(session.value()))) && written;
+    if (written) std::printf("error plot: %s\n", args.plot_path.c_str());
+  }
+  if (!args.json_path.empty()) written = write_file(args.json_path, nav::station::session_json(scene, session.value())) && written;
+  return written ? 0 : kExitError;
+}
+
+/// Parses argv; false (after printing why) on a usage error.
+bool parse(int argc, char** argv, Arguments& args) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--scene" && has_value) {
+      args.scene_path = argv[++i];
+    } else if (arg == "--check") {
+      args.check = true;
+    } else if (arg == "--demo") {
+      args.demo = true;
+    } else if (arg == "--seconds" && has_value) {
+      char* end = nullptr;
+      args.seconds = std::strtod(argv[++i], &end);
+      if (*end != '\0' || !(args.seconds > 0.0 && args.seconds <= 600.0)) {
+        std::fprintf(stderr, "navstation: --seconds takes a duration in (0, 600]\n");
+        return false;
+      }
+    } else if (arg == "--plot" && has_value) {
+      args.plot_path = argv[++i];
+    } else if (arg == "--json" && has_value) {
+      args.json_path = argv[++i];
+    } else {
+      std::fprintf(stderr, "navstation: unknown argument '%s'\n", arg.c_str());
+      return false;
+    }
+  }
+  if (args.demo == !args.scene_path.empty() || (args.check && args.demo)) {
+    std::fprintf(stderr, "navstation: give --demo or --scene FILE\n");
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Arguments args;
+  if (!parse(argc, argv, args)) {
+    std::fprintf(stderr, "%s", kUsage);
+    return kExitUsage;
+  }
+  auto scene = nav::station::load_scene(args.demo ? std::string(NAV_STATION_DEMO_SCENE) : args.scene_path);
+  if (!scene.ok()) {
+    std::fprintf(stderr, "navstation: %s\n", scene.error().describe().c_str());
+    return kExitError;
+  }
+  if (args.check) return check_scene(std::move(scene).value());
+  return run_scene(scene.value(), args);
 }

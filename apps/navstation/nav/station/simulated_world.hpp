@@ -1,0 +1,76 @@
+#pragma once
+// The simulated world of the demo station: the liver as ground truth, simulated by the
+// full-order nonlinear model (corotational tetrahedra, implicit Euler, the scene's solver) at
+// the tissue rate under a breathing diaphragm (which the respiratory marker only approximates:
+// a gain and a lag the station's model does not know), and the devices that watch it: a tracker (the
+// needle marker inserting the needle toward the tumour, the ultrasound probe sweeping over
+// it, the respiratory marker) with the scene's rate, latency, noise and dropout, and a
+// synthetic ultrasound that sees the true tumour with the scene's noise and rate (frame loss
+// optional). The whole world is computed at start-up into a recording: every sample with the
+// time it was measured and the time it reaches the station, in delivery order. Seeded RNGs
+// only: the same scene and options give the same recording. Init-time code.
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "nav/core/clock.hpp"
+#include "nav/core/error.hpp"
+#include "nav/fusion/rigid_pose.hpp"
+#include "nav/station/scene.hpp"
+#include "nav/station/station_liver.hpp"
+
+namespace nav::station {
+
+/// What the world does beyond the scene's devices.
+struct WorldOptions {
+  TimeNs duration_ns = 10 * kNsPerSecond;
+  double breathing_period_s = 4.0;
+  double marker_amplitude_m = 0.005;        ///< the respiratory marker's amplitude (10 mm peak to peak)
+  double truth_stiffness_factor = 0.7;      ///< the patient's tissue against the scene's (model's) material
+  /// The true diaphragm moves this many times what the station's marker-to-diaphragm map
+  /// says, and this long after the marker: the external marker is a surrogate of the motion inside.
+  double diaphragm_gain = 1.3;
+  TimeNs diaphragm_lag_ns = 200 * kNsPerMs;
+  double needle_start_distance_m = 0.05;    ///< the needle tip starts this far from the tumour
+  double needle_speed_m_s = 0.004;          ///< and moves toward it
+  double probe_sweep_rad = 0.3;             ///< the probe's sweep amplitude about the model x axis
+  double probe_sweep_period_s = 3.0;
+  TimeNs ultrasound_delay_ns = 30 * kNsPerMs;  ///< from image capture to the segmented tumour at the station
+  double ultrasound_frame_loss = 0.0;       ///< probability that a frame yields no observation
+};
+
+/// The kinds of recorded sample.
+enum class SampleKind : std::uint8_t { needle_pose, probe_pose, respiratory, tumour };
+
+/// One sample of one simulated device (tracker frame = model frame).
+struct DeviceSample {
+  SampleKind kind = SampleKind::needle_pose;
+  TimeNs measured_ns = 0;   ///< when the device measured it
+  TimeNs delivered_ns = 0;  ///< when it reaches the station
+  RigidPose pose;           ///< needle and probe markers
+  Eigen::Vector3d point_m = Eigen::Vector3d::Zero();  ///< respiratory marker, or the tumour seen by the ultrasound
+};
+
+/// The simulated world: the truth at every tissue step and the devices' recording.
+struct SimulatedWorld {
+  TimeNs step_ns = 10 * kNsPerMs;          ///< the tissue step
+  std::vector<Point3> tumour_truth_m;      ///< the true tumour at i * step_ns (full-order model)
+  Eigen::Vector3d needle_start_m = Eigen::Vector3d::Zero();   ///< the true tip at time 0
+  Eigen::Vector3d needle_velocity_m_s = Eigen::Vector3d::Zero();
+  std::vector<DeviceSample> samples;       ///< in delivery order
+  /// The true tumour at any time within the run (linear between tissue steps).
+  Point3 tumour_at(TimeNs time_ns) const;
+  /// The true needle tip at any time.
+  Eigen::Vector3d needle_tip_at(TimeNs time_ns) const;
+};
+
+/// The respiratory marker's true displacement along the tracker's z at time t (from its rest).
+double marker_displacement_m(const WorldOptions& options, TimeNs time_ns);
+
+/// Simulates the world of `scene` on `liver` for options.duration_ns (plus the display
+/// latency, so that every prediction has its truth). Errors name the scene's section.
+Result<SimulatedWorld> simulate_world(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
+                                      const WorldOptions& options);
+
+}  // namespace nav::station

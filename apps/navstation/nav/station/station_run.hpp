@@ -1,0 +1,88 @@
+#pragma once
+// The running station on a simulated world. run_station() runs two threads: the real-time
+// thread (pinned and prioritised as the scene asks, paced by a FixedRateTimer on the
+// MonotonicClock at the loop rate) drains the samples that reach it through a lock-free ring
+// into the OperatingLoop, ticks it, publishes its outputs through a triple buffer and records
+// its step times, lateness and predictions into preallocated arrays; the I/O thread plays the
+// world's recording in real time (each sample pushed when its delivery time comes) and reads
+// the published outputs as a display would. replay_station() feeds the same recording to the
+// same loop on a SimulatedClock: deterministic, bitwise repeatable, and the way the figures
+// without assimilation are made (the recording without its ultrasound observations).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "nav/core/clock.hpp"
+#include "nav/core/error.hpp"
+#include "nav/loop/operating_loop.hpp"
+#include "nav/station/realtime_thread.hpp"
+#include "nav/station/scene.hpp"
+#include "nav/station/simulated_world.hpp"
+
+namespace nav::station {
+
+/// What one tick predicted (model frame, metres).
+struct TickRecord {
+  TimeNs time_ns = 0;         ///< the tick's time (world clock)
+  TimeNs tissue_time_ns = 0;  ///< the time of the liver step behind the tumour values
+  Point3 tumour_now_m{}, tumour_ahead_m{}, needle_tip_m{};
+};
+
+/// Step time and timing statistics of a real-time run.
+struct StepStatistics {
+  std::int64_t ticks = 0;
+  double median_us = 0.0, p99_us = 0.0, p999_us = 0.0, max_us = 0.0;  ///< of the step (drain, tick, publish)
+  double jitter_us = 0.0;          ///< standard deviation of the ticks' lateness
+  double max_lateness_us = 0.0;    ///< worst wake-up after a deadline (skipped periods included)
+  std::int64_t latest_tick = 0;    ///< the tick (count from the run's start) that woke that late
+  std::int64_t deadline_misses = 0;  ///< ticks later than the miss threshold
+  std::int64_t skipped_ticks = 0;    ///< deadlines passed over because the loop was late
+};
+
+/// The statistics of step times and lateness (both microseconds, one per tick).
+StepStatistics step_statistics(std::vector<double> step_us, const std::vector<double>& lateness_us, double miss_threshold_us);
+
+/// How a real-time run is set up.
+struct StationRunOptions {
+  TimeNs duration_ns = 10 * kNsPerSecond;
+  TimeNs miss_threshold_ns = 5 * kNsPerMs;  ///< a tick woken later than this after its deadline is a miss
+  RealtimePlan realtime;                    ///< the real-time thread's core, priority and memory lock
+  int io_core = 0;                          ///< the I/O thread's core
+};
+
+/// What a real-time run measured.
+struct StationRun {
+  StepStatistics steps;
+  std::vector<TickRecord> ticks;          ///< one per tick run
+  std::vector<SetupStep> realtime_setup;  ///< what the real-time thread's setup did
+  SetupStep io_pin;                       ///< the I/O thread's pinning
+  std::int64_t outputs_read = 0;          ///< new outputs the I/O thread read from the triple buffer
+  std::int64_t samples_pushed = 0;        ///< samples the I/O thread handed to the real-time thread
+};
+
+/// Runs the station in real time on `world`'s recording for options.duration_ns.
+Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWorld& world, const StationRunOptions& options);
+
+/// A replay on a SimulatedClock at the loop's period.
+struct StationReplay {
+  std::vector<TickRecord> ticks;
+  std::uint64_t output_hash = 0;  ///< FNV-1a of every tick's outputs (time, tumour now and ahead with covariances, needle tip, diaphragm, phase)
+};
+
+/// Ticks the loop from 0 to duration_ns, each tick first pushing the samples delivered by
+/// then; without `assimilate`, the tumour observations are left out.
+Result<StationReplay> replay_station(const OperatingLoopModel& loop, std::span<const DeviceSample> samples, TimeNs duration_ns,
+                                     bool assimilate);
+
+/// RMS errors of a run's predictions against the world's truth, over its liver steps from `from_ns`.
+struct PredictionErrors {
+  double tumour_now_rms_m = 0.0;    ///< tumour estimate against the truth at its liver step
+  double tumour_ahead_rms_m = 0.0;  ///< tumour ahead against the truth at that step + display latency
+  double needle_tip_rms_m = 0.0;    ///< needle tip against the true tip at the tick
+  int steps = 0;                    ///< liver steps counted
+};
+
+PredictionErrors prediction_errors(const SimulatedWorld& world, std::span<const TickRecord> ticks, TimeNs display_latency_ns,
+                                   TimeNs from_ns);
+
+}  // namespace nav::station

@@ -1,0 +1,128 @@
+#include "nav/station/station_session.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <utility>
+
+namespace nav::station {
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::string format(const char* pattern, double a = 0.0, double b = 0.0, double c = 0.0, double d = 0.0) {
+  char text[256];
+  std::snprintf(text, sizeof(text), pattern, a, b, c, d);
+  return text;
+}
+
+double distance_mm(const Point3& a, const Point3& b) { return 1e3 * std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
+
+/// The error of the tumour now (or ahead) at every liver step of `ticks`.
+PlotSeries tumour_series(const StationSession& s, std::span<const TickRecord> ticks, bool ahead, PlotSeries style) {
+  for (const TickRecord& t : ticks) {
+    if (t.time_ns != t.tissue_time_ns) continue;
+    const Point3 truth = s.world.tumour_at(t.tissue_time_ns + (ahead ? s.display_latency_ns : 0));
+    style.x.push_back(1e-9 * static_cast<double>(t.time_ns));
+    style.y.push_back(distance_mm(ahead ? t.tumour_ahead_m : t.tumour_now_m, truth));
+  }
+  return style;
+}
+
+}  // namespace
+
+Result<StationSession> run_session(const Scene& scene, const SessionOptions& options) {
+  StationSession s;
+  const BreathingGeometry breathing;
+  const StationLoopSettings loop_settings;
+  auto start = std::chrono::steady_clock::now();
+  auto liver = make_station_liver(scene);
+  if (!liver.ok()) return liver.error();
+  s.liver = std::move(liver).value();
+  auto loop = make_station_loop(s.liver, scene, breathing, loop_settings);
+  if (!loop.ok()) return Error{loop.error().describe(), scene.source_path, scene.liver.line, "liver (reduced loop)"};
+  s.build_s = seconds_since(start);
+  s.basis_size = loop.value().reduced.basis_size();
+  start = std::chrono::steady_clock::now();
+  auto world = simulate_world(s.liver, scene, breathing, options.world);
+  if (!world.ok()) return world.error();
+  s.world = std::move(world).value();
+  s.world_s = seconds_since(start);
+
+  StationRunOptions run_options;
+  run_options.duration_ns = options.world.duration_ns;
+  run_options.miss_threshold_ns = options.miss_threshold_ns;
+  run_options.realtime = {scene.station.realtime_core, scene.station.realtime_priority, scene.station.lock_memory && options.lock_memory};
+  run_options.io_core = scene.station.io_core;
+  auto run = run_station(loop.value(), s.world, run_options);
+  if (!run.ok()) return run.error();
+  s.run = std::move(run).value();
+  auto open_loop = replay_station(loop.value(), s.world.samples, options.world.duration_ns, false);
+  if (!open_loop.ok()) return open_loop.error();
+  s.open_loop = std::move(open_loop).value();
+  s.display_latency_ns = loop.value().options.display_latency_ns;
+  s.settle_ns = options.settle_ns;
+  s.miss_threshold_ns = options.miss_threshold_ns;
+  s.assimilated = prediction_errors(s.world, s.run.ticks, s.display_latency_ns, options.settle_ns);
+  s.without = prediction_errors(s.world, s.open_loop.ticks, s.display_latency_ns, options.settle_ns);
+  return s;
+}
+
+std::string format_summary(const Scene& scene, const StationSession& s) {
+  const StationSettings& st = scene.station;
+  const StepStatistics& t = s.run.steps;
+  std::string out = "station '" + st.name + "': ";
+  out += format("%.0f Hz loop, liver every %.0f ms (%.0f reduced modes), display latency %.0f ms\n", st.loop_rate_hz,
+                1e3 / st.tissue_rate_hz, s.basis_size, 1e-6 * static_cast<double>(s.display_latency_ns));
+  out += format("start-up: liver and reduced loop %.1f s, full-order world %.1f s (%.0f tetrahedra, %.0f samples)\n", s.build_s,
+                s.world_s, static_cast<double>(s.liver.mesh.tets.size()), static_cast<double>(s.world.samples.size()));
+  out += "real-time setup:";
+  for (const SetupStep& step : s.run.realtime_setup) out += " " + step.name + ": " + outcome_name(step.outcome) + ";";
+  out += std::string(" I/O pin: ") + outcome_name(s.run.io_pin.outcome) + "\n";
+  out += format("prediction error against the full-order truth (RMS from %.1f s, %.0f liver steps):\n", 1e-9 * static_cast<double>(s.settle_ns),
+                s.assimilated.steps);
+  out += "                         with assimilation   without\n";
+  out += format("  tumour now              %8.2f mm        %6.2f mm\n", 1e3 * s.assimilated.tumour_now_rms_m, 1e3 * s.without.tumour_now_rms_m);
+  out += format("  tumour at +%2.0f ms        %8.2f mm        %6.2f mm\n", 1e-6 * static_cast<double>(s.display_latency_ns),
+                1e3 * s.assimilated.tumour_ahead_rms_m, 1e3 * s.without.tumour_ahead_rms_m);
+  out += format("  needle tip              %8.2f mm\n", 1e3 * s.assimilated.needle_tip_rms_m);
+  out += format("step time over %.0f ticks: median %.1f us, p99 %.1f us, p99.9 %.1f us", static_cast<double>(t.ticks), t.median_us, t.p99_us,
+                t.p999_us);
+  out += format(", max %.1f us\n", t.max_us);
+  out += format("tick lateness: jitter (std) %.1f us, max %.1f us (tick %.0f)\n", t.jitter_us, t.max_lateness_us,
+                static_cast<double>(t.latest_tick));
+  out += format("deadline misses (> %.0f ms late): %.0f, skipped ticks: %.0f\n", 1e-6 * static_cast<double>(s.miss_threshold_ns),
+                static_cast<double>(t.deadline_misses), static_cast<double>(t.skipped_ticks));
+  out += format("I/O thread: %.0f samples pushed, %.0f outputs read\n", static_cast<double>(s.run.samples_pushed),
+                static_cast<double>(s.run.outputs_read));
+  return out;
+}
+
+std::string session_json(const Scene& scene, const StationSession& s) {
+  const StepStatistics& t = s.run.steps;
+  std::string out = "{\n  \"scene\": \"" + scene.station.name + "\",\n";
+  out += format("  \"ticks\": %.0f, \"step_us\": {\"median\": %.3f, \"p99\": %.3f, \"p999\": %.3f,", static_cast<double>(t.ticks), t.median_us,
+                t.p99_us, t.p999_us);
+  out += format(" \"max\": %.3f},\n  \"jitter_us\": %.3f, \"max_lateness_us\": %.3f,", t.max_us, t.jitter_us, t.max_lateness_us);
+  out += format(" \"deadline_misses\": %.0f, \"skipped_ticks\": %.0f,\n", static_cast<double>(t.deadline_misses), static_cast<double>(t.skipped_ticks));
+  out += format("  \"tumour_now_rms_mm\": {\"assimilated\": %.4f, \"without\": %.4f},\n", 1e3 * s.assimilated.tumour_now_rms_m,
+                1e3 * s.without.tumour_now_rms_m);
+  out += format("  \"tumour_ahead_rms_mm\": {\"assimilated\": %.4f, \"without\": %.4f},\n", 1e3 * s.assimilated.tumour_ahead_rms_m,
+                1e3 * s.without.tumour_ahead_rms_m);
+  out += format("  \"needle_tip_rms_mm\": %.4f, \"display_latency_ms\": %.1f\n}\n", 1e3 * s.assimilated.needle_tip_rms_m,
+                1e-6 * static_cast<double>(s.display_latency_ns));
+  return out;
+}
+
+std::vector<PlotSeries> error_series(const StationSession& s) {
+  const std::string ahead = format("tumour at +%.0f ms", 1e-6 * static_cast<double>(s.display_latency_ns));
+  return {tumour_series(s, s.run.ticks, false, {"tumour now, assimilated", "#1f77b4", false, {}, {}}),
+          tumour_series(s, s.run.ticks, true, {ahead + ", assimilated", "#2ca02c", false, {}, {}}),
+          tumour_series(s, s.open_loop.ticks, false, {"tumour now, without", "#d62728", true, {}, {}}),
+          tumour_series(s, s.open_loop.ticks, true, {ahead + ", without", "#ff7f0e", true, {}, {}})};
+}
+
+}  // namespace nav::station

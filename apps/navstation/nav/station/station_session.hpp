@@ -1,0 +1,53 @@
+#pragma once
+// One run of a station scene on its simulated world, from the scene to the figures: builds
+// the station's liver and loop and the world, runs the station in real time (two threads),
+// replays the same recording without its ultrasound observations for the open-loop figures,
+// and scores both against the full-order truth. Also formats the summary, a JSON report and
+// the error plot. Init/report-time code.
+#include <string>
+#include <vector>
+
+#include "nav/core/error.hpp"
+#include "nav/station/error_plot.hpp"
+#include "nav/station/scene.hpp"
+#include "nav/station/simulated_world.hpp"
+#include "nav/station/station_liver.hpp"
+#include "nav/station/station_run.hpp"
+
+namespace nav::station {
+
+/// What a session runs.
+struct SessionOptions {
+  WorldOptions world;                      ///< world.duration_ns is the run's length
+  TimeNs settle_ns = 1 * kNsPerSecond;     ///< errors are scored from here (the filter's start-up)
+  TimeNs miss_threshold_ns = 5 * kNsPerMs;
+  bool lock_memory = true;                 ///< false: the scene's lock_memory is not applied
+};
+
+/// A finished session.
+struct StationSession {
+  StationLiver liver;
+  SimulatedWorld world;
+  StationRun run;                          ///< real time, with assimilation
+  StationReplay open_loop;                 ///< replay without ultrasound observations
+  PredictionErrors assimilated, without;   ///< from settle_ns
+  TimeNs display_latency_ns = 0;
+  TimeNs settle_ns = 0;
+  TimeNs miss_threshold_ns = 0;
+  int basis_size = 0;
+  double build_s = 0.0, world_s = 0.0;     ///< start-up: liver and reduced loop; full-order world
+};
+
+/// Runs `scene` for options.world.duration_ns.
+Result<StationSession> run_session(const Scene& scene, const SessionOptions& options);
+
+/// The printed summary: setup, prediction errors with and without assimilation, timing.
+std::string format_summary(const Scene& scene, const StationSession& session);
+
+/// The same figures as one JSON object.
+std::string session_json(const Scene& scene, const StationSession& session);
+
+/// The tumour's errors over time (now and ahead, with and without assimilation), in millimetres.
+std::vector<PlotSeries> error_series(const StationSession& session);
+
+}  // namespace nav::station

@@ -1,0 +1,139 @@
+#pragma once
+// The deterministic tick of the station's real-time loop: it brings the tracked tool poses to
+// the tick's time, drives the reduced liver's diaphragm from the breathing marker, steps the
+// liver every Nth tick (multi-rate), assimilates the ultrasound's view of the tumour with the
+// reduced Kalman filter, and publishes the tumour now and at now + display latency (with
+// covariances), the needle tip and its distance to the tumour, and the health of every input.
+// The diaphragm follows the newest marker sample, moved on by the breathing model's change
+// since that sample (delay compensated, irregular breaths followed at once); observations are
+// carried from their capture time to the liver step by the diaphragm lift's motion in between.
+// Model/Data: the model is built at init and immutable; push_* and tick() are noexcept,
+// allocation-free, fixed-cost and bitwise repeatable. Faults flag and degrade, never stop.
+#include <Eigen/Core>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "nav/core/clock.hpp"
+#include "nav/core/error.hpp"
+#include "nav/core/health.hpp"
+#include "nav/fusion/breathing_predictor.hpp"
+#include "nav/fusion/pose_track.hpp"
+#include "nav/fusion/reduced_kalman.hpp"
+#include "nav/fusion/rigid_pose.hpp"
+#include "nav/reduced/reduced_model.hpp"
+
+namespace nav {
+
+/// Rates, latencies, geometry and input options of an operating loop; checked at build.
+struct OperatingLoopOptions {
+  TimeNs tick_period_ns = kNsPerMs;          ///< the loop's period (1 kHz)
+  int tissue_every_ticks = 20;               ///< the liver steps every Nth tick: N tick periods must equal its step_s
+  TimeNs display_latency_ns = 100 * kNsPerMs;  ///< from a tick to the display showing its frame
+  /// The needle tip in the needle marker's frame (metres).
+  Eigen::Vector3d needle_tip_in_marker_m = Eigen::Vector3d::Zero();
+  /// The tracker's frame in the model (mesh) frame: applied to every tool pose.
+  RigidPose model_from_tracker;
+  /// The diaphragm displacement (model frame) per metre of respiratory marker displacement
+  /// along breathing.axis, measured from respiratory_reference_m.
+  Eigen::Vector3d diaphragm_per_marker = Eigen::Vector3d::Zero();
+  double respiratory_reference_m = 0.0;      ///< marker displacement at which the diaphragm is at rest
+  PoseTrackOptions needle, probe;            ///< the two tracked tools
+  BreathingPredictorOptions breathing;       ///< the respiratory marker (axis in the tracker frame)
+  std::size_t max_pending_observations = 8;  ///< ultrasound observations held between tissue ticks
+  TimeNs ultrasound_max_age_ns = 250 * kNsPerMs;  ///< no accepted observation for longer: stale_input
+};
+
+/// The immutable part of a loop: its reduced liver, the filter observing the tumour (point 0
+/// of the filter), the options and what follows from them.
+struct OperatingLoopModel {
+  ReducedModel reduced{nullptr};
+  ReducedKalmanModel filter;
+  OperatingLoopOptions options;
+  int lookahead_steps = 1;          ///< reduced steps from a tissue tick to it + display latency
+  double lookahead_decay = 1.0;     ///< the filter's decay a^lookahead_steps
+  Eigen::Vector3d breathing_axis = Eigen::Vector3d::UnitZ();  ///< options.breathing.axis, normalised
+};
+
+/// The health of one input at a tick.
+struct InputStatus {
+  HealthFlags flags;       ///< of the tick's lookup and of the samples pushed since the last tick
+  bool degraded = true;    ///< the input's value is held, extrapolated too far, or missing
+  TimeNs age_ns = std::numeric_limits<TimeNs>::max();  ///< tick time minus the newest good sample's (max: none yet)
+};
+
+/// What one tick publishes. Positions in the model frame, metres.
+struct OperatingLoopOutputs {
+  TimeNs time_ns = 0;               ///< the tick's time
+  TimeNs tissue_time_ns = 0;        ///< the tick of the last liver step (the tumour values' time)
+  std::int64_t ticks = 0, tissue_steps = 0;
+  Point3 tumour_now_m{};            ///< Kalman estimate at tissue_time_ns
+  std::array<double, 9> tumour_now_covariance_m2{};  ///< row-major 3x3
+  Point3 tumour_ahead_m{};          ///< predicted at tissue_time_ns + display latency
+  std::array<double, 9> tumour_ahead_covariance_m2{};
+  Point3 needle_tip_m{};            ///< at the tick's time
+  Point3 needle_tip_ahead_m{};      ///< at the tick's time + display latency
+  double tip_to_tumour_m = 0.0;     ///< |needle tip - tumour now|
+  double tip_to_tumour_ahead_m = 0.0;  ///< |needle tip ahead - tumour ahead|
+  RigidPose probe_pose;             ///< the ultrasound probe at the tick's time
+  Point3 diaphragm_m{};             ///< the diaphragm displacement driving the last liver step
+  double breathing_phase_rad = 0.0;  ///< at the tick's time
+  InputStatus needle, probe, respiratory, ultrasound;  ///< ultrasound: buffer_overrun when observations were dropped
+  HealthFlags tissue;               ///< the reduced model's and the filter's flags of the last liver step
+  HealthFlags loop;                 ///< clock_went_backwards: the tick's time was not after the previous one
+  bool degraded = true;             ///< any input degraded or any flag raised
+};
+
+/// A tumour observation waiting for the next liver step.
+struct PendingObservation {
+  TimeNs time_ns = 0;
+  Point3 position_m{};
+};
+
+/// The loop's state: the liver and filter states, the tool tracks, the breathing predictor,
+/// a scratch liver for the look-ahead, the pending observations and the outputs.
+struct OperatingLoopData {
+  ReducedData reduced;
+  ReducedData lookahead;            ///< scratch: the liver stepped ahead to the display time
+  ReducedKalmanData filter;
+  PoseTrack needle, probe;
+  BreathingPredictor breathing;
+  std::vector<PendingObservation> pending;  ///< sized at init; the first pending_count are waiting
+  std::size_t pending_count = 0;
+  HealthFlags needle_push_flags, probe_push_flags, respiratory_push_flags, ultrasound_push_flags;  ///< since the last tick
+  TimeNs respiratory_newest_ns = std::numeric_limits<TimeNs>::min();  ///< the newest accepted marker sample
+  double respiratory_newest_m = 0.0;  ///< its displacement along the breathing axis
+  TimeNs last_tick_ns = 0;
+  OperatingLoopOutputs outputs;
+
+  OperatingLoopData(ReducedData reduced_data, ReducedData lookahead_data, ReducedKalmanData filter_data, PoseTrack needle_track,
+                    PoseTrack probe_track, BreathingPredictor breathing_predictor, std::size_t pending_capacity);
+};
+
+/// Checks the options against the reduced model and the filter (the tumour is the filter's
+/// point 0) and derives the look-ahead. Errors name the field at fault.
+Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter,
+                                                     const OperatingLoopOptions& options);
+
+/// The loop's data at rest: liver at rest, filter at its prior, empty tracks.
+Result<OperatingLoopData> make_operating_loop_data(const OperatingLoopModel& model);
+
+/// A needle marker pose (tracker frame) measured at time_ns.
+void push_needle_pose(const OperatingLoopModel& model, OperatingLoopData& data, const TimedPose& sample) noexcept;
+/// An ultrasound probe marker pose (tracker frame) measured at time_ns.
+void push_probe_pose(const OperatingLoopModel& model, OperatingLoopData& data, const TimedPose& sample) noexcept;
+/// A respiratory marker position (tracker frame) measured at time_ns.
+void push_respiratory_sample(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs time_ns, const Eigen::Vector3d& position_m) noexcept;
+/// The tumour seen by the ultrasound (model frame) at time_ns; assimilated at the next liver
+/// step. A full queue drops its oldest entry (buffer_overrun).
+void push_tumour_observation(OperatingLoopData& data, TimeNs time_ns, const Point3& position_m) noexcept;
+
+/// One tick at now_ns: tool poses at now (and now + display latency), and every
+/// tissue_every_ticks-th tick a liver step with the filter's predict and the pending
+/// observations, then the look-ahead. Fills data.outputs.
+void tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs now_ns) noexcept;
+
+}  // namespace nav

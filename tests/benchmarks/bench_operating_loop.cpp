@@ -1,0 +1,172 @@
+// Tick cost of the operating loop on the embedded liver (about 5000 tetrahedra, held at its
+// attachments, its top 2 cm of boundary nodes a diaphragm region): POD-free vibration modes
+// (r = 16, 32) with corotational cubature (at most 32 sampled tetrahedra, trained on a few
+// full-order quasi-static steps under gravity and diaphragm moves), implicit Euler with one
+// Newton iteration on the frozen tangent, liver steps every 10th tick of a 1 kHz loop, a 50 ms
+// display latency (5 look-ahead steps). After a 3 s warm-up on scripted devices (needle and
+// probe at 50 Hz, breathing marker at 40 Hz, tumour observations at 20 Hz), each tick is timed:
+// counters tissue_tick_us_* (liver step, filter predict and update, look-ahead) and
+// needle_tick_us_* (tool poses and breathing only), median and p99, and push_respiratory_us_*
+// (the breathing fit of one marker sample, made on the loop's thread too).
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+#include <optional>
+#include <random>
+#include <vector>
+
+#include "nav/connective/organ_attachment.hpp"
+#include "nav/loop/operating_loop.hpp"
+#include "nav/mesh/validation.hpp"
+#include "nav/mesher/embedded_liver.hpp"
+#include "nav/reduced/reduction.hpp"
+#include "nav/tissue/tet_fem_model.hpp"
+
+namespace {
+
+using nav::kNsPerMs;
+using nav::TimeNs;
+
+constexpr int kTissueEvery = 10;
+constexpr double kStepS = 0.01;
+
+/// The embedded liver, its scene (attachments fixed, top boundary a diaphragm) and the tumour centre.
+struct Liver {
+  nav::EmbeddedLiver liver = nav::make_embedded_liver(nav::kEmbeddedLiverElementSizeM);
+  nav::TissueScene scene;
+  nav::ObservedPoint tumour;
+  std::vector<double> snapshots;
+  int snapshot_count = 0;
+  Liver() {
+    scene.default_material = {5.0e3, 0.45, 1060.0};
+    scene.fixed_nodes = liver.attachment_nodes;
+    const nav::TetMeshBoundary boundary = nav::extract_boundary(liver.mesh);
+    double top_m = -1e9;
+    for (const auto& x : liver.mesh.nodes_m) top_m = std::max(top_m, x[2]);
+    std::vector<char> on_boundary(liver.mesh.nodes_m.size(), 0);
+    for (const std::int32_t node : boundary.mesh_node_of_vertex) on_boundary[static_cast<std::size_t>(node)] = 1;
+    for (std::size_t n = 0; n < liver.mesh.nodes_m.size(); ++n)
+      if (on_boundary[n] != 0 && liver.mesh.nodes_m[n][2] > top_m - 0.02 &&
+          !std::binary_search(liver.attachment_nodes.begin(), liver.attachment_nodes.end(), static_cast<std::int32_t>(n)))
+        scene.prescribed_nodes.push_back(static_cast<std::int32_t>(n));
+    const auto located = nav::locate_in_tets(liver.mesh, liver.tumour_centre_m, "tumour_centre_m").value();
+    tumour = {liver.mesh.tets[static_cast<std::size_t>(located.first)], located.second};
+    // Training: full-order quasi-static steps under a gravity ramp and diaphragm moves.
+    nav::TissueSolverOptions solver;
+    solver.integrator = nav::Integrator::quasi_static;
+    solver.cg_iterations = 3;
+    const nav::TetFemModel full = nav::make_tet_fem_model(liver.mesh, scene, solver).value();
+    auto data = nav::make_tet_fem_data(full).value();
+    const auto rest = full.rest_positions_m();
+    for (int i = 0; i < 24; ++i) {
+      nav::TissueInputs inputs;
+      inputs.load_scale = std::min(1.0, 0.25 * (i + 1));
+      inputs.prescribed_displacement_m = {0.0, 0.0, 0.01 * std::sin(0.5 * i)};
+      nav::step(full, data, inputs);
+      if (i % 2 == 1) {
+        for (std::size_t k = 0; k < rest.size(); ++k) snapshots.push_back(data.positions_m[k] - rest[k]);
+        ++snapshot_count;
+      }
+    }
+  }
+};
+
+const Liver& liver() {
+  static const Liver built;
+  return built;
+}
+
+/// The loop of r modes on the liver.
+nav::OperatingLoopModel loop_model(int r) {
+  const Liver& l = liver();
+  nav::ReductionOptions reduction;
+  reduction.source = nav::ReducedBasisSource::linear_modes;
+  reduction.force_kind = nav::ReducedForceKind::corotational_cubature;
+  reduction.basis_size = r;
+  reduction.max_cubature_samples = 32;
+  nav::TissueSolverOptions solver;
+  solver.integrator = nav::Integrator::quasi_static;
+  nav::ReducedBasis basis = nav::make_modal_basis(l.liver.mesh, l.scene, solver, reduction).value();
+  const nav::Status trained = nav::add_force_reduction(l.liver.mesh, l.scene, solver, reduction, l.snapshots, l.snapshot_count, basis);
+  if (!trained.ok()) std::abort();
+  nav::ReducedSolverOptions reduced_options;
+  reduced_options.step_s = kStepS;
+  nav::ReducedModel reduced = nav::make_reduced_model(l.liver.mesh, l.scene, solver, basis, reduced_options).value();
+  nav::ReducedKalmanOptions filter_options;
+  filter_options.correction_std = nav::correction_std_from_training(basis, 1.0);
+  filter_options.correlation_time_s = 2.0;
+  filter_options.gate_chi_square = 1e12;  // every observation is a full update
+  const nav::ObservedPoint points[] = {l.tumour};
+  nav::ReducedKalmanModel filter = nav::make_reduced_kalman_model(l.liver.mesh, basis, reduced, points, filter_options).value();
+  nav::OperatingLoopOptions o;
+  o.tissue_every_ticks = kTissueEvery;
+  o.display_latency_ns = 50 * kNsPerMs;
+  o.needle_tip_in_marker_m = {0.0, 0.0, -0.15};
+  o.diaphragm_per_marker = {0.0, 0.0, 1.0};
+  o.respiratory_reference_m = 0.1;
+  o.needle.max_extrapolation_ns = 100 * kNsPerMs;
+  return nav::make_operating_loop_model(std::move(reduced), std::move(filter), o).value();
+}
+
+void report(benchmark::State& state, const char* name, std::vector<double>& us) {
+  if (us.empty()) return;
+  std::sort(us.begin(), us.end());
+  state.counters[std::string(name) + "_us_median"] = us[us.size() / 2];
+  state.counters[std::string(name) + "_us_p99"] = us[std::min(us.size() - 1, (us.size() * 99) / 100)];
+}
+
+double elapsed_us(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// Runs the loop on scripted devices; after the warm-up, times every tick and marker push.
+void BM_OperatingLoopTick(benchmark::State& state) {
+  const nav::OperatingLoopModel model = loop_model(static_cast<int>(state.range(0)));
+  nav::OperatingLoopData data = nav::make_operating_loop_data(model).value();
+  const nav::Point3 tumour = liver().liver.tumour_centre_m;
+  std::mt19937_64 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.001);
+  std::vector<double> tissue_us, needle_us, marker_us;
+  const TimeNs warm_up_ns = 3000 * kNsPerMs;
+  TimeNs now = 0;
+  const auto one_tick = [&](bool timed) {
+    if (now % (20 * kNsPerMs) == 0) {
+      const double s = 1e-9 * static_cast<double>(now);
+      const nav::RigidPose needle{{tumour[0] + 0.03 - 0.003 * s, tumour[1], tumour[2] + 0.15}, Eigen::Quaterniond::Identity()};
+      nav::push_needle_pose(model, data, {now, needle});
+      nav::push_probe_pose(model, data, {now, {{tumour[0], tumour[1], tumour[2] + 0.08}, Eigen::Quaterniond::Identity()}});
+    }
+    if (now % (25 * kNsPerMs) == 0) {
+      const double z = 0.1 + 0.006 * std::sin(2.0 * std::numbers::pi * 1e-9 * static_cast<double>(now) / 2.0);
+      const auto start = std::chrono::steady_clock::now();
+      nav::push_respiratory_sample(model, data, now, {0.0, 0.0, z});
+      if (timed) marker_us.push_back(elapsed_us(start));
+    }
+    if (now % (50 * kNsPerMs) == 0) {
+      const nav::Point3 seen = data.outputs.tumour_now_m;
+      nav::push_tumour_observation(data, now, {seen[0] + noise(rng), seen[1] + noise(rng), seen[2] + noise(rng)});
+    }
+    const bool tissue = data.outputs.ticks % kTissueEvery == 0;
+    const auto start = std::chrono::steady_clock::now();
+    nav::tick(model, data, now);
+    const double us = elapsed_us(start);
+    if (timed) (tissue ? tissue_us : needle_us).push_back(us);
+    now += kNsPerMs;
+    return us;
+  };
+  while (now < warm_up_ns) one_tick(false);
+  for (auto _ : state) state.SetIterationTime(1e-6 * one_tick(true));
+  report(state, "tissue_tick", tissue_us);
+  report(state, "needle_tick", needle_us);
+  report(state, "push_respiratory", marker_us);
+  state.counters["degraded"] = data.outputs.degraded ? 1.0 : 0.0;
+  state.counters["lookahead_steps"] = model.lookahead_steps;
+}
+
+BENCHMARK(BM_OperatingLoopTick)->Arg(16)->Arg(32)->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(20000);
+
+}  // namespace
