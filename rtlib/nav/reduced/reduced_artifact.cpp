@@ -10,6 +10,8 @@
 #include <optional>
 #include <type_traits>
 
+#include "nav/core/fnv_hash.hpp"
+
 namespace nav {
 namespace {
 
@@ -43,16 +45,8 @@ const char* section_name(std::uint32_t id) {
   }
 }
 
-constexpr std::uint64_t kFnvOffset = 14695981039346656037ull;
-constexpr std::uint64_t kFnvPrime = 1099511628211ull;
-
-std::uint64_t fnv1a(std::uint64_t hash, std::span<const std::uint8_t> bytes) {
-  for (const std::uint8_t b : bytes) {
-    hash ^= b;
-    hash *= kFnvPrime;
-  }
-  return hash;
-}
+/// The checksum of a section or of the whole file.
+std::uint64_t checksum(std::span<const std::uint8_t> bytes) { return fnv1a(kFnvOffsetBasis, bytes.data(), bytes.size()); }
 
 // ---- writing ----
 
@@ -71,7 +65,7 @@ void put_section(std::vector<std::uint8_t>& out, std::uint32_t id, std::span<con
   put_u32(out, kF64);
   put_u64(out, values.size());
   for (const double v : values) put_f64(out, v);
-  put_u64(out, fnv1a(kFnvOffset, std::span(out).subspan(start)));
+  put_u64(out, checksum(std::span(out).subspan(start)));
 }
 
 void put_section(std::vector<std::uint8_t>& out, std::uint32_t id, std::span<const std::int32_t> values) {
@@ -80,7 +74,7 @@ void put_section(std::vector<std::uint8_t>& out, std::uint32_t id, std::span<con
   put_u32(out, kI32);
   put_u64(out, values.size());
   for (const std::int32_t v : values) put_i32(out, v);
-  put_u64(out, fnv1a(kFnvOffset, std::span(out).subspan(start)));
+  put_u64(out, checksum(std::span(out).subspan(start)));
 }
 
 // ---- reading ----
@@ -147,7 +141,7 @@ std::optional<Error> read_section(Reader& in, std::span<const std::uint8_t> byte
       v = in.i32();
     }
   }
-  const std::uint64_t computed = fnv1a(kFnvOffset, bytes.subspan(start, in.position() - start));
+  const std::uint64_t computed = checksum(bytes.subspan(start, in.position() - start));
   if (auto e = in.need(8, name + " checksum")) return e;
   if (in.u64() != computed) return in.fail(name, "section " + name + " checksum mismatch");
   return std::nullopt;
@@ -221,7 +215,7 @@ std::vector<std::uint8_t> encode_reduced_basis(const ReducedBasis& basis) {
   put_section(out, q_bound_section, std::span<const double>(basis.training_q_bound));
   const std::uint64_t size = out.size() + 8;
   for (int i = 0; i < 8; ++i) out[16 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(size >> (8 * i));
-  put_u64(out, fnv1a(kFnvOffset, out));
+  put_u64(out, checksum(out));
   return out;
 }
 
@@ -261,7 +255,7 @@ Result<ReducedBasis> decode_reduced_basis(std::span<const std::uint8_t> bytes, c
   if (auto e = read_section(in, bytes, polynomial_section, basis.polynomial_coefficients)) return *e;
   if (auto e = read_section(in, bytes, q_bound_section, basis.training_q_bound)) return *e;
   if (auto e = in.need(8, "file checksum")) return *e;
-  const std::uint64_t computed = fnv1a(kFnvOffset, bytes.subspan(0, in.position()));
+  const std::uint64_t computed = checksum(bytes.subspan(0, in.position()));
   if (in.u64() != computed) return in.fail("file_checksum", "whole-file checksum mismatch");
   if (in.remaining() != 0) return in.fail("file_size", "bytes after the trailer");
   if (auto e = check_consistency(basis, in)) return *e;

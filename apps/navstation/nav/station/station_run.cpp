@@ -8,8 +8,10 @@
 #include <thread>
 
 #include "nav/core/fixed_rate_timer.hpp"
+#include "nav/core/fnv_hash.hpp"
 #include "nav/core/spsc_ring.hpp"
 #include "nav/core/triple_buffer.hpp"
+#include "nav/mesh/geometry.hpp"
 
 namespace nav::station {
 
@@ -35,12 +37,6 @@ TickRecord record_of(const OperatingLoopOutputs& o) noexcept {
   return {o.time_ns, o.tissue_time_ns, o.tumour_now_m, o.tumour_ahead_m, o.needle_tip_m};
 }
 
-std::uint64_t fnv1a(std::uint64_t hash, const void* bytes, std::size_t count) noexcept {
-  const auto* p = static_cast<const unsigned char*>(bytes);
-  for (std::size_t i = 0; i < count; ++i) hash = (hash ^ p[i]) * 1099511628211ull;
-  return hash;
-}
-
 template <class T>
 std::uint64_t hash_value(std::uint64_t hash, const T& value) noexcept {
   return fnv1a(hash, &value, sizeof(value));
@@ -64,9 +60,7 @@ double percentile(const std::vector<double>& sorted, double fraction) {
   return sorted[std::min(i, sorted.size() - 1)];
 }
 
-double squared_distance(const Point3& a, const Point3& b) {
-  return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
-}
+double squared_distance(const Point3& a, const Point3& b) { return dot(a - b, a - b); }
 
 /// What the two threads share: the ring, the triple buffer, the clock and the start time.
 struct Channels {
@@ -180,7 +174,7 @@ Result<StationReplay> replay_station(const OperatingLoopModel& loop, std::span<c
   auto data = make_operating_loop_data(loop);
   if (!data.ok()) return data.error();
   StationReplay replay;
-  replay.output_hash = 14695981039346656037ull;
+  replay.output_hash = kFnvOffsetBasis;
   replay.ticks.reserve(static_cast<std::size_t>(duration_ns / loop.options.tick_period_ns + 1));
   SimulatedClock clock(0);
   std::size_t next = 0;
