@@ -421,6 +421,7 @@ std::vector<double> flatten(const ScriptedRun& r) {
     for (const InputStatus* input : {&o.needle, &o.probe, &o.respiratory, &o.ultrasound})
       v.insert(v.end(), {static_cast<double>(input->flags.bits()), static_cast<double>(input->age_ns)});
     v.insert(v.end(), {static_cast<double>(o.tissue.bits()), static_cast<double>(o.loop.bits()), o.degraded ? 1.0 : 0.0});
+    v.insert(v.end(), o.liver_q.begin(), o.liver_q.end());
   }
   return v;
 }
@@ -436,6 +437,28 @@ TEST(OperatingLoop, PushAndTickNeverAllocateAndRepeatBitwise) {
   ASSERT_EQ(a.size(), b.size());
   EXPECT_EQ(testing::state_hash(a, {}), testing::state_hash(b, {}));
   EXPECT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0);
+}
+
+TEST(OperatingLoop, DisplayedLiverCarriesTheAssimilatedTumour) {
+  // The liver the outputs carry (q + dq with the diaphragm) reconstructs, at the tumour node,
+  // the filter's own estimate: the display shows the same deformed liver the numbers describe.
+  Script script;
+  script.duration_ns = 3 * kNsPerSecond;
+  const ScriptedRun r = run(script);
+  const LoopSetup& s = setup();
+  ReducedData scratch = make_reduced_data(s.loop.reduced).value();
+  const std::int32_t nodes[] = {s.beam.tumour};
+  const auto& rest = s.beam.mesh.nodes_m[static_cast<std::size_t>(s.beam.tumour)];
+  double worst_m = 0.0, largest_m = 0.0;
+  for (std::size_t i = 0; i < r.ticks.size(); i += 97) {
+    const OperatingLoopOutputs& o = r.ticks[i];
+    double u[3];
+    liver_displacements_m(s.loop, o, scratch, nodes, u);
+    worst_m = std::max(worst_m, error_m({rest[0] + u[0], rest[1] + u[1], rest[2] + u[2]}, o.tumour_now_m));
+    largest_m = std::max(largest_m, std::hypot(u[0], u[1], u[2]));
+  }
+  EXPECT_GT(largest_m, 1e-3);  // the liver did deform
+  EXPECT_LT(worst_m, 1e-12);
 }
 
 TEST(OperatingLoop, BuildErrorsNameTheirField) {

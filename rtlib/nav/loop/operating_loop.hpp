@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "nav/core/clock.hpp"
@@ -27,6 +28,9 @@
 #include "nav/reduced/reduced_model.hpp"
 
 namespace nav {
+
+/// The largest reduced basis an operating loop carries in its outputs (the displayed liver state).
+inline constexpr int kLoopMaxBasisSize = 64;
 
 /// Rates, latencies, geometry and input options of an operating loop; checked at build.
 struct OperatingLoopOptions {
@@ -80,6 +84,10 @@ struct OperatingLoopOutputs {
   double tip_to_tumour_ahead_m = 0.0;  ///< |needle tip ahead - tumour ahead|
   RigidPose probe_pose;             ///< the ultrasound probe at the tick's time
   Point3 diaphragm_m{};             ///< the diaphragm displacement driving the last liver step
+  /// The displayed liver at tissue_time_ns: reduced coordinates q + dq (model and filter
+  /// correction; the first r are used), with diaphragm_m the whole deformed state
+  /// (see liver_displacements_m).
+  std::array<double, kLoopMaxBasisSize> liver_q{};
   double breathing_phase_rad = 0.0;  ///< at the tick's time
   InputStatus needle, probe, respiratory, ultrasound;  ///< ultrasound: buffer_overrun when observations were dropped
   HealthFlags tissue;               ///< the reduced model's and the filter's flags of the last liver step
@@ -130,6 +138,12 @@ void push_respiratory_sample(const OperatingLoopModel& model, OperatingLoopData&
 /// The tumour seen by the ultrasound (model frame) at time_ns; assimilated at the next liver
 /// step. A full queue drops its oldest entry (buffer_overrun).
 void push_tumour_observation(OperatingLoopData& data, TimeNs time_ns, const Point3& position_m) noexcept;
+
+/// Displacements from rest (3 per node, metres, model frame) of the liver shown by `outputs`
+/// at `nodes`: the deformed display surface or any point, away from the real-time thread.
+/// `scratch` is a ReducedData of model.reduced owned by the caller (its state is overwritten).
+void liver_displacements_m(const OperatingLoopModel& model, const OperatingLoopOutputs& outputs, ReducedData& scratch,
+                           std::span<const std::int32_t> nodes, std::span<double> out_xyz) noexcept;
 
 /// One tick at now_ns: tool poses at now (and now + display latency), and every
 /// tissue_every_ticks-th tick a liver step with the filter's predict and the pending

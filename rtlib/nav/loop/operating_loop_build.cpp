@@ -42,6 +42,9 @@ Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, Reduc
   if (options.ultrasound_max_age_ns <= 0) return option_error("ultrasound_max_age_ns", "must be positive");
   if (filter.point_count < 1) return option_error("filter", "observes no point (point 0 is the tumour)");
   if (filter.r != reduced.basis_size()) return option_error("filter", "belongs to a reduced model of another size");
+  if (reduced.basis_size() > kLoopMaxBasisSize)
+    return option_error("reduced", "has " + std::to_string(reduced.basis_size()) + " coordinates; a loop carries at most " +
+                                       std::to_string(kLoopMaxBasisSize));
   const double tissue_period_s = static_cast<double>(options.tissue_every_ticks) * static_cast<double>(options.tick_period_ns) * 1e-9;
   const double step_s = reduced.options().step_s;
   if (std::abs(step_s - tissue_period_s) > 1e-9 * tissue_period_s)

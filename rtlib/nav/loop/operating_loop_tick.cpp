@@ -129,6 +129,7 @@ void tissue_tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeN
   out.tissue_time_ns = now_ns;
   ++out.tissue_steps;
   std::copy(std::begin(data.reduced.prescribed_m), std::end(data.reduced.prescribed_m), out.diaphragm_m.begin());
+  for (std::size_t j = 0; j < data.reduced.q.size(); ++j) out.liver_q[j] = data.reduced.q[j] + data.filter.correction[j];
   out.tumour_now_m = estimate.position_m;
   out.tumour_now_covariance_m2 = estimate.covariance_m2;
   out.tumour_ahead_m = tumour_at(model.filter, data.lookahead.q, model.lookahead_decay, data.filter.correction, data.lookahead.prescribed_m);
@@ -179,6 +180,13 @@ void push_tumour_observation(OperatingLoopData& data, TimeNs time_ns, const Poin
     data.ultrasound_push_flags.raise(HealthFlag::buffer_overrun);
   }
   data.pending[data.pending_count++] = {time_ns, position_m};
+}
+
+void liver_displacements_m(const OperatingLoopModel& model, const OperatingLoopOutputs& outputs, ReducedData& scratch,
+                           std::span<const std::int32_t> nodes, std::span<double> out_xyz) noexcept {
+  std::copy_n(outputs.liver_q.begin(), scratch.q.size(), scratch.q.begin());
+  std::copy(outputs.diaphragm_m.begin(), outputs.diaphragm_m.end(), std::begin(scratch.prescribed_m));
+  reconstruct_displacements_m(model.reduced, scratch, nodes, out_xyz);
 }
 
 void tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs now_ns) noexcept {
