@@ -13,7 +13,7 @@ core_packages=(
 )
 station_packages=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
-  libopencv-core-dev libopencv-imgproc-dev
+  libopencv-core-dev libopencv-imgproc-dev libopencv-videoio-dev
   libapriltag-dev liburdfdom-dev
   libyaml-cpp-dev libsuitesparse-dev zlib1g-dev
   libx11-dev iproute2

@@ -1,7 +1,8 @@
 // navbench needle: median and p99 step times of the needle alone (20, 30, 40 elements), of
-// the needle with 8, 16 and 32 path constraints (30 elements; 32 also at 20 elements), and of the needle coupled to
-// the full-order corotational embedded liver (about 5k tetrahedra) with the tissue stepping
-// every tick or every 10 ticks; and the force profile of an insertion-retraction cycle
+// the needle with 8, 16 and 32 path constraints (30 elements; 32 also at 20 elements), of the
+// needle (20, 30, 40 elements) with 8, 16 and 32 path points in the reduced liver (r = 16,
+// tissue every tick), and of the needle coupled to the full-order corotational embedded
+// liver (about 5k tetrahedra) with the tissue stepping every tick or every 10 ticks; and the force profile of an insertion-retraction cycle
 // against depth with its stiffness, cutting and friction parts, as an SVG next to the JSON.
 #include <algorithm>
 #include <chrono>
@@ -13,8 +14,6 @@
 
 #include "bench_args.hpp"
 #include "bench_needle.hpp"
-#include "nav/mesh/validation.hpp"
-#include "nav/mesher/embedded_liver.hpp"
 #include "nav/needle/tissue_coupling.hpp"
 
 namespace {
@@ -27,6 +26,7 @@ struct Record {
   long long tets = 0;
   int needle_steps_per_tissue_step = 0;
   double median_us = 0.0, p99_us = 0.0, residual_m = 0.0;
+  int basis_size = 0;  ///< r of a reduced tissue, 0 otherwise
 };
 
 /// Times `ticks` calls of `tick` (given the tick index); returns (median, p99) in microseconds.
@@ -57,7 +57,7 @@ Record needle_alone(int elements, int ticks) {
     inputs.base.position_m = {oscillating_x_m(0.0, k), 0.0, 0.0};
     nav::step(model, data, inputs);
   });
-  return {"needle_alone", elements, 0, 0, 0, 0, median, p99, 0.0};
+  return {"needle_alone", elements, 0, 0, 0, 0, median, p99, 0.0, 0};
 }
 
 Record needle_with_constraints(int elements, int points, int ticks) {
@@ -76,63 +76,21 @@ Record needle_with_constraints(int elements, int points, int ticks) {
     rows = std::max(rows, data.row_count);
     residual_m = std::max(residual_m, data.report.residual_m);
   });
-  return {"needle_constraints", elements, data.report.active_path_points, rows, 0, 0, median, p99, residual_m};
+  return {"needle_constraints", elements, data.report.active_path_points, rows, 0, 0, median, p99, residual_m, 0};
 }
 
-/// The embedded liver held at its attachments, quasi-static corotational.
-struct Liver {
-  nav::EmbeddedLiver liver = nav::make_embedded_liver(nav::kEmbeddedLiverElementSizeM);
-  nav::TetFemModel tissue = make_model();
-  nav::TetFemModel make_model() const {
-    nav::TissueScene scene;
-    scene.default_material = {5000.0, 0.45, 1060.0};
-    scene.gravity_m_s2 = {0.0, 0.0, 0.0};
-    scene.fixed_nodes = liver.attachment_nodes;
-    scene.max_point_forces = 64;
-    nav::TissueSolverOptions options;
-    options.integrator = nav::Integrator::quasi_static;
-    options.cg_iterations = 2;
-    return nav::make_tet_fem_model(liver.mesh, scene, options).value();
-  }
-};
-
-/// The needle aimed at the tumour from the nearest boundary node, its tip 5 mm off it.
-struct Approach {
-  Eigen::Vector3d entry_m, direction;
-  nav::NeedlePose base_at(double advanced_m) const {
-    const Eigen::Vector3d base = entry_m - (0.155 - advanced_m) * direction;
-    const Eigen::Quaterniond q = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), direction);
-    return {{base.x(), base.y(), base.z()}, {q.w(), q.x(), q.y(), q.z()}};
-  }
-};
-
-Approach approach_tumour(const Liver& liver) {
-  const Eigen::Vector3d tumour(liver.liver.tumour_centre_m[0], liver.liver.tumour_centre_m[1], liver.liver.tumour_centre_m[2]);
-  Eigen::Vector3d entry = Eigen::Vector3d::Zero();
-  double best_m = -1.0;
-  for (std::int32_t node : nav::extract_boundary(liver.liver.mesh).mesh_node_of_vertex) {
-    const nav::Point3& p = liver.liver.mesh.nodes_m[static_cast<std::size_t>(node)];
-    const Eigen::Vector3d x(p[0], p[1], p[2]);
-    if (best_m < 0.0 || (x - tumour).norm() < best_m) {
-      best_m = (x - tumour).norm();
-      entry = x;
-    }
-  }
-  return {entry, (tumour - entry).normalized()};
+/// The embedded liver's full-order corotational model, quasi-static.
+nav::TetFemModel full_order_liver(const EmbeddedLiverScene& liver) {
+  nav::TissueSolverOptions options;
+  options.integrator = nav::Integrator::quasi_static;
+  options.cg_iterations = 2;
+  return nav::make_tet_fem_model(liver.liver.mesh, liver.scene(), options).value();
 }
 
-Record coupled(const Liver& liver, int ratio, int ticks) {
+Record coupled(const EmbeddedLiverScene& liver, const nav::TetFemModel& tissue, int ratio, int ticks) {
   const Approach approach = approach_tumour(liver);
-  // The liver capsule, with forces scaled to the coarse mesh (each constraint loads one node).
-  nav::NeedleTissueScene scene = capsule_and_parenchyma(0.01);
-  scene.layers.resize(1);
-  nav::TissueLayer& capsule = scene.layers[0];
-  capsule.surface_point_m = {approach.entry_m.x(), approach.entry_m.y(), approach.entry_m.z()};
-  capsule.outward_normal = {-approach.direction.x(), -approach.direction.y(), -approach.direction.z()};
-  capsule.puncture_force_n = 0.3;
-  capsule.cutting_force_n = 0.1;
-  capsule.friction_per_length_n_m = 3.0;
-  const nav::CoupledNeedleModel model = nav::make_coupled_needle_model(needle(30), scene, liver.tissue, 64, ratio).value();
+  const nav::CoupledNeedleModel model =
+      nav::make_coupled_needle_model(needle(30), liver_capsule(approach, 0.01), tissue, 64, ratio).value();
   std::fprintf(stderr, "  liver compliance at the entry: %.2e m/N (normal %.2e), correlation length %.1f mm\n",
                model.interaction.scene.point_compliance_m_per_n,
                approach.direction.dot(model.interaction.compliance_tensor_m_per_n * approach.direction),
@@ -149,7 +107,29 @@ Record coupled(const Liver& liver, int ratio, int ticks) {
                data.interaction.report.punctures, data.interaction.report.active_path_points,
                1e3 * data.interaction.report.tip_depth_m, data.interaction.health.bits(), data.tissue.health.bits());
   return {"coupled_full_order_corotational", 30, data.interaction.report.active_path_points, rows,
-          static_cast<long long>(liver.liver.mesh.tets.size()), ratio, median, p99, data.interaction.report.residual_m};
+          static_cast<long long>(liver.liver.mesh.tets.size()), ratio, median, p99, data.interaction.report.residual_m, 0};
+}
+
+/// The needle in the reduced liver, the tissue stepping every tick: inserted towards the
+/// tumour until `points` path points hold the shaft, then timed while the base moves back
+/// and forth along the shaft and sideways (as needle_with_constraints).
+Record coupled_reduced(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements, int points, int ticks) {
+  const Approach approach = approach_tumour(liver);
+  const nav::ReducedCoupledNeedleModel model =
+      nav::make_coupled_needle_model(needle(elements), liver_capsule(approach, kReducedPathSpacingM), tissue, liver.liver.mesh, 64, 1).value();
+  nav::ReducedCoupledNeedleData data = nav::make_coupled_needle_data(model, approach.base_at(0.0)).value();
+  const double advanced_m = insert_until(model, data, approach, points);
+  int rows = 0;
+  double residual_m = 0.0;
+  const auto [median, p99] = time_ticks(ticks, [&](int k) {
+    nav::step(model, data, nav::NeedleInputs{approach.wobbled_base(advanced_m, k), {}, {}});
+    rows = std::max(rows, data.interaction.row_count);
+    residual_m = std::max(residual_m, data.interaction.report.residual_m);
+  });
+  std::fprintf(stderr, "  reduced liver, %d elements: inserted %.1f mm, path points %d, health bits %u (tissue %u)\n", elements,
+               1e3 * advanced_m, data.interaction.report.active_path_points, data.interaction.health.bits(), data.tissue.health.bits());
+  return {"coupled_reduced_liver", elements, data.interaction.report.active_path_points, rows,
+          static_cast<long long>(liver.liver.mesh.tets.size()), 1, median, p99, residual_m, tissue.basis_size()};
 }
 
 /// One point of the force profile.
@@ -221,9 +201,10 @@ bool write_json(const std::string& path, const std::vector<Record>& records) {
     const Record& r = records[k];
     std::fprintf(file,
                  "  {\"case\": \"%s\", \"elements\": %d, \"constraint_points\": %d, \"rows\": %d, \"tetrahedra\": %lld, "
-                 "\"needle_steps_per_tissue_step\": %d, \"step_us_median\": %.2f, \"step_us_p99\": %.2f, \"residual_m\": %.3e}%s\n",
-                 r.name.c_str(), r.elements, r.constraint_points, r.rows, r.tets, r.needle_steps_per_tissue_step, r.median_us,
-                 r.p99_us, r.residual_m, k + 1 < records.size() ? "," : "");
+                 "\"needle_steps_per_tissue_step\": %d, \"basis_size\": %d, \"step_us_median\": %.2f, \"step_us_p99\": %.2f, "
+                 "\"residual_m\": %.3e}%s\n",
+                 r.name.c_str(), r.elements, r.constraint_points, r.rows, r.tets, r.needle_steps_per_tissue_step, r.basis_size,
+                 r.median_us, r.p99_us, r.residual_m, k + 1 < records.size() ? "," : "");
   }
   std::fputs("]\n", file);
   return std::fclose(file) == 0;
@@ -243,8 +224,12 @@ int run_needle_bench(const std::vector<std::string>& args) {
   for (int elements : {20, 30, 40}) records.push_back(needle_alone(elements, ticks));
   for (int points : {8, 16, 32}) records.push_back(needle_with_constraints(30, points, ticks));
   records.push_back(needle_with_constraints(20, 32, ticks));
-  const Liver liver;
-  for (int ratio : {1, 10}) records.push_back(coupled(liver, ratio, quick ? 600 : 2000));
+  const EmbeddedLiverScene liver;
+  const nav::TetFemModel full = full_order_liver(liver);
+  for (int ratio : {1, 10}) records.push_back(coupled(liver, full, ratio, quick ? 600 : 2000));
+  const nav::ReducedModel reduced = reduced_liver(liver);
+  for (int elements : {20, 30, 40})
+    for (int points : {8, 16, 32}) records.push_back(coupled_reduced(liver, reduced, elements, points, ticks));
   for (const Record& r : records)
     std::fprintf(stderr, "%-32s %2d elements %2d points %3d rows %5lld tets 1:%-2d  median %9.1f us  p99 %9.1f us  residual %.1e m\n",
                  r.name.c_str(), r.elements, r.constraint_points, r.rows, r.tets, r.needle_steps_per_tissue_step, r.median_us,

@@ -4,23 +4,31 @@
 //   --scene FILE           runs the scene on its simulated world: the real-time loop and the
 //                          I/O thread for --seconds (default 10), then prints the summary.
 //   --demo                 the same on the demo scene (scenes/demo.yaml).
-//   --seconds S, --plot FILE.svg (the error over time), --json FILE (the summary's figures).
+//                          The simulated devices publish on DDS and the station subscribes
+//                          (the scene's topics.domain_id, or --domain D).
+//   --seconds S, --plot FILE.svg (the error over time), --json FILE (the summary's figures),
+//   --images DIR           runs navview alongside (headless), which writes PNG composites of
+//                          the station's DDS topics into DIR (with the liver surface DIR/liver_surface.obj).
 // Exit code 0, 1 with the error, 2 on a usage error.
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 
 #include "nav/station/realtime_thread.hpp"
 #include "nav/station/scene.hpp"
 #include "nav/station/station_build.hpp"
 #include "nav/station/station_session.hpp"
+#include "navview_process.hpp"
 
 namespace {
 
 constexpr const char* kUsage =
     "usage: navstation --scene FILE --check\n"
-    "       navstation (--demo | --scene FILE) [--seconds S] [--plot FILE.svg] [--json FILE]\n";
+    "       navstation (--demo | --scene FILE) [--seconds S] [--domain D] [--plot FILE.svg] [--json FILE]\n"
+    "                                             [--images DIR]\n";
 constexpr int kExitError = 1;
 constexpr int kExitUsage = 2;
 
@@ -29,7 +37,8 @@ struct Arguments {
   std::string scene_path;
   bool check = false, demo = false;
   double seconds = 10.0;
-  std::string plot_path, json_path;
+  long domain_id = -1;  ///< -1: the scene's
+  std::string plot_path, json_path, images_dir;
 };
 
 void print_plan(const nav::station::Scene& scene) {
@@ -77,7 +86,25 @@ int run_scene(const nav::station::Scene& scene, const Arguments& args) {
   std::fflush(stdout);
   nav::station::SessionOptions options;
   options.world.duration_ns = static_cast<nav::TimeNs>(args.seconds * 1e9);
-  auto session = nav::station::run_session(scene, options);
+  std::optional<navstation::NavviewProcess> navview;
+  const auto start_navview = [&](const nav::station::StationSession& built) -> nav::Status {
+    if (args.images_dir.empty()) return nav::Done{};
+    std::error_code error;
+    std::filesystem::create_directories(args.images_dir, error);
+    const std::string obj = (std::filesystem::path(args.images_dir) / "liver_surface.obj").string();
+    if (error || !write_file(obj, nav::station::surface_obj(built.surface))) return nav::Error{"cannot write the liver surface", obj, 0, ""};
+    // navview ends by itself well after the run, should navstation never stop it.
+    const std::string duration_s = std::to_string(static_cast<int>(args.seconds) + 300);
+    auto started = navstation::NavviewProcess::start({"--headless", "--out-dir", args.images_dir, "--surface-mesh", obj, "--unit", "m",
+                                                      "--period-ms", "500", "--duration-s", duration_s, "--domain",
+                                                      std::to_string(scene.topics.domain_id)},
+                                                     (std::filesystem::path(args.images_dir) / "navview.log").string());
+    if (!started.ok()) return started.error();
+    navview.emplace(std::move(started).value());
+    return nav::Done{};
+  };
+  auto session = nav::station::run_session(scene, options, start_navview);
+  const int navview_exit = navview ? navview->stop() : 0;
   if (!session.ok()) {
     std::fprintf(stderr, "navstation: %s\n", session.error().describe().c_str());
     return kExitError;
@@ -90,6 +117,14 @@ int run_scene(const nav::station::Scene& scene, const Arguments& args) {
     if (written) std::printf("error plot: %s\n", args.plot_path.c_str());
   }
   if (!args.json_path.empty()) written = write_file(args.json_path, nav::station::session_json(scene, session.value())) && written;
+  if (!args.images_dir.empty()) {
+    int images = 0;
+    std::error_code error;
+    for (const auto& entry : std::filesystem::directory_iterator(args.images_dir, error))
+      images += entry.path().extension() == ".png" ? 1 : 0;
+    std::printf("navview: %d images in %s (exit code %d)\n", images, args.images_dir.c_str(), navview_exit);
+    written = written && images > 0;  // navview's own exit code is reported, not the station's failure
+  }
   return written ? 0 : kExitError;
 }
 
@@ -111,8 +146,17 @@ bool parse(int argc, char** argv, Arguments& args) {
         std::fprintf(stderr, "navstation: --seconds takes a duration in (0, 600]\n");
         return false;
       }
+    } else if (arg == "--domain" && has_value) {
+      char* end = nullptr;
+      args.domain_id = std::strtol(argv[++i], &end, 10);
+      if (*end != '\0' || args.domain_id < 0 || args.domain_id > 232) {
+        std::fprintf(stderr, "navstation: --domain takes a DDS domain id in 0..232\n");
+        return false;
+      }
     } else if (arg == "--plot" && has_value) {
       args.plot_path = argv[++i];
+    } else if (arg == "--images" && has_value) {
+      args.images_dir = argv[++i];
     } else if (arg == "--json" && has_value) {
       args.json_path = argv[++i];
     } else {
@@ -141,5 +185,6 @@ int main(int argc, char** argv) {
     return kExitError;
   }
   if (args.check) return check_scene(std::move(scene).value());
+  if (args.domain_id >= 0) scene.value().topics.domain_id = static_cast<std::uint32_t>(args.domain_id);
   return run_scene(scene.value(), args);
 }

@@ -1,6 +1,7 @@
-// navtool calib camera: camera intrinsics (Zhang) from a folder of PGM frames of an AprilTag
-// board (tag36h11 ids 0..cols*rows-1, row-major, centred grid of the given pitch); writes
-// "fx_px fy_px cx_px cy_px rms_px" to --out.
+// navtool calib camera: camera intrinsics and lens distortion (Zhang, Brown-Conrady k1 k2 p1
+// p2, and k3 with --k3 1) from a folder of PGM frames of an AprilTag board (tag36h11 ids
+// 0..cols*rows-1, row-major, centred grid of the given pitch); writes
+// "fx_px fy_px cx_px cy_px k1 k2 p1 p2 k3 rms_px" to --out.
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -13,8 +14,10 @@
 namespace navtool {
 
 int calib_camera(const std::vector<std::string>& args) {
-  const auto options = CalibOptions::parse(args, {"--images", "--tag-size", "--pitch", "--cols", "--rows", "--out"});
+  const auto options = CalibOptions::parse(args, {"--images", "--tag-size", "--pitch", "--cols", "--rows", "--out", "--k3"});
   if (!options) return exit_bad_input;
+  const std::string k3 = options->get("--k3", "0");
+  if (k3 != "0" && k3 != "1") return report_error({"expected 0 or 1", "", 0, "--k3"});
   for (const char* required : {"--images", "--tag-size", "--pitch", "--cols", "--rows", "--out"}) {
     if (!options->has(required)) return report_error({"option is required", "", 0, required});
   }
@@ -50,14 +53,18 @@ int calib_camera(const std::vector<std::string>& args) {
     std::printf("%s: %zu corners\n", file.c_str(), view.board_points_m.size());
     if (view.board_points_m.size() >= 8) views.push_back(std::move(view));
   }
-  auto result = nav::calibration::calibrate_camera(views);
+  auto result = nav::calibration::calibrate_camera(views, {.estimate_distortion = true, .estimate_k3 = k3 == "1"});
   if (!result) return report_error(result.error());
   const auto& c = result.value();
+  const auto& d = c.distortion;
   std::printf("fx %.3f fy %.3f cx %.3f cy %.3f px, reprojection RMS %.3f px over %zu views\n", c.fx_px, c.fy_px, c.cx_px,
               c.cy_px, c.rms_reprojection_px, views.size());
+  std::printf("lens distortion: k1 %.6f k2 %.6f p1 %.6f p2 %.6f k3 %.6f\n", d.k1, d.k2, d.p1, d.p2, d.k3);
   std::ofstream out(options->get("--out"));
-  out << "# fx_px fy_px cx_px cy_px rms_px (pixel centres at integers)\n"
-      << c.fx_px << " " << c.fy_px << " " << c.cx_px << " " << c.cy_px << " " << c.rms_reprojection_px << "\n";
+  out.precision(10);
+  out << "# fx_px fy_px cx_px cy_px k1 k2 p1 p2 k3 rms_px (pixel centres at integers; Brown-Conrady as OpenCV)\n"
+      << c.fx_px << " " << c.fy_px << " " << c.cx_px << " " << c.cy_px << " " << d.k1 << " " << d.k2 << " " << d.p1 << " "
+      << d.p2 << " " << d.k3 << " " << c.rms_reprojection_px << "\n";
   if (!out) return report_error({"cannot write the intrinsics", options->get("--out"), 0, "--out"});
   return exit_ok;
 }

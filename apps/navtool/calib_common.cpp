@@ -4,6 +4,8 @@
 #include <cstdio>
 
 #include "commands.hpp"
+#include "nav/dds/recording_file.hpp"
+#include "nav/dds/sample_codec.hpp"
 
 namespace navtool {
 
@@ -26,6 +28,45 @@ std::optional<CalibOptions> CalibOptions::parse(const std::vector<std::string>& 
 std::string CalibOptions::get(const std::string& name, const std::string& fallback) const {
   const auto found = values.find(name);
   return found == values.end() ? fallback : found->second;
+}
+
+nav::Result<std::vector<nav::calibration::RecordedPose>> read_recorded_tool_poses(const std::string& path) {
+  auto reader = nav::dds::RecordingReader::open(path);
+  if (!reader) return reader.error();
+  if (reader.value()->damage()) std::fprintf(stderr, "navtool calib: note: %s\n", reader.value()->damage()->describe().c_str());
+  std::vector<nav::calibration::RecordedPose> poses;
+  nav::dds::ToolPose sample;
+  for (std::size_t i = 0; i < reader.value()->record_count(); ++i) {
+    auto record = reader.value()->read(i);
+    if (!record) {
+      std::fprintf(stderr, "navtool calib: note: skipped %s\n", record.error().describe().c_str());
+      continue;
+    }
+    if (record.value().topic != nav::dds::Topic::tool_pose) continue;
+    const auto& bytes = record.value().payload;
+    if (nav::dds::decode_sample(bytes.data(), bytes.size(), sample) != nav::dds::SampleFault::none) {
+      std::fprintf(stderr, "navtool calib: note: skipped the undecodable pose at byte %llu\n",
+                   static_cast<unsigned long long>(record.value().offset));
+      continue;
+    }
+    nav::calibration::RecordedPose pose;
+    pose.time_ns = sample.source_time_ns;
+    pose.tool = std::to_string(sample.tool_id);
+    pose.pose.translation() = Eigen::Vector3d(sample.position_m[0], sample.position_m[1], sample.position_m[2]);
+    const auto& q = sample.orientation_wxyz;
+    pose.pose.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+    poses.push_back(pose);
+  }
+  if (poses.empty()) return nav::Error{"the recording holds no tool pose", path, 0, "nav/tool_pose"};
+  return poses;
+}
+
+nav::Result<std::vector<nav::calibration::RecordedPose>> read_poses_option(const CalibOptions& options) {
+  if (options.has("--poses") == options.has("--recording")) {
+    return nav::Error{"give exactly one of --poses FILE.csv and --recording FILE.navrec", "", 0, "--poses"};
+  }
+  if (options.has("--poses")) return nav::calibration::read_pose_csv(options.get("--poses"));
+  return read_recorded_tool_poses(options.get("--recording"));
 }
 
 int report_error(const nav::Error& error) {

@@ -1,24 +1,23 @@
-// navtool calib pivot: pivot calibration of a needle from recorded marker poses; writes the
-// tip into the station URDF (joint from the needle base to the tip).
+// navtool calib pivot: pivot calibration of a needle from recorded marker poses (a pose CSV or
+// a DDS recording of nav/tool_pose); writes the tip into the station URDF (joint from the
+// needle base to the tip).
 #include <cstdio>
 
 #include "calib_common.hpp"
 #include "commands.hpp"
 #include "nav/calibration/pivot_calibration.hpp"
-#include "nav/calibration/pose_csv.hpp"
 
 namespace navtool {
 
 int calib_pivot(const std::vector<std::string>& args) {
-  const auto options = CalibOptions::parse(args, {"--poses", "--tool", "--urdf", "--out", "--joint"});
+  const auto options = CalibOptions::parse(args, {"--poses", "--recording", "--tool", "--urdf", "--out", "--joint"});
   if (!options) return exit_bad_input;
-  if (!options->has("--poses")) return report_error({"--poses FILE.csv is required", "", 0, "--poses"});
-  auto recorded = nav::calibration::read_pose_csv(options->get("--poses"));
+  auto recorded = read_poses_option(*options);
   if (!recorded) return report_error(recorded.error());
   auto result = nav::calibration::pivot_calibration(nav::calibration::poses_of(recorded.value(), options->get("--tool")));
   if (!result) {
     nav::Error error = result.error();
-    error.file = options->get("--poses");
+    error.file = options->get("--poses", options->get("--recording"));
     return report_error(error);
   }
   const auto& pivot = result.value();

@@ -15,11 +15,11 @@ constexpr const char* kUsage =
     "  navtool replay FILE [--as-fast-as-possible] [--domain D] [--local-address A] [--peer A]...\n"
     "  navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --method modes|modal-derivatives|pod\n"
     "                 --r R --force linear|corotational|stvk|stvk-cubic [--samples M] [--seed S] --out FILE [--json]\n"
-    "  navtool calib pivot --poses FILE.csv [--tool NAME] [--urdf FILE [--out FILE] [--joint J]]\n"
+    "  navtool calib pivot (--poses FILE.csv | --recording FILE.navrec) [--tool NAME|ID] [--urdf FILE [--out FILE] [--joint J]]\n"
     "  navtool calib handeye --marker-poses FILE.csv --camera-poses FILE.csv [--tool NAME] [--urdf FILE ...]\n"
     "  navtool calib register --model-points F.csv --tracked-points F.csv [--surface F --unit U --surface-points F.csv]\n"
     "                         [--urdf FILE ...]\n"
-    "  navtool calib camera --images DIR --tag-size S_M --pitch P_M --cols C --rows R --out FILE\n"
+    "  navtool calib camera --images DIR --tag-size S_M --pitch P_M --cols C --rows R --out FILE [--k3 0|1]\n"
     "  navtool calib probe --recording F.mha --phantom DEVICESET.xml [--validation F.mha] [--probe T] [--reference T]\n"
     "                      [--min-frames N] [--urdf FILE [--out FILE] [--joint J]]\n"
     "  navtool calib temporal --video F.mha --tracker F.mha [--probe T] [--reference T] [--max-lag-s S] [--out FILE]\n";

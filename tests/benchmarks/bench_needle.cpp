@@ -1,7 +1,8 @@
-// Step times of the flexible needle: alone at 20, 30 and 40 elements, and with 8, 16 and 32
-// path constraints (20 and 30 elements, projected Gauss-Seidel with the scene's sweeps), on the scenes of
-// `navbench needle` (which also times the coupling to the full-order liver and writes the
-// force profile).
+// Step times of the flexible needle: alone at 20, 30 and 40 elements, with 8, 16 and 32
+// path constraints (20 and 30 elements, projected Gauss-Seidel with the scene's sweeps), and
+// coupled to the reduced embedded liver (r = 16, tissue every tick) with 8, 16 and 32 path
+// points at 20, 30 and 40 elements, on the scenes of `navbench needle` (which also times the
+// coupling to the full-order liver and writes the force profile).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -44,5 +45,25 @@ void BM_NeedleWithPathConstraints(benchmark::State& state) {
   state.counters["residual_m"] = data.report.residual_m;
 }
 BENCHMARK(BM_NeedleWithPathConstraints)->ArgsProduct({{8, 16, 32}, {20, 30}})->Unit(benchmark::kMicrosecond);
+
+void BM_NeedleInReducedLiver(benchmark::State& state) {
+  static const EmbeddedLiverScene liver;
+  static const nav::ReducedModel tissue = reduced_liver(liver);
+  const Approach approach = approach_tumour(liver);
+  const nav::ReducedCoupledNeedleModel model =
+      nav::make_coupled_needle_model(needle(static_cast<int>(state.range(1))), liver_capsule(approach, kReducedPathSpacingM), tissue,
+                                     liver.liver.mesh, 64, 1)
+          .value();
+  nav::ReducedCoupledNeedleData data = nav::make_coupled_needle_data(model, approach.base_at(0.0)).value();
+  const double advanced_m = insert_until(model, data, approach, static_cast<int>(state.range(0)));
+  int tick = 0;
+  for (auto _ : state) {
+    nav::step(model, data, nav::NeedleInputs{approach.wobbled_base(advanced_m, tick++), {}, {}});
+    benchmark::DoNotOptimize(data.interaction.slot_forces.data());
+  }
+  state.counters["rows"] = data.interaction.row_count;
+  state.counters["residual_m"] = data.interaction.report.residual_m;
+}
+BENCHMARK(BM_NeedleInReducedLiver)->ArgsProduct({{8, 16, 32}, {20, 30, 40}})->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -1,11 +1,19 @@
-// Tracker driver latency, sample in -> DDS sample out, with medians and tails as counters:
+// Device driver latency, sample in -> DDS sample out, with medians and tails as counters:
 //  - NDI: BX (binary) and TX (text) request over a pseudo-terminal to the simulated device,
 //    reply decoded, pose published and received by a station node on DDS (loopback/SHM);
 //  - AprilTag: one 640x480 frame detected and its body pose published and received;
-//  - simulated tracker: a sample published and received.
+//  - simulated tracker: a sample published and received;
+//  - ultrasound sources, frame in -> UltrasoundFrame received by a station node: the
+//    synthetic B-mode device (256x256 render included), the PLUS sequence player (an
+//    820x616 frame, the real recordings' size) and the OpenCV capture source (a 256x256 PNG
+//    decoded from an image sequence).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
 #include <optional>
 #include <thread>
 
@@ -15,6 +23,9 @@
 #include "nav/trackers/ndi_tracker.hpp"
 #include "nav/trackers/pose_publisher.hpp"
 #include "nav/trackers/simulated_tracker.hpp"
+#include "nav/ultrasound/bmode_device.hpp"
+#include "nav/ultrasound/capture_source.hpp"
+#include "nav/ultrasound/sequence_player.hpp"
 
 namespace {
 
@@ -111,9 +122,116 @@ void BM_SimulatedTrackerToDds(benchmark::State& state) {
   report(state, latencies_ns);
 }
 
+/// An ultrasound device node and a station node with the frame and pose topics matched.
+struct FrameLink {
+  std::unique_ptr<dds::DdsNode> device;
+  std::unique_ptr<dds::DdsNode> station;
+  std::unique_ptr<dds::RingSink<dds::UltrasoundFrame, 4>> frames = std::make_unique<dds::RingSink<dds::UltrasoundFrame, 4>>();
+  std::unique_ptr<dds::RingSink<dds::ToolPose, 64>> poses = std::make_unique<dds::RingSink<dds::ToolPose, 64>>();
+  std::unique_ptr<dds::UltrasoundFrame> received = std::make_unique<dds::UltrasoundFrame>();
+
+  explicit FrameLink(std::uint32_t domain_id) {
+    dds::NetworkConfig network;
+    network.domain_id = domain_id;
+    device = std::move(dds::DdsNode::create(network)).value();
+    station = std::move(dds::DdsNode::create(network)).value();
+    (void)station->subscribe<dds::UltrasoundFrame>(*frames);
+    (void)station->subscribe<dds::ToolPose>(*poses);
+    (void)device->advertise<dds::UltrasoundFrame>();
+    (void)device->advertise<dds::ToolPose>();
+    for (const dds::Topic topic : {dds::Topic::ultrasound_frame, dds::Topic::tool_pose}) {
+      device->wait_for_match(topic, 1, 10 * kNsPerSecond);
+      station->wait_for_match(topic, 1, 10 * kNsPerSecond);
+    }
+  }
+  /// Spins until the station has the next frame; its receive time (poses are dropped).
+  TimeNs next_frame_time_ns() {
+    while (!frames->try_pop(*received)) std::this_thread::yield();
+    dds::ToolPose pose;
+    while (poses->try_pop(pose)) {
+    }
+    return received->receive_time_ns;
+  }
+};
+
+void BM_BmodeDeviceFrameToDds(benchmark::State& state) {
+  FrameLink link(185);
+  const ultrasound::BmodeGeometry geometry;
+  const ultrasound::BmodeScene scene = ultrasound::default_bmode_scene();
+  ultrasound::BmodeDevice device(ultrasound::BmodeSimulator(geometry, scene, 3), Eigen::Isometry3d::Identity(), 2);
+  const Eigen::Isometry3d probe = ultrasound::plane_through_tumour(geometry, scene, 0.0, 0.04);
+  const MonotonicClock clock;
+  std::vector<TimeNs> latencies_ns;
+  bool published = false;
+  for (auto _ : state) {
+    const TimeNs frame_in_ns = clock.now_ns();
+    device.publish(*link.device, probe, frame_in_ns, published);
+    latencies_ns.push_back(link.next_frame_time_ns() - frame_in_ns);
+  }
+  report(state, latencies_ns);
+}
+
+void BM_SequencePlayerFrameToDds(benchmark::State& state) {
+  FrameLink link(186);
+  ultrasound::PlusSequence sequence;
+  sequence.width_px = 820;
+  sequence.height_px = 616;
+  sequence.frame_count = sequence.frames_read = 1;
+  sequence.timestamps_s = {0.0};
+  sequence.image_valid = {1};
+  sequence.pixels.resize(sequence.frame_pixels());
+  for (std::size_t i = 0; i < sequence.pixels.size(); ++i) sequence.pixels[i] = static_cast<std::uint8_t>(i * 7);
+  ultrasound::PlayOptions options;
+  options.tools = {};
+  options.as_fast_as_possible = true;
+  MonotonicClock clock;
+  std::vector<TimeNs> latencies_ns;
+  for (auto _ : state) {
+    const TimeNs frame_in_ns = clock.now_ns();
+    (void)ultrasound::play_sequence(*link.device, sequence, options, clock);
+    latencies_ns.push_back(link.next_frame_time_ns() - frame_in_ns);
+  }
+  report(state, latencies_ns);
+}
+
+void BM_CaptureSourceFrameToDds(benchmark::State& state) {
+  FrameLink link(187);
+  constexpr int kClipFrames = 20;
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / "nav_bench_capture";
+  std::filesystem::create_directories(folder);
+  ultrasound::BmodeSimulator simulator(ultrasound::BmodeGeometry{}, ultrasound::default_bmode_scene(), 5);
+  for (int i = 0; i < kClipFrames; ++i) {
+    cv::Mat frame(256, 256, CV_8UC1);
+    simulator.render(ultrasound::plane_through_tumour(simulator.geometry(), ultrasound::default_bmode_scene(), 1e-3 * i, 0.04),
+                     frame.data);
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%03d.png", i);
+    cv::imwrite((folder / name).string(), frame);
+  }
+  const std::string pattern = (folder / "frame_%03d.png").string();
+  MonotonicClock clock;
+  std::unique_ptr<ultrasound::CaptureSource> capture;
+  std::vector<TimeNs> latencies_ns;
+  for (auto _ : state) {
+    if (capture == nullptr || capture->frames_read() == kClipFrames) {
+      state.PauseTiming();
+      capture = std::move(ultrasound::CaptureSource::open(pattern, {}, clock)).value();
+      state.ResumeTiming();
+    }
+    const TimeNs frame_in_ns = clock.now_ns();
+    (void)capture->publish_next(*link.device);
+    latencies_ns.push_back(link.next_frame_time_ns() - frame_in_ns);
+  }
+  report(state, latencies_ns);
+  std::filesystem::remove_all(folder);
+}
+
 BENCHMARK(BM_NdiBxToDds)->Iterations(2000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_NdiTxToDds)->Iterations(2000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_AprilTagFrameToDds)->Iterations(100)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SimulatedTrackerToDds)->Iterations(5000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BmodeDeviceFrameToDds)->Iterations(300)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_SequencePlayerFrameToDds)->Iterations(1000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_CaptureSourceFrameToDds)->Iterations(1000)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -2,10 +2,14 @@
 // Synthetic truth for the calibration tests: seeded random rotations and noise.
 #include <cmath>
 #include <random>
+#include <string>
 
 #include "nav/calibration/rigid_transform.hpp"
 
 namespace nav::calibration::testing {
+
+/// The station's URDF in the source tree.
+inline const std::string kStationUrdf = std::string(NAV_TEST_DATA_DIR) + "/../../calibration/urdf/station.urdf";
 
 /// A rotation by a uniformly drawn axis and an angle uniform in [0, max_angle_rad].
 inline Eigen::Matrix3d random_rotation(std::mt19937_64& rng, double max_angle_rad) {

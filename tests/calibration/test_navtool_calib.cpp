@@ -18,8 +18,6 @@ using nav::testing::executable_path;
 using nav::testing::run_command;
 using nav::testing::temporary_path;
 
-const std::string kStationUrdf = std::string(NAV_TEST_DATA_DIR) + "/../../calibration/urdf/station.urdf";
-
 TEST(NavtoolCalib, PivotWritesTheTipJoint) {
   std::mt19937_64 rng(41);
   const Eigen::Vector3d tip_m(0.002, 0.001, 0.17);

@@ -49,8 +49,10 @@ inline void drive_to(const NeedleTissueModel& model, NeedleTissueData& data, dou
 }
 
 /// The largest violation of the rows' laws after the correction, measured on the corrected
-/// needle and the displaced tissue (not on the solver's linear gaps).
-inline double violation_after_correction(const NeedleTissueModel& model, const NeedleTissueData& data) {
+/// needle and the displaced tissue (not on the solver's linear gaps); the tissue point of
+/// row r is at tissue_position_m(r).
+template <class TissuePosition>
+double violation_after_correction(const NeedleTissueData& data, TissuePosition&& tissue_position_m) {
   const std::size_t m = static_cast<std::size_t>(data.row_count);
   std::vector<double> gaps(m);
   std::vector<ConstraintRow> rows(data.rows.begin(), data.rows.begin() + static_cast<std::ptrdiff_t>(m));
@@ -62,8 +64,7 @@ inline double violation_after_correction(const NeedleTissueModel& model, const N
     };
     Eigen::Vector3d x = (1.0 - row.weight) * node(row.node);
     if (row.weight > 0.0) x += row.weight * node(row.node + 1);
-    const Eigen::Vector3d tissue = row.tissue_point_m + detail::compliant_displacement_m(model, data, row.tissue_point_m);
-    gaps[r] = row.direction.dot(x - tissue);
+    gaps[r] = row.direction.dot(x - tissue_position_m(r));
   }
   double worst = 0.0;
   for (std::size_t r = 0; r < m; ++r) {
@@ -73,6 +74,14 @@ inline double violation_after_correction(const NeedleTissueModel& model, const N
       worst = std::max(worst, coulomb_disk_violation_m(std::span<const double>(gaps).subspan(r, 2), forces.subspan(r, 2), limit));
   }
   return worst;
+}
+
+/// The same with the tissue displaced by the forces not yet carried by the tissue model.
+inline double violation_after_correction(const NeedleTissueModel& model, const NeedleTissueData& data) {
+  return violation_after_correction(data, [&](std::size_t r) {
+    const ConstraintRow& row = data.rows[r];
+    return Eigen::Vector3d(row.tissue_point_m + detail::compliant_displacement_m(model, data, row.tissue_point_m, row.tissue_node));
+  });
 }
 
 }  // namespace nav::testing

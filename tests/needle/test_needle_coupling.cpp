@@ -5,11 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <numbers>
 
 #include "nav/needle/needle_step.hpp"
 #include "nav/needle/tissue_coupling.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
+#include "needle_coupling_support.hpp"
 #include "support/allocation_guard.hpp"
 #include "tissue/tissue_test_support.hpp"
 
@@ -23,38 +23,17 @@ struct Block {
   TetMesh mesh = testing::box_mesh({kBoxM, kBoxM, kBoxM}, 0.01);
   TetFemModel tissue = make_model(mesh);
   static TetFemModel make_model(const TetMesh& mesh) {
-    TissueScene scene;
-    scene.default_material = {2.0e4, 0.45, 1000.0};
-    scene.gravity_m_s2 = {0.0, 0.0, 0.0};
-    scene.fixed_nodes = testing::nodes_where(mesh, 2, 0.0);
-    scene.max_point_forces = 32;
     TissueSolverOptions options;
     options.integrator = Integrator::quasi_static;
     options.cg_iterations = 2;
-    return make_tet_fem_model(mesh, scene, options).value();
+    return make_tet_fem_model(mesh, testing::held_at_bottom(mesh), options).value();
   }
 };
 
 /// The needle pointing down (-z) above the top face's centre, 5 mm off it.
-NeedlePose above_block(double lowered_m) {
-  NeedlePose pose;
-  pose.position_m = {0.5 * kBoxM, 0.5 * kBoxM, kBoxM + 0.155 - lowered_m};
-  pose.rotation_wxyz = {std::cos(std::numbers::pi / 4), 0.0, std::sin(std::numbers::pi / 4), 0.0};  // +x -> -z
-  return pose;
-}
+NeedlePose above_block(double lowered_m) { return testing::needle_above(0.5 * kBoxM, 0.5 * kBoxM, kBoxM, lowered_m); }
 
-NeedleTissueScene top_layer() {
-  NeedleTissueScene scene;
-  TissueLayer layer;
-  layer.surface_point_m = {0.5 * kBoxM, 0.5 * kBoxM, kBoxM};
-  layer.outward_normal = {0.0, 0.0, 1.0};
-  layer.puncture_force_n = kPunctureN;
-  layer.cutting_force_n = 0.05;
-  layer.friction_per_length_n_m = 2.0;
-  scene.layers = {layer};
-  scene.path_spacing_m = 0.005;
-  return scene;
-}
+NeedleTissueScene top_layer() { return testing::top_face_layer(0.5 * kBoxM, 0.5 * kBoxM, kBoxM, 0.005); }
 
 /// Lowers the needle by `travel_m`; returns the largest contact force and the lowering at puncture.
 std::pair<double, double> insert(const CoupledNeedleModel& model, CoupledNeedleData& data, double travel_m) {

@@ -1,26 +1,26 @@
 // The running station on the demo scene's simulated world (the embedded liver simulated by the
 // full-order corotational model under a breathing diaphragm that the respiratory marker only
-// approximates; a tracker at 60 Hz with 10 ms latency and 0.25 mm noise; ultrasound at 20 Hz
-// with 1 mm noise). Checked: the recording keeps to the scene's rates, latencies and noise, and
-// breathing moves the true tumour; the two-thread real-time run at 1 kHz for 10 s has no deadline
+// approximates; a tracker at 60 Hz with 10 ms latency and 0.25 mm noise; B-mode frames at
+// 20 Hz in which the station finds the tumour itself). Checked: the recording keeps to the
+// scene's rates, latencies and noise, and breathing moves the true tumour; the tumour points
+// found in the frames are within a millimetre of the truth; the two-thread real-time run
+// (direct hand-off) at 1 kHz for 10 s has no deadline
 // miss (a tick more than 100 ms late: generous, because the test shares a 2-core host with other
 // test programs and sanitizers; the real figures are printed); the same recording
 // replayed twice on a SimulatedClock gives bitwise-identical outputs, and a changed sample
 // changes them; the tumour predicted with assimilation is within 1 mm RMS of the truth and
-// better than without; `navstation --demo --seconds 2` runs and prints its summary.
+// better than without; `navstation --demo --seconds 2 --images DIR` runs on DDS, prints its
+// summary and has navview write images.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <string>
 
-#include "nav/station/scene.hpp"
-#include "nav/station/simulated_world.hpp"
-#include "nav/station/station_liver.hpp"
-#include "nav/station/station_run.hpp"
-#include "scene_text.hpp"
+#include "demo_station.hpp"
 #include "support/run_command.hpp"
 
 namespace nav::station {
@@ -29,26 +29,17 @@ namespace {
 constexpr TimeNs kDuration = 10 * kNsPerSecond;
 constexpr TimeNs kSettled = 1 * kNsPerSecond;  // errors scored from here (the filter's start-up)
 
-/// The demo scene, its liver and loop, and its 10 s world (built once per process).
-struct DemoStation {
-  Scene scene;
-  StationLiver liver;
-  OperatingLoopModel loop;
-  SimulatedWorld world;
-  DemoStation() {
-    scene = load_scene(testing::example_scene_path("demo.yaml")).value();
-    liver = make_station_liver(scene).value();
-    const BreathingGeometry breathing;
-    loop = make_station_loop(liver, scene, breathing, StationLoopSettings{}).value();
-    WorldOptions options;
-    options.duration_ns = kDuration;
-    world = simulate_world(liver, scene, breathing, options).value();
-  }
-};
+using testing::DemoStation;
 
 const DemoStation& demo() {
-  static const DemoStation built;
+  static const DemoStation built(kDuration);
   return built;
+}
+
+/// The recording as the loop sees it (frames replaced by tumour points; built once).
+const std::vector<DeviceSample>& observed() {
+  static const std::vector<DeviceSample> samples = observed_recording(demo().world, TumourObserverOptions{});
+  return samples;
 }
 
 bool same_records(const std::vector<TickRecord>& a, const std::vector<TickRecord>& b) {
@@ -65,17 +56,18 @@ bool same_records(const std::vector<TickRecord>& a, const std::vector<TickRecord
 TEST(StationRun, TheSimulatedDevicesKeepToTheScene) {
   const DemoStation& d = demo();
   const WorldOptions options;
-  int tracker_kinds[3] = {0, 0, 0}, observations = 0;
-  double marker_error2 = 0.0, observation_error2 = 0.0;
+  int tracker_kinds[3] = {0, 0, 0}, frames = 0, visible = 0;
+  double marker_error2 = 0.0;
   TimeNs previous_delivery = 0;
   for (const DeviceSample& s : d.world.samples) {
     EXPECT_GE(s.delivered_ns, previous_delivery);  // in delivery order
     previous_delivery = s.delivered_ns;
-    if (s.kind == SampleKind::tumour) {
+    EXPECT_NE(s.kind, SampleKind::tumour);  // the world records frames; the station finds the tumour
+    if (s.kind == SampleKind::ultrasound_frame) {
       EXPECT_EQ(s.delivered_ns - s.measured_ns, options.ultrasound_delay_ns);
-      const Point3 truth = d.world.tumour_at(s.measured_ns);
-      for (int c = 0; c < 3; ++c) observation_error2 += (s.point_m[c] - truth[static_cast<std::size_t>(c)]) * (s.point_m[c] - truth[static_cast<std::size_t>(c)]);
-      ++observations;
+      EXPECT_EQ(s.frame_index, frames);
+      visible += d.world.frames[static_cast<std::size_t>(s.frame_index)].tumour_visible ? 1 : 0;
+      ++frames;
       continue;
     }
     EXPECT_EQ(s.delivered_ns - s.measured_ns, 10 * kNsPerMs);  // devices.tracker.latency_ms
@@ -88,17 +80,48 @@ TEST(StationRun, TheSimulatedDevicesKeepToTheScene) {
   EXPECT_EQ(tracker_kinds[0], 600);  // 60 Hz over [0, 10 s]
   EXPECT_EQ(tracker_kinds[1], 600);
   EXPECT_EQ(tracker_kinds[2], 600);
-  EXPECT_EQ(observations, 201);      // 20 Hz over [0, 10 s]
-  const double observation_std_m = std::sqrt(observation_error2 / (3.0 * observations));
+  EXPECT_EQ(frames, 201);            // 20 Hz over [0, 10 s]
+  EXPECT_EQ(d.world.frames.size(), 201u);
+  EXPECT_EQ(visible, frames);        // the probe's fan keeps the tumour in its plane
   const double marker_std_m = std::sqrt(marker_error2 / tracker_kinds[2]);
-  std::printf("[ station  ] ultrasound noise %.3f mm, marker noise %.3f mm (per axis)\n", 1e3 * observation_std_m, 1e3 * marker_std_m);
-  EXPECT_NEAR(observation_std_m, 1e-3, 0.1e-3);  // devices.ultrasound.target_noise_m; 603 draws: 3 % standard error
+  std::printf("[ station  ] marker noise %.3f mm (per axis)\n", 1e3 * marker_std_m);
   EXPECT_NEAR(marker_std_m, 0.25e-3, 0.03e-3);   // devices.tracker.position_noise_m; 600 draws
   // Breathing reaches the tumour: the full-order truth moves it by millimetres.
   double low = 1e9, high = -1e9;
   for (const Point3& p : d.world.tumour_truth_m) low = std::min(low, p[2]), high = std::max(high, p[2]);
   std::printf("[ station  ] tumour motion (z) in the truth: %.2f mm peak to peak\n", 1e3 * (high - low));
   EXPECT_GT(high - low, 2e-3);
+}
+
+TEST(StationRun, TheTumourFoundInTheFramesIsWithinAMillimetreOfTheTruth) {
+  const DemoStation& d = demo();
+  ObserverCounts counts;
+  const std::vector<DeviceSample> samples = observed_recording(d.world, TumourObserverOptions{}, &counts);
+  double error2[3] = {0.0, 0.0, 0.0}, worst_m = 0.0;
+  int points = 0;
+  for (const DeviceSample& s : samples) {
+    if (s.kind != SampleKind::tumour) continue;
+    EXPECT_EQ(s.delivered_ns - s.measured_ns, WorldOptions{}.ultrasound_delay_ns);  // delivered with its frame
+    const Point3 truth = d.world.tumour_at(s.measured_ns);
+    double e2 = 0.0;
+    for (std::size_t c = 0; c < 3; ++c) {
+      const double e = s.point_m[static_cast<Eigen::Index>(c)] - truth[c];
+      error2[c] += e * e;
+      e2 += e * e;
+    }
+    worst_m = std::max(worst_m, std::sqrt(e2));
+    ++points;
+  }
+  const double rms_m = std::sqrt((error2[0] + error2[1] + error2[2]) / points);
+  std::printf("[ station  ] %lld frames, %d tumour points (%lld dropped): RMS %.3f mm (x %.3f, y %.3f, z %.3f), worst %.3f mm\n",
+              static_cast<long long>(counts.frames), points, static_cast<long long>(counts.dropped_no_detection + counts.dropped_no_pose),
+              1e3 * rms_m, 1e3 * std::sqrt(error2[0] / points), 1e3 * std::sqrt(error2[1] / points), 1e3 * std::sqrt(error2[2] / points),
+              1e3 * worst_m);
+  EXPECT_EQ(counts.frames, 201);
+  EXPECT_EQ(counts.observations, points);
+  EXPECT_GE(points, 190);  // nearly every frame gives a confident detection
+  EXPECT_LT(rms_m, 1e-3);
+  EXPECT_LT(worst_m, 2.5e-3);
 }
 
 TEST(StationRun, RunsTheLoopAt1kHzFor10sWithoutDeadlineMisses) {
@@ -119,7 +142,9 @@ TEST(StationRun, RunsTheLoopAt1kHzFor10sWithoutDeadlineMisses) {
   EXPECT_EQ(s.deadline_misses, 0);
   EXPECT_GE(s.ticks + s.skipped_ticks, 10000);  // every deadline of 10 s at 1 kHz was ticked or counted
   EXPECT_GE(s.ticks, 9500);  // a stalled host skips deadlines; the loop must still tick nearly all
-  EXPECT_EQ(run.samples_pushed, static_cast<std::int64_t>(d.world.samples.size()) - 1);  // the last is delivered after the run
+  // Every sample but the last frame (delivered after the run), frames as their tumour points.
+  EXPECT_EQ(run.samples_pushed, static_cast<std::int64_t>(observed().size()) - 1);
+  EXPECT_EQ(run.observer.frames, 200);
   EXPECT_GT(run.outputs_read, 1000);
   EXPECT_LT(e.tumour_now_rms_m, 1.5e-3);  // the loop ran on the real samples (the replay below is the accuracy check)
 }
@@ -127,13 +152,13 @@ TEST(StationRun, RunsTheLoopAt1kHzFor10sWithoutDeadlineMisses) {
 TEST(StationRun, ReplayingTheSameRecordingTwiceIsBitwiseIdentical) {
   const DemoStation& d = demo();
   const TimeNs duration = 3 * kNsPerSecond;
-  const StationReplay first = replay_station(d.loop, d.world.samples, duration, true).value();
-  const StationReplay second = replay_station(d.loop, d.world.samples, duration, true).value();
+  const StationReplay first = replay_station(d.loop, observed(), duration, true).value();
+  const StationReplay second = replay_station(d.loop, observed(), duration, true).value();
   EXPECT_EQ(first.output_hash, second.output_hash);
   EXPECT_TRUE(same_records(first.ticks, second.ticks));
   EXPECT_EQ(first.ticks.size(), static_cast<std::size_t>(duration / kNsPerMs) + 1);
   // The hash sees a change of one respiratory marker sample by 1 um.
-  std::vector<DeviceSample> changed = d.world.samples;
+  std::vector<DeviceSample> changed = observed();
   for (DeviceSample& s : changed)
     if (s.kind == SampleKind::respiratory && s.measured_ns >= kNsPerSecond) {
       s.point_m[2] += 1e-6;
@@ -143,10 +168,11 @@ TEST(StationRun, ReplayingTheSameRecordingTwiceIsBitwiseIdentical) {
   EXPECT_NE(first.output_hash, third.output_hash);
 }
 
+// The tumour points come from the frames (as the I/O thread finds them).
 TEST(StationRun, AssimilationKeepsTheTumourWithin1MillimetreRms) {
   const DemoStation& d = demo();
-  const StationReplay with = replay_station(d.loop, d.world.samples, kDuration, true).value();
-  const StationReplay without = replay_station(d.loop, d.world.samples, kDuration, false).value();
+  const StationReplay with = replay_station(d.loop, observed(), kDuration, true).value();
+  const StationReplay without = replay_station(d.loop, observed(), kDuration, false).value();
   const TimeNs latency = d.loop.options.display_latency_ns;
   const PredictionErrors a = prediction_errors(d.world, with.ticks, latency, kSettled);
   const PredictionErrors o = prediction_errors(d.world, without.ticks, latency, kSettled);
@@ -162,17 +188,29 @@ TEST(StationRun, AssimilationKeepsTheTumourWithin1MillimetreRms) {
 
 TEST(StationRun, NavstationDemoRunsAndPrintsItsSummary) {
   const std::string svg = testing::temporary_path("station_demo.svg");
+  const std::string images = testing::temporary_path("station_demo_images");
+  // Under AddressSanitizer, Debian's libfastrtps 2.9 deletes its statistics writers and readers
+  // through a base of another size (new-delete-type-mismatch, all frames inside libfastrtps);
+  // test programs never see it because the allocation guard replaces operator new/delete, but
+  // navstation and navview do. The option turns that one check off; it does nothing elsewhere.
   const testing::CommandRun run =
-      testing::run_command(testing::executable_path("navstation") + " --demo --seconds 2 --plot " + svg + " 2>&1");
+      testing::run_command("ASAN_OPTIONS=new_delete_type_mismatch=0 " + testing::executable_path("navstation") +
+                           " --demo --seconds 2 --domain 151 --plot " + svg + " --images " + images + " 2>&1");
   std::printf("%s", run.output.c_str());
   EXPECT_EQ(run.exit_code, 0);
   for (const char* line : {"prediction error against the full-order truth", "tumour now", "tumour at +50 ms", "step time over",
-                           "deadline misses (> 5 ms late): 0", "error plot: "})
+                           "deadline misses (> 5 ms late): 0", "ultrasound: 40 B-mode frames", "DDS (domain 151;",
+                           "deformed surface (565 vertices)", "error plot: ", "navview: "})
     EXPECT_NE(run.output.find(line), std::string::npos) << "missing: " << line;
   const std::string plot = testing::read_text(svg);
   EXPECT_NE(plot.find("<svg"), std::string::npos);
   EXPECT_NE(plot.find("<polyline"), std::string::npos);
+  // navview ran alongside and wrote composites of the station's topics (PNG signature).
+  const std::string png = testing::read_text(images + "/navview_000001.png");
+  ASSERT_GE(png.size(), 8u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
   std::remove(svg.c_str());
+  std::filesystem::remove_all(images);
 }
 
 }  // namespace

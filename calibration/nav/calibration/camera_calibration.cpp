@@ -49,16 +49,21 @@ Transform pose_from_homography(const Eigen::Matrix3d& k, const Eigen::Matrix3d& 
   return pose;
 }
 
-/// The model's parameters: fx, fy, cx, cy, then per view a rotation vector and translation.
+/// The model's parameters: fx, fy, cx, cy, k1, k2, p1, p2, k3, then per view a rotation
+/// vector and translation.
 using Parameters = Eigen::VectorXd;
+constexpr Eigen::Index kCameraParameters = 9;
+
+LensDistortion lens_of(const Parameters& p) { return {p(4), p(5), p(6), p(7), p(8)}; }
 
 Eigen::VectorXd residuals(const std::vector<PlanarView>& views, const Parameters& p) {
   Eigen::Index count = 0;
   for (const auto& view : views) count += 2 * static_cast<Eigen::Index>(view.board_points_m.size());
   Eigen::VectorXd r(count);
   Eigen::Index row = 0;
+  const LensDistortion lens = lens_of(p);
   for (std::size_t v = 0; v < views.size(); ++v) {
-    const Eigen::Index base = 4 + 6 * static_cast<Eigen::Index>(v);
+    const Eigen::Index base = kCameraParameters + 6 * static_cast<Eigen::Index>(v);
     const Eigen::Vector3d rotation_vector = p.segment<3>(base);
     const Eigen::Matrix3d rotation =
         rotation_vector.norm() > 0.0 ? Eigen::AngleAxisd(rotation_vector.norm(), rotation_vector.normalized()).toRotationMatrix()
@@ -66,8 +71,9 @@ Eigen::VectorXd residuals(const std::vector<PlanarView>& views, const Parameters
     for (std::size_t i = 0; i < views[v].board_points_m.size(); ++i) {
       const Eigen::Vector2d& b = views[v].board_points_m[i];
       const Eigen::Vector3d c = rotation * Eigen::Vector3d(b.x(), b.y(), 0.0) + p.segment<3>(base + 3);
-      r(row++) = p(0) * c.x() / c.z() + p(2) - views[v].image_points_px[i].x();
-      r(row++) = p(1) * c.y() / c.z() + p(3) - views[v].image_points_px[i].y();
+      const Eigen::Vector2d seen = distort(lens, Eigen::Vector2d(c.x() / c.z(), c.y() / c.z()));
+      r(row++) = p(0) * seen.x() + p(2) - views[v].image_points_px[i].x();
+      r(row++) = p(1) * seen.y() + p(3) - views[v].image_points_px[i].y();
     }
   }
   return r;
@@ -99,7 +105,7 @@ Result<Eigen::Matrix3d> fit_homography(const PlanarView& view) {
   return Eigen::Matrix3d(homography / homography(2, 2));
 }
 
-Result<CameraCalibration> calibrate_camera(const std::vector<PlanarView>& views) {
+Result<CameraCalibration> calibrate_camera(const std::vector<PlanarView>& views, const CameraModelOptions& options) {
   if (views.size() < 3) return Error{"too few views: " + std::to_string(views.size()) + " < 3", "", 0, "views"};
   std::vector<Eigen::Matrix3d> homographies;
   Eigen::MatrixXd v(2 * static_cast<Eigen::Index>(views.size()), 6);
@@ -126,41 +132,61 @@ Result<CameraCalibration> calibrate_camera(const std::vector<PlanarView>& views)
   const double u0 = gamma * v0 / beta - b13 * alpha * alpha / lambda;
   Eigen::Matrix3d k;
   k << alpha, 0.0, u0, 0.0, beta, v0, 0.0, 0.0, 1.0;  // skew dropped: square pixels, no skew
-  Parameters p(4 + 6 * static_cast<Eigen::Index>(views.size()));
+  Parameters p = Parameters::Zero(kCameraParameters + 6 * static_cast<Eigen::Index>(views.size()));
   p.head<4>() << alpha, beta, u0, v0;
   for (std::size_t i = 0; i < views.size(); ++i) {
     const Transform pose = pose_from_homography(k, homographies[i]);
     const Eigen::AngleAxisd rotation(pose.rotation());
-    const auto base = 4 + 6 * static_cast<Eigen::Index>(i);
+    const auto base = kCameraParameters + 6 * static_cast<Eigen::Index>(i);
     p.segment<3>(base) = rotation.angle() * rotation.axis();
     p.segment<3>(base + 3) = pose.translation();
   }
-  // Gauss-Newton with a little Levenberg damping, numerical Jacobian.
-  for (int iteration = 0; iteration < 30; ++iteration) {
-    const Eigen::VectorXd r0 = residuals(views, p);
-    Eigen::MatrixXd jacobian(r0.size(), p.size());
-    for (Eigen::Index j = 0; j < p.size(); ++j) {
+  // Levenberg-Marquardt over the free parameters, numerical Jacobian.
+  std::vector<Eigen::Index> free;
+  for (Eigen::Index j = 0; j < p.size(); ++j) {
+    const bool distortion = j >= 4 && j < kCameraParameters;
+    if (!distortion || (options.estimate_distortion && j < 8) || (options.estimate_k3 && j == 8)) free.push_back(j);
+  }
+  const auto free_count = static_cast<Eigen::Index>(free.size());
+  double damping = 1e-3;
+  Eigen::VectorXd r0 = residuals(views, p);
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    Eigen::MatrixXd jacobian(r0.size(), free_count);
+    for (Eigen::Index f = 0; f < free_count; ++f) {
+      const Eigen::Index j = free[static_cast<std::size_t>(f)];
       const double step = 1e-6 * std::max(1.0, std::abs(p(j)));
       Parameters plus = p, minus = p;
       plus(j) += step;
       minus(j) -= step;
-      jacobian.col(j) = (residuals(views, plus) - residuals(views, minus)) / (2.0 * step);
+      jacobian.col(f) = (residuals(views, plus) - residuals(views, minus)) / (2.0 * step);
     }
-    Eigen::MatrixXd normal = jacobian.transpose() * jacobian;
-    normal.diagonal() *= 1.0 + 1e-6;
-    const Eigen::VectorXd update = normal.ldlt().solve(-jacobian.transpose() * r0);
-    p += update;
-    if (update.norm() < 1e-12 * p.norm()) break;
+    const Eigen::MatrixXd normal = jacobian.transpose() * jacobian;
+    const Eigen::VectorXd gradient = jacobian.transpose() * r0;
+    Eigen::MatrixXd damped = normal;
+    damped.diagonal() += damping * normal.diagonal();
+    const Eigen::VectorXd update = damped.ldlt().solve(-gradient);
+    Parameters trial = p;
+    for (Eigen::Index f = 0; f < free_count; ++f) trial(free[static_cast<std::size_t>(f)]) += update(f);
+    const Eigen::VectorXd r_trial = residuals(views, trial);
+    if (r_trial.squaredNorm() < r0.squaredNorm()) {
+      p = trial;
+      r0 = r_trial;
+      damping = std::max(damping * 0.1, 1e-9);
+      if (update.norm() < 1e-12 * p.norm()) break;
+    } else {
+      damping *= 10.0;
+      if (damping > 1e9) break;  // no step lowers the error: converged
+    }
   }
   CameraCalibration result;
   result.fx_px = p(0);
   result.fy_px = p(1);
   result.cx_px = p(2);
   result.cy_px = p(3);
-  const Eigen::VectorXd r = residuals(views, p);
-  result.rms_reprojection_px = std::sqrt(r.squaredNorm() / static_cast<double>(r.size() / 2));
+  result.distortion = lens_of(p);
+  result.rms_reprojection_px = std::sqrt(r0.squaredNorm() / static_cast<double>(r0.size() / 2));
   for (std::size_t i = 0; i < views.size(); ++i) {
-    const auto base = 4 + 6 * static_cast<Eigen::Index>(i);
+    const auto base = kCameraParameters + 6 * static_cast<Eigen::Index>(i);
     const Eigen::Vector3d rv = p.segment<3>(base);
     Transform pose = Transform::Identity();
     if (rv.norm() > 0.0) pose.linear() = Eigen::AngleAxisd(rv.norm(), rv.normalized()).toRotationMatrix();

@@ -17,6 +17,7 @@ const char* health_flag_name(HealthFlag flag) noexcept {
     case HealthFlag::reduced_out_of_envelope: return "reduced_out_of_envelope";
     case HealthFlag::clock_went_backwards: return "clock_went_backwards";
     case HealthFlag::pose_jump_rejected: return "pose_jump_rejected";
+    case HealthFlag::reduced_escalated: return "reduced_escalated";
   }
   return "unknown";
 }

@@ -21,6 +21,7 @@ enum class HealthFlag : std::uint32_t {
   reduced_out_of_envelope = 1u << 10,  // a reduced model's state left its training envelope
   clock_went_backwards = 1u << 11,     // a sample's timestamp was not after the previous one
   pose_jump_rejected = 1u << 12,       // a pose moved faster than its limits and was dropped
+  reduced_escalated = 1u << 13,        // a reduced ladder redid its step one rung up (larger basis or full order)
 };
 
 /// A set of HealthFlag bits, raised by step-time code and read by the loop and displays.

@@ -68,7 +68,10 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
   plan.add<LayerState>(layers).add<PathPoint>(static_cast<std::size_t>(model.scene.max_path_points));
   plan.add<double>(slots).add<double>(slots).add<ConstraintRow>(slots);
   plan.add<double>(slots * slots).add<double>(slots).add<double>(slots).add<double>(6 * nodes);
-  plan.add<double>(3 * slots).add<double>(slots * slots).add<std::int32_t>(slots + 1);
+  const auto rank = static_cast<std::size_t>(model.compliance_rank);
+  const std::size_t points = rank > 0 ? static_cast<std::size_t>(model.max_points()) : 0;
+  plan.add<double>(slots * rank).add<double>(9 * points * points).add<std::int32_t>(slots + 1);
+  plan.add<std::int32_t>(points).add<std::int32_t>(points);
   NeedleTissueData data(Arena("needle_tissue_data", plan.bytes()), std::move(needle).value());
   auto layer_states = data.arena.allocate<LayerState>("layers", layers);
   auto path = data.arena.allocate<PathPoint>("path points", static_cast<std::size_t>(model.scene.max_path_points));
@@ -90,8 +93,8 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
                             {&data.row_forces, slots, "row forces"},
                             {&data.row_gaps, slots, "row gaps"},
                             {&data.nodal_forces, 6 * nodes, "nodal forces"},
-                            {&data.row_tissue_direction, 3 * slots, "row tissue directions"},
-                            {&data.point_decay, slots * slots, "point decay"}};
+                            {&data.row_tissue_factors, slots * rank, "row tissue factors"},
+                            {&data.tissue_blocks, 9 * points * points, "tissue blocks"}};
   for (const Buffer& b : buffers) {
     auto carved = data.arena.allocate<double>(b.what, b.count);
     if (!carved.ok()) return carved.error();
@@ -100,6 +103,12 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
   auto first_rows = data.arena.allocate<std::int32_t>("point first rows", slots + 1);
   if (!first_rows.ok()) return first_rows.error();
   data.point_first_row = first_rows.value();
+  auto distinct = data.arena.allocate<std::int32_t>("distinct tissue nodes", points);
+  auto index = data.arena.allocate<std::int32_t>("point tissue indices", points);
+  if (!distinct.ok()) return distinct.error();
+  if (!index.ok()) return index.error();
+  data.distinct_tissue_nodes = distinct.value();
+  data.point_tissue_index = index.value();
   for (std::size_t l = 0; l < layers; ++l) {
     const Point3& p = model.scene.layers[l].surface_point_m;
     data.layers[l].surface = tissue_point_at(model, Eigen::Vector3d(p[0], p[1], p[2]), {});

@@ -51,6 +51,9 @@ struct PathPoint {
   std::int32_t layer = 0;
 };
 
+/// The largest rank of a low-rank tissue compliance.
+inline constexpr int kMaxComplianceRank = 256;
+
 /// The immutable interaction: the needle, the scene and the pool sizes.
 struct NeedleTissueModel {
   NeedleModel needle;
@@ -59,9 +62,20 @@ struct NeedleTissueModel {
   /// The tissue's 3x3 point compliance (m/N): scene.point_compliance_m_per_n times the
   /// identity, or the tensor probed from a tissue model.
   Eigen::Matrix3d compliance_tensor_m_per_n = Eigen::Matrix3d::Identity();
+  /// A low-rank tissue compliance when compliance_rank > 0 (from a reduced basis): node a's
+  /// 3 x rank factor rows V_a (row-major, 3 * rank values per node), node b moving by
+  /// V_b V_a^T f under a force f on node a. It replaces the tensor and its Gaussian decay;
+  /// tissue points are then carried by nodes, and scene.point_compliance_m_per_n is the local
+  /// compliance the basis misses (its residual flexibility), isotropic at each constraint
+  /// point under that point's own force. Without it rows of nearby points on one needle
+  /// element can outnumber what needle and basis can follow, and W is singular.
+  int compliance_rank = 0;
+  std::vector<double> compliance_factors;
   /// Tissue rest positions (3 per node) that tissue points attach to; empty stand-alone.
   std::vector<double> tissue_rest_m;
   int layer_count() const { return static_cast<int>(scene.layers.size()); }
+  /// Constraint points at most: one per layer (contact), the tip, one per path point.
+  int max_points() const { return layer_count() + 1 + scene.max_path_points; }
   /// Slots of forces: 3 per layer (contact), 1 at the tip (cutting), 3 per path point.
   int slot_count() const { return 3 * layer_count() + 1 + 3 * scene.max_path_points; }
   int tip_slot() const { return 3 * layer_count(); }
@@ -110,8 +124,12 @@ struct NeedleTissueData {
   // Workspace of one step.
   std::span<ConstraintRow> rows;
   std::span<double> compliance, row_forces, row_gaps, nodal_forces;
-  std::span<double> row_tissue_direction;  ///< per row, 3: the tissue compliance times its direction
-  std::span<double> point_decay;           ///< Gaussian decay between the constraint points' tissue points
+  // Low-rank tissue only: per row V_node^T direction (compliance_rank values), the distinct
+  // tissue nodes of the constraint points, each point's index among them, and the 3x3
+  // blocks V_a V_b^T between them.
+  std::span<double> row_tissue_factors, tissue_blocks;
+  std::span<std::int32_t> distinct_tissue_nodes, point_tissue_index;
+  int distinct_tissue_node_count = 0;
   std::span<std::int32_t> point_first_row;  ///< per constraint point (and one past the last), its first row
   int row_count = 0;
   int point_count = 0;  ///< constraint points of the rows (see same_constraint_point)

@@ -84,6 +84,55 @@ void add_path_rows(const NeedleTissueModel& model, NeedleTissueData& data, int p
   data.rows[static_cast<std::size_t>(axial)].linked[1] = second;
 }
 
+/// Node `node`'s 3 x rank rows of the low-rank tissue compliance.
+const double* node_factors(const NeedleTissueModel& model, std::int32_t node) {
+  return model.compliance_factors.data() + 3 * static_cast<std::size_t>(node) * static_cast<std::size_t>(model.compliance_rank);
+}
+
+double dot(const double* a, const double* b, int n) {
+  double sum = 0.0;
+  for (int j = 0; j < n; ++j) sum += a[j] * b[j];
+  return sum;
+}
+
+/// Low rank: the row's direction seen by the basis, V_node^T direction (zero off the tissue).
+void row_factors_of(const NeedleTissueModel& model, NeedleTissueData& data, std::size_t r) {
+  const ConstraintRow& row = data.rows[r];
+  const int rank = model.compliance_rank;
+  double* c = data.row_tissue_factors.data() + r * static_cast<std::size_t>(rank);
+  if (row.tissue_node < 0) {
+    std::fill_n(c, rank, 0.0);
+    return;
+  }
+  const double* v = node_factors(model, row.tissue_node);
+  for (int j = 0; j < rank; ++j) c[j] = (v[j] * row.direction.x() + v[rank + j] * row.direction.y()) + v[2 * rank + j] * row.direction.z();
+}
+
+/// Low rank: the 3x3 blocks V_a V_b^T between the distinct tissue nodes of the constraint
+/// points (points on one node share them), and each point's index among those nodes.
+void tissue_node_blocks(const NeedleTissueModel& model, NeedleTissueData& data) {
+  const int rank = model.compliance_rank;
+  std::size_t distinct = 0;
+  for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
+    const std::int32_t node = data.rows[static_cast<std::size_t>(data.point_first_row[p])].tissue_node;
+    std::size_t k = 0;
+    while (k < distinct && data.distinct_tissue_nodes[k] != node) ++k;
+    if (k == distinct) data.distinct_tissue_nodes[distinct++] = node;
+    data.point_tissue_index[p] = static_cast<std::int32_t>(k);
+  }
+  data.distinct_tissue_node_count = static_cast<int>(distinct);
+  for (std::size_t k = 0; k < distinct; ++k)
+    for (std::size_t l = 0; l <= k; ++l) {
+      const std::int32_t a = data.distinct_tissue_nodes[k], b = data.distinct_tissue_nodes[l];
+      Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
+      if (a >= 0 && b >= 0)
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) block(i, j) = dot(node_factors(model, a) + i * rank, node_factors(model, b) + j * rank, rank);
+      Eigen::Map<Eigen::Matrix3d>(data.tissue_blocks.data() + 9 * (k * distinct + l)) = block;
+      Eigen::Map<Eigen::Matrix3d>(data.tissue_blocks.data() + 9 * (l * distinct + k)) = block.transpose();
+    }
+}
+
 /// The Gaussian decay of the tissue's compliance between two points.
 double tissue_decay(const NeedleTissueModel& model, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const double l = model.scene.compliance_correlation_length_m;
@@ -152,13 +201,13 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
   int first_node = last_node;
   for (std::size_t r = 0; r < m; ++r) first_node = std::min(first_node, std::max(1, data.rows[r].node));
   update_needle_compliance(data.needle, first_node);
-  // Constraint points (rows sharing a needle point and a tissue point), their tissue
-  // directions and the Gaussian decay between their tissue points.
+  // Constraint points (rows sharing a needle point and a tissue point).
+  const int rank = model.compliance_rank;
   for (std::size_t r = 0; r < m; ++r) {
     const std::size_t first = data.point_count > 0 ? static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(data.point_count - 1)]) : 0;
     if (r == 0 || r - first >= kMaxRowsPerPoint || !same_constraint_point(data.rows[first], data.rows[r]))
       data.point_first_row[static_cast<std::size_t>(data.point_count++)] = static_cast<std::int32_t>(r);
-    Eigen::Map<Eigen::Vector3d>(data.row_tissue_direction.data() + 3 * r) = model.compliance_tensor_m_per_n * data.rows[r].direction;
+    if (rank > 0) row_factors_of(model, data, r);
   }
   const auto points = static_cast<std::size_t>(data.point_count);
   data.point_first_row[points] = static_cast<std::int32_t>(m);
@@ -166,12 +215,8 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
     begin = static_cast<std::size_t>(data.point_first_row[p]);
     end = static_cast<std::size_t>(data.point_first_row[p + 1]);
   };
-  for (std::size_t p = 0; p < points; ++p)
-    for (std::size_t q = 0; q <= p; ++q) {
-      const ConstraintRow& a = data.rows[static_cast<std::size_t>(data.point_first_row[p])];
-      const ConstraintRow& b = data.rows[static_cast<std::size_t>(data.point_first_row[q])];
-      data.point_decay[p * points + q] = data.point_decay[q * points + p] = tissue_decay(model, a.tissue_point_m, b.tissue_point_m);
-    }
+  if (rank > 0) tissue_node_blocks(model, data);
+  const auto distinct = static_cast<std::size_t>(data.distinct_tissue_node_count);
   for (std::size_t p = 0; p < points; ++p) {
     std::size_t p_begin = 0, p_end = 0;
     rows_of(p, p_begin, p_end);
@@ -193,18 +238,28 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
           needle.noalias() += (w_a * w_b) * Eigen::Map<const Eigen::Matrix3d>(needle_compliance_block(data.needle, node_a, node_b));
         }
       }
-      const double decay = data.point_decay[p * points + q];
+      // The tissue's: the Gaussian kernel (decay times the tensor), or the low-rank block
+      // V_a V_b^T of the points' carrying nodes.
+      const double decay = rank == 0 ? tissue_decay(model, at_p.tissue_point_m, at_q.tissue_point_m) : 1.0;
+      const Eigen::Matrix3d tissue =
+          rank == 0 ? model.compliance_tensor_m_per_n
+                    : Eigen::Matrix3d(Eigen::Map<const Eigen::Matrix3d>(
+                          data.tissue_blocks.data() + 9 * (static_cast<std::size_t>(data.point_tissue_index[q]) * distinct +
+                                                           static_cast<std::size_t>(data.point_tissue_index[p]))));
       for (std::size_t r = p_begin; r < p_end; ++r) {
         ConstraintRow& row = data.rows[r];
-        const Eigen::Vector3d needle_row = needle.transpose() * row.direction;
-        const Eigen::Map<const Eigen::Vector3d> tissue_direction(data.row_tissue_direction.data() + 3 * r);
+        const Eigen::Vector3d needle_row = needle.transpose() * row.direction, tissue_row = tissue * row.direction;
         for (std::size_t s = q_begin; s < q_end && s <= r; ++s) {
           ConstraintRow& other = data.rows[s];
-          const double tissue = decay * other.direction.dot(tissue_direction);
-          data.compliance[r * m + s] = data.compliance[s * m + r] = needle_row.dot(other.direction) + tissue;
+          const double tissue_entry = decay * other.direction.dot(tissue_row);
+          double entry = needle_row.dot(other.direction) + tissue_entry;
+          // Low rank: the local compliance the basis misses, on the point's own rows; never
+          // carried by the tissue model, so it stays out of the applied-force correction.
+          if (rank > 0 && p == q) entry += model.scene.point_compliance_m_per_n * row.direction.dot(other.direction);
+          data.compliance[r * m + s] = data.compliance[s * m + r] = entry;
           // The tissue displacements already hold its response to the applied forces.
-          row.gap_free_m -= tissue * data.applied_forces[static_cast<std::size_t>(other.slot)];
-          if (s != r) other.gap_free_m -= tissue * data.applied_forces[static_cast<std::size_t>(row.slot)];
+          row.gap_free_m -= tissue_entry * data.applied_forces[static_cast<std::size_t>(other.slot)];
+          if (s != r) other.gap_free_m -= tissue_entry * data.applied_forces[static_cast<std::size_t>(row.slot)];
         }
       }
     }
@@ -212,15 +267,39 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
 }
 
 Eigen::Vector3d compliant_displacement_m(const NeedleTissueModel& model, const NeedleTissueData& data,
-                                         const Eigen::Vector3d& point_m) noexcept {
+                                         const Eigen::Vector3d& point_m, std::int32_t node) noexcept {
+  const auto pending_n = [&](std::size_t r) {  // not yet carried by the tissue model
+    return data.row_forces[r] - data.applied_forces[static_cast<std::size_t>(data.rows[r].slot)];
+  };
+  const int rank = model.compliance_rank;
+  if (rank > 0) {
+    // u = -V_node sum_r V_r^T d_r pending_r, through the rank-sized sum.
+    if (node < 0) return Eigen::Vector3d::Zero();
+    double sum[kMaxComplianceRank] = {};
+    for (std::size_t r = 0; r < static_cast<std::size_t>(data.row_count); ++r) {
+      const double f = pending_n(r);
+      const double* c = data.row_tissue_factors.data() + r * static_cast<std::size_t>(rank);
+      for (int j = 0; j < rank; ++j) sum[j] += c[j] * f;
+    }
+    const double* v = node_factors(model, node);
+    Eigen::Vector3d u = -Eigen::Vector3d(dot(v, sum, rank), dot(v + rank, sum, rank), dot(v + 2 * rank, sum, rank));
+    // A constraint point's own tissue point also yields locally under its whole force.
+    for (int p = 0; p < data.point_count; ++p) {
+      const auto begin = static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(p)]);
+      const auto end = static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(p) + 1]);
+      if (data.rows[begin].tissue_point_m != point_m) continue;
+      for (std::size_t r = begin; r < end; ++r) u -= model.scene.point_compliance_m_per_n * data.row_forces[r] * data.rows[r].direction;
+      break;
+    }
+    return u;
+  }
   Eigen::Vector3d u = Eigen::Vector3d::Zero();
   for (int p = 0; p < data.point_count; ++p) {
     const auto begin = static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(p)]);
     const auto end = static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(p) + 1]);
-    Eigen::Vector3d pending_n = Eigen::Vector3d::Zero();  // not yet carried by the tissue model
-    for (std::size_t r = begin; r < end; ++r)
-      pending_n += (data.row_forces[r] - data.applied_forces[static_cast<std::size_t>(data.rows[r].slot)]) * data.rows[r].direction;
-    u -= tissue_decay(model, point_m, data.rows[begin].tissue_point_m) * (model.compliance_tensor_m_per_n * pending_n);
+    Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
+    for (std::size_t r = begin; r < end; ++r) force_n += pending_n(r) * data.rows[r].direction;
+    u -= tissue_decay(model, point_m, data.rows[begin].tissue_point_m) * (model.compliance_tensor_m_per_n * force_n);
   }
   return u;
 }

@@ -34,9 +34,10 @@ void build_rows(const NeedleTissueModel& model, NeedleTissueData& data, std::spa
 /// already carries (applied_forces, in the displacements) out of the rows' free gaps.
 void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data) noexcept;
 
-/// Displacement of the tissue at `point_m` under the forces not yet carried by the tissue
-/// model (the rows' forces minus applied_forces), by the local compliance.
+/// Displacement of the tissue at `point_m`, carried by tissue node `node`, under the forces
+/// not yet carried by the tissue model (the rows' forces minus applied_forces), by the
+/// Gaussian kernel or the low-rank compliance (which needs the node; none: no displacement).
 Eigen::Vector3d compliant_displacement_m(const NeedleTissueModel& model, const NeedleTissueData& data,
-                                         const Eigen::Vector3d& point_m) noexcept;
+                                         const Eigen::Vector3d& point_m, std::int32_t node) noexcept;
 
 }  // namespace nav::detail

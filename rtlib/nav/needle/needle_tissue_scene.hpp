@@ -24,7 +24,8 @@ struct TissueLayer {
 struct NeedleTissueScene {
   std::vector<TissueLayer> layers;  ///< outermost first; a deeper layer's index is larger
   /// Local tissue compliance seen by a constraint point (m/N), and the Gaussian
-  /// correlation length of the coupling between points (Dequidt's wall compliance).
+  /// correlation length of the coupling between points (Dequidt's wall compliance). With a
+  /// reduced tissue the point compliance is what the basis misses (see NeedleTissueModel).
   double point_compliance_m_per_n = 2e-3;
   double compliance_correlation_length_m = 5e-3;
   /// Coulomb coefficient of the shaft on the lateral path forces (adds to the per-length limit).

@@ -19,14 +19,16 @@ using detail::compliant_displacement_m;
 /// The tissue material point now at `position_m` (after this step's forces).
 TissuePoint point_now_at(const NeedleTissueModel& model, const NeedleTissueData& data, const Eigen::Vector3d& position_m,
                          std::span<const double> displacements_m) {
-  return tissue_point_at(model, position_m - compliant_displacement_m(model, data, position_m), displacements_m);
+  // The low-rank compliance needs the carrying node: the one nearest the point now.
+  const std::int32_t node = model.compliance_rank > 0 ? tissue_point_at(model, position_m, displacements_m).node : -1;
+  return tissue_point_at(model, position_m - compliant_displacement_m(model, data, position_m, node), displacements_m);
 }
 
 /// Where a tissue point is after this step's forces.
 Eigen::Vector3d position_after(const NeedleTissueModel& model, const NeedleTissueData& data, const TissuePoint& point,
                                std::span<const double> displacements_m) {
   const Eigen::Vector3d before = tissue_point_position_m(point, displacements_m);
-  return before + compliant_displacement_m(model, data, before);
+  return before + compliant_displacement_m(model, data, before, point.node);
 }
 
 void apply_correction(const NeedleTissueModel& model, NeedleTissueData& data) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "nav/needle/coupled_needle_step.hpp"
+
 namespace nav {
 
 namespace {
@@ -20,47 +22,6 @@ std::int32_t nearest_node(std::span<const double> rest_m, const Point3& point_m)
     }
   }
   return best;
-}
-
-/// Adds `force` on `node` to the list, merging with an entry for the same node.
-void add_point_force(std::span<PointForce> forces, std::size_t& count, std::int32_t node, const Eigen::Vector3d& force) {
-  for (std::size_t k = 0; k < count; ++k)
-    if (forces[k].node == node) {
-      for (int c = 0; c < 3; ++c) forces[k].force_n[c] += force[c];
-      return;
-    }
-  forces[count++] = PointForce{node, {force[0], force[1], force[2]}};
-}
-
-/// Steps the tissue with the interaction's current forces (opposite on the tissue), then
-/// records them as carried and refreshes the displacements.
-void step_tissue(const CoupledNeedleModel& model, CoupledNeedleData& data) {
-  NeedleTissueData& interaction = data.interaction;
-  std::size_t count = 0;
-  for (int r = 0; r < interaction.row_count; ++r) {
-    const ConstraintRow& row = interaction.rows[static_cast<std::size_t>(r)];
-    if (row.tissue_node < 0) continue;
-    add_point_force(data.point_forces, count, row.tissue_node, -interaction.row_forces[static_cast<std::size_t>(r)] * row.direction);
-  }
-  data.dropped_point_forces = 0;
-  if (count > model.max_point_forces) {
-    // Keep the largest: a stable order by magnitude, then by node.
-    std::sort(data.point_forces.begin(), data.point_forces.begin() + static_cast<std::ptrdiff_t>(count),
-              [](const PointForce& a, const PointForce& b) {
-                const double na = std::hypot(a.force_n[0], a.force_n[1], a.force_n[2]);
-                const double nb = std::hypot(b.force_n[0], b.force_n[1], b.force_n[2]);
-                return na != nb ? na > nb : a.node < b.node;
-              });
-    data.dropped_point_forces = static_cast<int>(count - model.max_point_forces);
-    count = model.max_point_forces;
-    interaction.health.raise(HealthFlag::pool_full);
-  }
-  TissueInputs inputs;
-  inputs.point_forces = std::span<const PointForce>(data.point_forces.data(), count);
-  step(*model.tissue, data.tissue, inputs);
-  std::copy(interaction.slot_forces.begin(), interaction.slot_forces.end(), interaction.applied_forces.begin());
-  const std::span<const double> rest = model.tissue->rest_positions_m();
-  for (std::size_t i = 0; i < data.displacements_m.size(); ++i) data.displacements_m[i] = data.tissue.positions_m[i] - rest[i];
 }
 
 }  // namespace
@@ -118,9 +79,7 @@ Result<ProbedCompliance> probe_tet_fem_compliance(const TetFemModel& tissue, con
 Result<CoupledNeedleModel> make_coupled_needle_model(const NeedleParameters& needle, const NeedleTissueScene& scene,
                                                      const TetFemModel& tissue, std::size_t max_point_forces,
                                                      int needle_steps_per_tissue_step) {
-  if (scene.layers.empty()) return Error{"the coupled scene needs a layer", "", 0, "scene.layers"};
-  if (needle_steps_per_tissue_step < 1) return Error{"must be at least 1", "", 0, "needle_steps_per_tissue_step"};
-  if (max_point_forces < 1) return Error{"must be at least 1", "", 0, "max_point_forces"};
+  if (auto valid = detail::validate_coupling(scene, max_point_forces, needle_steps_per_tissue_step); !valid) return valid.error();
   const auto probed = probe_tet_fem_compliance(tissue, scene.layers.front().surface_point_m, 0.01);
   if (!probed.ok()) return probed.error();
   NeedleTissueScene coupled = scene;
@@ -133,32 +92,18 @@ Result<CoupledNeedleModel> make_coupled_needle_model(const NeedleParameters& nee
 }
 
 Result<CoupledNeedleData> make_coupled_needle_data(const CoupledNeedleModel& model, const NeedlePose& base) {
-  auto interaction = make_needle_tissue_data(model.interaction, base);
-  if (!interaction.ok()) return interaction.error();
-  auto tissue = make_tet_fem_data(*model.tissue);
-  if (!tissue.ok()) return tissue.error();
-  const std::size_t values = model.tissue->rest_positions_m().size();
-  // One point force per row at most, before merging and capping.
-  const auto forces = static_cast<std::size_t>(model.interaction.slot_count());
-  ArenaPlan plan;
-  plan.add<double>(values).add<PointForce>(forces);
-  CoupledNeedleData data(Arena("coupled_needle_data", plan.bytes()), std::move(interaction).value(), std::move(tissue).value());
-  auto displacements = data.arena.allocate<double>("tissue displacements", values);
-  auto point_forces = data.arena.allocate<PointForce>("point forces", forces);
-  if (!displacements.ok()) return displacements.error();
-  if (!point_forces.ok()) return point_forces.error();
-  data.displacements_m = displacements.value();
-  data.point_forces = point_forces.value();
-  return data;
+  return detail::make_coupled_data(model, base, make_tet_fem_data(*model.tissue), model.tissue->rest_positions_m().size() / 3, 0);
 }
 
-void step(const CoupledNeedleModel& model, CoupledNeedleData& data, const NeedleInputs& inputs) noexcept {
-  NeedleTissueInputs needle_inputs;
-  needle_inputs.needle = inputs;
-  needle_inputs.tissue_displacements_m = data.displacements_m;
-  step(model.interaction, data.interaction, needle_inputs);
-  if (++data.ticks % model.needle_steps_per_tissue_step == 0) step_tissue(model, data);
-  data.interaction.health.merge(data.tissue.health);
+namespace detail {
+
+void refresh_displacements(const TetFemModel& tissue, CoupledNeedleData& data) noexcept {
+  const std::span<const double> rest = tissue.rest_positions_m();
+  for (std::size_t i = 0; i < data.displacements_m.size(); ++i) data.displacements_m[i] = data.tissue.positions_m[i] - rest[i];
 }
+
+}  // namespace detail
+
+template void step(const CoupledNeedleModel&, CoupledNeedleData&, const NeedleInputs&) noexcept;
 
 }  // namespace nav

@@ -10,7 +10,6 @@
 #include "nav/reduced/reduction.hpp"
 #include "nav/reduced/snapshots.hpp"
 #include "nav/reduced/stvk_polynomial.hpp"
-#include "nav/tissue/tet_kernels.hpp"
 
 namespace nav {
 namespace {
@@ -41,20 +40,20 @@ Result<TrainingStates> training_states(const detail::FullSystem& system, const R
   return states;
 }
 
-/// Reduced non-linear remainder U_e^T (f_e + K_e u_e) of element s (a sample of weight 1) at `state`.
-Eigen::VectorXd element_force(const detail::ReducedTables& t, int s, const detail::ReducedState& state) {
-  Eigen::VectorXd force = Eigen::VectorXd::Zero(t.r);
-  double u12[12], f9[9];
-  detail::sample_deformation(t, s, state, u12, f9);
-  const std::span<double> out(force.data(), static_cast<std::size_t>(t.r));
-  if (t.force_kind == ReducedForceKind::stvk_cubature) {
-    detail::add_stvk_force(t, s, u12, f9, out);
-  } else {
-    const Eigen::Matrix3d f = Eigen::Map<const Eigen::Matrix3d>(f9);
-    const Eigen::Matrix3d rotation = f.determinant() > 0.0 ? polar_rotation(f) : Eigen::Matrix3d::Identity();
-    detail::add_corotational_force(t, s, u12, rotation.data(), out);
-  }
-  return force;
+/// Reduced non-linear remainders U_e^T (f_e + K_e u_e) of the elements (samples of weight 1)
+/// at `state`, into rows [row, row + r) of `columns`.
+void element_forces(const detail::ReducedTables& t, const detail::ReducedState& state, Eigen::Index row, Eigen::MatrixXd& columns) {
+  constexpr std::size_t L = detail::kSampleLanes;
+  const auto r = static_cast<std::size_t>(t.r);
+  const std::size_t lanes = static_cast<std::size_t>(t.sample_blocks) * L;
+  std::vector<double> displacements(12 * lanes), rotations(9 * lanes, 0.0), gradients(10 * lanes), lane_forces(r * lanes, 0.0);
+  for (std::size_t k = 0; k < 3; ++k) std::fill_n(rotations.begin() + static_cast<std::ptrdiff_t>(4 * k * lanes), lanes, 1.0);
+  const detail::SampleWork work{displacements.data(), rotations.data(), gradients.data(), lane_forces.data(), true};
+  if (t.force_kind == ReducedForceKind::stvk_cubature) detail::add_stvk_forces(t, state, true, work);
+  else detail::add_corotational_forces(t, state, true, work);  // a lane with det F <= 0 keeps the identity
+  for (std::size_t e = 0; e < static_cast<std::size_t>(t.sample_count); ++e)
+    for (std::size_t j = 0; j < r; ++j)
+      columns(row + static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(e)) = lane_forces[(e / L * r + j) * L + e % L];
 }
 
 /// The largest error |residual_k| over the snapshot blocks of `block` rows (each block is
@@ -162,7 +161,7 @@ Status add_force_reduction(const TetMesh& mesh, const TissueScene& scene, const 
     const Eigen::VectorXd qs = q.col(snapshot);
     const Eigen::Vector3d ds = states.value().d.col(snapshot);
     const detail::ReducedState state{std::span<const double>(qs.data(), static_cast<std::size_t>(r)), ds.data()};
-    for (Eigen::Index e = 0; e < elements; ++e) columns.block(k * r, e, r, 1) = element_force(t, static_cast<int>(e), state);
+    element_forces(t, state, k * r, columns);
     // Every snapshot weighs the same: its rows are scaled by its whole reduced force, so that
     // the error is relative to that force (the remainder alone may be small).
     Eigen::VectorXd whole(r);

@@ -1,9 +1,11 @@
 // Init-time construction of a ReducedModel and its data.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "nav/reduced/dense_cholesky.hpp"
 #include "nav/reduced/full_system.hpp"
+#include "nav/reduced/reduced_forces.hpp"
 #include "nav/reduced/reduced_tables.hpp"
 #include "nav/reduced/stvk_polynomial.hpp"
 #include "nav/tissue/tet_kernels.hpp"
@@ -131,39 +133,71 @@ void build_springs(const TetFemTables& full, ReducedTables& t) {
   Eigen::Map<RowMatrix>(t.spring_stiffness_r.data(), r, r) = springs;
 }
 
+/// The sampled tetrahedra's tables, blocked by kSampleLanes (see ReducedTables), and the
+/// linear stiffness they take back out: K_S = sum w U_s^T K_s U_s, K_Sl = sum w U_s^T K_s L_s.
 void build_samples(const TetFemTables& full, const ReducedBasis& b, ReducedTables& t) {
+  constexpr int L = detail::kSampleLanes;
   const int r = t.r;
   t.sample_count = static_cast<int>(b.sample_tets.size());
-  Eigen::MatrixXd rest_tangent = Eigen::MatrixXd::Zero(r, r);
+  t.sample_blocks = (t.sample_count + L - 1) / L;
+  const auto lanes = static_cast<std::size_t>(t.sample_blocks) * L;
+  t.sample_rows.assign(lanes * 12 * static_cast<std::size_t>(r), 0.0);
+  if (t.has_lift) t.sample_lift.assign(lanes * 36, 0.0);
+  t.sample_rest_m.assign(lanes * 12, 0.0);
+  t.sample_gradients.assign(lanes * 12, 0.0);
+  t.sample_root_stiffness.assign(lanes * 72, 0.0);
+  t.sample_weight_volume.assign(lanes, 0.0);
+  t.sample_lame.assign(lanes, LameParameters{0.0, 0.0});
+  // Value x (of `per_sample`) of sample s.
+  auto at = [](std::size_t s, int per_sample, int x) {
+    return ((s / L) * static_cast<std::size_t>(per_sample) + static_cast<std::size_t>(x)) * L + s % L;
+  };
+  Eigen::MatrixXd rest_tangent = Eigen::MatrixXd::Zero(r, r), rest_lift = Eigen::MatrixXd::Zero(r, 3);
   for (std::size_t s = 0; s < b.sample_tets.size(); ++s) {
     const auto e = static_cast<std::size_t>(b.sample_tets[s]);
+    Eigen::Matrix<double, 12, Eigen::Dynamic> rows(12, r);
+    Eigen::Matrix<double, 12, 3> lift = Eigen::Matrix<double, 12, 3>::Zero();
     for (int a = 0; a < 4; ++a) {
       const std::int64_t node = full.tets[e][a];
-      t.sample_rows.insert(t.sample_rows.end(), t.rows.begin() + 3 * node * r, t.rows.begin() + 3 * (node + 1) * r);
-      if (t.has_lift) t.sample_lift.insert(t.sample_lift.end(), t.lift_rows.begin() + 9 * node, t.lift_rows.begin() + 9 * (node + 1));
-      for (int c = 0; c < 3; ++c) t.sample_rest_m.push_back(full.rest_m[3 * static_cast<std::size_t>(node) + c]);
+      for (int c = 0; c < 3; ++c) {
+        const int i = 3 * a + c;
+        for (int j = 0; j < r; ++j) {
+          rows(i, j) = t.rows[static_cast<std::size_t>((3 * node + c) * r + j)];
+          t.sample_rows[at(s, 12 * r, r * i + j)] = rows(i, j);
+        }
+        for (int k = 0; k < 3 && t.has_lift; ++k) {
+          lift(i, k) = t.lift_rows[static_cast<std::size_t>(9 * node + 3 * c + k)];
+          t.sample_lift[at(s, 36, 3 * i + k)] = lift(i, k);
+        }
+        t.sample_rest_m[at(s, 12, i)] = full.rest_m[3 * static_cast<std::size_t>(node) + static_cast<std::size_t>(c)];
+      }
     }
     Matrix43 gradients;
     for (int k = 0; k < 12; ++k) {
-      t.sample_gradients.push_back(full.gradients[12 * e + k]);
-      gradients(k / 3, k % 3) = full.gradients[12 * e + k];
+      t.sample_gradients[at(s, 12, k)] = full.gradients[12 * e + static_cast<std::size_t>(k)];
+      gradients(k / 3, k % 3) = full.gradients[12 * e + static_cast<std::size_t>(k)];
     }
     const double weight_volume = b.sample_weights[s] * full.volume_m3[e];
-    t.sample_weight_volume.push_back(weight_volume);
-    t.sample_lame.push_back(full.lame[e]);
+    t.sample_weight_volume[at(s, 1, 0)] = weight_volume;
+    t.sample_lame[s] = full.lame[e];
     // K_e = V B^T D B = G^T G with G = sqrt(V) L^T B, D = L L^T.
     const Matrix6 root = Eigen::LLT<Matrix6>(elasticity_matrix(full.lame[e])).matrixU();
     const Matrix6x12 g = std::sqrt(weight_volume) * root * strain_displacement(gradients);
     for (int i = 0; i < 6; ++i)
-      for (int k = 0; k < 12; ++k) t.sample_root_stiffness.push_back(g(i, k));
-    Eigen::Matrix<double, 12, Eigen::Dynamic> rows(12, r);
-    for (int k = 0; k < 12; ++k)
-      for (int j = 0; j < r; ++j) rows(k, j) = t.sample_rows[(12 * s + static_cast<std::size_t>(k)) * static_cast<std::size_t>(r) + static_cast<std::size_t>(j)];
+      for (int k = 0; k < 12; ++k) t.sample_root_stiffness[at(s, 72, 12 * i + k)] = g(i, k);
     const Eigen::MatrixXd v = g * rows;
     rest_tangent += v.transpose() * v;
+    rest_lift += v.transpose() * (g * lift);
   }
+  rest_tangent = 0.5 * (rest_tangent + rest_tangent.transpose()).eval();
   t.sample_rest_tangent_r.resize(static_cast<std::size_t>(r * r));
   Eigen::Map<RowMatrix>(t.sample_rest_tangent_r.data(), r, r) = rest_tangent;
+  t.cubature_stiffness_r.resize(static_cast<std::size_t>(r * r));
+  for (std::size_t i = 0; i < t.cubature_stiffness_r.size(); ++i) t.cubature_stiffness_r[i] = t.stiffness_r[i] - t.sample_rest_tangent_r[i];
+  t.cubature_stiffness_lift_r.assign(static_cast<std::size_t>(3 * r), 0.0);
+  for (int i = 0; i < r; ++i)
+    for (int k = 0; k < 3; ++k)
+      t.cubature_stiffness_lift_r[static_cast<std::size_t>(3 * i + k)] = t.stiffness_lift_r[static_cast<std::size_t>(3 * i + k)] - rest_lift(i, k);
 }
 
 /// The frozen system matrix, factored: see detail::system_coefficients.
@@ -218,10 +252,10 @@ Result<ReducedModel> make_reduced_model(const TetMesh& mesh, const TissueScene& 
 Result<ReducedData> make_reduced_data(const ReducedModel& model) {
   const ReducedTables& t = model.tables();
   const auto r = static_cast<std::size_t>(t.r);
-  const auto m = static_cast<std::size_t>(t.sample_count);
+  const detail::ForceScratchSizes sizes = detail::force_scratch_sizes(t);
   ArenaPlan plan;
   const std::size_t monomial_count = t.polynomial.empty() ? 0 : r * (r + 1) / 2 + r * (r + 1) * (r + 2) / 6;
-  plan.add<double>(9 * r).add<double>(2 * r * r).add<double>(12 * m).add<double>(9 * m).add<double>(6 * r);
+  plan.add<double>(9 * r).add<double>(2 * r * r).add<double>(sizes.displacements).add<double>(sizes.rotations).add<double>(sizes.tangent_rows);
   plan.add<double>(monomial_count);
   ReducedData data(Arena("reduced_data", plan.bytes()));
   std::span<double>* vectors[] = {&data.q, &data.q_velocity, &data.q_start, &data.v_start, &data.v_iterate,
@@ -233,9 +267,9 @@ Result<ReducedData> make_reduced_data(const ReducedModel& model) {
   }
   auto tangent = data.arena.allocate<double>("reduced tangent", r * r);
   auto factor = data.arena.allocate<double>("reduced factor", r * r);
-  auto displacements = data.arena.allocate<double>("sample displacements", 12 * m);
-  auto rotations = data.arena.allocate<double>("sample rotations", 9 * m);
-  auto strains = data.arena.allocate<double>("sample tangent rows", 6 * r);
+  auto displacements = data.arena.allocate<double>("sample displacements", sizes.displacements);
+  auto rotations = data.arena.allocate<double>("sample rotations", sizes.rotations);
+  auto strains = data.arena.allocate<double>("sample tangent rows", sizes.tangent_rows);
   if (!tangent.ok()) return tangent.error();
   if (!factor.ok()) return factor.error();
   if (!displacements.ok()) return displacements.error();
@@ -249,9 +283,32 @@ Result<ReducedData> make_reduced_data(const ReducedModel& model) {
   data.sample_displacements = displacements.value();
   data.sample_rotations = rotations.value();
   data.sample_tangent_rows = strains.value();
-  for (std::size_t s = 0; s < m; ++s)
-    for (int d = 0; d < 3; ++d) data.sample_rotations[9 * s + 4 * static_cast<std::size_t>(d)] = 1.0;
+  std::fill(data.sample_rotations.begin(), data.sample_rotations.end(), 0.0);
+  const std::size_t lanes = sizes.rotations / 9;  // identities, k-major over the lanes
+  for (std::size_t d = 0; d < 3; ++d) std::fill_n(data.sample_rotations.begin() + static_cast<std::ptrdiff_t>(4 * d * lanes), lanes, 1.0);
   return data;
+}
+
+Result<ReducedDisplaySet> make_reduced_display_set(const ReducedModel& model, std::span<const std::int32_t> nodes) {
+  constexpr std::size_t L = detail::kSampleLanes;
+  const ReducedTables& t = model.tables();
+  const auto r = static_cast<std::size_t>(t.r);
+  ReducedDisplaySet display;
+  display.nodes.assign(nodes.begin(), nodes.end());
+  display.basis_size = t.r;
+  const std::size_t values = 3 * nodes.size(), panels = (values + L - 1) / L;
+  display.panels.assign(panels * r * L, 0.0);
+  if (t.has_lift) display.lift_panels.assign(panels * 3 * L, 0.0);
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    if (nodes[k] < 0 || nodes[k] >= t.node_count)
+      return error("display node " + std::to_string(k) + " (" + std::to_string(nodes[k]) + ") is not a node of the model", "nodes");
+    for (std::size_t c = 0; c < 3; ++c) {
+      const std::size_t v = 3 * k + c, row = 3 * static_cast<std::size_t>(nodes[k]) + c;
+      for (std::size_t j = 0; j < r; ++j) display.panels[(v / L * r + j) * L + v % L] = t.rows[row * r + j];
+      for (std::size_t j = 0; j < 3 && t.has_lift; ++j) display.lift_panels[(v / L * 3 + j) * L + v % L] = t.lift_rows[3 * row + j];
+    }
+  }
+  return display;
 }
 
 std::int64_t ReducedModel::node_count() const { return tables_->node_count; }
@@ -266,7 +323,8 @@ std::int64_t ReducedModel::memory_bytes() const {
   for (const std::vector<double>* v : {&t.rows, &t.lift_rows, &t.gravity_r, &t.traction_r, &t.stiffness_r, &t.stiffness_lift_r,
                                        &t.spring_stiffness_r, &t.frozen_factor, &t.spring_rest_m,
                                        &t.sample_rows, &t.sample_lift, &t.sample_rest_m, &t.sample_gradients,
-                                       &t.sample_root_stiffness, &t.sample_weight_volume, &t.sample_rest_tangent_r, &t.polynomial, &t.q_bound})
+                                       &t.sample_root_stiffness, &t.sample_weight_volume, &t.sample_rest_tangent_r, &t.cubature_stiffness_r,
+                                       &t.cubature_stiffness_lift_r, &t.polynomial, &t.q_bound})
     doubles += v->size();
   return static_cast<std::int64_t>(sizeof(ReducedTables) + 8 * doubles + 4 * t.spring_nodes.size() +
                                    sizeof(LameParameters) * t.sample_lame.size());

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <vector>
 
 #include "nav/core/arena.hpp"
 #include "nav/core/error.hpp"
@@ -109,5 +110,24 @@ void reconstruct_displacements_m(const ReducedModel& model, const ReducedData& d
 
 /// Displacements from rest of every node (3 node_count values).
 void reconstruct_all_displacements_m(const ReducedModel& model, const ReducedData& data, std::span<double> out) noexcept;
+
+/// The basis rows of a fixed set of nodes (a display surface), laid out for a fast
+/// reconstruction: panels of 8 values, each column's 8 values contiguous. Built at init.
+struct ReducedDisplaySet {
+  std::vector<std::int32_t> nodes;
+  int basis_size = 0;
+  std::vector<double> panels;       ///< ceil(3 nodes / 8) panels of r x 8 basis values
+  std::vector<double> lift_panels;  ///< ceil(3 nodes / 8) panels of 3 x 8 lift values (empty without a lift)
+};
+
+/// The display set of `nodes` (each a node of the model), or an Error naming the bad node.
+Result<ReducedDisplaySet> make_reduced_display_set(const ReducedModel& model, std::span<const std::int32_t> nodes);
+
+/// Displacements from rest (3 per node, metres) of the display set's nodes, into out_xyz (the
+/// first min(out_xyz.size(), 3 nodes) values). Each value sums over the basis columns in
+/// order: it can differ from reconstruct_displacements_m in the last bits. Does nothing when
+/// the set was built for another basis size.
+void reconstruct_display_m(const ReducedModel& model, const ReducedData& data, const ReducedDisplaySet& display,
+                           std::span<double> out_xyz) noexcept;
 
 }  // namespace nav

@@ -6,6 +6,7 @@
 
 #include "nav/reduced/dense_cholesky.hpp"
 #include "nav/reduced/reduced_forces.hpp"
+#include "nav/reduced/reduced_kernels.hpp"
 #include "nav/reduced/reduced_model.hpp"
 #include "nav/reduced/reduced_tables.hpp"
 
@@ -253,6 +254,13 @@ void reconstruct_all_displacements_m(const ReducedModel& model, const ReducedDat
       for (int j = 0; j < 3; ++j) value += t.lift_rows[3 * i + static_cast<std::size_t>(j)] * data.prescribed_m[j];
     out[i] = value;
   }
+}
+
+void reconstruct_display_m(const ReducedModel& model, const ReducedData& data, const ReducedDisplaySet& display,
+                           std::span<double> out_xyz) noexcept {
+  const std::size_t values = std::min(out_xyz.size(), 3 * display.nodes.size());
+  if (display.basis_size != model.basis_size()) return;
+  detail::panel_times(display.panels, display.lift_panels, data.q.data(), display.basis_size, data.prescribed_m, out_xyz.first(values));
 }
 
 }  // namespace nav

@@ -11,6 +11,9 @@
 
 namespace nav::detail {
 
+/// Sampled tetrahedra per block of the cubature kernels (the lanes of their loops).
+inline constexpr int kSampleLanes = 8;
+
 /// Per-model tables of a ReducedModel.
 struct ReducedTables {
   ReducedSolverOptions options;
@@ -33,15 +36,23 @@ struct ReducedTables {
   std::vector<double> spring_rest_m;        ///< 3 per spring node
   double spring_stiffness_n_m = 0.0;
 
+  // The sampled tetrahedra of a cubature, blocked by kSampleLanes (structure of arrays):
+  // value x of sample s = kSampleLanes b + l is at [(b X + x) kSampleLanes + l], X values per
+  // sample. The lanes past sample_count are padding: zero rows, gradients and weights (they
+  // deform by nothing and add nothing).
   int sample_count = 0;                     ///< m
-  std::vector<double> sample_rows;          ///< m x 12 x r: basis rows of the sampled tetrahedra's vertices
-  std::vector<double> sample_lift;          ///< m x 12 x 3 (empty without a lift)
-  std::vector<double> sample_rest_m;        ///< m x 12
-  std::vector<double> sample_gradients;     ///< m x 12: row a = gradient of vertex a
-  std::vector<double> sample_root_stiffness;///< m x 6 x 12: sqrt(w V) D^1/2 B, corotational only
-  std::vector<double> sample_weight_volume; ///< m: w V0
-  std::vector<LameParameters> sample_lame;
-  std::vector<double> sample_rest_tangent_r;///< r x r: sum over samples of w U_s^T K_s U_s
+  int sample_blocks = 0;                    ///< ceil(m / kSampleLanes)
+  std::vector<double> sample_rows;          ///< 12 r per sample: row i = 3a + c, column j at x = r i + j
+  std::vector<double> sample_lift;          ///< 12 x 3 per sample (empty without a lift)
+  std::vector<double> sample_rest_m;        ///< 12 per sample
+  std::vector<double> sample_gradients;     ///< 12 per sample: 3a + k = component k of vertex a's gradient
+  std::vector<double> sample_root_stiffness;///< 6 x 12 per sample: G = sqrt(w V) D^1/2 B, G^T G = w K_e
+  std::vector<double> sample_weight_volume; ///< 1 per sample: w V0
+  std::vector<LameParameters> sample_lame;  ///< one per sample, padded with zeros (not blocked)
+  std::vector<double> sample_rest_tangent_r;///< r x r: K_S = sum over samples of w U_s^T K_s U_s (symmetric)
+  /// r x r: K_r - K_S, the linear stiffness the samples' full forces are completed with.
+  std::vector<double> cubature_stiffness_r;
+  std::vector<double> cubature_stiffness_lift_r;  ///< r x 3: U^T K L - sum w U_s^T K_s L_s
 
   std::vector<double> polynomial;           ///< stvk_cubic_polynomial only: see stvk_polynomial.hpp
   std::vector<double> q_bound;              ///< r, or empty: no envelope

@@ -115,7 +115,7 @@ enum class UltrasoundKind { simulated, plus };
 struct UltrasoundSettings {
   UltrasoundKind kind = UltrasoundKind::simulated;
   double rate_hz = 20.0;            ///< simulated
-  double target_noise_m = 0.0;      ///< simulated: noise of the observed tumour point
+  double target_noise_m = 0.0;      ///< simulated: the filter's noise of the tumour point found in the frames
   std::uint64_t seed = 1;           ///< simulated
   std::string recording_path;       ///< plus, resolved against the scene's folder
 };

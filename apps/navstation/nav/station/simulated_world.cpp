@@ -73,18 +73,16 @@ void track(const SimulatedWorld& world, const Scene& scene, const BreathingGeome
   const TimeNs latency_ns = static_cast<TimeNs>(std::llround(tracker.latency_ms * 1e6));
   const double needle_length_m = scene.needle ? scene.needle->parameters.length_m : 0.15;
   const Eigen::Quaterniond needle_rotation = Eigen::Quaterniond::FromTwoVectors(-Eigen::Vector3d::UnitZ(), world.needle_velocity_m_s.normalized());
-  const Point3 tumour = world.tumour_truth_m.front();
-  const Eigen::Vector3d probe_position{tumour[0], tumour[1], tumour[2] + 0.06};
   for (TimeNs t = 0; t <= options.duration_ns; t += period_ns(tracker.rate_hz)) {
     if (tracker.dropout_probability > 0.0 && uniform(rng) < tracker.dropout_probability) continue;
     DeviceSample needle{SampleKind::needle_pose, t, t + latency_ns, {}, Eigen::Vector3d::Zero()};
     const Eigen::Vector3d marker = world.needle_tip_at(t) - needle_rotation * Eigen::Vector3d{0.0, 0.0, -needle_length_m};
     needle.pose = {marker + position_noise(rng, tracker.position_noise_m), rotation_noise(rng, tracker.rotation_noise_rad) * needle_rotation};
     out.push_back(needle);
-    const double sweep_rad = options.probe_sweep_rad * std::sin(2.0 * std::numbers::pi * seconds(t) / options.probe_sweep_period_s);
     DeviceSample probe{SampleKind::probe_pose, t, t + latency_ns, {}, Eigen::Vector3d::Zero()};
-    probe.pose = {probe_position + position_noise(rng, tracker.position_noise_m),
-                  rotation_noise(rng, tracker.rotation_noise_rad) * Eigen::Quaterniond(Eigen::AngleAxisd(sweep_rad, Eigen::Vector3d::UnitX()))};
+    const RigidPose probe_truth = world.probe_at(t);
+    probe.pose = {probe_truth.position_m + position_noise(rng, tracker.position_noise_m),
+                  rotation_noise(rng, tracker.rotation_noise_rad) * probe_truth.rotation};
     out.push_back(probe);
     DeviceSample marker_sample{SampleKind::respiratory, t, t + latency_ns, {}, Eigen::Vector3d::Zero()};
     marker_sample.point_m = breathing.marker_rest_m + Eigen::Vector3d{0.0, 0.0, marker_displacement_m(options, t)} +
@@ -93,17 +91,35 @@ void track(const SimulatedWorld& world, const Scene& scene, const BreathingGeome
   }
 }
 
-/// The ultrasound's tumour observations.
-void scan(const SimulatedWorld& world, const Scene& scene, const WorldOptions& options, std::vector<DeviceSample>& out) {
+/// The scanner's frames: the probe's true image plane through the tissue around the true
+/// tumour. The tissue near the tumour moves with it (a local translation by the tumour's
+/// displacement from rest), so each frame images the rest-shape liver from the plane moved
+/// back by that displacement.
+void scan(SimulatedWorld& world, const StationLiver& liver, const Scene& scene, const WorldOptions& options) {
   const UltrasoundSettings& ultrasound = scene.devices.ultrasound;
   std::mt19937_64 rng(ultrasound.seed);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  ultrasound::BmodeScene tissue = ultrasound::default_bmode_scene();
+  tissue.tumour_centre_m = liver.tumour_m;
+  ultrasound::BmodeSimulator simulator(world.imaging.geometry, tissue, ultrasound.seed);
+  const Eigen::Vector3d rest{liver.tumour_m[0], liver.tumour_m[1], liver.tumour_m[2]};
+  const std::size_t pixel_count = std::size_t{world.imaging.geometry.width_px} * world.imaging.geometry.height_px;
   for (TimeNs t = 0; t <= options.duration_ns; t += period_ns(ultrasound.rate_hz)) {
     if (options.ultrasound_frame_loss > 0.0 && uniform(rng) < options.ultrasound_frame_loss) continue;
-    const Point3 p = world.tumour_at(t);
-    DeviceSample seen{SampleKind::tumour, t, t + options.ultrasound_delay_ns, {}, Eigen::Vector3d::Zero()};
-    seen.point_m = Eigen::Vector3d{p[0], p[1], p[2]} + position_noise(rng, ultrasound.target_noise_m);
-    out.push_back(seen);
+    const RigidPose probe = world.probe_at(t);
+    const Point3 tumour = world.tumour_at(t);
+    const Eigen::Vector3d displacement = Eigen::Vector3d{tumour[0], tumour[1], tumour[2]} - rest;
+    Eigen::Isometry3d probe_in_rest = Eigen::Isometry3d::Identity();
+    probe_in_rest.linear() = probe.rotation.toRotationMatrix();
+    probe_in_rest.translation() = probe.position_m - displacement;
+    const Eigen::Isometry3d image_in_rest = probe_in_rest * world.imaging.image_to_probe;
+    UltrasoundImage frame;
+    frame.pixels.resize(pixel_count);
+    frame.tumour_visible = simulator.render(image_in_rest, frame.pixels.data()).tumour_visible();
+    DeviceSample seen{SampleKind::ultrasound_frame, t, t + options.ultrasound_delay_ns, {}, Eigen::Vector3d::Zero()};
+    seen.frame_index = static_cast<std::int32_t>(world.frames.size());
+    world.frames.push_back(std::move(frame));
+    world.samples.push_back(seen);
   }
 }
 
@@ -119,6 +135,11 @@ Point3 SimulatedWorld::tumour_at(TimeNs time_ns) const {
 }
 
 Eigen::Vector3d SimulatedWorld::needle_tip_at(TimeNs time_ns) const { return needle_start_m + seconds(time_ns) * needle_velocity_m_s; }
+
+RigidPose SimulatedWorld::probe_at(TimeNs time_ns) const {
+  const double sweep_rad = probe_sweep_rad * std::sin(2.0 * std::numbers::pi * seconds(time_ns) / probe_sweep_period_s);
+  return {probe_centre_m, Eigen::Quaterniond(Eigen::AngleAxisd(sweep_rad, Eigen::Vector3d::UnitX()))};
+}
 
 double marker_displacement_m(const WorldOptions& options, TimeNs time_ns) {
   return options.marker_amplitude_m * std::sin(2.0 * std::numbers::pi * seconds(time_ns) / options.breathing_period_s);
@@ -136,8 +157,12 @@ Result<SimulatedWorld> simulate_world(const StationLiver& liver, const Scene& sc
   const Eigen::Vector3d toward = -Eigen::Vector3d{0.0, 1.0, 1.0}.normalized();  // from above and in front
   world.needle_start_m = Eigen::Vector3d{liver.tumour_m[0], liver.tumour_m[1], liver.tumour_m[2]} - options.needle_start_distance_m * toward;
   world.needle_velocity_m_s = options.needle_speed_m_s * toward;
+  world.imaging = demo_probe_imaging();
+  world.probe_centre_m = Eigen::Vector3d{liver.tumour_m[0], liver.tumour_m[1], liver.tumour_m[2] + options.probe_height_m};
+  world.probe_sweep_rad = options.probe_sweep_rad;
+  world.probe_sweep_period_s = options.probe_sweep_period_s;
   track(world, scene, breathing, options, world.samples);
-  scan(world, scene, options, world.samples);
+  scan(world, liver, scene, options);
   std::stable_sort(world.samples.begin(), world.samples.end(),
                    [](const DeviceSample& a, const DeviceSample& b) { return a.delivered_ns < b.delivered_ns; });
   return world;

@@ -5,8 +5,9 @@
 // a gain and a lag the station's model does not know), and the devices that watch it: a tracker (the
 // needle marker inserting the needle toward the tumour, the ultrasound probe sweeping over
 // it, the respiratory marker) with the scene's rate, latency, noise and dropout, and a
-// synthetic ultrasound that sees the true tumour with the scene's noise and rate (frame loss
-// optional). The whole world is computed at start-up into a recording: every sample with the
+// synthetic B-mode scanner on the tracked probe (BmodeSimulator: speckle, a hypoechoic tumour,
+// vessels, capsule) imaging the tissue around the true, moving tumour at the scene's rate
+// (frame loss optional); the station finds the tumour in those frames itself. The whole world is computed at start-up into a recording: every sample with the
 // time it was measured and the time it reaches the station, in delivery order. Seeded RNGs
 // only: the same scene and options give the same recording. Init-time code.
 #include <cstdint>
@@ -19,6 +20,7 @@
 #include "nav/fusion/rigid_pose.hpp"
 #include "nav/station/scene.hpp"
 #include "nav/station/station_liver.hpp"
+#include "nav/station/tumour_observer.hpp"
 
 namespace nav::station {
 
@@ -36,12 +38,15 @@ struct WorldOptions {
   double needle_speed_m_s = 0.004;          ///< and moves toward it
   double probe_sweep_rad = 0.3;             ///< the probe's sweep amplitude about the model x axis
   double probe_sweep_period_s = 3.0;
-  TimeNs ultrasound_delay_ns = 30 * kNsPerMs;  ///< from image capture to the segmented tumour at the station
-  double ultrasound_frame_loss = 0.0;       ///< probability that a frame yields no observation
+  double probe_height_m = 0.045;            ///< the probe marker above the tumour at rest (the image's depth to it)
+  TimeNs ultrasound_delay_ns = 30 * kNsPerMs;  ///< from image capture to the frame at the station
+  double ultrasound_frame_loss = 0.0;       ///< probability that a frame is lost
 };
 
 /// The kinds of recorded sample.
-enum class SampleKind : std::uint8_t { needle_pose, probe_pose, respiratory, tumour };
+/// tumour: a tumour point in the model frame, as the station's image processing hands it to
+/// the loop (the world records frames, never tumour points).
+enum class SampleKind : std::uint8_t { needle_pose, probe_pose, respiratory, tumour, ultrasound_frame };
 
 /// One sample of one simulated device (tracker frame = model frame).
 struct DeviceSample {
@@ -49,7 +54,14 @@ struct DeviceSample {
   TimeNs measured_ns = 0;   ///< when the device measured it
   TimeNs delivered_ns = 0;  ///< when it reaches the station
   RigidPose pose;           ///< needle and probe markers
-  Eigen::Vector3d point_m = Eigen::Vector3d::Zero();  ///< respiratory marker, or the tumour seen by the ultrasound
+  Eigen::Vector3d point_m = Eigen::Vector3d::Zero();  ///< respiratory marker, or a tumour point
+  std::int32_t frame_index = -1;  ///< ultrasound_frame: the frame in SimulatedWorld::frames
+};
+
+/// One B-mode frame of the simulated scanner (row-major, the probe imaging's grid).
+struct UltrasoundImage {
+  std::vector<std::uint8_t> pixels;
+  bool tumour_visible = false;  ///< the image plane cuts the tumour
 };
 
 /// The simulated world: the truth at every tissue step and the devices' recording.
@@ -59,10 +71,16 @@ struct SimulatedWorld {
   Eigen::Vector3d needle_start_m = Eigen::Vector3d::Zero();   ///< the true tip at time 0
   Eigen::Vector3d needle_velocity_m_s = Eigen::Vector3d::Zero();
   std::vector<DeviceSample> samples;       ///< in delivery order
+  std::vector<UltrasoundImage> frames;     ///< the scanner's frames, by frame_index
+  ProbeImaging imaging;                    ///< the scanner's grid and probe calibration
+  Eigen::Vector3d probe_centre_m = Eigen::Vector3d::Zero();  ///< the probe marker's position
+  double probe_sweep_rad = 0.0, probe_sweep_period_s = 1.0;
   /// The true tumour at any time within the run (linear between tissue steps).
   Point3 tumour_at(TimeNs time_ns) const;
   /// The true needle tip at any time.
   Eigen::Vector3d needle_tip_at(TimeNs time_ns) const;
+  /// The true probe marker pose (T_model_probe) at any time.
+  RigidPose probe_at(TimeNs time_ns) const;
 };
 
 /// The respiratory marker's true displacement along the tracker's z at time t (from its rest).

@@ -9,17 +9,15 @@
 
 #include "nav/core/fixed_rate_timer.hpp"
 #include "nav/core/fnv_hash.hpp"
-#include "nav/core/spsc_ring.hpp"
-#include "nav/core/triple_buffer.hpp"
 #include "nav/mesh/geometry.hpp"
+#include "nav/station/station_channels.hpp"
+#include "nav/station/station_dds.hpp"
 
 namespace nav::station {
 
 namespace {
 
-constexpr std::size_t kRingCapacity = 1024;            // samples in flight from the I/O thread
 constexpr TimeNs kStartDelayNs = 20 * kNsPerMs;        // from the real-time setup to the first tick
-constexpr TimeNs kIoPeriodNs = kNsPerMs / 2;           // the I/O thread's polling period
 
 /// Hands one recorded sample to the loop. Real-time safe.
 void push_sample(const OperatingLoopModel& loop, OperatingLoopData& data, const DeviceSample& s, bool assimilate) noexcept {
@@ -30,11 +28,12 @@ void push_sample(const OperatingLoopModel& loop, OperatingLoopData& data, const 
     case SampleKind::tumour:
       if (assimilate) push_tumour_observation(data, s.measured_ns, {s.point_m[0], s.point_m[1], s.point_m[2]});
       break;
+    case SampleKind::ultrasound_frame: break;  // frames reach the loop as tumour points only
   }
 }
 
 TickRecord record_of(const OperatingLoopOutputs& o) noexcept {
-  return {o.time_ns, o.tissue_time_ns, o.tumour_now_m, o.tumour_ahead_m, o.needle_tip_m};
+  return {o.time_ns, o.tissue_time_ns, o.tumour_now_m, o.tumour_ahead_m, o.needle_tip_m, o.degraded, o.needle.degraded, o.needle.flags.bits()};
 }
 
 template <class T>
@@ -62,16 +61,6 @@ double percentile(const std::vector<double>& sorted, double fraction) {
 
 double squared_distance(const Point3& a, const Point3& b) { return dot(a - b, a - b); }
 
-/// What the two threads share: the ring, the triple buffer, the clock and the start time.
-struct Channels {
-  SpscRing<DeviceSample, kRingCapacity> samples;
-  TripleBuffer<OperatingLoopOutputs> outputs;
-  MonotonicClock clock;
-  TimeNs start_ns = 0;               ///< written by the real-time thread before `started`
-  std::atomic<bool> started{false};
-  std::atomic<bool> realtime_done{false};
-};
-
 /// The real-time thread's preallocated records.
 struct RealtimeRecords {
   std::vector<TickRecord> ticks;
@@ -80,7 +69,7 @@ struct RealtimeRecords {
   std::int64_t skipped = 0;
 };
 
-void realtime_thread(const OperatingLoopModel& loop, OperatingLoopData& data, Channels& ch, RealtimeRecords& rec,
+void realtime_thread(const OperatingLoopModel& loop, OperatingLoopData& data, StationChannels& ch, RealtimeRecords& rec,
                      const StationRunOptions& options, std::vector<SetupStep>& setup) {
   setup = apply_realtime_setup(options.realtime);
   ch.start_ns = ch.clock.now_ns() + kStartDelayNs;  // the first tick comes once the setup is done
@@ -88,6 +77,11 @@ void realtime_thread(const OperatingLoopModel& loop, OperatingLoopData& data, Ch
   const TimeNs period = loop.options.tick_period_ns;
   FixedRateTimer timer(ch.clock, period, ch.start_ns);
   const auto capacity = static_cast<std::int64_t>(rec.ticks.size());
+  const double miss_threshold_us = 1e-3 * static_cast<double>(options.miss_threshold_ns);
+  const std::int64_t health_every_ticks =
+      std::max<std::int64_t>(1, (options.dds ? options.dds->health_period_ns : kNsPerSecond) / loop.options.tick_period_ns);
+  std::uint64_t misses = 0;
+  TimeNs window_max_ns = 0;
   DeviceSample sample;
   while (rec.count < capacity) {
     const Tick tick = timer.wait_next_tick();
@@ -99,38 +93,51 @@ void realtime_thread(const OperatingLoopModel& loop, OperatingLoopData& data, Ch
     const auto i = static_cast<std::size_t>(rec.count++);
     rec.ticks[i] = record_of(data.outputs);
     rec.lateness_us[i] = 1e-3 * static_cast<double>(tick.lateness_ns + tick.skipped * period);
-    rec.step_us[i] = 1e-3 * static_cast<double>(ch.clock.now_ns() - begin);
+    const TimeNs step_ns = ch.clock.now_ns() - begin;
+    rec.step_us[i] = 1e-3 * static_cast<double>(step_ns);
+    if (ch.outbox != nullptr) {
+      if (rec.lateness_us[i] > miss_threshold_us) ++misses;
+      window_max_ns = std::max(window_max_ns, step_ns);
+      push_outputs(*ch.outbox, data.outputs, loop.options.display_latency_ns, health_every_ticks, misses, window_max_ns);
+      if (data.outputs.ticks % health_every_ticks == 0) window_max_ns = 0;
+    }
   }
   rec.skipped = timer.skipped_ticks();
   ch.realtime_done.store(true, std::memory_order_release);
 }
 
-void io_thread(const SimulatedWorld& world, Channels& ch, StationRun& run, int core) {
-  run.io_pin = pin_to_core(core);
-  while (!ch.started.load(std::memory_order_acquire)) ch.clock.sleep_until_ns(ch.clock.now_ns() + kIoPeriodNs);
+/// The direct hand-off: the world's recording played in real time.
+void io_thread(const SimulatedWorld& world, StationChannels& ch, StationRun& run, const StationRunOptions& options) {
+  run.io_pin = pin_to_core(options.io_core);
+  TumourObserver observer(world.imaging, options.observer);
+  ch.wait_for_start();
   std::size_t next = 0;
   while (!ch.realtime_done.load(std::memory_order_acquire)) {
-    const TimeNs now = ch.clock.now_ns() - ch.start_ns;
-    while (next < world.samples.size() && world.samples[next].delivered_ns <= now && ch.samples.try_push(world.samples[next])) {
-      ++next;
-      ++run.samples_pushed;
+    const TimeNs now = ch.run_time_ns();
+    for (; next < world.samples.size() && world.samples[next].delivered_ns <= now; ++next) {
+      const DeviceSample& s = world.samples[next];
+      const std::uint8_t* pixels = s.frame_index >= 0 ? world.frames[static_cast<std::size_t>(s.frame_index)].pixels.data() : nullptr;
+      const std::optional<DeviceSample> for_loop = loop_sample(observer, world.imaging, s, pixels);
+      if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;
     }
     if (ch.outputs.update()) ++run.outputs_read;
     ch.clock.sleep_until_ns(ch.clock.now_ns() + kIoPeriodNs);
   }
+  run.observer = observer.counts();
+  run.frame_processing = latency_statistics(observer.processing_us());
 }
 
 }  // namespace
 
 StepStatistics step_statistics(std::vector<double> step_us, const std::vector<double>& lateness_us, double miss_threshold_us) {
   StepStatistics s;
-  s.ticks = static_cast<std::int64_t>(step_us.size());
-  if (step_us.empty()) return s;
-  std::sort(step_us.begin(), step_us.end());
-  s.median_us = percentile(step_us, 0.5);
-  s.p99_us = percentile(step_us, 0.99);
-  s.p999_us = percentile(step_us, 0.999);
-  s.max_us = step_us.back();
+  const LatencyStatistics step = latency_statistics(std::move(step_us));
+  s.ticks = step.count;
+  if (s.ticks == 0) return s;
+  s.median_us = step.median_us;
+  s.p99_us = step.p99_us;
+  s.p999_us = step.p999_us;
+  s.max_us = step.max_us;
   double sum = 0.0, sum2 = 0.0;
   for (std::size_t i = 0; i < lateness_us.size(); ++i) {
     const double late = lateness_us[i];
@@ -152,11 +159,21 @@ Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWo
   rec.ticks.resize(capacity);
   rec.step_us.resize(capacity);
   rec.lateness_us.resize(capacity);
-  auto channels = std::make_unique<Channels>();
+  auto channels = std::make_unique<StationChannels>();
+  std::unique_ptr<dds::StationOutbox> outbox;
+  std::unique_ptr<StationDdsLink> link;
+  if (options.dds) {
+    auto created = StationDdsLink::create(options.dds->domain_id);
+    if (!created.ok()) return created.error();
+    link = std::move(created).value();
+    outbox = std::make_unique<dds::StationOutbox>();
+    channels->outbox = outbox.get();
+  }
   StationRun run;
   std::thread realtime(realtime_thread, std::cref(loop), std::ref(data.value()), std::ref(*channels), std::ref(rec), std::cref(options),
                        std::ref(run.realtime_setup));
-  std::thread io(io_thread, std::cref(world), std::ref(*channels), std::ref(run), options.io_core);
+  std::thread io = link ? std::thread(dds_io_thread, std::cref(loop), std::cref(world), std::ref(*channels), std::ref(run), std::cref(options), std::ref(*link))
+                        : std::thread(io_thread, std::cref(world), std::ref(*channels), std::ref(run), std::cref(options));
   realtime.join();
   io.join();
   const auto n = static_cast<std::size_t>(rec.count);
@@ -167,6 +184,44 @@ Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWo
   run.steps.skipped_ticks = rec.skipped;
   run.ticks = std::move(rec.ticks);
   return run;
+}
+
+std::optional<DeviceSample> loop_sample(TumourObserver& observer, const ProbeImaging& imaging, const DeviceSample& sample,
+                                        const std::uint8_t* pixels) {
+  if (sample.kind == SampleKind::probe_pose) observer.add_probe_pose(sample.measured_ns, sample.pose);
+  if (sample.kind != SampleKind::ultrasound_frame) return sample;
+  const ultrasound::BmodeGeometry& g = imaging.geometry;
+  const std::optional<Eigen::Vector3d> tumour = observer.observe(sample.measured_ns, pixels, g.width_px, g.height_px, g.spacing_m, g.spacing_m);
+  if (!tumour) return std::nullopt;
+  DeviceSample seen = sample;
+  seen.kind = SampleKind::tumour;
+  seen.point_m = *tumour;
+  seen.frame_index = -1;
+  return seen;
+}
+
+std::vector<DeviceSample> observed_recording(const SimulatedWorld& world, const TumourObserverOptions& options, ObserverCounts* counts) {
+  TumourObserver observer(world.imaging, options);
+  std::vector<DeviceSample> observed;
+  observed.reserve(world.samples.size());
+  for (const DeviceSample& s : world.samples) {
+    const std::uint8_t* pixels = s.frame_index >= 0 ? world.frames[static_cast<std::size_t>(s.frame_index)].pixels.data() : nullptr;
+    if (std::optional<DeviceSample> for_loop = loop_sample(observer, world.imaging, s, pixels)) observed.push_back(*for_loop);
+  }
+  if (counts != nullptr) *counts = observer.counts();
+  return observed;
+}
+
+LatencyStatistics latency_statistics(std::vector<double> latency_us) {
+  LatencyStatistics s;
+  s.count = static_cast<std::int64_t>(latency_us.size());
+  if (latency_us.empty()) return s;
+  std::sort(latency_us.begin(), latency_us.end());
+  s.median_us = percentile(latency_us, 0.5);
+  s.p99_us = percentile(latency_us, 0.99);
+  s.p999_us = percentile(latency_us, 0.999);
+  s.max_us = latency_us.back();
+  return s;
 }
 
 Result<StationReplay> replay_station(const OperatingLoopModel& loop, std::span<const DeviceSample> samples, TimeNs duration_ns,

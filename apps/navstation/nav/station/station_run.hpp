@@ -2,13 +2,16 @@
 // The running station on a simulated world. run_station() runs two threads: the real-time
 // thread (pinned and prioritised as the scene asks, paced by a FixedRateTimer on the
 // MonotonicClock at the loop rate) drains the samples that reach it through a lock-free ring
-// into the OperatingLoop, ticks it, publishes its outputs through a triple buffer and records
-// its step times, lateness and predictions into preallocated arrays; the I/O thread plays the
-// world's recording in real time (each sample pushed when its delivery time comes) and reads
-// the published outputs as a display would. replay_station() feeds the same recording to the
-// same loop on a SimulatedClock: deterministic, bitwise repeatable, and the way the figures
-// without assimilation are made (the recording without its ultrasound observations).
+// into the OperatingLoop, ticks it, publishes its outputs through a triple buffer (and, with
+// DDS, into the StationOutbox) and records its step times, lateness and predictions into
+// preallocated arrays; the I/O thread takes the devices' samples (directly from the world's
+// recording, each when its delivery time comes, or from DDS: station_dds.hpp), finds the
+// tumour in each ultrasound frame (TumourObserver), hands poses and tumour points to the
+// real-time thread and reads the published outputs as a display would. replay_station()
+// feeds a recording to the same loop on a SimulatedClock: deterministic, bitwise repeatable,
+// and the way the figures without assimilation are made (without the tumour points).
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -18,6 +21,7 @@
 #include "nav/station/realtime_thread.hpp"
 #include "nav/station/scene.hpp"
 #include "nav/station/simulated_world.hpp"
+#include "nav/station/tumour_observer.hpp"
 
 namespace nav::station {
 
@@ -26,6 +30,9 @@ struct TickRecord {
   TimeNs time_ns = 0;         ///< the tick's time (world clock)
   TimeNs tissue_time_ns = 0;  ///< the time of the liver step behind the tumour values
   Point3 tumour_now_m{}, tumour_ahead_m{}, needle_tip_m{};
+  bool degraded = true;         ///< the loop's degraded output
+  bool needle_degraded = true;  ///< the needle input degraded (held, extrapolated too far or missing)
+  std::uint32_t needle_flags = 0;  ///< the needle input's HealthFlag bits
 };
 
 /// Step time and timing statistics of a real-time run.
@@ -42,12 +49,55 @@ struct StepStatistics {
 /// The statistics of step times and lateness (both microseconds, one per tick).
 StepStatistics step_statistics(std::vector<double> step_us, const std::vector<double>& lateness_us, double miss_threshold_us);
 
+/// A device participant that goes away: destroyed at from_ns (run time) and created again at
+/// to_ns; the samples due in between are lost with it.
+struct PeerOutage {
+  TimeNs from_ns = 0;
+  TimeNs to_ns = 0;
+};
+
+struct DisplaySurface;
+
+/// The devices and the station on DDS instead of the direct hand-off.
+struct DdsRunOptions {
+  std::uint32_t domain_id = 0;
+  std::optional<PeerOutage> device_outage;  ///< the devices' participant goes away once
+  TimeNs health_period_ns = 100 * kNsPerMs; ///< the station's health is published this often
+  const DisplaySurface* surface = nullptr;  ///< published on nav/deformed_surface when given (outlives the run)
+  TimeNs surface_period_ns = 50 * kNsPerMs; ///< of liver time between two published surfaces
+};
+
+/// Latency statistics in microseconds.
+struct LatencyStatistics {
+  std::int64_t count = 0;
+  double median_us = 0.0, p99_us = 0.0, p999_us = 0.0, max_us = 0.0;
+};
+
 /// How a real-time run is set up.
 struct StationRunOptions {
   TimeNs duration_ns = 10 * kNsPerSecond;
   TimeNs miss_threshold_ns = 5 * kNsPerMs;  ///< a tick woken later than this after its deadline is a miss
   RealtimePlan realtime;                    ///< the real-time thread's core, priority and memory lock
   int io_core = 0;                          ///< the I/O thread's core
+  std::optional<DdsRunOptions> dds;         ///< devices on DDS (station_dds.hpp); direct hand-off without
+  TumourObserverOptions observer;
+};
+
+
+/// What the DDS side of a run saw.
+struct DdsRunReport {
+  LatencyStatistics pose_latency;   ///< the devices' write to the station's listener
+  LatencyStatistics frame_latency;
+  std::int64_t poses_received = 0, frames_received = 0;
+  std::int64_t outputs_published = 0;  ///< predictions, needle states and health samples written
+  std::uint64_t outbox_dropped = 0;
+  TimeNs device_gone_ns = -1;       ///< when the devices' participant began to be destroyed (run time; -1: never)
+  TimeNs device_back_ns = -1;       ///< when it was created again
+  TimeNs peer_lost_seen_ns = -1;    ///< when the I/O thread saw no pose writer any more
+  TimeNs peer_back_seen_ns = -1;    ///< when it saw one again
+  std::uint64_t device_samples_lost = 0;  ///< samples due while the devices were gone
+  std::int64_t surfaces_published = 0;
+  LatencyStatistics surface_reconstruction;  ///< the I/O thread's time per surface
 };
 
 /// What a real-time run measured.
@@ -58,10 +108,27 @@ struct StationRun {
   SetupStep io_pin;                       ///< the I/O thread's pinning
   std::int64_t outputs_read = 0;          ///< new outputs the I/O thread read from the triple buffer
   std::int64_t samples_pushed = 0;        ///< samples the I/O thread handed to the real-time thread
+  ObserverCounts observer;                ///< the ultrasound frames and what became of them
+  LatencyStatistics frame_processing;     ///< the observer's time per frame (tumour tracker)
+  std::optional<DdsRunReport> dds;
 };
 
 /// Runs the station in real time on `world`'s recording for options.duration_ns.
 Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWorld& world, const StationRunOptions& options);
+
+/// I/O side: what one device sample becomes for the loop. A probe pose also goes to the
+/// observer; an ultrasound frame (`pixels` on the world's imaging grid) becomes the tumour
+/// point found in it, delivered when the frame is, or nothing.
+std::optional<DeviceSample> loop_sample(TumourObserver& observer, const ProbeImaging& imaging, const DeviceSample& sample,
+                                        const std::uint8_t* pixels);
+
+/// The world's recording as the loop sees it: every frame replaced by its tumour point (or
+/// left out), as the I/O thread does it; `counts` (optional) gets the observer's counts.
+std::vector<DeviceSample> observed_recording(const SimulatedWorld& world, const TumourObserverOptions& options,
+                                             ObserverCounts* counts = nullptr);
+
+/// Median, p99, p99.9 and max of latencies (or step times) in microseconds.
+LatencyStatistics latency_statistics(std::vector<double> latency_us);
 
 /// A replay on a SimulatedClock at the loop's period.
 struct StationReplay {

@@ -34,7 +34,7 @@ PlotSeries tumour_series(const StationSession& s, std::span<const TickRecord> ti
 
 }  // namespace
 
-Result<StationSession> run_session(const Scene& scene, const SessionOptions& options) {
+Result<StationSession> run_session(const Scene& scene, const SessionOptions& options, const BeforeRun& before_run) {
   StationSession s;
   const BreathingGeometry breathing;
   const StationLoopSettings loop_settings;
@@ -51,12 +51,24 @@ Result<StationSession> run_session(const Scene& scene, const SessionOptions& opt
   if (!world.ok()) return world.error();
   s.world = std::move(world).value();
   s.world_s = seconds_since(start);
+  auto surface = make_display_surface(s.liver.mesh);
+  if (!surface.ok()) return Error{surface.error().describe(), scene.source_path, scene.liver.line, "liver.mesh"};
+  s.surface = std::move(surface).value();
+  if (before_run) {
+    const Status ready = before_run(s);
+    if (!ready.ok()) return ready.error();
+  }
 
   StationRunOptions run_options;
   run_options.duration_ns = options.world.duration_ns;
   run_options.miss_threshold_ns = options.miss_threshold_ns;
   run_options.realtime = {scene.station.realtime_core, scene.station.realtime_priority, scene.station.lock_memory && options.lock_memory};
   run_options.io_core = scene.station.io_core;
+  if (options.dds) {
+    run_options.dds = DdsRunOptions{};
+    run_options.dds->domain_id = scene.topics.domain_id;
+    run_options.dds->surface = &s.surface;
+  }
   auto run = run_station(loop.value(), s.world, run_options);
   if (!run.ok()) return run.error();
   s.run = std::move(run).value();
@@ -98,6 +110,23 @@ std::string format_summary(const Scene& scene, const StationSession& s) {
                 static_cast<double>(t.deadline_misses), static_cast<double>(t.skipped_ticks));
   out += format("I/O thread: %.0f samples pushed, %.0f outputs read\n", static_cast<double>(s.run.samples_pushed),
                 static_cast<double>(s.run.outputs_read));
+  const ObserverCounts& u = s.run.observer;
+  out += format("ultrasound: %.0f B-mode frames, %.0f tumour points found (dropped: %.0f without a confident detection, %.0f without a probe pose)\n",
+                static_cast<double>(u.frames), static_cast<double>(u.observations), static_cast<double>(u.dropped_no_detection),
+                static_cast<double>(u.dropped_no_pose));
+  out += format("  tumour tracker per frame (I/O thread): median %.2f ms, p99 %.2f ms\n", 1e-3 * s.run.frame_processing.median_us,
+                1e-3 * s.run.frame_processing.p99_us);
+  if (s.run.dds) {
+    const DdsRunReport& d = *s.run.dds;
+    out += format("DDS (domain %.0f; shared memory and UDP on 127.0.0.1): %.0f poses and %.0f frames received, %.0f outputs published\n",
+                  static_cast<double>(scene.topics.domain_id), static_cast<double>(d.poses_received), static_cast<double>(d.frames_received),
+                  static_cast<double>(d.outputs_published));
+    out += format("  writer to reader: poses median %.0f us, p99 %.0f us; frames median %.0f us, p99 %.0f us\n", d.pose_latency.median_us,
+                  d.pose_latency.p99_us, d.frame_latency.median_us, d.frame_latency.p99_us);
+    out += format("  deformed surface (%.0f vertices): %.0f published; reconstruction on the I/O thread median %.0f us, p99 %.0f us\n",
+                  static_cast<double>(s.surface.nodes.size()), static_cast<double>(d.surfaces_published), d.surface_reconstruction.median_us,
+                  d.surface_reconstruction.p99_us);
+  }
   return out;
 }
 

@@ -1,13 +1,16 @@
 #pragma once
 // One run of a station scene on its simulated world, from the scene to the figures: builds
-// the station's liver and loop and the world, runs the station in real time (two threads),
+// the station's liver and loop and the world, runs the station in real time (two threads;
+// the devices and the station on DDS by default, with the deformed surface published),
 // replays the same recording without its ultrasound observations for the open-loop figures,
 // and scores both against the full-order truth. Also formats the summary, a JSON report and
 // the error plot. Init/report-time code.
+#include <functional>
 #include <string>
 #include <vector>
 
 #include "nav/core/error.hpp"
+#include "nav/station/display_surface.hpp"
 #include "nav/station/error_plot.hpp"
 #include "nav/station/scene.hpp"
 #include "nav/station/simulated_world.hpp"
@@ -22,11 +25,19 @@ struct SessionOptions {
   TimeNs settle_ns = 1 * kNsPerSecond;     ///< errors are scored from here (the filter's start-up)
   TimeNs miss_threshold_ns = 5 * kNsPerMs;
   bool lock_memory = true;                 ///< false: the scene's lock_memory is not applied
+  bool dds = true;                         ///< devices and station on DDS (the scene's domain); false: direct hand-off
 };
+
+struct StationSession;
+
+/// Called once the session is built, just before the station runs (e.g. to start a display);
+/// an error stops the session.
+using BeforeRun = std::function<Status(const StationSession&)>;
 
 /// A finished session.
 struct StationSession {
   StationLiver liver;
+  DisplaySurface surface;                  ///< the liver's boundary, published deformed on DDS
   SimulatedWorld world;
   StationRun run;                          ///< real time, with assimilation
   StationReplay open_loop;                 ///< replay without ultrasound observations
@@ -39,7 +50,7 @@ struct StationSession {
 };
 
 /// Runs `scene` for options.world.duration_ns.
-Result<StationSession> run_session(const Scene& scene, const SessionOptions& options);
+Result<StationSession> run_session(const Scene& scene, const SessionOptions& options, const BeforeRun& before_run = {});
 
 /// The printed summary: setup, prediction errors with and without assimilation, timing.
 std::string format_summary(const Scene& scene, const StationSession& session);

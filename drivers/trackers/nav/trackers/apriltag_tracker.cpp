@@ -8,13 +8,11 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstdlib>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
 
 namespace nav::trackers {
 namespace {
-
-Eigen::Vector2d project(const CameraIntrinsics& camera, const Eigen::Vector3d& p) {
-  return {camera.fx_px * p.x() / p.z() + camera.cx_px, camera.fy_px * p.y() / p.z() + camera.cy_px};
-}
 
 /// exp of a small twist (rotation vector, translation) applied on the left of `pose`.
 Eigen::Isometry3d nudge(const Eigen::Isometry3d& pose, const Eigen::Matrix<double, 6, 1>& twist) {
@@ -25,11 +23,29 @@ Eigen::Isometry3d nudge(const Eigen::Isometry3d& pose, const Eigen::Matrix<doubl
   return delta * pose;
 }
 
+/// The ray (z = 1) of the ideal pinhole pixel (u, v).
+Eigen::Vector3d pinhole_ray(const CameraIntrinsics& camera, double u_px, double v_px) {
+  return {(u_px - camera.cx_px) / camera.fx_px, (v_px - camera.cy_px) / camera.fy_px, 1.0};
+}
+
 }  // namespace
+
+Eigen::Vector2d project(const CameraIntrinsics& camera, const Eigen::Vector3d& p) {
+  const Eigen::Vector2d seen = calibration::distort(camera.distortion, Eigen::Vector2d(p.x() / p.z(), p.y() / p.z()));
+  return {camera.fx_px * seen.x() + camera.cx_px, camera.fy_px * seen.y() + camera.cy_px};
+}
+
+Eigen::Vector2d undistort_pixel(const CameraIntrinsics& camera, const Eigen::Vector2d& seen_px) {
+  const Eigen::Vector2d ideal = calibration::undistort(
+      camera.distortion, Eigen::Vector2d((seen_px.x() - camera.cx_px) / camera.fx_px, (seen_px.y() - camera.cy_px) / camera.fy_px));
+  return {camera.fx_px * ideal.x() + camera.cx_px, camera.fy_px * ideal.y() + camera.cy_px};
+}
 
 struct AprilTagTracker::Detector {
   apriltag_family_t* family = nullptr;
   apriltag_detector_t* detector = nullptr;
+  cv::Mat seen_from_ideal;  ///< per ideal pinhole pixel, where the lens shows it (CV_32FC2)
+  cv::Mat rectified;
   ~Detector() {
     if (detector != nullptr) apriltag_detector_destroy(detector);
     if (family != nullptr) tag36h11_destroy(family);
@@ -65,6 +81,24 @@ Result<std::unique_ptr<AprilTagTracker>> AprilTagTracker::create(const CameraInt
 
 std::vector<TagObservation> AprilTagTracker::detect(const GrayImage& image) const {
   image_u8_t wrapped{image.width_px, image.height_px, image.width_px, const_cast<std::uint8_t*>(image.pixels.data())};
+  const bool lens = !camera_.distortion.is_zero();
+  if (lens) {
+    // Detect in the image resampled to the ideal pinhole camera, where the tags' edges are
+    // straight again; the map is built once per image size.
+    Detector& d = *detector_;
+    if (d.seen_from_ideal.rows != image.height_px || d.seen_from_ideal.cols != image.width_px) {
+      d.seen_from_ideal.create(image.height_px, image.width_px, CV_32FC2);
+      for (int v = 0; v < image.height_px; ++v) {
+        for (int u = 0; u < image.width_px; ++u) {
+          const Eigen::Vector2d seen = project(camera_, pinhole_ray(camera_, u, v));
+          d.seen_from_ideal.at<cv::Vec2f>(v, u) = cv::Vec2f(static_cast<float>(seen.x()), static_cast<float>(seen.y()));
+        }
+      }
+    }
+    const cv::Mat raw(image.height_px, image.width_px, CV_8UC1, wrapped.buf);
+    cv::remap(raw, d.rectified, d.seen_from_ideal, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
+    wrapped.buf = d.rectified.data;
+  }
   zarray_t* detections = apriltag_detector_detect(detector_->detector, &wrapped);
   std::vector<TagObservation> observations;
   for (int i = 0; i < zarray_size(detections); ++i) {
@@ -73,7 +107,11 @@ std::vector<TagObservation> AprilTagTracker::detect(const GrayImage& image) cons
     TagObservation observation;
     observation.id = detection->id;
     observation.hamming = detection->hamming;
-    for (int k = 0; k < 4; ++k) observation.corners_px[k] = {detection->p[k][0] - 0.5, detection->p[k][1] - 0.5};
+    for (int k = 0; k < 4; ++k) {
+      const Eigen::Vector2d corner(detection->p[k][0] - 0.5, detection->p[k][1] - 0.5);
+      // Reported as seen: an ideal corner back through the lens.
+      observation.corners_px[k] = lens ? project(camera_, pinhole_ray(camera_, corner.x(), corner.y())) : corner;
+    }
     // apriltag's pixel centres sit at +0.5: shift the principal point instead of the corners.
     apriltag_detection_info_t info{detection, tag_size_m_, camera_.fx_px, camera_.fy_px, camera_.cx_px + 0.5,
                                    camera_.cy_px + 0.5};

@@ -4,7 +4,9 @@
 // corners, Gauss-Newton on the reprojection error). Conventions (dependencies.md): corners
 // are reported with pixel centres at integers (apriltag's +0.5 removed); the tag frame has x
 // right and y down the printed tag, z into it, corners at (-s/2, s/2), (s/2, s/2),
-// (s/2, -s/2), (-s/2, -s/2); poses are T_camera_tag in the OpenCV camera frame.
+// (s/2, -s/2), (-s/2, -s/2); poses are T_camera_tag in the OpenCV camera frame. With a lens
+// distortion, tags are detected in the frame resampled to the ideal pinhole camera (straight
+// edges), their poses found there, and their corners reported as seen (through the lens).
 // I/O-thread code (detection allocates).
 #include <array>
 #include <cstdint>
@@ -13,19 +15,27 @@
 
 #include <Eigen/Geometry>
 
+#include "nav/calibration/lens_distortion.hpp"
 #include "nav/core/error.hpp"
 #include "nav/trackers/gray_image.hpp"
 #include "nav/trackers/tracker_sample.hpp"
 
 namespace nav::trackers {
 
-/// Pinhole intrinsics, pixel centres at integer coordinates.
+/// Pinhole intrinsics, pixel centres at integer coordinates, and the lens distortion
+/// (navtool calib camera estimates both).
 struct CameraIntrinsics {
   double fx_px = 600.0;
   double fy_px = 600.0;
   double cx_px = 319.5;
   double cy_px = 239.5;
+  calibration::LensDistortion distortion{};
 };
+
+/// Where the camera sees the camera-frame point `p` (z > 0), distortion included.
+Eigen::Vector2d project(const CameraIntrinsics& camera, const Eigen::Vector3d& p);
+/// The ideal pinhole pixel of the seen (distorted) pixel `seen_px`.
+Eigen::Vector2d undistort_pixel(const CameraIntrinsics& camera, const Eigen::Vector2d& seen_px);
 
 /// One detected tag.
 struct TagObservation {
@@ -80,9 +90,9 @@ class AprilTagTracker {
   std::unique_ptr<Detector> detector_;
 };
 
-/// Renders tag36h11 tags seen by a pinhole camera, anti-aliased (4x supersampling), with a
-/// light blur and seeded Gaussian noise: the synthetic frames of the tracker's tests and of
-/// the camera calibration's. Background grey 150.
+/// Renders tag36h11 tags seen by a pinhole camera with its lens distortion, anti-aliased
+/// (4x supersampling), with a light blur and seeded Gaussian noise: the synthetic frames of
+/// the tracker's tests and of the camera calibration's. Background grey 150.
 struct TagRendering {
   int id = 0;
   Eigen::Isometry3d camera_from_tag = Eigen::Isometry3d::Identity();

@@ -6,6 +6,12 @@
 
 namespace nav::trackers {
 
+GrayImage gray_image_from_frame(const dds::UltrasoundFrame& frame) {
+  GrayImage image{static_cast<int>(frame.width_px), static_cast<int>(frame.height_px), {}};
+  image.pixels.assign(frame.pixels.begin(), frame.pixels.begin() + static_cast<std::ptrdiff_t>(frame.pixel_count()));
+  return image;
+}
+
 Result<GrayImage> read_pgm(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   if (!file) return Error{"cannot open the image", path, 0, ""};

@@ -1,0 +1,52 @@
+#pragma once
+// Internal to the running station: what its real-time and I/O threads share (the sample
+// ring, the outputs' triple buffer, the clock and the start time, the outbox of DDS outputs)
+// and the I/O threads (direct hand-off in station_run.cpp, DDS in station_dds.cpp).
+#include <atomic>
+#include <cstddef>
+
+#include "nav/core/clock.hpp"
+#include "nav/core/spsc_ring.hpp"
+#include "nav/core/triple_buffer.hpp"
+#include "nav/dds/station_outbox.hpp"
+#include "nav/loop/operating_loop.hpp"
+#include "nav/station/simulated_world.hpp"
+#include "nav/station/station_run.hpp"
+
+namespace nav::station {
+
+inline constexpr std::size_t kRingCapacity = 1024;      // samples in flight from the I/O thread
+inline constexpr TimeNs kIoPeriodNs = kNsPerMs / 2;     // the I/O thread's polling period
+
+/// What the two threads share.
+struct StationChannels {
+  SpscRing<DeviceSample, kRingCapacity> samples;
+  TripleBuffer<OperatingLoopOutputs> outputs;
+  dds::StationOutbox* outbox = nullptr;  ///< with DDS: the real-time thread's outputs for the I/O thread to publish
+  MonotonicClock clock;
+  TimeNs start_ns = 0;               ///< written by the real-time thread before `started`
+  std::atomic<bool> started{false};
+  std::atomic<bool> realtime_done{false};
+
+  /// Run time (since the first tick's deadline) now.
+  TimeNs run_time_ns() const noexcept { return clock.now_ns() - start_ns; }
+  /// I/O side: waits until the real-time thread has set the start time.
+  void wait_for_start() noexcept {
+    while (!started.load(std::memory_order_acquire)) clock.sleep_until_ns(clock.now_ns() + kIoPeriodNs);
+  }
+};
+
+struct StationDdsLink;
+
+/// The I/O thread on DDS: the devices' participant plays the world's recording, the
+/// station's participant takes it, finds the tumour in the frames, feeds the ring and
+/// publishes the outbox (station_dds.cpp).
+void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, StationChannels& ch, StationRun& run,
+                   const StationRunOptions& options, StationDdsLink& link);
+
+/// Real-time side, with DDS: pushes the tick's outputs into the outbox (predictions and the
+/// needle at each liver step, health every health_every_ticks ticks). No allocation, never blocks.
+void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& outputs, TimeNs display_latency_ns,
+                  std::int64_t health_every_ticks, std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept;
+
+}  // namespace nav::station

@@ -1,0 +1,307 @@
+#include "nav/station/station_dds.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "nav/core/health.hpp"
+#include "nav/station/display_surface.hpp"
+#include "nav/station/station_channels.hpp"
+
+namespace nav::station {
+
+namespace {
+
+constexpr TimeNs kMatchTimeoutNs = 10 * kNsPerSecond;
+constexpr TimeNs kPeerWatchPeriodNs = 5 * kNsPerMs;  // how often the I/O thread counts the matched pose writers
+constexpr std::uint32_t kTumourTargetId = 1;
+constexpr std::uint32_t kReducedRung = 1;
+
+void set_name(dds::FrameName& name, const char* text) {
+  name.fill('\0');
+  std::strncpy(name.data(), text, dds::kMaxFrameNameChars);
+}
+
+dds::Vector3 vector_of(const Point3& p) { return {p[0], p[1], p[2]}; }
+
+/// A sample received by the station: its sequence number (the recording's index) and when.
+struct Receipt {
+  std::uint64_t sequence_number = 0;
+  TimeNs received_ns = 0;  ///< monotonic clock
+};
+
+/// Writer-to-reader latencies (microseconds) of the receipts whose write time is known.
+std::vector<double> latencies_us(const std::vector<Receipt>& receipts, const std::vector<TimeNs>& written_ns) {
+  std::vector<double> latency;
+  latency.reserve(receipts.size());
+  for (const Receipt& r : receipts)
+    if (r.sequence_number < written_ns.size() && written_ns[r.sequence_number] >= 0)
+      latency.push_back(1e-3 * static_cast<double>(r.received_ns - written_ns[r.sequence_number]));
+  return latency;
+}
+
+/// The devices' side: plays the world's recording on its own participant, each sample when
+/// its delivery time comes; during an outage the participant is destroyed (and the samples
+/// due are lost), then created again.
+void device_thread(const SimulatedWorld& world, StationChannels& ch, const DdsRunOptions& options, StationDdsLink& link,
+                   DdsRunReport& report, std::vector<TimeNs>& written_ns) {
+  auto frame = std::make_unique<dds::UltrasoundFrame>();
+  const ultrasound::BmodeGeometry& g = world.imaging.geometry;
+  frame->width_px = g.width_px;
+  frame->height_px = g.height_px;
+  frame->pixel_spacing_m = {g.spacing_m, g.spacing_m};
+  frame->depth_m = g.height_px * g.spacing_m;
+  frame->probe_tool_id = kProbeToolId;
+  std::size_t next = 0;
+  while (!ch.realtime_done.load(std::memory_order_acquire) && next < world.samples.size()) {
+    const TimeNs now = ch.run_time_ns();
+    if (options.device_outage && report.device_gone_ns < 0 && now >= options.device_outage->from_ns) {
+      report.device_gone_ns = ch.run_time_ns();
+      link.devices.reset();  // the participant goes away: its writers are announced as gone
+    }
+    if (options.device_outage && !link.devices && now >= options.device_outage->to_ns) {
+      auto node = make_station_node(options.domain_id, "nav_demo_devices");
+      if (node.ok() && node.value()->advertise<dds::ToolPose>().ok() && node.value()->advertise<dds::UltrasoundFrame>().ok()) {
+        link.devices = std::move(node).value();
+        report.device_back_ns = ch.run_time_ns();
+      }
+    }
+    for (; next < world.samples.size() && world.samples[next].delivered_ns <= now; ++next) {
+      const DeviceSample& s = world.samples[next];
+      if (!link.devices) {
+        ++report.device_samples_lost;
+        continue;
+      }
+      if (s.kind == SampleKind::ultrasound_frame) {
+        const std::vector<std::uint8_t>& pixels = world.frames[static_cast<std::size_t>(s.frame_index)].pixels;
+        std::copy(pixels.begin(), pixels.end(), frame->pixels.begin());
+        frame->sequence_number = next;
+        frame->source_time_ns = s.measured_ns;
+        written_ns[next] = ch.clock.now_ns();
+        link.devices->write(*frame);
+      } else {
+        const dds::ToolPose pose = tool_pose_of(s, next);
+        written_ns[next] = ch.clock.now_ns();
+        link.devices->write(pose);
+      }
+    }
+    ch.clock.sleep_until_ns(ch.clock.now_ns() + kIoPeriodNs);
+  }
+}
+
+/// Publishes the deformed surface from the outputs at the surface period of liver time, when
+/// the run has a surface (I/O thread).
+class DisplaySurfacePublisher {
+ public:
+  DisplaySurfacePublisher(const OperatingLoopModel& loop, const DdsRunOptions& options) : period_ns_(options.surface_period_ns) {
+    if (options.surface == nullptr) return;
+    auto made = SurfaceReconstruction::create(loop, *options.surface);
+    if (!made.ok()) return;
+    reconstruction_.emplace(std::move(made).value());
+    sample_ = std::make_unique<dds::DeformedSurface>();
+    reconstruction_us_.reserve(1024);
+  }
+
+  void publish(const OperatingLoopOutputs& outputs, dds::DdsNode& node) {
+    if (!reconstruction_ || outputs.tissue_steps == 0 || outputs.tissue_time_ns < next_ns_) return;
+    const TimeNs begin_ns = clock_.now_ns();
+    reconstruction_->reconstruct(outputs, *sample_);
+    reconstruction_us_.push_back(1e-3 * static_cast<double>(clock_.now_ns() - begin_ns));
+    if (node.write(*sample_)) ++published_;
+    next_ns_ = (outputs.tissue_time_ns / period_ns_ + 1) * period_ns_;  // one surface per period of liver time
+  }
+
+  std::int64_t published() const noexcept { return published_; }
+  const std::vector<double>& reconstruction_us() const noexcept { return reconstruction_us_; }
+
+ private:
+  TimeNs period_ns_;
+  std::optional<SurfaceReconstruction> reconstruction_;
+  std::unique_ptr<dds::DeformedSurface> sample_;
+  std::vector<double> reconstruction_us_;
+  std::int64_t published_ = 0;
+  TimeNs next_ns_ = 0;
+  MonotonicClock clock_;
+};
+
+/// Watches whether the station still has a pose writer matched, and records the changes.
+void watch_peer(const dds::DdsNode& station, TimeNs now, bool& present, DdsRunReport& report) {
+  const bool matched = station.matched(dds::Topic::tool_pose) > 0;
+  if (present && !matched && report.peer_lost_seen_ns < 0) report.peer_lost_seen_ns = now;
+  if (!present && matched && report.peer_lost_seen_ns >= 0 && report.peer_back_seen_ns < 0) report.peer_back_seen_ns = now;
+  present = matched;
+}
+
+}  // namespace
+
+dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number) {
+  dds::ToolPose pose;
+  pose.sequence_number = sequence_number;
+  pose.source_time_ns = sample.measured_ns;
+  pose.quality = 1.0f;
+  set_name(pose.frame_to, "tracker");
+  if (sample.kind == SampleKind::respiratory) {
+    pose.tool_id = kRespiratoryToolId;
+    pose.position_m = {sample.point_m[0], sample.point_m[1], sample.point_m[2]};
+    set_name(pose.frame_from, "respiratory_marker");
+    return pose;
+  }
+  const bool needle = sample.kind == SampleKind::needle_pose;
+  pose.tool_id = needle ? kNeedleToolId : kProbeToolId;
+  set_name(pose.frame_from, needle ? "needle_base" : "probe_marker");
+  const Eigen::Vector3d& p = sample.pose.position_m;
+  const Eigen::Quaterniond& q = sample.pose.rotation;
+  pose.position_m = {p[0], p[1], p[2]};
+  pose.orientation_wxyz = {q.w(), q.x(), q.y(), q.z()};
+  return pose;
+}
+
+std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs received_ns) {
+  DeviceSample s;
+  s.measured_ns = pose.source_time_ns;
+  s.delivered_ns = received_ns;
+  const Eigen::Vector3d position{pose.position_m[0], pose.position_m[1], pose.position_m[2]};
+  switch (pose.tool_id) {
+    case kNeedleToolId: s.kind = SampleKind::needle_pose; break;
+    case kProbeToolId: s.kind = SampleKind::probe_pose; break;
+    case kRespiratoryToolId:
+      s.kind = SampleKind::respiratory;
+      s.point_m = position;
+      return s;
+    default: return std::nullopt;
+  }
+  const auto& q = pose.orientation_wxyz;
+  s.pose = {position, Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized()};
+  return s;
+}
+
+Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id, const char* participant_name) {
+  dds::NetworkConfig network;  // the defaults: shared memory and UDP on 127.0.0.1, unicast discovery, no multicast
+  network.domain_id = domain_id;
+  network.participant_name = participant_name;
+  return dds::DdsNode::create(network);
+}
+
+Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t domain_id) {
+  auto link = std::make_unique<StationDdsLink>();
+  link->domain_id = domain_id;
+  auto station = make_station_node(domain_id, "nav_station");
+  if (!station.ok()) return station.error();
+  link->station = std::move(station).value();
+  auto devices = make_station_node(domain_id, "nav_demo_devices");
+  if (!devices.ok()) return devices.error();
+  link->devices = std::move(devices).value();
+  dds::DdsNode& s = *link->station;
+  dds::DdsNode& d = *link->devices;
+  for (const Status& status : {s.subscribe(*link->poses), s.subscribe(*link->frames), s.advertise<dds::TargetPrediction>(),
+                               s.advertise<dds::NeedleState>(), s.advertise<dds::StationHealth>(), s.advertise<dds::DeformedSurface>(), d.advertise<dds::ToolPose>(),
+                               d.advertise<dds::UltrasoundFrame>()})
+    if (!status.ok()) return status.error();
+  if (!s.wait_for_match(dds::Topic::tool_pose, 1, kMatchTimeoutNs) || !s.wait_for_match(dds::Topic::ultrasound_frame, 1, kMatchTimeoutNs) ||
+      !d.wait_for_match(dds::Topic::tool_pose, 1, kMatchTimeoutNs) || !d.wait_for_match(dds::Topic::ultrasound_frame, 1, kMatchTimeoutNs))
+    return Error{"the devices' and the station's DDS participants did not match within 10 s", "", 0,
+                 "domain " + std::to_string(domain_id)};
+  return link;
+}
+
+void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, TimeNs display_latency_ns, std::int64_t health_every_ticks,
+                  std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept {
+  if (o.time_ns == o.tissue_time_ns) {
+    dds::TargetPrediction prediction;
+    prediction.source_time_ns = o.tissue_time_ns;
+    prediction.target_id = kTumourTargetId;
+    prediction.model_rung = kReducedRung;
+    prediction.position_m = vector_of(o.tumour_now_m);
+    prediction.covariance_m2 = o.tumour_now_covariance_m2;
+    outbox.predictions.try_push(prediction);
+    prediction.horizon_ns = display_latency_ns;
+    prediction.position_m = vector_of(o.tumour_ahead_m);
+    prediction.covariance_m2 = o.tumour_ahead_covariance_m2;
+    outbox.predictions.try_push(prediction);
+    dds::NeedleState needle;
+    needle.source_time_ns = o.time_ns;
+    needle.tool_id = kNeedleToolId;
+    needle.point_count = 1;  // the tip (the loop tracks the tip; the needle's shape is not in its outputs)
+    needle.shape_points_m[0] = vector_of(o.needle_tip_m);
+    outbox.needle.try_push(needle);
+  }
+  if (o.ticks % health_every_ticks != 0) return;
+  HealthFlags flags = o.tissue;
+  for (const InputStatus* input : {&o.needle, &o.probe, &o.respiratory, &o.ultrasound}) flags.merge(input->flags);
+  flags.merge(o.loop);
+  dds::StationHealth health;
+  health.source_time_ns = o.time_ns;
+  health.mode = o.degraded ? dds::StationMode::degraded : dds::StationMode::running;
+  health.flags = flags.bits();
+  health.step_time_max_ns = step_max_ns;
+  health.deadline_misses = deadline_misses;
+  outbox.health.try_push(health);
+}
+
+void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, StationChannels& ch, StationRun& run,
+                   const StationRunOptions& options, StationDdsLink& link) {
+  run.io_pin = pin_to_core(options.io_core);
+  TumourObserver observer(world.imaging, options.observer);
+  dds::OutboxPublisher publisher;
+  DdsRunReport report;
+  auto frame = std::make_unique<dds::UltrasoundFrame>();
+  std::vector<Receipt> pose_receipts, frame_receipts;
+  pose_receipts.reserve(world.samples.size());
+  frame_receipts.reserve(world.frames.size());
+  std::vector<TimeNs> written_ns(world.samples.size(), -1);  // the devices' write times, by sequence number
+  DisplaySurfacePublisher surfaces(loop, *options.dds);
+  ch.wait_for_start();
+  std::thread devices(device_thread, std::cref(world), std::ref(ch), std::cref(*options.dds), std::ref(link), std::ref(report),
+                      std::ref(written_ns));
+  bool peer_present = true;
+  TimeNs next_watch_ns = 0;
+  while (!ch.realtime_done.load(std::memory_order_acquire)) {
+    for (std::size_t slot = 0; slot < link.poses->tool_count(); ++slot) {
+      if (!link.poses->update(slot)) continue;
+      const dds::ToolPose& pose = link.poses->latest(slot);
+      const TimeNs received_ns = pose.receive_time_ns - ch.start_ns;
+      ++report.poses_received;
+      pose_receipts.push_back({pose.sequence_number, pose.receive_time_ns});
+      const std::optional<DeviceSample> sample = device_sample_of(pose, received_ns);
+      if (!sample) continue;
+      const std::optional<DeviceSample> for_loop = loop_sample(observer, world.imaging, *sample, nullptr);
+      if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;
+    }
+    while (link.frames->try_pop(*frame)) {
+      const TimeNs received_ns = frame->receive_time_ns - ch.start_ns;
+      ++report.frames_received;
+      frame_receipts.push_back({frame->sequence_number, frame->receive_time_ns});
+      DeviceSample sample;
+      sample.kind = SampleKind::ultrasound_frame;
+      sample.measured_ns = frame->source_time_ns;
+      sample.delivered_ns = received_ns;
+      const std::optional<DeviceSample> for_loop = loop_sample(observer, world.imaging, sample, frame->pixels.data());
+      if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;
+    }
+    report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station));
+    if (ch.outputs.update()) {
+      ++run.outputs_read;
+      surfaces.publish(ch.outputs.read(), *link.station);
+    }
+    const TimeNs now = ch.run_time_ns();
+    if (now >= next_watch_ns) {
+      watch_peer(*link.station, now, peer_present, report);
+      next_watch_ns = now + kPeerWatchPeriodNs;
+    }
+    ch.clock.sleep_until_ns(ch.clock.now_ns() + kIoPeriodNs);
+  }
+  devices.join();
+  report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station));
+  report.outbox_dropped = ch.outbox->dropped();
+  report.pose_latency = latency_statistics(latencies_us(pose_receipts, written_ns));
+  report.frame_latency = latency_statistics(latencies_us(frame_receipts, written_ns));
+  run.observer = observer.counts();
+  run.frame_processing = latency_statistics(observer.processing_us());
+  report.surfaces_published = surfaces.published();
+  report.surface_reconstruction = latency_statistics(surfaces.reconstruction_us());
+  run.dds = report;
+}
+
+}  // namespace nav::station

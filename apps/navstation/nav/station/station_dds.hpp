@@ -1,0 +1,61 @@
+#pragma once
+// The running station on DDS. The simulated devices have a participant of their own that
+// plays the world's recording on the station's topics when each sample is due: the tracker's
+// poses on nav/tool_pose (needle marker, probe marker and respiratory marker, by tool id; the
+// respiratory marker as a position with an identity rotation) and the scanner's frames on
+// nav/ultrasound_frame. The station's participant takes them (PoseInbox, a frame ring), its
+// I/O thread finds the tumour in each frame and feeds the real-time thread's ring, and
+// publishes what the real-time thread put in the StationOutbox (nav/target_prediction,
+// nav/needle_state, nav/station_health) and, at a display rate, the deformed liver surface it
+// rebuilds from the published reduced state (nav/deformed_surface; display_surface.hpp).
+// Positions are in the model frame. Both participants keep to the project's network
+// rules (NetworkConfig's defaults: shared memory and UDP on 127.0.0.1, no multicast).
+// The devices' participant may go away for a while (PeerOutage): the station notices the
+// lost writers, the loop degrades on stale input, and both recover when it comes back.
+#include <cstdint>
+#include <memory>
+#include <optional>
+
+#include "nav/core/error.hpp"
+#include "nav/dds/dds_node.hpp"
+#include "nav/dds/pose_inbox.hpp"
+#include "nav/dds/sample_sink.hpp"
+#include "nav/dds/samples.hpp"
+#include "nav/dds/station_outbox.hpp"
+#include "nav/station/simulated_world.hpp"
+#include "nav/station/station_run.hpp"
+
+namespace nav::station {
+
+/// The tool ids of the demo's tracked markers on nav/tool_pose.
+inline constexpr std::uint32_t kNeedleToolId = 1;
+inline constexpr std::uint32_t kProbeToolId = 2;
+inline constexpr std::uint32_t kRespiratoryToolId = 3;
+
+/// A recorded tracker sample as the ToolPose the tracker publishes (source time: its
+/// measurement time; sequence number: `sequence_number`).
+dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number);
+
+/// A received ToolPose as the loop's sample (delivered at `received_ns`), or nothing for an
+/// unknown tool.
+std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs received_ns);
+
+/// A participant for one side of a run, on `domain_id`, with the project's network rules.
+Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id, const char* participant_name);
+
+/// The devices' and the station's participants of a run, created and matched before the
+/// run starts (so that no sample is lost to discovery), with the station's sinks.
+struct StationDdsLink {
+  std::unique_ptr<dds::PoseInbox> poses = std::make_unique<dds::PoseInbox>(
+      std::initializer_list<std::uint32_t>{kNeedleToolId, kProbeToolId, kRespiratoryToolId});
+  std::unique_ptr<dds::RingSink<dds::UltrasoundFrame, 4>> frames = std::make_unique<dds::RingSink<dds::UltrasoundFrame, 4>>();
+  std::unique_ptr<dds::DdsNode> station;  ///< after the sinks: destroyed before them
+  std::unique_ptr<dds::DdsNode> devices;
+  std::uint32_t domain_id = 0;
+
+  /// Creates both participants on `domain_id`: the devices advertise poses and frames, the
+  /// station subscribes to them and advertises its outputs; waits (up to 10 s) for the match.
+  static Result<std::unique_ptr<StationDdsLink>> create(std::uint32_t domain_id);
+};
+
+}  // namespace nav::station

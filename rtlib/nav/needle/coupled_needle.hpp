@@ -1,0 +1,54 @@
+#pragma once
+// The needle-tissue interaction coupled to a tissue model, whichever it is: the full-order
+// tetrahedral tissue (tissue_coupling.hpp) or the reduced-order one (reduced_coupling.hpp).
+// The constraint forces go to the tissue as point forces, the tissue's displacements come
+// back to the interaction, and the interaction predicts the tissue's response to force
+// changes through the compliance it was given. Multi-rate: the needle and its constraint
+// forces step at every tick (1 kHz) with the last compliance, the tissue once every
+// needle_steps_per_tissue_step ticks with the forces of that tick.
+#include <cstdint>
+#include <span>
+
+#include "nav/core/arena.hpp"
+#include "nav/core/error.hpp"
+#include "nav/needle/needle_tissue_model.hpp"
+#include "nav/tissue/tissue_scene.hpp"
+
+namespace nav {
+
+/// The immutable coupled scene: the needle-tissue model attached to the tissue's nodes.
+template <class TissueModel>
+struct CoupledNeedleModelOf {
+  NeedleTissueModel interaction;
+  const TissueModel* tissue = nullptr;  ///< not owned; outlives this model
+  int needle_steps_per_tissue_step = 1;
+  std::size_t max_point_forces = 16;    ///< as the tissue scene's max_point_forces
+};
+
+/// State of the coupled scene: the interaction's data, the tissue's data, the tissue
+/// displacements the interaction sees, and the point forces handed to the tissue.
+template <class TissueData>
+struct CoupledNeedleDataOf {
+  Arena arena;
+  NeedleTissueData interaction;
+  TissueData tissue;
+  std::span<double> displacements_m;  ///< 3 per tissue node, as of the last tissue step
+  std::span<PointForce> point_forces;
+  /// Nodes whose displacements a tissue step refreshes and their new values (used when the
+  /// tissue rebuilds displacements on demand, as the reduced one does; empty otherwise).
+  std::span<std::int32_t> refreshed_nodes;
+  std::span<double> refreshed_displacements_m;
+  std::int64_t refresh_cursor = 0;  ///< next node of the round-robin refresh
+  std::int64_t ticks = 0;
+  int dropped_point_forces = 0;  ///< forces beyond max_point_forces at the last tissue step
+  CoupledNeedleDataOf(Arena block, NeedleTissueData interaction_data, TissueData tissue_data)
+      : arena(std::move(block)), interaction(std::move(interaction_data)), tissue(std::move(tissue_data)) {}
+};
+
+/// One needle tick; the tissue steps on every needle_steps_per_tissue_step-th tick. More
+/// distinct loaded nodes than max_point_forces: the smallest forces are dropped and pool_full raised.
+template <class TissueModel, class TissueData>
+void step(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDataOf<TissueData>& data,
+          const NeedleInputs& inputs) noexcept;
+
+}  // namespace nav

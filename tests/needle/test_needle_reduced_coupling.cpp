@@ -1,0 +1,266 @@
+// The needle coupled to the reduced-order tissue: the compliance factors equal the reduced
+// step's own response to point forces; an insertion punctures and drags the tissue along
+// the shaft as the coupling to the full-order tissue does (a complete linear basis against
+// the exact linear full-order tissue); the multi-rate mode keeps the puncture; coupled
+// ticks allocate nothing and repeat bitwise; bad couplings are refused by name.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "nav/needle/reduced_coupling.hpp"
+#include "needle_coupling_support.hpp"
+#include "needle_insertion_support.hpp"
+#include "nav/needle/tissue_coupling.hpp"
+#include "nav/reduced/reduction.hpp"
+#include "support/allocation_guard.hpp"
+#include "tissue/tissue_test_support.hpp"
+
+namespace nav {
+namespace {
+
+constexpr double kSideM = 0.04, kDepthM = 0.02, kStepM = 2e-5;
+
+/// A 4 x 4 x 2 cm slab of 20 kPa tissue in 1 cm elements, held at its bottom face.
+struct Slab {
+  TetMesh mesh = testing::box_mesh({kSideM, kSideM, kDepthM}, 0.01);
+  TissueScene scene = testing::held_at_bottom(mesh);
+  int free_dofs() const { return 3 * static_cast<int>(mesh.nodes_m.size() - scene.fixed_nodes.size()); }
+};
+
+/// Linear elements solved exactly (one LDL^T solve), quasi-static.
+TissueSolverOptions exact_linear_options() {
+  TissueSolverOptions options;
+  options.rotation = ElementRotation::none;
+  options.integrator = Integrator::quasi_static;
+  options.solver = LinearSolver::ldlt_warped;
+  options.cg_iterations = 1;
+  return options;
+}
+
+/// The slab's first r vibration modes with the given force reduction (corotational: every
+/// tetrahedron sampled with weight 1, the exact projection).
+ReducedModel reduced_slab(const Slab& slab, int r, ReducedForceKind kind, ReducedIntegrator integrator) {
+  ReductionOptions options;
+  options.source = ReducedBasisSource::linear_modes;
+  options.force_kind = kind;
+  options.basis_size = r;
+  const TissueSolverOptions solver = kind == ReducedForceKind::linear ? exact_linear_options() : TissueSolverOptions{};
+  ReducedBasis basis = make_modal_basis(slab.mesh, slab.scene, solver, options).value();
+  if (kind != ReducedForceKind::linear)
+    for (std::size_t t = 0; t < slab.mesh.tets.size(); ++t) {
+      basis.sample_tets.push_back(static_cast<std::int32_t>(t));
+      basis.sample_weights.push_back(1.0);
+    }
+  ReducedSolverOptions reduced;
+  reduced.integrator = integrator;
+  auto model = make_reduced_model(slab.mesh, slab.scene, solver, basis, reduced);
+  EXPECT_TRUE(model.ok()) << model.error().describe();
+  return std::move(model).value();
+}
+
+/// The needle pointing down (-z) above the top face's centre, 5 mm off it.
+NeedlePose above_slab(double lowered_m) { return testing::needle_above(0.5 * kSideM, 0.5 * kSideM, kDepthM, lowered_m); }
+
+NeedleTissueScene top_layer(double path_spacing_m = 0.003) {
+  return testing::top_face_layer(0.5 * kSideM, 0.5 * kSideM, kDepthM, path_spacing_m);
+}
+
+/// Lowers the needle by `travel_m` from where it is; returns the lowering at puncture (-1: none).
+template <class Model, class Data>
+double insert(const Model& model, Data& data, double from_m, double travel_m) {
+  double at_puncture_m = -1.0;
+  NeedleInputs inputs;
+  for (int s = 1; s * kStepM <= travel_m + 1e-12; ++s) {
+    inputs.base = above_slab(from_m + s * kStepM);
+    step(model, data, inputs);
+    if (at_puncture_m < 0.0 && data.interaction.report.punctures > 0) at_puncture_m = from_m + s * kStepM;
+  }
+  return at_puncture_m;
+}
+
+/// The mean displacement along the insertion (-z) of the nodes that carry active path points.
+double mean_drag_m(const NeedleTissueData& interaction, std::span<const double> displacements_m, int& points) {
+  double sum = 0.0;
+  points = 0;
+  for (const PathPoint& p : interaction.path)
+    if (p.active) {
+      sum -= displacements_m[3 * static_cast<std::size_t>(p.tissue.node) + 2];
+      ++points;
+    }
+  return points > 0 ? sum / points : 0.0;
+}
+
+TEST(NeedleReducedCoupling, ComplianceFactorsEqualTheReducedStepResponse) {
+  const Slab slab;
+  for (ReducedIntegrator integrator : {ReducedIntegrator::implicit_euler, ReducedIntegrator::quasi_static}) {
+    const ReducedModel tissue = reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, integrator);
+    const auto factors = reduced_compliance_factors(tissue, 0.01);
+    ASSERT_TRUE(factors.ok()) << factors.error().describe();
+    const int r = factors.value().rank;
+    ASSERT_EQ(r, 16);
+    const auto rows = [&](std::size_t node) {
+      return Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>>(factors.value().factors.data() + 3 * node * r, 3, r);
+    };
+    const std::size_t nodes = slab.mesh.nodes_m.size();
+    std::vector<double> u(3 * nodes);
+    double worst = 0.0;
+    // Forces of 0.37 N along each axis on the top face's nodes, every node's response.
+    for (const std::int32_t top : testing::nodes_where(slab.mesh, 2, kDepthM))
+      for (int axis = 0; axis < 3; ++axis) {
+        const auto loaded = static_cast<std::size_t>(top);
+        auto data = make_reduced_data(tissue).value();
+        PointForce force{static_cast<std::int32_t>(loaded), {0.0, 0.0, 0.0}};
+        force.force_n[static_cast<std::size_t>(axis)] = 0.37;
+        TissueInputs inputs;
+        inputs.point_forces = std::span<const PointForce>(&force, 1);
+        step(tissue, data, inputs);
+        reconstruct_all_displacements_m(tissue, data, u);
+        double largest = 0.0, error = 0.0;
+        for (std::size_t node = 0; node < nodes; ++node) {
+          const Eigen::Vector3d predicted = 0.37 * rows(node) * rows(loaded).row(axis).transpose();
+          const Eigen::Vector3d measured = Eigen::Map<const Eigen::Vector3d>(u.data() + 3 * node);
+          largest = std::max(largest, measured.cwiseAbs().maxCoeff());
+          error = std::max(error, (predicted - measured).cwiseAbs().maxCoeff());
+        }
+        ASSERT_GT(largest, 0.0);
+        worst = std::max(worst, error / largest);
+      }
+    std::printf("%s: largest relative difference of V V^T from the reduced step's response %.2e\n",
+                integrator == ReducedIntegrator::quasi_static ? "quasi-static" : "implicit Euler", worst);
+    EXPECT_LT(worst, 1e-10);
+  }
+}
+
+TEST(NeedleReducedCoupling, InsertionPuncturesAndDragsTheTissueAsTheFullOrderCouplingDoes) {
+  const Slab slab;
+  // The same linear tissue twice: exact full order, and its complete reduced basis.
+  const TetFemModel full = make_tet_fem_model(slab.mesh, slab.scene, exact_linear_options()).value();
+  const ReducedModel reduced = reduced_slab(slab, slab.free_dofs(), ReducedForceKind::linear, ReducedIntegrator::quasi_static);
+  const CoupledNeedleModel full_model = make_coupled_needle_model(NeedleParameters{}, top_layer(0.01), full, 32, 1).value();
+  NeedleTissueScene complete = top_layer(0.01);
+  complete.point_compliance_m_per_n = 1e-8;  // a complete basis misses no local compliance
+  const ReducedCoupledNeedleModel reduced_model = make_coupled_needle_model(NeedleParameters{}, complete, reduced, slab.mesh, 32, 1).value();
+  CoupledNeedleData full_data = make_coupled_needle_data(full_model, above_slab(0.0)).value();
+  ReducedCoupledNeedleData reduced_data = make_coupled_needle_data(reduced_model, above_slab(0.0)).value();
+  const double full_puncture_m = insert(full_model, full_data, 0.0, 0.02);
+  const double reduced_puncture_m = insert(reduced_model, reduced_data, 0.0, 0.02);
+  int full_points = 0, reduced_points = 0;
+  const double full_drag_m = mean_drag_m(full_data.interaction, full_data.displacements_m, full_points);
+  const double reduced_drag_m = mean_drag_m(reduced_data.interaction, reduced_data.displacements_m, reduced_points);
+  std::printf("puncture after lowering %.2f mm (full order) and %.2f mm (reduced); path points %d / %d; mean drag along "
+              "the shaft %.3f / %.3f um\n",
+              1e3 * full_puncture_m, 1e3 * reduced_puncture_m, full_points, reduced_points, 1e6 * full_drag_m, 1e6 * reduced_drag_m);
+  EXPECT_EQ(reduced_data.interaction.report.punctures, 1);
+  EXPECT_GT(reduced_puncture_m, 0.005);  // after the 5 mm gap
+  EXPECT_GT(reduced_points, 0);
+  EXPECT_GT(reduced_drag_m, 0.0);
+  EXPECT_LT(reduced_data.interaction.report.residual_m, reduced_model.interaction.scene.residual_bound_m);
+  EXPECT_FALSE(reduced_data.interaction.health.has(HealthFlag::non_finite_state));
+  // Same tissue, different compliance models inside a tick (the full order's is a probed
+  // kernel, the reduced one exact), both stepping the tissue every tick to its equilibrium:
+  // the puncture within one tick of lowering, the drag within 2 %. (Path points one element
+  // apart: two points on one node move together in the tissue but not in the kernel.)
+  EXPECT_NEAR(reduced_puncture_m, full_puncture_m, kStepM + 1e-9);
+  EXPECT_EQ(reduced_points, full_points);
+  EXPECT_NEAR(reduced_drag_m / full_drag_m, 1.0, 0.02);
+}
+
+TEST(NeedleReducedCoupling, SignoriniAndCoulombHoldOnTheSteppedReducedTissue) {
+  // The tissue steps every tick: after it, each tissue point has moved by its node's new
+  // reduced displacement (and yields locally under its own force), which must satisfy the
+  // rows' laws with the corrected needle as the solver predicted through V V^T.
+  const Slab slab;
+  const ReducedModel tissue = reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::quasi_static);
+  const ReducedCoupledNeedleModel model = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, 1).value();
+  ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
+  std::vector<double> before(data.displacements_m.size());
+  double worst_m = 0.0;
+  int checked = 0;
+  NeedleInputs inputs;
+  int last_rows = 0;
+  for (int s = 1; s * kStepM <= 0.012; ++s) {
+    std::copy(data.displacements_m.begin(), data.displacements_m.end(), before.begin());
+    inputs.base = above_slab(s * kStepM);
+    step(model, data, inputs);
+    // Skip the ticks whose rows changed: a freed slot's force (the capsule's f_p at the
+    // puncture) leaves the tissue at its step, unannounced to the solver (by design).
+    const bool same_rows = data.interaction.row_count == last_rows;
+    last_rows = data.interaction.row_count;
+    if (data.interaction.row_count == 0 || !same_rows) continue;
+    const double local = model.interaction.scene.point_compliance_m_per_n;
+    worst_m = std::max(worst_m, testing::violation_after_correction(data.interaction, [&](std::size_t r) {
+      const ConstraintRow& row = data.interaction.rows[r];
+      const auto node = 3 * static_cast<std::size_t>(row.tissue_node);
+      Eigen::Vector3d x = row.tissue_point_m;
+      for (int c = 0; c < 3; ++c) x[c] += data.displacements_m[node + c] - before[node + c];
+      for (int k = 0; k < data.interaction.row_count; ++k) {
+        const ConstraintRow& other = data.interaction.rows[static_cast<std::size_t>(k)];
+        if (same_constraint_point(row, other)) x -= local * data.interaction.row_forces[static_cast<std::size_t>(k)] * other.direction;
+      }
+      return x;
+    }));
+    ++checked;
+  }
+  std::printf("%d ticks with constraints, largest law violation on the stepped tissue %.2e m\n", checked, worst_m);
+  EXPECT_GT(checked, 100);
+  EXPECT_EQ(data.interaction.report.punctures, 1);
+  EXPECT_LT(worst_m, 1e-5);
+}
+
+TEST(NeedleReducedCoupling, MultiRateTissueKeepsThePuncture) {
+  const Slab slab;
+  const ReducedModel tissue = reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::quasi_static);
+  double at_m[2] = {0.0, 0.0};
+  const int ratios[2] = {1, 10};
+  for (int k = 0; k < 2; ++k) {
+    const ReducedCoupledNeedleModel model = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, ratios[k]).value();
+    ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
+    at_m[k] = insert(model, data, 0.0, 0.012);
+    int points = 0;
+    const double drag_m = mean_drag_m(data.interaction, data.displacements_m, points);
+    std::printf("tissue every %d ticks: puncture after lowering %.2f mm, %d path points, mean drag %.1f um, tissue steps %lld\n",
+                ratios[k], 1e3 * at_m[k], points, 1e6 * drag_m, static_cast<long long>(data.tissue.steps));
+    EXPECT_EQ(data.interaction.report.punctures, 1);
+    EXPECT_GT(points, 0);
+    EXPECT_GT(drag_m, 0.0);
+    EXPECT_EQ(data.tissue.steps, data.ticks / ratios[k]);
+    EXPECT_FALSE(data.interaction.health.has(HealthFlag::non_finite_state));
+  }
+  EXPECT_GT(at_m[0], 0.005);
+  EXPECT_NEAR(at_m[1], at_m[0], 10 * kStepM + 1e-9);
+}
+
+TEST(NeedleReducedCoupling, CoupledTicksAllocateNothingAndRepeatBitwise) {
+  const Slab slab;
+  const ReducedModel tissue = reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::implicit_euler);
+  const ReducedCoupledNeedleModel model = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, 3).value();
+  std::uint64_t hashes[2] = {0, 0};
+  for (std::uint64_t& hash : hashes) {
+    ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
+    testing::AllocationGuard guard;
+    insert(model, data, 0.0, 0.01);
+    EXPECT_EQ(guard.allocations(), 0u);
+    EXPECT_EQ(data.interaction.report.punctures, 1);
+    hash = testing::state_hash(data.tissue.q, data.interaction.needle.positions_m);
+  }
+  EXPECT_EQ(hashes[0], hashes[1]);
+}
+
+TEST(NeedleReducedCoupling, BadCouplingsAreRefusedByName) {
+  const Slab slab;
+  const ReducedModel tissue = reduced_slab(slab, 8, ReducedForceKind::linear, ReducedIntegrator::quasi_static);
+  const auto too_many = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 33, 1);
+  ASSERT_FALSE(too_many.ok());
+  EXPECT_EQ(too_many.error().field, "max_point_forces");
+  const TetMesh other = testing::box_mesh({kSideM, kSideM, kSideM}, 0.01);
+  const auto wrong_mesh = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, other, 32, 1);
+  ASSERT_FALSE(wrong_mesh.ok());
+  EXPECT_EQ(wrong_mesh.error().field, "mesh");
+  const auto no_rate = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, 0);
+  ASSERT_FALSE(no_rate.ok());
+  EXPECT_EQ(no_rate.error().field, "needle_steps_per_tissue_step");
+  EXPECT_FALSE(reduced_compliance_factors(tissue, -1.0).ok());
+}
+
+}  // namespace
+}  // namespace nav

@@ -1,0 +1,229 @@
+// The running station with its devices on real Fast DDS (loopback and shared memory only, the
+// project's network rules): the demo's simulated tracker and B-mode scanner publish from a
+// participant of their own on nav/tool_pose and nav/ultrasound_frame; the station's I/O thread
+// takes them, finds the tumour in the frames, feeds the real-time loop and publishes its
+// outputs (nav/target_prediction, nav/needle_state, nav/station_health) and the deformed liver
+// surface it rebuilds from the loop's reduced state (nav/deformed_surface, 20 Hz), which a
+// display participant receives: on the surface, the liver's attachments stay at rest and its
+// diaphragm region moves as one with the breathing. Then the fault "a DDS peer disappearing": the devices' participant is
+// destroyed for 1 s and created again. Checked: the I/O thread sees the writers go and come
+// back; the loop flags the needle input (stale, then missing) within 250 ms of the loss and
+// its outputs are degraded, every output stays finite, the health on DDS says so; and the
+// needle input is good again within 1 s of the devices' return (the figures are printed).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "demo_station.hpp"
+#include "nav/core/health.hpp"
+#include "nav/dds/dds_node.hpp"
+#include "nav/dds/sample_sink.hpp"
+#include "nav/station/display_surface.hpp"
+#include "nav/station/station_dds.hpp"
+
+namespace nav::station {
+namespace {
+
+constexpr TimeNs kDuration = 5 * kNsPerSecond;
+constexpr TimeNs kSettled = 1 * kNsPerSecond;
+
+using nav::testing::DemoStation;
+
+const DemoStation& demo() {
+  static const DemoStation built(kDuration);
+  return built;
+}
+
+/// A display on `domain_id`: it takes the station's predictions and health.
+struct Display {
+  std::unique_ptr<dds::DdsNode> node;
+  std::unique_ptr<dds::RingSink<dds::TargetPrediction, 2048>> predictions = std::make_unique<dds::RingSink<dds::TargetPrediction, 2048>>();
+  std::unique_ptr<dds::RingSink<dds::StationHealth, 128>> health = std::make_unique<dds::RingSink<dds::StationHealth, 128>>();
+  std::unique_ptr<dds::RingSink<dds::DeformedSurface, 128>> surfaces = std::make_unique<dds::RingSink<dds::DeformedSurface, 128>>();
+  explicit Display(std::uint32_t domain_id) {
+    node = make_station_node(domain_id, "nav_test_display").value();
+    EXPECT_TRUE(node->subscribe(*predictions).ok());
+    EXPECT_TRUE(node->subscribe(*health).ok());
+    EXPECT_TRUE(node->subscribe(*surfaces).ok());
+  }
+};
+
+StationRunOptions dds_options(const DemoStation& d, std::uint32_t domain_id) {
+  StationRunOptions options;
+  options.duration_ns = kDuration;
+  options.miss_threshold_ns = 100 * kNsPerMs;
+  options.realtime = {d.scene.station.realtime_core, d.scene.station.realtime_priority, false};  // no mlockall in a test process
+  options.io_core = d.scene.station.io_core;
+  options.dds = DdsRunOptions{domain_id, std::nullopt, 100 * kNsPerMs};
+  return options;
+}
+
+bool finite(const Point3& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
+
+constexpr std::uint32_t kInputLost = static_cast<std::uint32_t>(HealthFlag::stale_input) | static_cast<std::uint32_t>(HealthFlag::missing_input);
+
+/// The largest distance between a surface vertex and its rest position, over `vertices`,
+/// and the displacement of the first of them.
+struct VertexMotion {
+  double spread_m = 0.0;     ///< largest difference between the vertices' displacements
+  Eigen::Vector3d first_m = Eigen::Vector3d::Zero();
+};
+
+VertexMotion motion_of(const dds::DeformedSurface& s, const DisplaySurface& surface, const std::vector<std::size_t>& vertices) {
+  VertexMotion m;
+  for (std::size_t k = 0; k < vertices.size(); ++k) {
+    const std::size_t v = vertices[k];
+    Eigen::Vector3d u;
+    for (int c = 0; c < 3; ++c) u[c] = static_cast<double>(s.vertex_positions_m[v][static_cast<std::size_t>(c)]) - surface.rest_m[v][static_cast<std::size_t>(c)];
+    if (k == 0) m.first_m = u;
+    m.spread_m = std::max(m.spread_m, (u - m.first_m).norm());
+  }
+  return m;
+}
+
+TEST(StationDds, TheDevicesOnDdsFeedTheStationAndItsOutputsReachADisplay) {
+  const DemoStation& d = demo();
+  const DisplaySurface surface = make_display_surface(d.liver.mesh).value();
+  Display display(152);
+  StationRunOptions options = dds_options(d, 152);
+  options.dds->surface = &surface;
+  const StationRun run = run_station(d.loop, d.world, options).value();
+  ASSERT_TRUE(run.dds.has_value());
+  const DdsRunReport& r = *run.dds;
+  std::printf("[ station  ] DDS: %lld poses, %lld frames received; writer to reader: poses median %.0f us, p99 %.0f us, max %.0f us; "
+              "frames median %.0f us, p99 %.0f us, max %.0f us\n",
+              static_cast<long long>(r.poses_received), static_cast<long long>(r.frames_received), r.pose_latency.median_us,
+              r.pose_latency.p99_us, r.pose_latency.max_us, r.frame_latency.median_us, r.frame_latency.p99_us, r.frame_latency.max_us);
+  // 5 s: 3 markers at 60 Hz (delivered from 10 ms) and frames at 20 Hz (from 30 ms). The
+  // station keeps the newest pose of each tool per poll (0.5 ms), so nearly all arrive (a
+  // stalled I/O thread may skip a few: the loop interpolates over them).
+  EXPECT_GE(r.poses_received, 855);
+  EXPECT_LE(r.poses_received, 900);
+  EXPECT_GE(r.frames_received, 95);
+  EXPECT_EQ(run.observer.frames, r.frames_received);
+  EXPECT_GE(run.observer.observations, 90);
+  EXPECT_LT(r.pose_latency.median_us, 2000.0);  // generous: the host runs other test programs
+  EXPECT_LT(r.frame_latency.median_us, 5000.0);
+  EXPECT_EQ(r.device_gone_ns, -1);
+  EXPECT_EQ(r.peer_lost_seen_ns, -1);
+  const PredictionErrors e = prediction_errors(d.world, run.ticks, d.loop.options.display_latency_ns, kSettled);
+  std::printf("[ station  ] on DDS, assimilated: tumour now %.3f mm, ahead %.3f mm, needle tip %.3f mm RMS (from 1 s of 5 s)\n",
+              1e3 * e.tumour_now_rms_m, 1e3 * e.tumour_ahead_rms_m, 1e3 * e.needle_tip_rms_m);
+  EXPECT_LT(e.tumour_now_rms_m, 1.2e-3);
+  // The display received the predictions (now and ahead, one each per liver step) and the health.
+  dds::TargetPrediction prediction;
+  int predictions = 0, ahead = 0;
+  while (display.predictions->try_pop(prediction)) {
+    ++predictions;
+    ahead += prediction.horizon_ns == d.loop.options.display_latency_ns ? 1 : 0;
+    EXPECT_TRUE(std::isfinite(prediction.position_m[0]) && std::isfinite(prediction.covariance_m2[0]));
+  }
+  dds::StationHealth health;
+  int health_samples = 0;
+  while (display.health->try_pop(health)) ++health_samples;
+  std::printf("[ station  ] display: %d predictions (%d ahead), %d health samples; %lld outputs published, %llu dropped by the outbox\n",
+              predictions, ahead, health_samples, static_cast<long long>(r.outputs_published),
+              static_cast<unsigned long long>(r.outbox_dropped));
+  EXPECT_GE(predictions, 800);  // 2 per liver step at 100 Hz over 5 s: 1000
+  EXPECT_GE(ahead, 400);
+  EXPECT_GE(health_samples, 40);  // 10 Hz
+  EXPECT_EQ(r.outbox_dropped, 0u);
+
+  // The deformed surface: attachments at rest, the diaphragm region moving as one (the
+  // prescribed displacement), by millimetres over a breath.
+  std::vector<std::size_t> fixed, diaphragm;
+  for (std::size_t v = 0; v < surface.nodes.size(); ++v) {
+    const auto is = [&](const std::vector<std::int32_t>& nodes) { return std::binary_search(nodes.begin(), nodes.end(), surface.nodes[v]); };
+    if (is(d.liver.scene.fixed_nodes)) fixed.push_back(v);
+    if (is(d.liver.scene.prescribed_nodes)) diaphragm.push_back(v);
+  }
+  ASSERT_FALSE(fixed.empty());
+  ASSERT_FALSE(diaphragm.empty());
+  auto sample = std::make_unique<dds::DeformedSurface>();
+  int surfaces = 0;
+  double fixed_worst_m = 0.0, diaphragm_spread_m = 0.0, lowest_m = 1.0, highest_m = -1.0;
+  bool all_finite = true;
+  while (display.surfaces->try_pop(*sample)) {
+    ++surfaces;
+    EXPECT_EQ(sample->surface_id, kLiverSurfaceId);
+    ASSERT_EQ(sample->vertex_count, surface.nodes.size());
+    for (std::size_t v = 0; v < surface.nodes.size(); ++v)
+      for (float x : sample->vertex_positions_m[v]) all_finite = all_finite && std::isfinite(x);
+    const VertexMotion at_rest = motion_of(*sample, surface, fixed);
+    fixed_worst_m = std::max(fixed_worst_m, at_rest.first_m.norm() + at_rest.spread_m);
+    const VertexMotion lifted = motion_of(*sample, surface, diaphragm);
+    diaphragm_spread_m = std::max(diaphragm_spread_m, lifted.spread_m);
+    lowest_m = std::min(lowest_m, lifted.first_m.z());
+    highest_m = std::max(highest_m, lifted.first_m.z());
+  }
+  std::printf("[ station  ] surface: %d of %lld received (%zu vertices); reconstruction median %.0f us, p99 %.0f us; attachments within "
+              "%.2g m of rest, diaphragm vertices within %.2g m of one another, lifted %.2f mm peak to peak\n",
+              surfaces, static_cast<long long>(r.surfaces_published), surface.nodes.size(), r.surface_reconstruction.median_us,
+              r.surface_reconstruction.p99_us, fixed_worst_m, diaphragm_spread_m, 1e3 * (highest_m - lowest_m));
+  EXPECT_GE(r.surfaces_published, 90);  // 20 Hz of liver time over 5 s
+  EXPECT_GE(surfaces, 80);
+  EXPECT_TRUE(all_finite);
+  EXPECT_LT(fixed_worst_m, 1e-6);        // float positions of about 0.1 m: ~1e-8 m rounding
+  EXPECT_LT(diaphragm_spread_m, 1e-6);
+  EXPECT_GT(highest_m - lowest_m, 8e-3);  // the marker's 10 mm breath, mapped 1:1 onto the diaphragm
+}
+
+TEST(StationDds, ADevicePeerDisappearingIsFlaggedAndTheStationRecovers) {
+  const DemoStation& d = demo();
+  Display display(153);
+  StationRunOptions options = dds_options(d, 153);
+  options.dds->device_outage = PeerOutage{2 * kNsPerSecond, 3 * kNsPerSecond};
+  const StationRun run = run_station(d.loop, d.world, options).value();
+  const DdsRunReport& r = *run.dds;
+  ASSERT_GE(r.device_gone_ns, 2 * kNsPerSecond);
+  ASSERT_GE(r.device_back_ns, 3 * kNsPerSecond);
+  // The I/O thread sees the writers go (the participant announces its end) and come back.
+  ASSERT_GE(r.peer_lost_seen_ns, 0);
+  ASSERT_GE(r.peer_back_seen_ns, 0);
+  // The loop: the first tick with the needle degraded after the loss, and the first tick with
+  // it good again after the return.
+  TimeNs flagged_ns = -1, recovered_ns = -1;
+  bool flagged_throughout = true, all_finite = true;
+  for (const TickRecord& t : run.ticks) {
+    all_finite = all_finite && finite(t.tumour_now_m) && finite(t.tumour_ahead_m) && finite(t.needle_tip_m);
+    if (flagged_ns < 0 && t.time_ns >= r.device_gone_ns && t.needle_degraded && (t.needle_flags & kInputLost) != 0) flagged_ns = t.time_ns;
+    if (flagged_ns >= 0 && t.time_ns >= flagged_ns && t.time_ns < r.device_back_ns)
+      flagged_throughout = flagged_throughout && t.degraded && t.needle_degraded && (t.needle_flags & kInputLost) != 0;
+    if (recovered_ns < 0 && t.time_ns >= r.device_back_ns && !t.needle_degraded && t.needle_flags == 0) recovered_ns = t.time_ns;
+  }
+  std::printf("[ station  ] devices gone at %.3f s: writers seen gone after %.1f ms, needle flagged after %.1f ms; back at %.3f s: "
+              "writers seen after %.1f ms, needle good after %.1f ms; %llu samples lost\n",
+              1e-9 * r.device_gone_ns, 1e-6 * (r.peer_lost_seen_ns - r.device_gone_ns), 1e-6 * (flagged_ns - r.device_gone_ns),
+              1e-9 * r.device_back_ns, 1e-6 * (r.peer_back_seen_ns - r.device_back_ns), 1e-6 * (recovered_ns - r.device_back_ns),
+              static_cast<unsigned long long>(r.device_samples_lost));
+  EXPECT_LT(r.peer_lost_seen_ns - r.device_gone_ns, 200 * kNsPerMs);
+  EXPECT_GE(r.peer_back_seen_ns, r.device_back_ns);
+  EXPECT_LT(r.peer_back_seen_ns - r.device_back_ns, 2 * kNsPerSecond);
+  ASSERT_GE(flagged_ns, 0) << "the needle input was never flagged";
+  EXPECT_LT(flagged_ns - r.device_gone_ns, 250 * kNsPerMs);
+  EXPECT_TRUE(flagged_throughout) << "the outputs were not degraded for the whole outage";
+  EXPECT_TRUE(all_finite);
+  ASSERT_GE(recovered_ns, 0) << "the needle input never recovered";
+  EXPECT_LT(recovered_ns - r.device_back_ns, 1 * kNsPerSecond);
+  EXPECT_GT(r.device_samples_lost, 0u);
+  // The health on DDS: degraded with a lost input during the outage, no lost input at the end.
+  dds::StationHealth health;
+  bool degraded_in_outage = false;
+  std::uint32_t last_flags = kInputLost;
+  TimeNs last_time_ns = 0;
+  while (display.health->try_pop(health)) {
+    if (health.source_time_ns > flagged_ns && health.source_time_ns < r.device_back_ns)
+      degraded_in_outage = degraded_in_outage || (health.mode == dds::StationMode::degraded && (health.flags & kInputLost) != 0);
+    last_flags = health.flags;
+    last_time_ns = health.source_time_ns;
+  }
+  EXPECT_TRUE(degraded_in_outage);
+  EXPECT_GT(last_time_ns, recovered_ns);
+  EXPECT_EQ(last_flags & kInputLost, 0u) << "the last health sample still reports a lost input";
+}
+
+}  // namespace
+}  // namespace nav::station
