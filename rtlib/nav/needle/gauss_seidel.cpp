@@ -18,10 +18,6 @@ void add_column(std::span<const double> w, std::size_t m, std::size_t column, do
 
 constexpr auto kMaxGroup = static_cast<std::size_t>(kMaxRowsPerPoint);
 
-/// Local sweeps over one point's rows per visit (its block is solved nearly exactly, which
-/// the coupled rows of a path point - two bilateral, one friction - need).
-constexpr int kLocalSweeps = 3;
-
 /// One past the last row of the constraint point whose first row is `first`.
 std::size_t group_end(std::span<const ConstraintRow> rows, std::size_t first) {
   std::size_t end = first + 1;
