@@ -32,6 +32,20 @@ namespace nav {
 /// The largest reduced basis an operating loop carries in its outputs (the displayed liver state).
 inline constexpr int kLoopMaxBasisSize = 64;
 
+/// The most needle nodes an operating loop's outputs carry (a needle of up to 64 elements).
+inline constexpr int kLoopMaxNeedleNodes = 65;
+
+/// The needle model as a tick leaves it (model frame); empty (node_count 0) when the loop
+/// steps no needle model and only tracks the needle's tip.
+struct NeedleShapeOutputs {
+  int node_count = 0;                                      ///< 0: no needle model
+  std::array<Point3, kLoopMaxNeedleNodes> centreline_m{};  ///< node positions, base first, tip last
+  Point3 tip_force_n{};      ///< the tissue's force on the needle's tip
+  Point3 base_force_n{};     ///< the needle's force on its holder
+  double tip_depth_m = 0.0;  ///< tip depth below the outermost surface (0 outside)
+  int punctures = 0;         ///< surfaces punctured since the loop started
+};
+
 /// Rates, latencies, geometry and input options of an operating loop; checked at build.
 struct OperatingLoopOptions {
   TimeNs tick_period_ns = kNsPerMs;          ///< the loop's period (1 kHz)
@@ -82,6 +96,7 @@ struct OperatingLoopOutputs {
   Point3 needle_tip_ahead_m{};      ///< at the tick's time + display latency
   double tip_to_tumour_m = 0.0;     ///< |needle tip - tumour now|
   double tip_to_tumour_ahead_m = 0.0;  ///< |needle tip ahead - tumour ahead|
+  NeedleShapeOutputs needle_shape;  ///< the needle model's shape and forces at the tick's time
   RigidPose probe_pose;             ///< the ultrasound probe at the tick's time
   Point3 diaphragm_m{};             ///< the diaphragm displacement driving the last liver step
   /// The displayed liver at tissue_time_ns: reduced coordinates q + dq (model and filter
