@@ -8,7 +8,8 @@
 //                          (the scene's topics.domain_id, or --domain D).
 //   --seconds S, --plot FILE.svg (the error over time), --json FILE (the summary's figures),
 //   --images DIR           runs navview alongside (headless), which writes PNG composites of
-//                          the station's DDS topics into DIR (with the liver surface DIR/liver_surface.obj).
+//                          the station's DDS topics (by the scene's topic names) into DIR
+//                          (with the liver surface DIR/liver_surface.obj).
 // Exit code 0, 1 with the error, 2 on a usage error.
 #include <cstdio>
 #include <cstdlib>
@@ -16,10 +17,12 @@
 #include <fstream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "nav/station/realtime_thread.hpp"
 #include "nav/station/scene.hpp"
 #include "nav/station/station_build.hpp"
+#include "nav/station/station_dds.hpp"
 #include "nav/station/station_session.hpp"
 #include "navview_process.hpp"
 
@@ -95,10 +98,12 @@ int run_scene(const nav::station::Scene& scene, const Arguments& args) {
     if (error || !write_file(obj, nav::station::surface_obj(built.surface))) return nav::Error{"cannot write the liver surface", obj, 0, ""};
     // navview ends by itself well after the run, should navstation never stop it.
     const std::string duration_s = std::to_string(static_cast<int>(args.seconds) + 300);
-    auto started = navstation::NavviewProcess::start({"--headless", "--out-dir", args.images_dir, "--surface-mesh", obj, "--unit", "m",
-                                                      "--period-ms", "500", "--duration-s", duration_s, "--domain",
-                                                      std::to_string(scene.topics.domain_id)},
-                                                     (std::filesystem::path(args.images_dir) / "navview.log").string());
+    std::vector<std::string> navview_args{"--headless", "--out-dir", args.images_dir, "--surface-mesh", obj, "--unit", "m", "--period-ms",
+                                          "500", "--duration-s", duration_s, "--domain", std::to_string(scene.topics.domain_id)};
+    const nav::dds::TopicNames names = nav::station::topic_names(scene.topics);
+    for (std::size_t t = 0; t < names.size(); ++t)  // navview reads the station's topics by the scene's names
+      navview_args.insert(navview_args.end(), {"--topic", std::string(nav::dds::topic_name(static_cast<nav::dds::Topic>(t))) + "=" + names[t]});
+    auto started = navstation::NavviewProcess::start(navview_args, (std::filesystem::path(args.images_dir) / "navview.log").string());
     if (!started.ok()) return started.error();
     navview.emplace(std::move(started).value());
     return nav::Done{};

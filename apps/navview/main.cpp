@@ -58,7 +58,9 @@ int run(const NavviewArgs& args) {
   }
   auto output = args.headless ? open_png_sequence(args.out_dir) : open_window("navview");
   if (!output) return fail("output", output.error());
-  auto node = nav::dds::DdsNode::create(args.network);
+  nav::dds::TopicQosOptions qos;
+  qos.names = args.topic_names;
+  auto node = nav::dds::DdsNode::create(args.network, qos);
   if (!node) return fail("DDS", node.error());
   Subscriptions subscriptions;
   if (const nav::Status subscribed = subscriptions.subscribe(*node.value()); !subscribed) return fail("DDS", subscribed.error());

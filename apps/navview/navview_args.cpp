@@ -4,6 +4,22 @@
 #include <optional>
 
 namespace navview {
+namespace {
+
+/// "DEFAULT=NAME": the topic whose default name is DEFAULT takes NAME; false when DEFAULT is
+/// no topic's default name or NAME is empty.
+bool rename_topic(const std::string& value, nav::dds::TopicNames& names) {
+  const std::size_t equals = value.find('=');
+  if (equals == std::string::npos || equals + 1 == value.size()) return false;
+  for (std::size_t t = 0; t < nav::dds::kTopicCount; ++t) {
+    if (value.compare(0, equals, nav::dds::topic_name(static_cast<nav::dds::Topic>(t))) != 0) continue;
+    names[t] = value.substr(equals + 1);
+    return true;
+  }
+  return false;
+}
+
+}  // namespace
 
 bool parse_args(const std::vector<std::string>& args, bool display_available, NavviewArgs& parsed) {
   parsed.headless = !display_available;
@@ -29,6 +45,9 @@ bool parse_args(const std::vector<std::string>& args, bool display_available, Na
       else if (flag == "--domain") parsed.network.domain_id = static_cast<std::uint32_t>(std::stoul(value));
       else if (flag == "--local-address") parsed.network.local_address = value;
       else if (flag == "--peer") parsed.network.peer_addresses.push_back(value);
+      else if (flag == "--topic") {
+        if (!rename_topic(value, parsed.topic_names)) return false;
+      }
       else if (flag == "--unit") {
         const auto unit = nav::parse_length_unit(value);
         if (!unit) return false;

@@ -7,6 +7,7 @@
 #include "nav/core/clock.hpp"
 #include "nav/core/units.hpp"
 #include "nav/dds/network_config.hpp"
+#include "nav/dds/topics.hpp"
 #include "nav/view/composite.hpp"
 
 namespace navview {
@@ -22,13 +23,15 @@ struct NavviewArgs {
   nav::TimeNs duration_ns = 0;           // stop after this long (0: until SIGINT/SIGTERM or the window closes)
   std::string surface_mesh;              // .obj with the surface's triangles (empty: draw vertices)
   nav::LengthUnit surface_mesh_unit = nav::LengthUnit::metre;
+  nav::dds::TopicNames topic_names{};    // --topic DEFAULT=NAME renames a topic (empty: its default name)
 };
 
 inline constexpr const char* kUsage =
     "usage: navview [--headless] [--out-dir DIR] [--period-ms MS] [--count N] [--duration-s S]\n"
     "               [--surface-mesh FILE.obj [--unit mm|cm|m]] [--panel-height PX]\n"
     "               [--azimuth-deg A] [--elevation-deg E]\n"
-    "               [--domain D] [--local-address A] [--peer A]...\n";
+    "               [--domain D] [--local-address A] [--peer A]...\n"
+    "               [--topic DEFAULT=NAME]...   (e.g. --topic nav/needle_state=or2/needle_state)\n";
 
 /// Parses navview's arguments (without the program name); false on anything malformed.
 /// `display_available` is whether $DISPLAY is set (it picks the default output).

@@ -9,6 +9,13 @@
 // step, filter predict and update, look-ahead), needle_tick_us_* (tool poses and breathing
 // only) and push_respiratory_us_* (the breathing fit of one marker sample, made on the loop's
 // thread too), each as median, p99, p99.9, max and jitter (standard deviation).
+// BM_OperatingLoopNeedleTick (r = 16, 64): the same loop stepping the flexible needle (20
+// Timoshenko elements, 15 cm) coupled to the reduced liver, inserted at 2 mm/s from 5 mm above
+// the capsule (a plane layer over the tumour) down to 35 mm below it, the liver trained also on
+// needle-like loads: the needle steps at every tick, the liver steps with its point forces;
+// needle_tick then includes the needle's step. Also counted: punctures, the timed ticks with
+// needle-tissue flags (needle_flagged_ticks) and the liver steps with flags (tissue_flagged_steps,
+// tissue_flags their union).
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -40,8 +47,9 @@ struct Liver {
   nav::EmbeddedLiver liver = nav::make_embedded_liver(nav::kEmbeddedLiverElementSizeM);
   nav::TissueScene scene;
   nav::ObservedPoint tumour;
-  std::vector<double> snapshots;
-  int snapshot_count = 0;
+  double surface_above_tumour_m = -1e9;  ///< the highest boundary node within 5 mm of the tumour's vertical
+  std::vector<double> snapshots, needle_snapshots;  ///< training, without and with the needle's loads
+  int snapshot_count = 0, needle_snapshot_count = 0;
   Liver() {
     scene.default_material = {5.0e3, 0.45, 1060.0};
     scene.fixed_nodes = liver.attachment_nodes;
@@ -50,6 +58,10 @@ struct Liver {
     for (const auto& x : liver.mesh.nodes_m) top_m = std::max(top_m, x[2]);
     std::vector<char> on_boundary(liver.mesh.nodes_m.size(), 0);
     for (const std::int32_t node : boundary.mesh_node_of_vertex) on_boundary[static_cast<std::size_t>(node)] = 1;
+    const nav::Point3& centre = liver.tumour_centre_m;
+    for (std::size_t n = 0; n < liver.mesh.nodes_m.size(); ++n)
+      if (on_boundary[n] != 0 && std::hypot(liver.mesh.nodes_m[n][0] - centre[0], liver.mesh.nodes_m[n][1] - centre[1]) < 0.005)
+        surface_above_tumour_m = std::max(surface_above_tumour_m, liver.mesh.nodes_m[n][2]);
     for (std::size_t n = 0; n < liver.mesh.nodes_m.size(); ++n)
       if (on_boundary[n] != 0 && liver.mesh.nodes_m[n][2] > top_m - 0.02 &&
           !std::binary_search(liver.attachment_nodes.begin(), liver.attachment_nodes.end(), static_cast<std::int32_t>(n)))
@@ -73,6 +85,32 @@ struct Liver {
         ++snapshot_count;
       }
     }
+    // And, for the needle's loop only, the capsule over the tumour pushed in by up to 1.5 N
+    // (its f_p is 1 N) and the shaft's drag at 1 to 4 cm below it, straight and sideways, so
+    // that the insertion stays in the envelope.
+    needle_snapshots = snapshots;
+    needle_snapshot_count = snapshot_count;
+    const auto nearest = [&](double depth_m) {
+      const Eigen::Vector3d x(centre[0], centre[1], surface_above_tumour_m - depth_m);
+      std::int32_t best = 0;
+      for (std::size_t n = 0; n < liver.mesh.nodes_m.size(); ++n)
+        if ((Eigen::Vector3d(liver.mesh.nodes_m[n].data()) - x).norm() <
+            (Eigen::Vector3d(liver.mesh.nodes_m[static_cast<std::size_t>(best)].data()) - x).norm())
+          best = static_cast<std::int32_t>(n);
+      return best;
+    };
+    const std::int32_t path[] = {nearest(0.0), nearest(0.01), nearest(0.02), nearest(0.03), nearest(0.04)};
+    for (int i = 0; i < 12; ++i) {
+      const double f_n = 0.25 * (i % 6 + 1), side_n = i < 6 ? 0.0 : 0.1 * f_n;
+      nav::PointForce loads[5];
+      for (std::size_t k = 0; k < 5; ++k)
+        loads[k] = {path[k], {k % 2 == 0 ? side_n : -side_n, side_n, k == 0 ? -f_n : -0.3 * f_n}};
+      nav::TissueInputs inputs;
+      inputs.point_forces = loads;
+      step(full, data, inputs);
+      for (std::size_t k = 0; k < rest.size(); ++k) needle_snapshots.push_back(data.positions_m[k] - rest[k]);
+      ++needle_snapshot_count;
+    }
   }
 };
 
@@ -81,8 +119,13 @@ const Liver& liver() {
   return built;
 }
 
-/// The loop of r modes on the liver.
-nav::OperatingLoopModel loop_model(int r) {
+/// The needle base's frame in its marker's: the needle points down the marker's -z.
+nav::RigidPose needle_base_in_marker() {
+  return {Eigen::Vector3d::Zero(), Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * std::numbers::pi, Eigen::Vector3d::UnitY()))};
+}
+
+/// The loop of r modes on the liver, optionally with the needle coupled to it.
+nav::OperatingLoopModel loop_model(int r, bool with_needle) {
   const Liver& l = liver();
   nav::ReductionOptions reduction;
   reduction.source = nav::ReducedBasisSource::linear_modes;
@@ -92,7 +135,9 @@ nav::OperatingLoopModel loop_model(int r) {
   nav::TissueSolverOptions solver;
   solver.integrator = nav::Integrator::quasi_static;
   nav::ReducedBasis basis = nav::make_modal_basis(l.liver.mesh, l.scene, solver, reduction).value();
-  const nav::Status trained = nav::add_force_reduction(l.liver.mesh, l.scene, solver, reduction, l.snapshots, l.snapshot_count, basis);
+  const nav::Status trained =
+      nav::add_force_reduction(l.liver.mesh, l.scene, solver, reduction, with_needle ? l.needle_snapshots : l.snapshots,
+                               with_needle ? l.needle_snapshot_count : l.snapshot_count, basis);
   if (!trained.ok()) std::abort();
   nav::ReducedSolverOptions reduced_options;
   reduced_options.step_s = kStepS;
@@ -110,7 +155,31 @@ nav::OperatingLoopModel loop_model(int r) {
   o.diaphragm_per_marker = {0.0, 0.0, 1.0};
   o.respiratory_reference_m = 0.1;
   o.needle.max_extrapolation_ns = 100 * kNsPerMs;
-  return nav::make_operating_loop_model(std::move(reduced), std::move(filter), o).value();
+  if (!with_needle) return nav::make_operating_loop_model(std::move(reduced), std::move(filter), o).value();
+  nav::OperatingLoopNeedleOptions needle;
+  nav::TissueLayer capsule;
+  capsule.surface_point_m = {l.liver.tumour_centre_m[0], l.liver.tumour_centre_m[1], l.surface_above_tumour_m};
+  needle.scene.layers = {capsule};
+  needle.scene.path_spacing_m = 0.005;
+  needle.base_in_marker = needle_base_in_marker();
+  return nav::make_operating_loop_model(std::move(reduced), std::move(filter), o, needle, l.liver.mesh).value();
+}
+
+/// The rigid needle of BM_OperatingLoopTick: 3 cm beside the tumour, moving toward it.
+nav::RigidPose needle_beside(TimeNs now) {
+  const nav::Point3 tumour = liver().liver.tumour_centre_m;
+  const double s = 1e-9 * static_cast<double>(now);
+  return {{tumour[0] + 0.03 - 0.003 * s, tumour[1], tumour[2] + 0.15}, Eigen::Quaterniond::Identity()};
+}
+
+/// The needle marker of BM_OperatingLoopNeedleTick: the tip from 5 mm above the capsule over
+/// the tumour down to 35 mm below it, at 2 mm/s.
+nav::RigidPose needle_inserted(TimeNs now) {
+  const Liver& l = liver();
+  const double lowered_m = std::min(0.002 * 1e-9 * static_cast<double>(now), 0.04);
+  const Eigen::Vector3d base_m{l.liver.tumour_centre_m[0], l.liver.tumour_centre_m[1], l.surface_above_tumour_m + 0.155 - lowered_m};
+  const nav::RigidPose marker_in_base = nav::inverse(needle_base_in_marker());
+  return nav::compose({base_m, needle_base_in_marker().rotation}, marker_in_base);
 }
 
 /// Median, p99, p99.9, max and jitter (standard deviation) of `us`, as counters name_us_*.
@@ -132,21 +201,21 @@ double elapsed_us(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// Runs the loop on scripted devices; after the warm-up, times every tick and marker push.
-void BM_OperatingLoopTick(benchmark::State& state) {
-  const nav::OperatingLoopModel model = loop_model(static_cast<int>(state.range(0)));
+/// Runs the loop on scripted devices (the needle marker at needle_at(t)); after the warm-up,
+/// times every tick and marker push.
+void run_loop(benchmark::State& state, const nav::OperatingLoopModel& model, nav::RigidPose (*needle_at)(TimeNs)) {
   nav::OperatingLoopData data = nav::make_operating_loop_data(model).value();
   const nav::Point3 tumour = liver().liver.tumour_centre_m;
   std::mt19937_64 rng(5);
   std::normal_distribution<double> noise(0.0, 0.001);
   std::vector<double> tick_us, tissue_us, needle_us, marker_us;
+  int needle_flagged = 0, tissue_flagged = 0;  // timed ticks whose needle-tissue or liver flags were raised
+  std::uint32_t tissue_flag_union = 0;
   const TimeNs warm_up_ns = 3000 * kNsPerMs;
   TimeNs now = 0;
   const auto one_tick = [&](bool timed) {
     if (now % (20 * kNsPerMs) == 0) {
-      const double s = 1e-9 * static_cast<double>(now);
-      const nav::RigidPose needle{{tumour[0] + 0.03 - 0.003 * s, tumour[1], tumour[2] + 0.15}, Eigen::Quaterniond::Identity()};
-      nav::push_needle_pose(model, data, {now, needle});
+      nav::push_needle_pose(model, data, {now, needle_at(now)});
       nav::push_probe_pose(model, data, {now, {{tumour[0], tumour[1], tumour[2] + 0.08}, Eigen::Quaterniond::Identity()}});
     }
     if (now % (25 * kNsPerMs) == 0) {
@@ -164,6 +233,9 @@ void BM_OperatingLoopTick(benchmark::State& state) {
     nav::tick(model, data, now);
     const double us = elapsed_us(start);
     if (timed) {
+      needle_flagged += data.outputs.needle_shape.flags.healthy() ? 0 : 1;
+      tissue_flagged += tissue && !data.outputs.tissue.healthy() ? 1 : 0;
+      if (tissue) tissue_flag_union |= data.outputs.tissue.bits();
       (tissue ? tissue_us : needle_us).push_back(us);
       tick_us.push_back(us);
     }
@@ -177,9 +249,22 @@ void BM_OperatingLoopTick(benchmark::State& state) {
   report(state, "needle_tick", needle_us);
   report(state, "push_respiratory", marker_us);
   state.counters["degraded"] = data.outputs.degraded ? 1.0 : 0.0;
+  state.counters["tissue_flags"] = tissue_flag_union;  // raised on any timed liver step
+  state.counters["tissue_flagged_steps"] = static_cast<double>(tissue_flagged);
   state.counters["lookahead_steps"] = model.lookahead_steps;
+  state.counters["punctures"] = data.outputs.needle_shape.punctures;
+  state.counters["needle_flagged_ticks"] = static_cast<double>(needle_flagged);
+}
+
+void BM_OperatingLoopTick(benchmark::State& state) {
+  run_loop(state, loop_model(static_cast<int>(state.range(0)), false), needle_beside);
+}
+
+void BM_OperatingLoopNeedleTick(benchmark::State& state) {
+  run_loop(state, loop_model(static_cast<int>(state.range(0)), true), needle_inserted);
 }
 
 BENCHMARK(BM_OperatingLoopTick)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(20000);
+BENCHMARK(BM_OperatingLoopNeedleTick)->Arg(16)->Arg(64)->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(20000);
 
 }  // namespace

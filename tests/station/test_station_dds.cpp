@@ -10,6 +10,8 @@
 // back; the loop flags the needle input (stale, then missing) within 500 ms of the loss (generous) and
 // its outputs are degraded, every output stays finite, the health on DDS says so; and the
 // needle input is good again within 1 s of the devices' return (the figures are printed).
+// Last, the station on a scene that renames every topic: a reader on the scene's names gets
+// its outputs, a reader on the default names nothing.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -37,19 +39,30 @@ const DemoStation& demo() {
   return built;
 }
 
-/// A display on `domain_id`: it takes the station's predictions and health.
+/// A display on `domain_id`: it takes the station's predictions, needle, health and surfaces
+/// on the topics named by `names` (empty entries: the default names).
 struct Display {
   std::unique_ptr<dds::DdsNode> node;
   std::unique_ptr<dds::RingSink<dds::TargetPrediction, 2048>> predictions = std::make_unique<dds::RingSink<dds::TargetPrediction, 2048>>();
+  std::unique_ptr<dds::RingSink<dds::NeedleState, 512>> needle = std::make_unique<dds::RingSink<dds::NeedleState, 512>>();
   std::unique_ptr<dds::RingSink<dds::StationHealth, 128>> health = std::make_unique<dds::RingSink<dds::StationHealth, 128>>();
   std::unique_ptr<dds::RingSink<dds::DeformedSurface, 128>> surfaces = std::make_unique<dds::RingSink<dds::DeformedSurface, 128>>();
-  explicit Display(std::uint32_t domain_id) {
-    node = make_station_node(domain_id, "nav_test_display").value();
+  explicit Display(std::uint32_t domain_id, const dds::TopicNames& names = {}) {
+    node = make_station_node(domain_id, "nav_test_display", names).value();
     EXPECT_TRUE(node->subscribe(*predictions).ok());
+    EXPECT_TRUE(node->subscribe(*needle).ok());
     EXPECT_TRUE(node->subscribe(*health).ok());
     EXPECT_TRUE(node->subscribe(*surfaces).ok());
   }
 };
+
+/// Takes every sample out of `sink` (into `last`); how many there were.
+template <class Sink, class Sample>
+int drain(Sink& sink, Sample& last) {
+  int count = 0;
+  while (sink.try_pop(last)) ++count;
+  return count;
+}
 
 StationRunOptions dds_options(const DemoStation& d, std::uint32_t domain_id) {
   StationRunOptions options;
@@ -57,7 +70,8 @@ StationRunOptions dds_options(const DemoStation& d, std::uint32_t domain_id) {
   options.miss_threshold_ns = 100 * kNsPerMs;
   options.realtime = {d.scene.station.realtime_core, d.scene.station.realtime_priority, false};  // no mlockall in a test process
   options.io_core = d.scene.station.io_core;
-  options.dds = DdsRunOptions{domain_id, std::nullopt, 100 * kNsPerMs};
+  options.dds = DdsRunOptions{};
+  options.dds->domain_id = domain_id;
   return options;
 }
 
@@ -223,6 +237,39 @@ TEST(StationDds, ADevicePeerDisappearingIsFlaggedAndTheStationRecovers) {
   EXPECT_TRUE(degraded_in_outage);
   EXPECT_GT(last_time_ns, recovered_ns);
   EXPECT_EQ(last_flags & kInputLost, 0u) << "the last health sample still reports a lost input";
+}
+
+TEST(StationDds, TheStationRunsOnTheTopicNamesOfItsScene) {
+  const DemoStation& d = demo();
+  TopicSettings renamed;  // every topic of the scene under site_b/ instead of nav/
+  for (std::string* name : {&renamed.poses, &renamed.images, &renamed.predictions, &renamed.surfaces, &renamed.needle_states, &renamed.health})
+    name->replace(0, 3, "site_b");
+  const dds::TopicNames names = topic_names(renamed);
+  const DisplaySurface surface = make_display_surface(d.liver.mesh).value();
+  Display on_scene_names(154, names), on_default_names(154);
+  StationRunOptions options = dds_options(d, 154);
+  options.duration_ns = 1500 * kNsPerMs;
+  options.dds->topic_names = names;
+  options.dds->surface = &surface;
+  const StationRun run = run_station(d.loop, d.world, options).value();
+  // The devices wrote on the scene's names and the station read them there.
+  EXPECT_GE(run.dds->poses_received, 200);  // 3 markers at 60 Hz over 1.5 s: 270
+  EXPECT_GE(run.dds->frames_received, 20);  // 20 Hz: 30
+  dds::TargetPrediction prediction;
+  auto needle = std::make_unique<dds::NeedleState>();
+  dds::StationHealth health;
+  auto deformed = std::make_unique<dds::DeformedSurface>();
+  const int received[] = {drain(*on_scene_names.predictions, prediction), drain(*on_scene_names.needle, *needle),
+                          drain(*on_scene_names.health, health), drain(*on_scene_names.surfaces, *deformed)};
+  const int on_defaults[] = {drain(*on_default_names.predictions, prediction), drain(*on_default_names.needle, *needle),
+                             drain(*on_default_names.health, health), drain(*on_default_names.surfaces, *deformed)};
+  std::printf("[ station  ] on site_b/: %d predictions, %d needle states, %d health, %d surfaces; on nav/: %d, %d, %d, %d\n", received[0],
+              received[1], received[2], received[3], on_defaults[0], on_defaults[1], on_defaults[2], on_defaults[3]);
+  EXPECT_GE(received[0], 200);  // 2 per liver step at 100 Hz
+  EXPECT_GE(received[1], 100);
+  EXPECT_GE(received[2], 10);   // 10 Hz
+  EXPECT_GE(received[3], 20);   // 20 Hz of liver time
+  for (int count : on_defaults) EXPECT_EQ(count, 0);
 }
 
 }  // namespace

@@ -9,8 +9,8 @@
 // test programs and sanitizers; the real figures are printed); the same recording
 // replayed twice on a SimulatedClock gives bitwise-identical outputs, and a changed sample
 // changes them; the tumour predicted with assimilation is within 1 mm RMS of the truth and
-// better than without; `navstation --demo --seconds 2 --images DIR` runs on DDS, prints its
-// summary and has navview write images.
+// better than without; `navstation --scene FILE --seconds 2 --images DIR` on the demo scene
+// with renamed topics runs on DDS, prints its summary and has navview write images.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,6 +19,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "demo_station.hpp"
@@ -197,16 +198,32 @@ double number_after(const std::string& text, const std::string& label) {
   return std::strtod(text.c_str() + at + label.size(), nullptr);
 }
 
-TEST(StationRun, NavstationDemoRunsAndPrintsItsSummary) {
+/// The demo scene with every topic renamed under site_c/, written to a temporary file (its
+/// URDF path made absolute); the file's path.
+std::string renamed_demo_scene() {
+  const std::filesystem::path folder = std::filesystem::path(testing::example_scene_path("demo.yaml")).parent_path();
+  const std::string urdf = "../../../calibration/urdf/station.urdf";
+  std::string text = testing::edited(testing::demo_text(), urdf, (folder / urdf).lexically_normal().string());
+  for (const char* name : {"tool_pose", "ultrasound_frame", "target_prediction", "deformed_surface", "needle_state", "station_health"})
+    text = testing::edited(text, std::string(": nav/") + name, std::string(": site_c/") + name);
+  const std::string path = testing::temporary_path("station_demo_site_c.yaml");
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(StationRun, NavstationRunsASceneAndPrintsItsSummary) {
   const std::string svg = testing::temporary_path("station_demo.svg");
   const std::string images = testing::temporary_path("station_demo_images");
+  // The demo scene on renamed topics: navview, run alongside, only draws (and writes images)
+  // if it reads the topics by the scene's names too.
+  const std::string scene = renamed_demo_scene();
   // Under AddressSanitizer, Debian's libfastrtps 2.9 deletes its statistics writers and readers
   // through a base of another size (new-delete-type-mismatch, all frames inside libfastrtps);
   // test programs never see it because the allocation guard replaces operator new/delete, but
   // navstation and navview do. The option turns that one check off; it does nothing elsewhere.
   const testing::CommandRun run =
       testing::run_command("ASAN_OPTIONS=new_delete_type_mismatch=0 " + testing::executable_path("navstation") +
-                           " --demo --seconds 2 --domain 151 --plot " + svg + " --images " + images + " 2>&1");
+                           " --scene " + scene + " --seconds 2 --domain 151 --plot " + svg + " --images " + images + " 2>&1");
   std::printf("%s", run.output.c_str());
   EXPECT_EQ(run.exit_code, 0);
   for (const char* line : {"prediction error against the full-order truth", "tumour now", "tumour at +50 ms", "step time over",
@@ -225,7 +242,18 @@ TEST(StationRun, NavstationDemoRunsAndPrintsItsSummary) {
   ASSERT_GE(png.size(), 8u);
   EXPECT_EQ(png.substr(1, 3), "PNG");
   std::remove(svg.c_str());
+  std::remove(scene.c_str());
   std::filesystem::remove_all(images);
+}
+
+TEST(StationRun, NavviewRenamesOnlyTopicsItKnows) {
+  // --topic DEFAULT=NAME: DEFAULT must be a topic's default name and NAME must not be empty.
+  for (const char* topic : {"nav/bogus=site_c/bogus", "nav/needle_state=", "needle_state=site_c/needle_state"}) {
+    const testing::CommandRun run =
+        testing::run_command(testing::executable_path("navview") + " --headless --duration-s 0.1 --topic " + topic + " 2>&1");
+    EXPECT_EQ(run.exit_code, 2) << topic << "\n" << run.output;
+    EXPECT_NE(run.output.find("--topic DEFAULT=NAME"), std::string::npos) << run.output;
+  }
 }
 
 }  // namespace

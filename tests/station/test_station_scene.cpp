@@ -120,6 +120,18 @@ TEST(StationScene, BadChoicesListTheAllowedOnes) {
   expect_error("poses: nav/tool_pose", "poses: nav/tool pose", "topics.poses", "not a topic name");
 }
 
+TEST(StationScene, TopicNamesAreReadCheckedAndEachOneIsOwn) {
+  const std::string renamed = edited(demo_text(), "health: nav/station_health", "health: site_b/health");
+  const auto scene = parse_scene(renamed, example_scene_path("demo.yaml"));
+  ASSERT_TRUE(scene.ok()) << scene.error().describe();
+  EXPECT_EQ(scene.value().topics.health, "site_b/health");
+  EXPECT_EQ(scene.value().topics.needle_states, "nav/needle_state");
+  expect_error("needle_states: nav/needle_state", "needle_states: 2nd/needle", "topics.needle_states", "not a topic name");
+  // Two topics on one name: the later key is named, with the topic that has it already.
+  expect_error("health: nav/station_health", "health: nav/target_prediction", "topics.health",
+               "'nav/target_prediction' is already the name of topics.predictions");
+}
+
 TEST(StationScene, MissingRequiredKeysNameTheMapThatLacksThem) {
   const std::string no_rung = edited(demo_text(), "    rung: full\n", "");
   const Error rung = error_of(no_rung);

@@ -7,6 +7,9 @@
 // The diaphragm follows the newest marker sample, moved on by the breathing model's change
 // since that sample (delay compensated, irregular breaths followed at once); observations are
 // carried from their capture time to the liver step by the diaphragm lift's motion in between.
+// Optionally the loop steps a flexible needle coupled to the reduced liver: every tick the
+// needle's base follows the tracked needle pose, and the liver steps carry the needle's point
+// forces with the diaphragm (see OperatingLoopNeedleOptions).
 // Model/Data: the model is built at init and immutable; push_* and tick() are noexcept,
 // allocation-free, fixed-cost and bitwise repeatable. Faults flag and degrade, never stop.
 #include <Eigen/Core>
@@ -15,6 +18,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -25,6 +30,7 @@
 #include "nav/fusion/pose_track.hpp"
 #include "nav/fusion/reduced_kalman.hpp"
 #include "nav/fusion/rigid_pose.hpp"
+#include "nav/needle/reduced_coupling.hpp"
 #include "nav/reduced/reduced_model.hpp"
 
 namespace nav {
@@ -40,10 +46,15 @@ inline constexpr int kLoopMaxNeedleNodes = 65;
 struct NeedleShapeOutputs {
   int node_count = 0;                                      ///< 0: no needle model
   std::array<Point3, kLoopMaxNeedleNodes> centreline_m{};  ///< node positions, base first, tip last
-  Point3 tip_force_n{};      ///< the tissue's force on the needle's tip
-  Point3 base_force_n{};     ///< the needle's force on its holder
+  Point3 tip_force_n{};      ///< the tissue's force on the needle's tip (its contact and cutting constraints)
+  Point3 base_force_n{};     ///< the needle's force on its holder (what the hand feels; up the needle when the tissue resists)
   double tip_depth_m = 0.0;  ///< tip depth below the outermost surface (0 outside)
   int punctures = 0;         ///< surfaces punctured since the loop started
+  RigidPose base_pose;       ///< the base (holder) pose the needle stepped with, model frame
+  /// The needle-tissue interaction's flags of this tick: a refused base pose (bad_sample),
+  /// solver_not_converged, pool_full, non_finite_state, and pose_jump_rejected while the base
+  /// glides to a re-acquired pose too far for one step.
+  HealthFlags flags;
 };
 
 /// Rates, latencies, geometry and input options of an operating loop; checked at build.
@@ -51,7 +62,8 @@ struct OperatingLoopOptions {
   TimeNs tick_period_ns = kNsPerMs;          ///< the loop's period (1 kHz)
   int tissue_every_ticks = 20;               ///< the liver steps every Nth tick: N tick periods must equal its step_s
   TimeNs display_latency_ns = 100 * kNsPerMs;  ///< from a tick to the display showing its frame
-  /// The needle tip in the needle marker's frame (metres).
+  /// The needle tip in the needle marker's frame (metres); with a needle model the rigid tip
+  /// is its straight tip instead (OperatingLoopNeedleModel::tip_in_marker_m).
   Eigen::Vector3d needle_tip_in_marker_m = Eigen::Vector3d::Zero();
   /// The tracker's frame in the model (mesh) frame: applied to every tool pose.
   RigidPose model_from_tracker;
@@ -65,12 +77,48 @@ struct OperatingLoopOptions {
   TimeNs ultrasound_max_age_ns = 250 * kNsPerMs;  ///< no accepted observation for longer: stale_input
 };
 
+/// A flexible needle for the loop to step, coupled to its reduced liver. Its base is the
+/// tracked needle marker's pose times base_in_marker, every tick; it stays idle (node_count 0,
+/// no force) until the first good needle pose, which places it straight there; while the
+/// needle input is degraded its base is held at the last good pose. The tissue steps with the
+/// loop's liver (every tissue_every_ticks ticks) under the needle's forces and the diaphragm.
+struct OperatingLoopNeedleOptions {
+  NeedleParameters parameters;        ///< parameters.step_s must equal the tick period; at most kLoopMaxNeedleNodes nodes
+  NeedleTissueScene scene;            ///< the layers the needle meets, model frame
+  RigidPose base_in_marker;           ///< T_marker_base: the needle base (holder) in the marker frame; the needle lies along its +x
+  std::size_t max_point_forces = 16;  ///< at most the reduced model's scene's max_point_forces
+};
+
+/// The needle of a loop: the needle coupled to the loop's reduced liver. The coupled model
+/// points to `tissue` (a handle sharing the liver's tables), so this object never moves: the
+/// loop model holds it behind a shared pointer and can itself be moved and copied.
+struct OperatingLoopNeedleModel {
+  ReducedModel tissue;                ///< the loop's reduced model
+  ReducedCoupledNeedleModel coupled;  ///< coupled.tissue == &tissue
+  RigidPose base_in_marker;
+  Eigen::Vector3d tip_in_marker_m = Eigen::Vector3d::Zero();  ///< the straight needle's tip, marker frame
+
+  OperatingLoopNeedleModel(ReducedModel liver, const RigidPose& base, double length_m)
+      : tissue(std::move(liver)),
+        base_in_marker(base),
+        tip_in_marker_m(base.rotation * Eigen::Vector3d(length_m, 0.0, 0.0) + base.position_m) {}
+  OperatingLoopNeedleModel(const OperatingLoopNeedleModel&) = delete;
+  OperatingLoopNeedleModel& operator=(const OperatingLoopNeedleModel&) = delete;
+};
+
+/// A rigid pose as a needle base pose.
+inline NeedlePose to_needle_pose(const RigidPose& pose) noexcept {
+  const Eigen::Quaterniond& q = pose.rotation;
+  return {{pose.position_m[0], pose.position_m[1], pose.position_m[2]}, {q.w(), q.x(), q.y(), q.z()}};
+}
+
 /// The immutable part of a loop: its reduced liver, the filter observing the tumour (point 0
-/// of the filter), the options and what follows from them.
+/// of the filter), the options and what follows from them, and optionally the needle.
 struct OperatingLoopModel {
   ReducedModel reduced{nullptr};
   ReducedKalmanModel filter;
   OperatingLoopOptions options;
+  std::shared_ptr<const OperatingLoopNeedleModel> needle;  ///< null: the needle is tracked as a rigid tip
   int lookahead_steps = 1;          ///< reduced steps from a tissue tick to it + display latency
   double lookahead_decay = 1.0;     ///< the filter's decay a^lookahead_steps
   Eigen::Vector3d breathing_axis = Eigen::Vector3d::UnitZ();  ///< options.breathing.axis, normalised
@@ -92,8 +140,12 @@ struct OperatingLoopOutputs {
   std::array<double, 9> tumour_now_covariance_m2{};  ///< row-major 3x3
   Point3 tumour_ahead_m{};          ///< predicted at tissue_time_ns + display latency
   std::array<double, 9> tumour_ahead_covariance_m2{};
-  Point3 needle_tip_m{};            ///< at the tick's time
-  Point3 needle_tip_ahead_m{};      ///< at the tick's time + display latency
+  /// At the tick's time: the rigid tracked tip, or with a needle model its modelled (bent) tip
+  /// (the tracked tip before the needle is first seen).
+  Point3 needle_tip_m{};
+  /// At the tick's time + display latency: the rigid tracked tip extrapolated, plus with a
+  /// needle model the current bend (modelled tip minus the rigid tip at the tick's time).
+  Point3 needle_tip_ahead_m{};
   double tip_to_tumour_m = 0.0;     ///< |needle tip - tumour now|
   double tip_to_tumour_ahead_m = 0.0;  ///< |needle tip ahead - tumour ahead|
   NeedleShapeOutputs needle_shape;  ///< the needle model's shape and forces at the tick's time
@@ -117,9 +169,9 @@ struct PendingObservation {
 };
 
 /// The loop's state: the liver and filter states, the tool tracks, the breathing predictor,
-/// a scratch liver for the look-ahead, the pending observations and the outputs.
+/// a scratch liver for the look-ahead, the pending observations, the needle and the outputs.
 struct OperatingLoopData {
-  ReducedData reduced;
+  ReducedData reduced;              ///< the liver without a needle model (with one: needle_model->tissue)
   ReducedData lookahead;            ///< scratch: the liver stepped ahead to the display time
   ReducedKalmanData filter;
   PoseTrack needle, probe;
@@ -130,7 +182,14 @@ struct OperatingLoopData {
   TimeNs respiratory_newest_ns = std::numeric_limits<TimeNs>::min();  ///< the newest accepted marker sample
   double respiratory_newest_m = 0.0;  ///< its displacement along the breathing axis
   TimeNs last_tick_ns = 0;
+  /// With a needle model: the needle and the liver it pushes (needle_model->tissue is the liver).
+  std::optional<ReducedCoupledNeedleData> needle_model;
+  RigidPose needle_base;            ///< the last good base pose (model frame)
+  bool needle_acquired = false;     ///< a good needle pose has been seen: the needle steps
   OperatingLoopOutputs outputs;
+
+  /// The liver state the filter and the outputs follow.
+  ReducedData& liver() noexcept { return needle_model ? needle_model->tissue : reduced; }
 
   OperatingLoopData(ReducedData reduced_data, ReducedData lookahead_data, ReducedKalmanData filter_data, PoseTrack needle_track,
                     PoseTrack probe_track, BreathingPredictor breathing_predictor, std::size_t pending_capacity);
@@ -141,7 +200,13 @@ struct OperatingLoopData {
 Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter,
                                                      const OperatingLoopOptions& options);
 
-/// The loop's data at rest: liver at rest, filter at its prior, empty tracks.
+/// As above, plus the needle, coupled to the reduced liver built on `mesh` (whose rest nodes
+/// carry the tissue points); the tissue steps every options.tissue_every_ticks ticks. Errors
+/// name the field ("operating_loop.needle.parameters.step_s", "operating_loop.needle.<field>").
+Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter, const OperatingLoopOptions& options,
+                                                     const OperatingLoopNeedleOptions& needle, const TetMesh& mesh);
+
+/// The loop's data at rest: liver at rest, filter at its prior, empty tracks, idle needle.
 Result<OperatingLoopData> make_operating_loop_data(const OperatingLoopModel& model);
 
 /// A needle marker pose (tracker frame) measured at time_ns.
@@ -149,7 +214,8 @@ void push_needle_pose(const OperatingLoopModel& model, OperatingLoopData& data, 
 /// An ultrasound probe marker pose (tracker frame) measured at time_ns.
 void push_probe_pose(const OperatingLoopModel& model, OperatingLoopData& data, const TimedPose& sample) noexcept;
 /// A respiratory marker position (tracker frame) measured at time_ns.
-void push_respiratory_sample(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs time_ns, const Eigen::Vector3d& position_m) noexcept;
+void push_respiratory_sample(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs time_ns,
+                             const Eigen::Vector3d& position_m) noexcept;
 /// The tumour seen by the ultrasound (model frame) at time_ns; assimilated at the next liver
 /// step. A full queue drops its oldest entry (buffer_overrun).
 void push_tumour_observation(OperatingLoopData& data, TimeNs time_ns, const Point3& position_m) noexcept;
@@ -160,9 +226,10 @@ void push_tumour_observation(OperatingLoopData& data, TimeNs time_ns, const Poin
 void liver_displacements_m(const OperatingLoopModel& model, const OperatingLoopOutputs& outputs, ReducedData& scratch,
                            std::span<const std::int32_t> nodes, std::span<double> out_xyz) noexcept;
 
-/// One tick at now_ns: tool poses at now (and now + display latency), and every
-/// tissue_every_ticks-th tick a liver step with the filter's predict and the pending
-/// observations, then the look-ahead. Fills data.outputs.
+/// One tick at now_ns: tool poses at now (and now + display latency), the needle model's step,
+/// and every tissue_every_ticks-th tick a liver step (with the needle's forces) with the
+/// filter's predict and the pending observations, then the look-ahead (carrying the same
+/// needle forces). Fills data.outputs.
 void tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs now_ns) noexcept;
 
 }  // namespace nav

@@ -1,5 +1,5 @@
 // Init time of the operating loop: checks the options against the reduced model and the
-// filter, derives the look-ahead, and builds the data.
+// filter, derives the look-ahead, couples the needle to the liver, and builds the data.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -61,6 +61,39 @@ Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, Reduc
   return model;
 }
 
+Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter, const OperatingLoopOptions& options,
+                                                     const OperatingLoopNeedleOptions& needle, const TetMesh& mesh) {
+  auto built = make_operating_loop_model(std::move(reduced), std::move(filter), options);
+  if (!built.ok()) return built.error();
+  OperatingLoopModel model = std::move(built).value();
+  const NeedleParameters& p = needle.parameters;
+  if (auto valid = validate_needle_parameters(p); !valid) {  // its field is needle.<parameter>
+    Error error = valid.error();
+    error.field = "operating_loop.needle.parameters." + error.field.substr(error.field.rfind('.') + 1);
+    return error;
+  }
+  const double tick_s = static_cast<double>(options.tick_period_ns) * 1e-9;
+  if (std::abs(p.step_s - tick_s) > 1e-9 * tick_s)
+    return option_error("needle.parameters.step_s", "is " + std::to_string(p.step_s) + " s but the loop ticks every " +
+                                                        std::to_string(tick_s) + " s");
+  if (p.element_count + 1 > kLoopMaxNeedleNodes)
+    return option_error("needle.parameters.element_count", "gives " + std::to_string(p.element_count + 1) +
+                                                               " nodes; a loop carries at most " + std::to_string(kLoopMaxNeedleNodes));
+  const RigidPose& base = needle.base_in_marker;
+  if (!base.position_m.allFinite() || std::abs(base.rotation.norm() - 1.0) > 1e-9)
+    return option_error("needle.base_in_marker", "must be a finite position and a unit quaternion");
+  auto holder = std::make_shared<OperatingLoopNeedleModel>(model.reduced, base, p.length_m);
+  auto coupled = make_coupled_needle_model(p, needle.scene, holder->tissue, mesh, needle.max_point_forces, options.tissue_every_ticks);
+  if (!coupled.ok()) {  // its field is put under operating_loop.needle
+    Error error = coupled.error();
+    error.field = "operating_loop.needle." + error.field;
+    return error;
+  }
+  holder->coupled = std::move(coupled).value();
+  model.needle = std::move(holder);
+  return model;
+}
+
 Result<OperatingLoopData> make_operating_loop_data(const OperatingLoopModel& model) {
   auto reduced = make_reduced_data(model.reduced);
   if (!reduced.ok()) return reduced.error();
@@ -74,9 +107,16 @@ Result<OperatingLoopData> make_operating_loop_data(const OperatingLoopModel& mod
   if (!probe.ok()) return probe.error();
   auto breathing = BreathingPredictor::create(model.options.breathing);
   if (!breathing.ok()) return breathing.error();
-  return OperatingLoopData(std::move(reduced).value(), std::move(lookahead).value(), std::move(filter).value(),
-                           std::move(needle).value(), std::move(probe).value(), std::move(breathing).value(),
-                           model.options.max_pending_observations);
+  OperatingLoopData data(std::move(reduced).value(), std::move(lookahead).value(), std::move(filter).value(),
+                         std::move(needle).value(), std::move(probe).value(), std::move(breathing).value(),
+                         model.options.max_pending_observations);
+  if (model.needle) {  // idle at its holder's pose in the marker frame until the needle is seen
+    data.needle_base = model.needle->base_in_marker;
+    auto coupled = make_coupled_needle_data(model.needle->coupled, to_needle_pose(data.needle_base));
+    if (!coupled.ok()) return coupled.error();
+    data.needle_model.emplace(std::move(coupled).value());
+  }
+  return data;
 }
 
 }  // namespace nav

@@ -1,11 +1,12 @@
 // Step time of the operating loop: the push_* calls that take the I/O thread's samples, and
-// the tick. Nothing here allocates, locks, throws or makes a system call; every loop has a
+// the tick, with the needle model's step when there is one. Nothing here allocates, locks, throws or makes a system call; every loop has a
 // fixed trip count (the pending queue's capacity, the look-ahead's step count, r).
 #include <algorithm>
 #include <cmath>
 #include <span>
 
 #include "nav/loop/operating_loop.hpp"
+#include "nav/needle/coupled_needle_step.hpp"
 
 namespace nav {
 namespace {
@@ -92,18 +93,25 @@ void copy_state(const ReducedData& from, ReducedData& to) noexcept {
   to.health.clear_all();
 }
 
-/// The liver step of a tissue tick: diaphragm, reduced step, filter predict, pending
-/// observations, then the look-ahead to now + display latency.
+/// The liver step of a tissue tick: diaphragm (and the needle's forces), reduced step, filter
+/// predict, pending observations, then the look-ahead to now + display latency.
 void tissue_tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs now_ns) noexcept {
   const OperatingLoopOptions& o = model.options;
   OperatingLoopOutputs& out = data.outputs;
+  ReducedData& liver = data.liver();
   TissueInputs inputs;
   inputs.prescribed_displacement_m = diaphragm_m(o, data, now_ns, 0);
-  step(model.reduced, data.reduced, inputs);
-  predict(model.filter, data.filter, data.reduced);
-  HealthFlags tissue = data.reduced.health;
+  if (model.needle) {
+    step_tissue(model.needle->coupled, *data.needle_model, inputs);
+    // The look-ahead carries the needle's forces of this step.
+    inputs.point_forces = std::span<const PointForce>(data.needle_model->point_forces.data(), data.needle_model->point_force_count);
+  } else {
+    step(model.reduced, liver, inputs);
+  }
+  predict(model.filter, data.filter, liver);
+  HealthFlags tissue = liver.health;
   tissue.merge(data.filter.health);
-  data.reduced.health.clear_all();
+  liver.health.clear_all();
   data.filter.health.clear_all();
 
   for (std::size_t i = 0; i < data.pending_count; ++i) {
@@ -115,7 +123,7 @@ void tissue_tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeN
   data.filter.health.clear_all();
   const PointEstimate estimate = estimate_point(model.filter, data.filter, 0);
 
-  copy_state(data.reduced, data.lookahead);
+  copy_state(liver, data.lookahead);
   const TimeNs step_ns = o.tick_period_ns * o.tissue_every_ticks;
   for (int j = 1; j <= model.lookahead_steps; ++j) {
     const TimeNs horizon_ns = std::min(step_ns * j, o.display_latency_ns);
@@ -128,13 +136,74 @@ void tissue_tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeN
   out.tissue = tissue;
   out.tissue_time_ns = now_ns;
   ++out.tissue_steps;
-  std::copy(std::begin(data.reduced.prescribed_m), std::end(data.reduced.prescribed_m), out.diaphragm_m.begin());
-  for (std::size_t j = 0; j < data.reduced.q.size(); ++j) out.liver_q[j] = data.reduced.q[j] + data.filter.correction[j];
+  std::copy(std::begin(liver.prescribed_m), std::end(liver.prescribed_m), out.diaphragm_m.begin());
+  for (std::size_t j = 0; j < liver.q.size(); ++j) out.liver_q[j] = liver.q[j] + data.filter.correction[j];
   out.tumour_now_m = estimate.position_m;
   out.tumour_now_covariance_m2 = estimate.covariance_m2;
-  out.tumour_ahead_m = tumour_at(model.filter, data.lookahead.q, model.lookahead_decay, data.filter.correction, data.lookahead.prescribed_m);
+  out.tumour_ahead_m =
+      tumour_at(model.filter, data.lookahead.q, model.lookahead_decay, data.filter.correction, data.lookahead.prescribed_m);
   out.tumour_ahead_covariance_m2 =
       covariance_ahead(model.filter, estimate.covariance_m2, model.lookahead_decay * model.lookahead_decay);
+}
+
+/// Whether a pose holds no NaN or infinity.
+bool finite(const RigidPose& pose) noexcept { return pose.position_m.allFinite() && pose.rotation.coeffs().allFinite(); }
+
+/// The needle model's step: its base at the tracked pose when that is good (held at the last
+/// good one otherwise). A pose farther than the needle's one-step limit places a free needle
+/// there; a needle holding tissue glides toward it by half the limit per tick (flagged).
+/// Idle until the first good pose.
+void needle_tick(const OperatingLoopNeedleModel& needle_model, OperatingLoopData& data, const PoseQuery& tracked) noexcept {
+  if (!tracked.degraded && finite(tracked.pose)) {
+    data.needle_base = compose(tracked.pose, needle_model.base_in_marker);
+    data.needle_acquired = true;
+  }
+  if (!data.needle_acquired) return;
+  ReducedCoupledNeedleData& coupled = *data.needle_model;
+  const NeedleParameters& p = needle_model.coupled.interaction.needle.parameters;
+  const NeedleData& needle = coupled.interaction.needle;
+  const RigidPose from{node_position_m(needle.positions_m, 0), node_rotation(needle.rotations_wxyz, 0)};
+  const RigidPose& to = data.needle_base;
+  const double jump_m = (to.position_m - from.position_m).norm() + p.length_m * relative_rotation_vector(from.rotation, to.rotation).norm();
+  RigidPose base = to;
+  if (jump_m > p.max_pose_jump_m && !place_free_needle(needle_model.coupled.interaction, coupled.interaction, to_needle_pose(to))) {
+    base = geodesic(from, to, 0.5 * p.max_pose_jump_m / jump_m);
+    coupled.interaction.health.raise(HealthFlag::pose_jump_rejected);
+  }
+  NeedleInputs inputs;
+  inputs.base = to_needle_pose(base);
+  step_needle(needle_model.coupled, coupled, inputs);
+  data.outputs.needle_shape.base_pose = base;
+}
+
+/// The needle model's outputs after the tick (shape, forces, depth, punctures, flags, which
+/// are then cleared), and the modelled tip in place of the rigid one.
+void needle_outputs(const OperatingLoopNeedleModel& needle_model, OperatingLoopData& data, Point3 rigid_tip_m) noexcept {
+  OperatingLoopOutputs& out = data.outputs;
+  NeedleShapeOutputs& shape = out.needle_shape;
+  NeedleTissueData& interaction = data.needle_model->interaction;
+  shape.flags = interaction.health;
+  interaction.health.clear_all();
+  interaction.needle.health.clear_all();
+  if (!data.needle_acquired) return;
+  const NeedleTissueModel& m = needle_model.coupled.interaction;
+  shape.node_count = m.needle.node_count();
+  for (int n = 0; n < shape.node_count; ++n)
+    shape.centreline_m[static_cast<std::size_t>(n)] = to_point(node_position_m(interaction.needle.positions_m, n));
+  Eigen::Vector3d tip_force_n = Eigen::Vector3d::Zero();  // the rows at the tip: contact and cutting
+  for (int r = 0; r < interaction.row_count; ++r) {
+    const ConstraintRow& row = interaction.rows[static_cast<std::size_t>(r)];
+    if (row.slot <= m.tip_slot()) tip_force_n += interaction.row_forces[static_cast<std::size_t>(r)] * row.direction;
+  }
+  shape.tip_force_n = to_point(tip_force_n);
+  // The needle's report holds the first element's force at the base node: the holder's force on
+  // the needle (it points down the insertion when the tissue resists); the holder feels its opposite.
+  for (std::size_t c = 0; c < 3; ++c) shape.base_force_n[c] = -interaction.needle.report.base_force_n[c];
+  shape.tip_depth_m = std::max(0.0, interaction.report.tip_depth_m);
+  shape.punctures = interaction.report.punctures;
+  const Point3& tip_m = shape.centreline_m[static_cast<std::size_t>(shape.node_count - 1)];
+  for (std::size_t c = 0; c < 3; ++c) out.needle_tip_ahead_m[c] += tip_m[c] - rigid_tip_m[c];
+  out.needle_tip_m = tip_m;
 }
 
 /// The ultrasound's status: age of the newest accepted observation, and the flags of the
@@ -200,9 +269,11 @@ void tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs now_n
   const TimeNs ahead_ns = now_ns + o.display_latency_ns;
   const PoseQuery needle = data.needle.sample_at(now_ns);
   out.needle = tool_status(data.needle, needle, data.needle_push_flags);
-  out.needle_tip_m = to_point(needle.pose.rotation * o.needle_tip_in_marker_m + needle.pose.position_m);
+  const Eigen::Vector3d& tip_in_marker_m = model.needle ? model.needle->tip_in_marker_m : o.needle_tip_in_marker_m;
+  out.needle_tip_m = to_point(needle.pose.rotation * tip_in_marker_m + needle.pose.position_m);
   const RigidPose needle_ahead = data.needle.sample_at(ahead_ns).pose;
-  out.needle_tip_ahead_m = to_point(needle_ahead.rotation * o.needle_tip_in_marker_m + needle_ahead.position_m);
+  out.needle_tip_ahead_m = to_point(needle_ahead.rotation * tip_in_marker_m + needle_ahead.position_m);
+  if (model.needle) needle_tick(*model.needle, data, needle);
   const PoseQuery probe = data.probe.sample_at(now_ns);
   out.probe = tool_status(data.probe, probe, data.probe_push_flags);
   out.probe_pose = probe.pose;
@@ -216,12 +287,13 @@ void tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs now_n
   out.respiratory.age_ns = data.respiratory_newest_ns == kNever ? std::numeric_limits<TimeNs>::max() : now_ns - data.respiratory_newest_ns;
 
   if (out.ticks % o.tissue_every_ticks == 0) tissue_tick(model, data, now_ns);
+  if (model.needle) needle_outputs(*model.needle, data, out.needle_tip_m);
   out.ultrasound = ultrasound_status(model, data, now_ns);
 
   out.tip_to_tumour_m = distance_m(out.needle_tip_m, out.tumour_now_m);
   out.tip_to_tumour_ahead_m = distance_m(out.needle_tip_ahead_m, out.tumour_ahead_m);
   out.degraded = out.needle.degraded || out.probe.degraded || out.respiratory.degraded || out.ultrasound.degraded ||
-                 !out.tissue.healthy() || !out.loop.healthy();
+                 !out.tissue.healthy() || !out.loop.healthy() || !out.needle_shape.flags.healthy();
   ++out.ticks;
 }
 

@@ -40,6 +40,7 @@ struct CoupledNeedleDataOf {
   std::span<double> refreshed_displacements_m;
   std::int64_t refresh_cursor = 0;  ///< next node of the round-robin refresh
   std::int64_t ticks = 0;
+  std::size_t point_force_count = 0;  ///< the first point_force_count point_forces went to the last tissue step
   int dropped_point_forces = 0;  ///< forces beyond max_point_forces at the last tissue step
   CoupledNeedleDataOf(Arena block, NeedleTissueData interaction_data, TissueData tissue_data)
       : arena(std::move(block)), interaction(std::move(interaction_data)), tissue(std::move(tissue_data)) {}
@@ -47,8 +48,29 @@ struct CoupledNeedleDataOf {
 
 /// One needle tick; the tissue steps on every needle_steps_per_tissue_step-th tick. More
 /// distinct loaded nodes than max_point_forces: the smallest forces are dropped and pool_full raised.
+/// It is step_needle(), then step_tissue() without other loads when the tissue is due.
 template <class TissueModel, class TissueData>
 void step(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDataOf<TissueData>& data,
           const NeedleInputs& inputs) noexcept;
+
+/// The needle's part of a tick: the interaction steps against the tissue displacements of the
+/// last tissue step. For a caller that schedules the tissue itself (the operating loop); it and
+/// step_tissue() leave `ticks` alone and are defined in coupled_needle_step.hpp (include it).
+template <class TissueModel, class TissueData>
+void step_needle(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDataOf<TissueData>& data,
+                 const NeedleInputs& inputs) noexcept;
+
+/// The tissue's part: the needle's point forces of its last step (capped as in step()) join
+/// `tissue_inputs`, the tissue's other loads (a diaphragm's prescribed displacement; its own
+/// point_forces are replaced), the tissue steps, and the interaction sees its new displacements.
+template <class TissueModel, class TissueData>
+void step_tissue(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDataOf<TissueData>& data,
+                 TissueInputs tissue_inputs) noexcept;
+
+/// Carries a free needle (every layer outside, no path point held) straight and at rest to
+/// `base`, as make_needle_tissue_data() builds it: a tool (re)acquired by its tracker away from
+/// where the model left it. Returns false, changing nothing, when the needle holds tissue or
+/// `base` is not finite with a unit quaternion.
+bool place_free_needle(const NeedleTissueModel& model, NeedleTissueData& data, const NeedlePose& base) noexcept;
 
 }  // namespace nav

@@ -1,7 +1,8 @@
 #pragma once
 // The tick and the data of a coupled needle, shared by the full-order and the reduced
-// couplings (instantiated in tissue_coupling.cpp and reduced_coupling.cpp). Each tissue
-// supplies refresh_displacements() below. Internal to rtlib/nav/needle.
+// couplings (instantiated in tissue_coupling.cpp and reduced_coupling.cpp) and by the
+// operating loop, which schedules step_needle() and step_tissue() itself. Each tissue
+// supplies refresh_displacements() below.
 #include <algorithm>
 #include <cmath>
 
@@ -63,22 +64,31 @@ Result<CoupledNeedleDataOf<TissueData>> make_coupled_data(const CoupledNeedleMod
 }  // namespace detail
 
 template <class TissueModel, class TissueData>
-void step(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDataOf<TissueData>& data, const NeedleInputs& inputs) noexcept {
+void step_needle(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDataOf<TissueData>& data,
+                 const NeedleInputs& inputs) noexcept {
   NeedleTissueInputs needle_inputs;
   needle_inputs.needle = inputs;
   needle_inputs.tissue_displacements_m = data.displacements_m;
   step(model.interaction, data.interaction, needle_inputs);
-  if (++data.ticks % model.needle_steps_per_tissue_step == 0) {
-    NeedleTissueData& interaction = data.interaction;
-    const std::size_t count = detail::gather_point_forces(interaction, data.point_forces, model.max_point_forces, data.dropped_point_forces);
-    if (data.dropped_point_forces > 0) interaction.health.raise(HealthFlag::pool_full);
-    TissueInputs tissue_inputs;
-    tissue_inputs.point_forces = std::span<const PointForce>(data.point_forces.data(), count);
-    step(*model.tissue, data.tissue, tissue_inputs);
-    // The tissue now carries this tick's forces.
-    std::copy(interaction.slot_forces.begin(), interaction.slot_forces.end(), interaction.applied_forces.begin());
-    detail::refresh_displacements(*model.tissue, data);
-  }
+}
+
+template <class TissueModel, class TissueData>
+void step_tissue(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDataOf<TissueData>& data,
+                 TissueInputs tissue_inputs) noexcept {
+  NeedleTissueData& interaction = data.interaction;
+  data.point_force_count = detail::gather_point_forces(interaction, data.point_forces, model.max_point_forces, data.dropped_point_forces);
+  if (data.dropped_point_forces > 0) interaction.health.raise(HealthFlag::pool_full);
+  tissue_inputs.point_forces = std::span<const PointForce>(data.point_forces.data(), data.point_force_count);
+  step(*model.tissue, data.tissue, tissue_inputs);
+  // The tissue now carries this tick's forces.
+  std::copy(interaction.slot_forces.begin(), interaction.slot_forces.end(), interaction.applied_forces.begin());
+  detail::refresh_displacements(*model.tissue, data);
+}
+
+template <class TissueModel, class TissueData>
+void step(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDataOf<TissueData>& data, const NeedleInputs& inputs) noexcept {
+  step_needle(model, data, inputs);
+  if (++data.ticks % model.needle_steps_per_tissue_step == 0) step_tissue(model, data, TissueInputs{});
   data.interaction.health.merge(data.tissue.health);
 }
 

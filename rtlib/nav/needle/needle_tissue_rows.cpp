@@ -133,6 +133,30 @@ void tissue_node_blocks(const NeedleTissueModel& model, NeedleTissueData& data) 
     }
 }
 
+/// Low rank: sum_r c_r force(r) over the rows (c_r = V^T d_r, the rows' factors), into `sum`
+/// (compliance_rank values, zeroed first).
+template <class ForceOfRow>
+void factor_sum(const NeedleTissueModel& model, const NeedleTissueData& data, ForceOfRow force, double* sum) {
+  const int rank = model.compliance_rank;
+  std::fill_n(sum, rank, 0.0);
+  for (std::size_t r = 0; r < static_cast<std::size_t>(data.row_count); ++r) {
+    const double f = force(r);
+    const double* c = data.row_tissue_factors.data() + r * static_cast<std::size_t>(rank);
+    for (int j = 0; j < rank; ++j) sum[j] += c[j] * f;
+  }
+}
+
+/// Low rank: takes the tissue's response to the forces it already carries out of the free
+/// gaps through the rank-sized y = sum_s c_s applied_s: gap_r -= c_r . y, O(m r) instead of
+/// one long chain of m^2 updates.
+void remove_applied_response(const NeedleTissueModel& model, NeedleTissueData& data) {
+  const int rank = model.compliance_rank;
+  double carried[kMaxComplianceRank];
+  factor_sum(model, data, [&](std::size_t r) { return data.applied_forces[static_cast<std::size_t>(data.rows[r].slot)]; }, carried);
+  for (std::size_t r = 0; r < static_cast<std::size_t>(data.row_count); ++r)
+    data.rows[r].gap_free_m -= dot(data.row_tissue_factors.data() + r * static_cast<std::size_t>(rank), carried, rank);
+}
+
 /// The Gaussian decay of the tissue's compliance between two points.
 double tissue_decay(const NeedleTissueModel& model, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
   const double l = model.scene.compliance_correlation_length_m;
@@ -238,25 +262,36 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
           needle.noalias() += (w_a * w_b) * Eigen::Map<const Eigen::Matrix3d>(needle_compliance_block(data.needle, node_a, node_b));
         }
       }
-      // The tissue's: the Gaussian kernel (decay times the tensor), or the low-rank block
-      // V_a V_b^T of the points' carrying nodes.
-      const double decay = rank == 0 ? tissue_decay(model, at_p.tissue_point_m, at_q.tissue_point_m) : 1.0;
-      const Eigen::Matrix3d tissue =
-          rank == 0 ? model.compliance_tensor_m_per_n
-                    : Eigen::Matrix3d(Eigen::Map<const Eigen::Matrix3d>(
-                          data.tissue_blocks.data() + 9 * (static_cast<std::size_t>(data.point_tissue_index[q]) * distinct +
-                                                           static_cast<std::size_t>(data.point_tissue_index[p]))));
+      if (rank > 0) {
+        // Low rank: the needle's block and the tissue's, V_a V_b^T of the points' carrying
+        // nodes, in one 3x3 (W needs only their sum: the applied forces' response is taken
+        // out apart), plus on a point's own rows the local compliance the basis misses
+        // (never carried by the tissue model, so not in that response).
+        const Eigen::Matrix3d both =
+            needle.transpose() + Eigen::Map<const Eigen::Matrix3d>(
+                                     data.tissue_blocks.data() + 9 * (static_cast<std::size_t>(data.point_tissue_index[q]) * distinct +
+                                                                      static_cast<std::size_t>(data.point_tissue_index[p])));
+        for (std::size_t r = p_begin; r < p_end; ++r) {
+          const Eigen::Vector3d& direction = data.rows[r].direction;
+          const Eigen::Vector3d both_row = both * direction;
+          for (std::size_t s = q_begin; s < q_end && s <= r; ++s) {
+            double entry = data.rows[s].direction.dot(both_row);
+            if (p == q) entry += model.scene.point_compliance_m_per_n * direction.dot(data.rows[s].direction);
+            data.compliance[r * m + s] = data.compliance[s * m + r] = entry;
+          }
+        }
+        continue;
+      }
+      // The Gaussian kernel: the decay between the points times the tensor.
+      const double decay = tissue_decay(model, at_p.tissue_point_m, at_q.tissue_point_m);
+      const Eigen::Matrix3d& tissue = model.compliance_tensor_m_per_n;
       for (std::size_t r = p_begin; r < p_end; ++r) {
         ConstraintRow& row = data.rows[r];
         const Eigen::Vector3d needle_row = needle.transpose() * row.direction, tissue_row = tissue * row.direction;
         for (std::size_t s = q_begin; s < q_end && s <= r; ++s) {
           ConstraintRow& other = data.rows[s];
           const double tissue_entry = decay * other.direction.dot(tissue_row);
-          double entry = needle_row.dot(other.direction) + tissue_entry;
-          // Low rank: the local compliance the basis misses, on the point's own rows; never
-          // carried by the tissue model, so it stays out of the applied-force correction.
-          if (rank > 0 && p == q) entry += model.scene.point_compliance_m_per_n * row.direction.dot(other.direction);
-          data.compliance[r * m + s] = data.compliance[s * m + r] = entry;
+          data.compliance[r * m + s] = data.compliance[s * m + r] = needle_row.dot(other.direction) + tissue_entry;
           // The tissue displacements already hold its response to the applied forces.
           row.gap_free_m -= tissue_entry * data.applied_forces[static_cast<std::size_t>(other.slot)];
           if (s != r) other.gap_free_m -= tissue_entry * data.applied_forces[static_cast<std::size_t>(row.slot)];
@@ -264,6 +299,7 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
       }
     }
   }
+  if (rank > 0) remove_applied_response(model, data);
 }
 
 Eigen::Vector3d compliant_displacement_m(const NeedleTissueModel& model, const NeedleTissueData& data,
@@ -275,12 +311,8 @@ Eigen::Vector3d compliant_displacement_m(const NeedleTissueModel& model, const N
   if (rank > 0) {
     // u = -V_node sum_r V_r^T d_r pending_r, through the rank-sized sum.
     if (node < 0) return Eigen::Vector3d::Zero();
-    double sum[kMaxComplianceRank] = {};
-    for (std::size_t r = 0; r < static_cast<std::size_t>(data.row_count); ++r) {
-      const double f = pending_n(r);
-      const double* c = data.row_tissue_factors.data() + r * static_cast<std::size_t>(rank);
-      for (int j = 0; j < rank; ++j) sum[j] += c[j] * f;
-    }
+    double sum[kMaxComplianceRank];
+    factor_sum(model, data, pending_n, sum);
     const double* v = node_factors(model, node);
     Eigen::Vector3d u = -Eigen::Vector3d(dot(v, sum, rank), dot(v + rank, sum, rank), dot(v + 2 * rank, sum, rank));
     // A constraint point's own tissue point also yields locally under its whole force.

@@ -105,14 +105,15 @@ void update_path(const NeedleTissueModel& model, NeedleTissueData& data, std::sp
   const Eigen::Vector3d tip = needle_tip_m(data.needle);
   const int cut = detail::cutting_layer(model, data, tip, displacements_m);
   const double length_m = model.needle.parameters.length_m;
+  data.tip_anchor = point_now_at(model, data, tip, displacements_m);
   if (cut < 0) {
     zero_slots(data, model.tip_slot(), 1);
   } else {
     const TissueLayer& spec = model.scene.layers[static_cast<std::size_t>(cut)];
+    // A cut at its force advances the front to the tissue point at the tip.
     if (data.slot_forces[static_cast<std::size_t>(model.tip_slot())] >= spec.cutting_force_n * (1.0 - kAtBound))
-      data.layers[static_cast<std::size_t>(cut)].cut_front = point_now_at(model, data, tip, displacements_m);
+      data.layers[static_cast<std::size_t>(cut)].cut_front = data.tip_anchor;
   }
-  data.tip_anchor = point_now_at(model, data, tip, displacements_m);
   // Slip: a tissue point at its friction bound now faces another material point of the
   // needle, shifted by the axial gap left after the correction.
   const std::span<const ConstraintRow> rows(data.rows.data(), static_cast<std::size_t>(data.row_count));

@@ -4,8 +4,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <new>
-#include <set>
+#include <utility>
 
 #include "nav/station/yaml_reader.hpp"
 
@@ -262,25 +263,26 @@ DeviceSettings read_devices(MapReader r, const std::string& scene_path) {
   return d;
 }
 
-/// A DDS topic name: letters, digits, '_' and '/', not starting with '/' or a digit.
-std::string read_topic(MapReader& r, const std::string& key, const std::string& fallback) {
+/// A DDS topic name: letters, digits, '_' and '/', not starting with '/' or a digit, and not
+/// the name of a topic read before it (`taken`: name -> key).
+std::string read_topic(MapReader& r, const std::string& key, const std::string& fallback, std::map<std::string, std::string>& taken) {
   std::string name = r.text(key.c_str(), fallback.c_str());
   bool valid = name.size() <= 200 && name.front() != '/' && !(name.front() >= '0' && name.front() <= '9');
   for (char c : name)
     valid = valid && ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '/');
   if (!valid) r.fail_at(key, "'" + name + "' is not a topic name (letters, digits, '_' and '/')");
+  const auto [other, added] = taken.emplace(name, key);
+  if (!added) r.fail_at(key, "'" + name + "' is already the name of topics." + other->second + " (every topic needs its own name)");
   return name;
 }
 
 TopicSettings read_topics(MapReader r) {
   TopicSettings t;
+  std::map<std::string, std::string> taken;
   t.domain_id = static_cast<std::uint32_t>(r.integer("domain_id", 0, 232, 0));
-  t.poses = read_topic(r, "poses", t.poses);
-  t.images = read_topic(r, "images", t.images);
-  t.predictions = read_topic(r, "predictions", t.predictions);
-  t.surfaces = read_topic(r, "surfaces", t.surfaces);
-  std::set<std::string> distinct{t.poses, t.images, t.predictions, t.surfaces};
-  if (distinct.size() != 4) r.fail_at("", "every topic needs its own name");
+  for (auto [key, name] : {std::pair{"poses", &t.poses}, {"images", &t.images}, {"predictions", &t.predictions},
+                           {"surfaces", &t.surfaces}, {"needle_states", &t.needle_states}, {"health", &t.health}})
+    *name = read_topic(r, key, *name, taken);
   r.finish();
   return t;
 }

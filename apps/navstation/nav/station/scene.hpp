@@ -126,13 +126,17 @@ struct DeviceSettings {
   UltrasoundSettings ultrasound;
 };
 
-/// `topics:` DDS domain and topic names (defaults: the names of nav::dds::topic_name).
+/// `topics:` DDS domain and topic names (defaults: the names of nav::dds::topic_name). The
+/// station reads poses and images and writes the others; navview, run beside it, reads them
+/// by the same names.
 struct TopicSettings {
   std::uint32_t domain_id = 0;
   std::string poses = "nav/tool_pose";
   std::string images = "nav/ultrasound_frame";
   std::string predictions = "nav/target_prediction";
   std::string surfaces = "nav/deformed_surface";
+  std::string needle_states = "nav/needle_state";
+  std::string health = "nav/station_health";
 };
 
 /// A whole scene file.

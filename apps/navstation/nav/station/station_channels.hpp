@@ -45,7 +45,9 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, 
                    const StationRunOptions& options, StationDdsLink& link);
 
 /// Real-time side, with DDS: pushes the tick's outputs into the outbox (predictions and the
-/// needle at each liver step, health every health_every_ticks ticks). No allocation, never blocks.
+/// needle at each liver step, health every health_every_ticks ticks). The needle is the
+/// needle model's centreline with its tip force when the loop steps one, its tip otherwise.
+/// No allocation, never blocks.
 void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& outputs, TimeNs display_latency_ns,
                   std::int64_t health_every_ticks, std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept;
 

@@ -18,6 +18,7 @@ constexpr TimeNs kMatchTimeoutNs = 10 * kNsPerSecond;
 constexpr TimeNs kPeerWatchPeriodNs = 5 * kNsPerMs;  // how often the I/O thread counts the matched pose writers
 constexpr std::uint32_t kTumourTargetId = 1;
 constexpr std::uint32_t kReducedRung = 1;
+static_assert(kLoopMaxNeedleNodes <= static_cast<int>(dds::kMaxNeedlePoints), "a NeedleState holds every node of the loop's needle");
 
 void set_name(dds::FrameName& name, const char* text) {
   name.fill('\0');
@@ -62,7 +63,7 @@ void device_thread(const SimulatedWorld& world, StationChannels& ch, const DdsRu
       link.devices.reset();  // the participant goes away: its writers are announced as gone
     }
     if (options.device_outage && !link.devices && now >= options.device_outage->to_ns) {
-      auto node = make_station_node(options.domain_id, "nav_demo_devices");
+      auto node = make_station_node(link.domain_id, "nav_demo_devices", link.names);
       if (node.ok() && node.value()->advertise<dds::ToolPose>().ok() && node.value()->advertise<dds::UltrasoundFrame>().ok()) {
         link.devices = std::move(node).value();
         report.device_back_ns = ch.run_time_ns();
@@ -177,20 +178,38 @@ std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs r
   return s;
 }
 
-Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id, const char* participant_name) {
+dds::TopicNames topic_names(const TopicSettings& topics) {
+  dds::TopicNames names;
+  const auto set = [&names](dds::Topic topic, const std::string& name) { names[static_cast<std::size_t>(topic)] = name; };
+  set(dds::Topic::tool_pose, topics.poses);
+  set(dds::Topic::ultrasound_frame, topics.images);
+  set(dds::Topic::needle_state, topics.needle_states);
+  set(dds::Topic::target_prediction, topics.predictions);
+  set(dds::Topic::deformed_surface, topics.surfaces);
+  set(dds::Topic::station_health, topics.health);
+  return names;
+}
+
+Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id, const char* participant_name, const dds::TopicNames& names) {
   dds::NetworkConfig network;  // the defaults: shared memory and UDP on 127.0.0.1, unicast discovery, no multicast
   network.domain_id = domain_id;
   network.participant_name = participant_name;
-  return dds::DdsNode::create(network);
+  // Participant ids grow with every participant a process creates (the devices' participant
+  // comes back after an outage; a test process makes a dozen): probe more than the default 8.
+  network.max_participants_per_host = 32;
+  dds::TopicQosOptions qos;
+  qos.names = names;
+  return dds::DdsNode::create(network, qos);
 }
 
-Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t domain_id) {
+Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t domain_id, const dds::TopicNames& names) {
   auto link = std::make_unique<StationDdsLink>();
   link->domain_id = domain_id;
-  auto station = make_station_node(domain_id, "nav_station");
+  link->names = names;
+  auto station = make_station_node(domain_id, "nav_station", names);
   if (!station.ok()) return station.error();
   link->station = std::move(station).value();
-  auto devices = make_station_node(domain_id, "nav_demo_devices");
+  auto devices = make_station_node(domain_id, "nav_demo_devices", names);
   if (!devices.ok()) return devices.error();
   link->devices = std::move(devices).value();
   dds::DdsNode& s = *link->station;
@@ -223,8 +242,15 @@ void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, Tim
     dds::NeedleState needle;
     needle.source_time_ns = o.time_ns;
     needle.tool_id = kNeedleToolId;
-    needle.point_count = 1;  // the tip (the loop tracks the tip; the needle's shape is not in its outputs)
-    needle.shape_points_m[0] = vector_of(o.needle_tip_m);
+    const NeedleShapeOutputs& shape = o.needle_shape;
+    if (shape.node_count > 0) {  // the loop steps a needle model: its centreline, base to tip, and the tip force
+      needle.point_count = static_cast<std::uint32_t>(shape.node_count);
+      for (std::size_t i = 0; i < needle.point_count; ++i) needle.shape_points_m[i] = vector_of(shape.centreline_m[i]);
+      needle.tip_force_n = vector_of(shape.tip_force_n);
+    } else {  // the loop tracks the tip only
+      needle.point_count = 1;
+      needle.shape_points_m[0] = vector_of(o.needle_tip_m);
+    }
     outbox.needle.try_push(needle);
   }
   if (o.ticks % health_every_ticks != 0) return;

@@ -8,7 +8,7 @@
 // publishes what the real-time thread put in the StationOutbox (nav/target_prediction,
 // nav/needle_state, nav/station_health) and, at a display rate, the deformed liver surface it
 // rebuilds from the published reduced state (nav/deformed_surface; display_surface.hpp).
-// Positions are in the model frame. Both participants keep to the project's network
+// Positions are in the model frame. Every topic takes the name the scene gives it (`topics:`). Both participants keep to the project's network
 // rules (NetworkConfig's defaults: shared memory and UDP on 127.0.0.1, no multicast).
 // The devices' participant may go away for a while (PeerOutage): the station notices the
 // lost writers, the loop degrades on stale input, and both recover when it comes back.
@@ -22,6 +22,8 @@
 #include "nav/dds/sample_sink.hpp"
 #include "nav/dds/samples.hpp"
 #include "nav/dds/station_outbox.hpp"
+#include "nav/dds/topics.hpp"
+#include "nav/station/scene.hpp"
 #include "nav/station/simulated_world.hpp"
 #include "nav/station/station_run.hpp"
 
@@ -40,8 +42,13 @@ dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_nu
 /// unknown tool.
 std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs received_ns);
 
-/// A participant for one side of a run, on `domain_id`, with the project's network rules.
-Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id, const char* participant_name);
+/// The scene's topic names, by DDS topic (what the station's participants create).
+dds::TopicNames topic_names(const TopicSettings& topics);
+
+/// A participant for one side of a run, on `domain_id`, with the project's network rules and
+/// the topics named by `names` (empty entries: the default names).
+Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id, const char* participant_name,
+                                                        const dds::TopicNames& names = {});
 
 /// The devices' and the station's participants of a run, created and matched before the
 /// run starts (so that no sample is lost to discovery), with the station's sinks.
@@ -52,10 +59,12 @@ struct StationDdsLink {
   std::unique_ptr<dds::DdsNode> station;  ///< after the sinks: destroyed before them
   std::unique_ptr<dds::DdsNode> devices;
   std::uint32_t domain_id = 0;
+  dds::TopicNames names{};  ///< the topics' names on the wire (empty entries: the defaults)
 
-  /// Creates both participants on `domain_id`: the devices advertise poses and frames, the
-  /// station subscribes to them and advertises its outputs; waits (up to 10 s) for the match.
-  static Result<std::unique_ptr<StationDdsLink>> create(std::uint32_t domain_id);
+  /// Creates both participants on `domain_id` with the topics named by `names`: the devices
+  /// advertise poses and frames, the station subscribes to them and advertises its outputs;
+  /// waits (up to 10 s) for the match.
+  static Result<std::unique_ptr<StationDdsLink>> create(std::uint32_t domain_id, const dds::TopicNames& names = {});
 };
 
 }  // namespace nav::station

@@ -17,6 +17,7 @@
 
 #include "nav/core/clock.hpp"
 #include "nav/core/error.hpp"
+#include "nav/dds/topics.hpp"
 #include "nav/loop/operating_loop.hpp"
 #include "nav/station/realtime_thread.hpp"
 #include "nav/station/scene.hpp"
@@ -61,6 +62,7 @@ struct DisplaySurface;
 /// The devices and the station on DDS instead of the direct hand-off.
 struct DdsRunOptions {
   std::uint32_t domain_id = 0;
+  dds::TopicNames topic_names{};            ///< the topics' names (empty entries: the defaults)
   std::optional<PeerOutage> device_outage;  ///< the devices' participant goes away once
   TimeNs health_period_ns = 100 * kNsPerMs; ///< the station's health is published this often
   const DisplaySurface* surface = nullptr;  ///< published on nav/deformed_surface when given (outlives the run)

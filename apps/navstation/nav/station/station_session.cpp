@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <utility>
 
+#include "nav/station/station_dds.hpp"
+
 namespace nav::station {
 
 namespace {
@@ -67,6 +69,7 @@ Result<StationSession> run_session(const Scene& scene, const SessionOptions& opt
   if (options.dds) {
     run_options.dds = DdsRunOptions{};
     run_options.dds->domain_id = scene.topics.domain_id;
+    run_options.dds->topic_names = topic_names(scene.topics);
     run_options.dds->surface = &s.surface;
   }
   auto run = run_station(loop.value(), s.world, run_options);

@@ -33,7 +33,7 @@ void caption_frame_panel(cv::Mat& panel, const DisplayInputs& inputs) {
   caption(panel, text);
 }
 
-/// "surface 4: 2194 vertices | tip force 0.55 N"
+/// "surface 4: 2194 vertices | needle 21 points, tip force 0.55 N"
 void caption_surface_panel(cv::Mat& panel, const DisplayInputs& inputs) {
   char text[160];
   int used = inputs.surface != nullptr
@@ -41,8 +41,8 @@ void caption_surface_panel(cv::Mat& panel, const DisplayInputs& inputs) {
                  : std::snprintf(text, sizeof(text), "waiting for the surface");
   if (inputs.needle != nullptr && used > 0 && static_cast<std::size_t>(used) < sizeof(text)) {
     const dds::Vector3& f = inputs.needle->tip_force_n;
-    std::snprintf(text + used, sizeof(text) - static_cast<std::size_t>(used), " | tip force %.2f N",
-                  std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
+    std::snprintf(text + used, sizeof(text) - static_cast<std::size_t>(used), " | needle %u points, tip force %.2f N",
+                  inputs.needle->point_count, std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
   }
   caption(panel, text);
 }

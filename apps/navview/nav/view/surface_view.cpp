@@ -15,6 +15,10 @@ constexpr double kFitFraction = 0.9;
 constexpr double kAmbientLight = 0.3;  // the rest is a headlight along the view direction
 constexpr int kNeedleThicknessPx = 2;
 constexpr double kTargetRadiusPx = 4.0;
+constexpr double kTipRadiusPx = 3.0;       // the needle's tip when only the tip is known
+constexpr double kForcePxPerN = 60.0;      // the tip force arrow's length per newton (in the screen plane)
+constexpr double kForceMaxPx = 90.0;
+constexpr int kForceThicknessPx = 2;
 
 dds::Vector3 to_vector(const std::array<float, 3>& p) { return {p[0], p[1], p[2]}; }
 dds::Vector3 minus(const dds::Vector3& a, const dds::Vector3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
@@ -28,6 +32,23 @@ cv::Scalar shade(const dds::Vector3& normal, const dds::Vector3& toward_viewer) 
   const double length = std::sqrt(dot(normal, normal));
   const double facing = length > 0.0 ? std::abs(dot(normal, toward_viewer)) / length : 0.0;
   return palette::kSurface * (kAmbientLight + (1.0 - kAmbientLight) * facing);
+}
+
+/// The needle's centreline (a dot when only its tip is known) over an arrow, from the tip, of
+/// the force on the tip: kForcePxPerN per newton (at most kForceMaxPx), foreshortened by the view.
+void draw_needle(cv::Mat& panel, const OrthoCamera& camera, const dds::NeedleState& needle) {
+  if (needle.point_count == 0) return;
+  const cv::Point2d tip = camera.to_panel(needle.shape_points_m[needle.point_count - 1]);
+  const double force_n = std::sqrt(dot(needle.tip_force_n, needle.tip_force_n));
+  if (force_n > 0.0) {
+    const double px_per_n = std::min(kForcePxPerN * force_n, kForceMaxPx) / force_n;
+    const cv::Point2d end = tip + px_per_n * cv::Point2d(dot(needle.tip_force_n, camera.right), -dot(needle.tip_force_n, camera.up));
+    cv::arrowedLine(panel, to_fixed_point(tip), to_fixed_point(end), palette::kForce, kForceThicknessPx, cv::LINE_AA, kSubpixelBits, 0.3);
+  }
+  for (std::uint32_t i = 1; i < needle.point_count; ++i)
+    draw_segment(panel, camera.to_panel(needle.shape_points_m[i - 1]), camera.to_panel(needle.shape_points_m[i]), palette::kNeedle,
+                 kNeedleThicknessPx);
+  if (needle.point_count == 1) draw_marker(panel, tip, kTipRadiusPx, palette::kNeedle);
 }
 
 }  // namespace
@@ -107,12 +128,7 @@ void SurfacePainter::draw(cv::Mat& panel, const OrthoCamera& camera, const dds::
       cv::circle(panel, to_fixed_point(p), 1 << kSubpixelBits, palette::kSurface, cv::FILLED, cv::LINE_8, kSubpixelBits);
     }
   }
-  if (needle != nullptr) {
-    for (std::uint32_t i = 1; i < needle->point_count; ++i) {
-      draw_segment(panel, camera.to_panel(needle->shape_points_m[i - 1]), camera.to_panel(needle->shape_points_m[i]),
-                   palette::kNeedle, kNeedleThicknessPx);
-    }
-  }
+  if (needle != nullptr) draw_needle(panel, camera, *needle);
   if (prediction != nullptr) draw_marker(panel, camera.to_panel(prediction->position_m), kTargetRadiusPx, palette::kTarget);
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // The 3-D panel: the deformed organ surface, flat-shaded and drawn back to front (painter's
-// algorithm) through an orthographic camera, with the needle and the target on top.
+// algorithm) through an orthographic camera, with the needle (shape and tip force) and the
+// target on top.
 #include <array>
 #include <cstdint>
 #include <utility>
@@ -44,7 +45,8 @@ OrthoCamera fit_camera(const dds::DeformedSurface& surface, double azimuth_deg, 
 class SurfacePainter {
  public:
   /// Clears `panel` and draws `surface` (its triangles; its vertices as dots when there are
-  /// none), then the needle and the target if present. Triangles naming a vertex beyond the
+  /// none), then the needle (its shape, or its tip alone, with an arrow of the tip force) and
+  /// the target if present. Triangles naming a vertex beyond the
   /// surface's vertex_count are left out.
   void draw(cv::Mat& panel, const OrthoCamera& camera, const dds::DeformedSurface& surface,
             const SurfaceTriangles& triangles, const dds::NeedleState* needle, const dds::TargetPrediction* prediction);

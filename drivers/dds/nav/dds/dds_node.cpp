@@ -106,7 +106,7 @@ struct DdsNode::Impl {
     fdds::TypeSupport type(new typename WireTraits<Sample>::PubSubType());
     if (type.register_type(participant) != ReturnCode_t::RETCODE_OK) return false;
     constexpr Topic topic = WireTraits<Sample>::topic;
-    topics[index_of(topic)] = participant->create_topic(topic_name(topic), type.get_type_name(), fdds::TopicQos());
+    topics[index_of(topic)] = participant->create_topic(topic_name(topic, qos.names), type.get_type_name(), fdds::TopicQos());
     return topics[index_of(topic)] != nullptr;
   }
 
