@@ -33,7 +33,7 @@ struct NeedleInputs {
 
 /// What the last needle step did.
 struct NeedleStepReport {
-  std::array<double, 3> base_force_n{};  ///< force the needle's first element exerts on the holder
+  std::array<double, 3> base_force_n{};  ///< force the holder exerts on the needle's base (the needle pushes the holder with its opposite)
   int rejected_poses = 0;                ///< poses refused since the data was made
   bool pose_rejected = false;            ///< the last step's pose was refused (state kept)
 };
