@@ -9,7 +9,8 @@
 // test programs and sanitizers; the real figures are printed); the same recording
 // replayed twice on a SimulatedClock gives bitwise-identical outputs, and a changed sample
 // changes them; the tumour predicted with assimilation is within 1 mm RMS of the truth and
-// better than without; `navstation --scene FILE --seconds 2 --images DIR` on the demo scene
+// better than without; the scene's needle pushes and punctures the liver's capsule in the world
+// (full-order coupling) and in the loop (reduced coupling); `navstation --scene FILE --seconds 2 --images DIR` on the demo scene
 // with renamed topics runs on DDS, prints its summary and has navview write images.
 #include <gtest/gtest.h>
 
@@ -93,6 +94,40 @@ TEST(StationRun, TheSimulatedDevicesKeepToTheScene) {
   for (const Point3& p : d.world.tumour_truth_m) low = std::min(low, p[2]), high = std::max(high, p[2]);
   std::printf("[ station  ] tumour motion (z) in the truth: %.2f mm peak to peak\n", 1e3 * (high - low));
   EXPECT_GT(high - low, 2e-3);
+}
+
+// The scene's needle in the world (coupled to the full-order liver) and in the station's loop
+// (coupled to its reduced liver): placed straight outside the liver at the start, it pushes the
+// capsule up to its puncture force (1 N) and punctures it once in both; the true tip bends
+// away from the holder's straight line; the modelled tip is scored against the true bent tip.
+TEST(StationRun, TheNeedlePushesAndPuncturesTheCapsuleInTheWorldAndInTheLoop) {
+  const DemoStation& d = demo();
+  ASSERT_TRUE(d.loop.needle);
+  const SimulatedWorld& w = d.world;
+  ASSERT_EQ(w.needle_tip_truth_m.size(), 10 * w.tumour_truth_m.size());  // a tip per 1 ms tick, a tumour per 10 ms step
+  const Eigen::Vector3d straight_start = w.needle_start_m;
+  EXPECT_LT((w.needle_tip_at(0) - straight_start).norm(), 1e-9);  // placed straight at the true marker pose
+  // The layers of demo.yaml: the capsule where the path enters; the start is outside it.
+  const TissueLayer& capsule = d.scene.needle->interaction.layers[0];
+  const Eigen::Vector3d surface{capsule.surface_point_m[0], capsule.surface_point_m[1], capsule.surface_point_m[2]};
+  const Eigen::Vector3d normal{capsule.outward_normal[0], capsule.outward_normal[1], capsule.outward_normal[2]};
+  EXPECT_GT((straight_start - surface).dot(normal), 1e-3);
+  double bend_m = 0.0;
+  for (TimeNs t = 0; t <= kDuration; t += 10 * kNsPerMs)
+    bend_m = std::max(bend_m, (w.needle_tip_at(t) - (w.needle_start_m + 1e-9 * static_cast<double>(t) * w.needle_velocity_m_s)).norm());
+  const StationReplay replay = replay_station(d.loop, observed(), kDuration, true).value();
+  double loop_peak_n = 0.0;
+  int loop_punctures = 0;
+  for (const TickRecord& t : replay.ticks) loop_peak_n = std::max(loop_peak_n, t.tip_force_n), loop_punctures = std::max(loop_punctures, t.punctures);
+  const PredictionErrors e = prediction_errors(w, replay.ticks, d.loop.options.display_latency_ns, kSettled);
+  std::printf("[ station  ] needle: truth %d punctures, tip force peak %.3f N, bend up to %.2f mm; loop %d punctures, peak %.3f N; "
+              "modelled tip vs true tip %.2f mm RMS\n",
+              w.needle_punctures, w.needle_peak_tip_force_n, 1e3 * bend_m, loop_punctures, loop_peak_n, 1e3 * e.needle_tip_rms_m);
+  EXPECT_EQ(w.needle_punctures, 1);
+  EXPECT_EQ(loop_punctures, 1);
+  EXPECT_NEAR(w.needle_peak_tip_force_n, capsule.puncture_force_n, 0.05 * capsule.puncture_force_n);
+  EXPECT_NEAR(loop_peak_n, capsule.puncture_force_n, 0.05 * capsule.puncture_force_n);
+  EXPECT_GT(bend_m, 1e-3);  // the tissue bends the true needle: its tip is not the holder's straight tip
 }
 
 TEST(StationRun, TheTumourFoundInTheFramesIsWithinAMillimetreOfTheTruth) {

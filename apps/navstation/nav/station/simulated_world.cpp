@@ -4,10 +4,13 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <span>
 #include <string>
 
 #include <Eigen/Geometry>
 
+#include "nav/needle/coupled_needle_step.hpp"
+#include "nav/needle/tissue_coupling.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 
 namespace nav::station {
@@ -18,36 +21,107 @@ double seconds(TimeNs t) { return 1e-9 * static_cast<double>(t); }
 
 TimeNs period_ns(double rate_hz) { return static_cast<TimeNs>(std::llround(1e9 / rate_hz)); }
 
-/// The true tumour of every tissue step: the full-order model of the patient's material
-/// driven by the diaphragm's true motion.
-Result<std::vector<Point3>> tumour_truth(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
-                                         const WorldOptions& options, TimeNs step_ns) {
+/// The patient's full-order liver: the scene's model on the patient's (softer) material.
+Result<TetFemModel> patient_liver(const StationLiver& liver, const Scene& scene, const WorldOptions& options, TimeNs step_ns) {
   TissueScene patient = liver.scene;
   patient.default_material.youngs_modulus_pa *= options.truth_stiffness_factor;
   TissueSolverOptions solver = scene.liver.full;
   solver.step_s = seconds(step_ns);
   auto model = make_tet_fem_model(liver.mesh, patient, solver);
   if (!model.ok()) return Error{model.error().describe(), scene.source_path, scene.liver.line, "liver.model"};
-  auto data = make_tet_fem_data(model.value());
-  if (!data.ok()) return Error{data.error().describe(), scene.source_path, scene.liver.line, "liver.model"};
-  const TimeNs latency_ns = static_cast<TimeNs>(std::llround(scene.station.display_latency_ms * 1e6));
-  const auto steps = static_cast<std::size_t>((options.duration_ns + latency_ns) / step_ns + 2);
-  std::vector<Point3> truth;
-  truth.reserve(steps);
-  for (std::size_t i = 0; i < steps; ++i) {
-    const TimeNs t = static_cast<TimeNs>(i) * step_ns - options.diaphragm_lag_ns;
-    const Eigen::Vector3d d = options.diaphragm_gain * breathing.diaphragm_per_marker * marker_displacement_m(options, t);
-    TissueInputs inputs;
-    inputs.prescribed_displacement_m = {d[0], d[1], d[2]};
-    step(model.value(), data.value(), inputs);
-    Point3 p{};
-    for (int v = 0; v < 4; ++v) {
-      const auto node = static_cast<std::size_t>(liver.tumour.nodes[static_cast<std::size_t>(v)]);
-      for (std::size_t c = 0; c < 3; ++c) p[c] += liver.tumour.weights[static_cast<std::size_t>(v)] * data.value().positions_m[3 * node + c];
-    }
-    truth.push_back(p);
+  return model;
+}
+
+/// The diaphragm's true displacement at tissue step i: the marker's motion times the gain, late.
+TissueInputs diaphragm_inputs(const BreathingGeometry& breathing, const WorldOptions& options, TimeNs step_ns, std::size_t i) {
+  const TimeNs t = static_cast<TimeNs>(i) * step_ns - options.diaphragm_lag_ns;
+  const Eigen::Vector3d d = options.diaphragm_gain * breathing.diaphragm_per_marker * marker_displacement_m(options, t);
+  TissueInputs inputs;
+  inputs.prescribed_displacement_m = {d[0], d[1], d[2]};
+  return inputs;
+}
+
+Point3 tumour_of(const StationLiver& liver, std::span<const double> positions_m) {
+  Point3 p{};
+  for (std::size_t v = 0; v < 4; ++v) {
+    const auto node = static_cast<std::size_t>(liver.tumour.nodes[v]);
+    for (std::size_t c = 0; c < 3; ++c) p[c] += liver.tumour.weights[v] * positions_m[3 * node + c];
   }
-  return truth;
+  return p;
+}
+
+/// The magnitude of the tissue's force on the needle's tip (its contact and cutting rows).
+double tip_force_n(const NeedleTissueModel& model, const NeedleTissueData& interaction) {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  for (int r = 0; r < interaction.row_count; ++r) {
+    const ConstraintRow& row = interaction.rows[static_cast<std::size_t>(r)];
+    if (row.slot <= model.tip_slot()) force += interaction.row_forces[static_cast<std::size_t>(r)] * row.direction;
+  }
+  return force.norm();
+}
+
+std::size_t truth_steps(const Scene& scene, const WorldOptions& options, TimeNs step_ns) {
+  const TimeNs latency_ns = static_cast<TimeNs>(std::llround(scene.station.display_latency_ms * 1e6));
+  return static_cast<std::size_t>((options.duration_ns + latency_ns) / step_ns + 2);
+}
+
+/// The true tumour of every tissue step: the full-order model of the patient's material
+/// driven by the diaphragm's true motion (a scene without a needle).
+Status tumour_truth(SimulatedWorld& world, const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
+                    const WorldOptions& options) {
+  auto patient = patient_liver(liver, scene, options, world.step_ns);
+  if (!patient.ok()) return patient.error();
+  auto data = make_tet_fem_data(patient.value());
+  if (!data.ok()) return Error{data.error().describe(), scene.source_path, scene.liver.line, "liver.model"};
+  const std::size_t steps = truth_steps(scene, options, world.step_ns);
+  world.tumour_truth_m.reserve(steps);
+  for (std::size_t i = 0; i < steps; ++i) {
+    step(patient.value(), data.value(), diaphragm_inputs(breathing, options, world.step_ns, i));
+    world.tumour_truth_m.push_back(tumour_of(liver, data.value().positions_m));
+  }
+  return Done{};
+}
+
+/// The true tumour of every tissue step and the true (bent) needle tip of every loop tick:
+/// the scene's needle coupled to the patient's full-order liver (tissue_coupling.hpp), its
+/// base at the true needle marker pose, the tissue stepping every loop_rate/tissue_rate ticks
+/// with the needle's point forces and the diaphragm.
+Status needle_and_tumour_truth(SimulatedWorld& world, const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
+                               const WorldOptions& options) {
+  const NeedleSettings& needle = *scene.needle;
+  auto patient = patient_liver(liver, scene, options, world.step_ns);
+  if (!patient.ok()) return patient.error();
+  const int every = static_cast<int>(std::lround(scene.station.loop_rate_hz / scene.station.tissue_rate_hz));
+  const auto needle_error = [&](const Error& e) { return Error{e.describe(), scene.source_path, needle.line, "needle"}; };
+  auto model = make_coupled_needle_model(needle.parameters, needle.interaction, patient.value(),
+                                         liver.scene.max_point_forces, every);
+  if (!model.ok()) return needle_error(model.error());
+  const RigidPose base_in_marker = needle_base_in_marker();
+  auto data = make_coupled_needle_data(model.value(), to_needle_pose(compose(world.needle_marker_at(0), base_in_marker)));
+  if (!data.ok()) return needle_error(data.error());
+  CoupledNeedleData& d = data.value();  // it holds the patient's tissue state too
+  const std::size_t steps = truth_steps(scene, options, world.step_ns);
+  world.needle_step_ns = world.step_ns / every;
+  world.tumour_truth_m.reserve(steps);
+  world.needle_tip_truth_m.reserve(steps * static_cast<std::size_t>(every));
+  const auto tip_node = static_cast<std::size_t>(needle.parameters.element_count);
+  for (std::size_t i = 0; i < steps; ++i) {
+    for (int k = 0; k < every; ++k) {
+      const TimeNs t = static_cast<TimeNs>(i) * world.step_ns + k * world.needle_step_ns;
+      NeedleInputs inputs;
+      inputs.base = to_needle_pose(compose(world.needle_marker_at(t), base_in_marker));
+      step_needle(model.value(), d, inputs);
+      if (k == 0) {
+        step_tissue(model.value(), d, diaphragm_inputs(breathing, options, world.step_ns, i));
+        world.tumour_truth_m.push_back(tumour_of(liver, d.tissue.positions_m));
+      }
+      const std::span<const double> nodes = d.interaction.needle.positions_m;
+      world.needle_tip_truth_m.push_back({nodes[3 * tip_node], nodes[3 * tip_node + 1], nodes[3 * tip_node + 2]});
+      world.needle_peak_tip_force_n = std::max(world.needle_peak_tip_force_n, tip_force_n(model.value().interaction, d.interaction));
+    }
+  }
+  world.needle_punctures = d.interaction.report.punctures;
+  return Done{};
 }
 
 /// A rotation by a small random rotation vector of `std_rad` per axis.
@@ -71,13 +145,11 @@ void track(const SimulatedWorld& world, const Scene& scene, const BreathingGeome
   std::mt19937_64 rng(tracker.seed);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   const TimeNs latency_ns = static_cast<TimeNs>(std::llround(tracker.latency_ms * 1e6));
-  const double needle_length_m = scene.needle ? scene.needle->parameters.length_m : 0.15;
-  const Eigen::Quaterniond needle_rotation = Eigen::Quaterniond::FromTwoVectors(-Eigen::Vector3d::UnitZ(), world.needle_velocity_m_s.normalized());
   for (TimeNs t = 0; t <= options.duration_ns; t += period_ns(tracker.rate_hz)) {
     if (tracker.dropout_probability > 0.0 && uniform(rng) < tracker.dropout_probability) continue;
     DeviceSample needle{SampleKind::needle_pose, t, t + latency_ns, {}, Eigen::Vector3d::Zero()};
-    const Eigen::Vector3d marker = world.needle_tip_at(t) - needle_rotation * Eigen::Vector3d{0.0, 0.0, -needle_length_m};
-    needle.pose = {marker + position_noise(rng, tracker.position_noise_m), rotation_noise(rng, tracker.rotation_noise_rad) * needle_rotation};
+    const RigidPose marker = world.needle_marker_at(t);
+    needle.pose = {marker.position_m + position_noise(rng, tracker.position_noise_m), rotation_noise(rng, tracker.rotation_noise_rad) * marker.rotation};
     out.push_back(needle);
     DeviceSample probe{SampleKind::probe_pose, t, t + latency_ns, {}, Eigen::Vector3d::Zero()};
     const RigidPose probe_truth = world.probe_at(t);
@@ -134,7 +206,18 @@ Point3 SimulatedWorld::tumour_at(TimeNs time_ns) const {
   return p;
 }
 
-Eigen::Vector3d SimulatedWorld::needle_tip_at(TimeNs time_ns) const { return needle_start_m + seconds(time_ns) * needle_velocity_m_s; }
+Eigen::Vector3d SimulatedWorld::needle_tip_at(TimeNs time_ns) const {
+  if (needle_tip_truth_m.empty()) return needle_start_m + seconds(time_ns) * needle_velocity_m_s;
+  const TimeNs clamped = std::clamp<TimeNs>(time_ns, 0, static_cast<TimeNs>(needle_tip_truth_m.size() - 1) * needle_step_ns);
+  const Point3& p = needle_tip_truth_m[static_cast<std::size_t>(clamped / needle_step_ns)];
+  return {p[0], p[1], p[2]};
+}
+
+RigidPose SimulatedWorld::needle_marker_at(TimeNs time_ns) const {
+  const Eigen::Quaterniond rotation = Eigen::Quaterniond::FromTwoVectors(-Eigen::Vector3d::UnitZ(), needle_velocity_m_s.normalized());
+  const Eigen::Vector3d tip = needle_start_m + seconds(time_ns) * needle_velocity_m_s;
+  return {tip - rotation * Eigen::Vector3d{0.0, 0.0, -needle_length_m}, rotation};
+}
 
 RigidPose SimulatedWorld::probe_at(TimeNs time_ns) const {
   const double sweep_rad = probe_sweep_rad * std::sin(2.0 * std::numbers::pi * seconds(time_ns) / probe_sweep_period_s);
@@ -151,12 +234,13 @@ Result<SimulatedWorld> simulate_world(const StationLiver& liver, const Scene& sc
     return Error{"the simulated world needs simulated devices", scene.source_path, 0, "devices"};
   SimulatedWorld world;
   world.step_ns = period_ns(scene.station.tissue_rate_hz);
-  auto truth = tumour_truth(liver, scene, breathing, options, world.step_ns);
-  if (!truth.ok()) return truth.error();
-  world.tumour_truth_m = std::move(truth).value();
-  const Eigen::Vector3d toward = -Eigen::Vector3d{0.0, 1.0, 1.0}.normalized();  // from above and in front
+  const Eigen::Vector3d toward = -Eigen::Vector3d{0.0, 1.0, 0.25}.normalized();  // from in front, a little above
   world.needle_start_m = Eigen::Vector3d{liver.tumour_m[0], liver.tumour_m[1], liver.tumour_m[2]} - options.needle_start_distance_m * toward;
   world.needle_velocity_m_s = options.needle_speed_m_s * toward;
+  world.needle_length_m = scene.needle ? scene.needle->parameters.length_m : 0.15;
+  const Status truth = scene.needle ? needle_and_tumour_truth(world, liver, scene, breathing, options)
+                                    : tumour_truth(world, liver, scene, breathing, options);
+  if (!truth.ok()) return truth.error();
   world.imaging = demo_probe_imaging();
   world.probe_centre_m = Eigen::Vector3d{liver.tumour_m[0], liver.tumour_m[1], liver.tumour_m[2] + options.probe_height_m};
   world.probe_sweep_rad = options.probe_sweep_rad;

@@ -2,7 +2,9 @@
 // The simulated world of the demo station: the liver as ground truth, simulated by the
 // full-order nonlinear model (corotational tetrahedra, implicit Euler, the scene's solver) at
 // the tissue rate under a breathing diaphragm (which the respiratory marker only approximates:
-// a gain and a lag the station's model does not know), and the devices that watch it: a tracker (the
+// a gain and a lag the station's model does not know) and, with the scene's `needle:`, pushed,
+// punctured and dragged by that needle (coupled to the full-order liver at the loop rate, its base
+// at the true needle marker pose: tissue_coupling.hpp), and the devices that watch it: a tracker (the
 // needle marker inserting the needle toward the tumour, the ultrasound probe sweeping over
 // it, the respiratory marker) with the scene's rate, latency, noise and dropout, and a
 // synthetic B-mode scanner on the tracked probe (BmodeSimulator: speckle, a hypoechoic tumour,
@@ -34,8 +36,11 @@ struct WorldOptions {
   /// says, and this long after the marker: the external marker is a surrogate of the motion inside.
   double diaphragm_gain = 1.3;
   TimeNs diaphragm_lag_ns = 200 * kNsPerMs;
-  double needle_start_distance_m = 0.05;    ///< the needle tip starts this far from the tumour
-  double needle_speed_m_s = 0.004;          ///< and moves toward it
+  /// The needle holder's straight tip starts this far from the tumour, outside the liver (the
+  /// needle comes from in front, a little above, along -(0, 1, 0.25): the generated liver's
+  /// surface is 78.5 mm from the tumour on that path, below the diaphragm region), and moves toward it.
+  double needle_start_distance_m = 0.083;
+  double needle_speed_m_s = 0.005;
   double probe_sweep_rad = 0.3;             ///< the probe's sweep amplitude about the model x axis
   double probe_sweep_period_s = 3.0;
   double probe_height_m = 0.045;            ///< the probe marker above the tumour at rest (the image's depth to it)
@@ -68,8 +73,17 @@ struct UltrasoundImage {
 struct SimulatedWorld {
   TimeNs step_ns = 10 * kNsPerMs;          ///< the tissue step
   std::vector<Point3> tumour_truth_m;      ///< the true tumour at i * step_ns (full-order model)
-  Eigen::Vector3d needle_start_m = Eigen::Vector3d::Zero();   ///< the true tip at time 0
+  /// The needle holder's motion: where the straight needle's tip would be (the marker's
+  /// tip point) at time 0, and its velocity; the marker at the needle's base, length_m back.
+  Eigen::Vector3d needle_start_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d needle_velocity_m_s = Eigen::Vector3d::Zero();
+  double needle_length_m = 0.15;
+  /// With the scene's needle: its true (bent) tip at k * needle_step_ns, from the needle
+  /// coupled to the full-order liver; empty without a needle (the tip is then the straight one).
+  std::vector<Point3> needle_tip_truth_m;
+  TimeNs needle_step_ns = kNsPerMs;
+  double needle_peak_tip_force_n = 0.0;    ///< the true needle's largest tip force over the run
+  int needle_punctures = 0;                ///< surfaces the true needle punctured
   std::vector<DeviceSample> samples;       ///< in delivery order
   std::vector<UltrasoundImage> frames;     ///< the scanner's frames, by frame_index
   ProbeImaging imaging;                    ///< the scanner's grid and probe calibration
@@ -77,8 +91,10 @@ struct SimulatedWorld {
   double probe_sweep_rad = 0.0, probe_sweep_period_s = 1.0;
   /// The true tumour at any time within the run (linear between tissue steps).
   Point3 tumour_at(TimeNs time_ns) const;
-  /// The true needle tip at any time.
+  /// The true needle tip at any time (the bent tip of the coupled needle, if any).
   Eigen::Vector3d needle_tip_at(TimeNs time_ns) const;
+  /// The true needle marker pose (T_model_marker) at any time: -z along the needle.
+  RigidPose needle_marker_at(TimeNs time_ns) const;
   /// The true probe marker pose (T_model_probe) at any time.
   RigidPose probe_at(TimeNs time_ns) const;
 };

@@ -6,6 +6,8 @@
 #include <string>
 #include <utility>
 
+#include <Eigen/Geometry>
+
 #include "nav/connective/organ_attachment.hpp"
 #include "nav/mesh/validation.hpp"
 #include "nav/mesher/embedded_liver.hpp"
@@ -89,6 +91,10 @@ Result<StationLiver> make_station_liver(const Scene& scene) {
   return liver;
 }
 
+RigidPose needle_base_in_marker() {
+  return {Eigen::Vector3d::Zero(), Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitZ())};
+}
+
 Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
                                              const StationLoopSettings& settings) {
   const StationSettings& station = scene.station;
@@ -132,7 +138,15 @@ Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Sc
   o.probe.max_extrapolation_ns = settings.needle_max_extrapolation_ns;
   // The breathing fit's window (8 s) at the tracker's rate, and some.
   o.breathing.history_capacity = static_cast<std::size_t>(std::ceil(scene.devices.tracker.rate_hz * 8.0)) + 16;
-  return make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o);
+  if (!scene.needle) return make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o);
+  OperatingLoopNeedleOptions needle;
+  needle.parameters = scene.needle->parameters;
+  needle.scene = scene.needle->interaction;
+  needle.base_in_marker = needle_base_in_marker();
+  needle.max_point_forces = liver.scene.max_point_forces;
+  auto loop = make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o, needle, liver.mesh);
+  if (!loop.ok()) return Error{loop.error().describe(), scene.source_path, scene.needle->line, "needle"};
+  return loop;
 }
 
 }  // namespace nav::station

@@ -54,8 +54,15 @@ struct StationLoopSettings {
   double gate_chi_square = 16.27;  ///< observations further from the prediction are rejected
 };
 
+/// The needle base (holder) in the needle marker's frame, T_marker_base: the needle points
+/// along the marker's -z from the marker's origin (the tip straight at (0, 0, -length_m)),
+/// and along the base frame's +x, as the needle models lie.
+RigidPose needle_base_in_marker();
+
 /// The operating loop on `liver` at the scene's rates and latency, the tracker frame equal to
-/// the model frame, the needle of the scene's length (0.15 m without `needle:`).
+/// the model frame. With `needle:` the loop steps the scene's flexible needle coupled to its
+/// reduced liver (at the loop rate, its base at the needle marker * needle_base_in_marker());
+/// without it, a rigid needle of 0.15 m.
 Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
                                              const StationLoopSettings& settings);
 

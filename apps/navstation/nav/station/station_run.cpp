@@ -33,7 +33,9 @@ void push_sample(const OperatingLoopModel& loop, OperatingLoopData& data, const 
 }
 
 TickRecord record_of(const OperatingLoopOutputs& o) noexcept {
-  return {o.time_ns, o.tissue_time_ns, o.tumour_now_m, o.tumour_ahead_m, o.needle_tip_m, o.degraded, o.needle.degraded, o.needle.flags.bits()};
+  const Point3& f = o.needle_shape.tip_force_n;
+  return {o.time_ns, o.tissue_time_ns, o.tumour_now_m, o.tumour_ahead_m, o.needle_tip_m, o.degraded, o.needle.degraded,
+          o.needle.flags.bits(), std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]), o.needle_shape.punctures};
 }
 
 template <class T>

@@ -34,6 +34,8 @@ struct TickRecord {
   bool degraded = true;         ///< the loop's degraded output
   bool needle_degraded = true;  ///< the needle input degraded (held, extrapolated too far or missing)
   std::uint32_t needle_flags = 0;  ///< the needle input's HealthFlag bits
+  double tip_force_n = 0.0;        ///< the modelled tissue force on the needle's tip (magnitude; 0 without a needle model)
+  int punctures = 0;               ///< surfaces the modelled needle has punctured
 };
 
 /// Step time and timing statistics of a real-time run.

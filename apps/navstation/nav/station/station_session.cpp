@@ -1,5 +1,6 @@
 #include "nav/station/station_session.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -86,6 +87,22 @@ Result<StationSession> run_session(const Scene& scene, const SessionOptions& opt
   return s;
 }
 
+namespace {
+
+/// The modelled needle's largest tip force and its punctures over a run.
+struct NeedlePeaks {
+  double tip_force_n = 0.0;
+  int punctures = 0;
+};
+
+NeedlePeaks needle_peaks(const std::vector<TickRecord>& ticks) {
+  NeedlePeaks peaks;
+  for (const TickRecord& t : ticks) peaks.tip_force_n = std::max(peaks.tip_force_n, t.tip_force_n), peaks.punctures = std::max(peaks.punctures, t.punctures);
+  return peaks;
+}
+
+}  // namespace
+
 std::string format_summary(const Scene& scene, const StationSession& s) {
   const StationSettings& st = scene.station;
   const StepStatistics& t = s.run.steps;
@@ -104,6 +121,11 @@ std::string format_summary(const Scene& scene, const StationSession& s) {
   out += format("  tumour at +%2.0f ms        %8.2f mm        %6.2f mm\n", 1e-6 * static_cast<double>(s.display_latency_ns),
                 1e3 * s.assimilated.tumour_ahead_rms_m, 1e3 * s.without.tumour_ahead_rms_m);
   out += format("  needle tip              %8.2f mm\n", 1e3 * s.assimilated.needle_tip_rms_m);
+  if (!s.world.needle_tip_truth_m.empty()) {
+    const NeedlePeaks n = needle_peaks(s.run.ticks);
+    out += format("needle (coupled to the liver): tip force peak %.2f N, %.0f punctures; the full-order truth: %.2f N, %.0f punctures\n",
+                  n.tip_force_n, static_cast<double>(n.punctures), s.world.needle_peak_tip_force_n, static_cast<double>(s.world.needle_punctures));
+  }
   out += format("step time over %.0f ticks: median %.1f us, p99 %.1f us, p99.9 %.1f us", static_cast<double>(t.ticks), t.median_us, t.p99_us,
                 t.p999_us);
   out += format(", max %.1f us\n", t.max_us);
@@ -144,6 +166,11 @@ std::string session_json(const Scene& scene, const StationSession& s) {
                 1e3 * s.without.tumour_now_rms_m);
   out += format("  \"tumour_ahead_rms_mm\": {\"assimilated\": %.4f, \"without\": %.4f},\n", 1e3 * s.assimilated.tumour_ahead_rms_m,
                 1e3 * s.without.tumour_ahead_rms_m);
+  if (!s.world.needle_tip_truth_m.empty()) {
+    const NeedlePeaks n = needle_peaks(s.run.ticks);
+    out += format("  \"needle\": {\"tip_force_peak_n\": %.4f, \"punctures\": %.0f, \"truth_tip_force_peak_n\": %.4f, \"truth_punctures\": %.0f},\n",
+                  n.tip_force_n, static_cast<double>(n.punctures), s.world.needle_peak_tip_force_n, static_cast<double>(s.world.needle_punctures));
+  }
   out += format("  \"needle_tip_rms_mm\": %.4f, \"display_latency_ms\": %.1f\n}\n", 1e3 * s.assimilated.needle_tip_rms_m,
                 1e-6 * static_cast<double>(s.display_latency_ns));
   return out;
