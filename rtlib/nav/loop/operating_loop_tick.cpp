@@ -1,6 +1,7 @@
 // Step time of the operating loop: the push_* calls that take the I/O thread's samples, and
-// the tick, with the needle model's step when there is one. Nothing here allocates, locks, throws or makes a system call; every loop has a
-// fixed trip count (the pending queue's capacity, the look-ahead's step count, r).
+// the tick, with the needle model's step when there is one. Nothing here allocates, locks,
+// throws or makes a system call; every loop has a fixed trip count (the pending queue's
+// capacity, the look-ahead's step count, r, the needle's nodes and rows).
 #include <algorithm>
 #include <cmath>
 #include <span>
@@ -190,12 +191,7 @@ void needle_outputs(const OperatingLoopNeedleModel& needle_model, OperatingLoopD
   shape.node_count = m.needle.node_count();
   for (int n = 0; n < shape.node_count; ++n)
     shape.centreline_m[static_cast<std::size_t>(n)] = to_point(node_position_m(interaction.needle.positions_m, n));
-  Eigen::Vector3d tip_force_n = Eigen::Vector3d::Zero();  // the rows at the tip: contact and cutting
-  for (int r = 0; r < interaction.row_count; ++r) {
-    const ConstraintRow& row = interaction.rows[static_cast<std::size_t>(r)];
-    if (row.slot <= m.tip_slot()) tip_force_n += interaction.row_forces[static_cast<std::size_t>(r)] * row.direction;
-  }
-  shape.tip_force_n = to_point(tip_force_n);
+  shape.tip_force_n = to_point(tip_force_n(m, interaction));
   // The needle's report holds the first element's force at the base node: the holder's force on
   // the needle (it points down the insertion when the tissue resists); the holder feels its opposite.
   for (std::size_t c = 0; c < 3; ++c) shape.base_force_n[c] = -interaction.needle.report.base_force_n[c];

@@ -58,23 +58,8 @@ bool place_free_needle(const NeedleTissueModel& model, NeedleTissueData& data, c
     if (layer.phase != LayerPhase::outside) return false;
   for (const PathPoint& point : data.path)
     if (point.active) return false;
-  double norm2 = 0.0;
-  for (double v : base.rotation_wxyz) norm2 += v * v;
-  bool finite = std::isfinite(norm2) && std::abs(norm2 - 1.0) <= 1e-6;
-  for (double v : base.position_m) finite = finite && std::isfinite(v);
-  if (!finite) return false;
-  // The straight needle of make_needle_data(), node by node.
-  NeedleData& needle = data.needle;
-  const Eigen::Quaterniond q(base.rotation_wxyz[0], base.rotation_wxyz[1], base.rotation_wxyz[2], base.rotation_wxyz[3]);
-  const Eigen::Vector3d axis = q * Eigen::Vector3d::UnitX();
-  for (std::size_t n = 0; n < static_cast<std::size_t>(model.needle.node_count()); ++n) {
-    for (std::size_t c = 0; c < 3; ++c)
-      needle.positions_m[3 * n + c] =
-          base.position_m[c] + static_cast<double>(n) * model.needle.element_length_m * axis[static_cast<Eigen::Index>(c)];
-    for (std::size_t c = 0; c < 4; ++c) needle.rotations_wxyz[4 * n + c] = base.rotation_wxyz[c];
-  }
-  std::fill(needle.velocities_m_s.begin(), needle.velocities_m_s.end(), 0.0);
-  std::fill(needle.angular_velocities_rad_s.begin(), needle.angular_velocities_rad_s.end(), 0.0);
+  if (!is_finite_unit_pose(base)) return false;
+  place_straight_needle(model.needle, data.needle, base);
   return true;
 }
 

@@ -1,5 +1,6 @@
 #include "nav/needle/needle_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace nav {
@@ -72,14 +73,29 @@ Result<NeedleData> make_needle_data(const NeedleModel& model, const NeedlePose& 
     *b.span = carved.value();
   }
   data.system.blocks = static_cast<int>(free_blocks);
+  place_straight_needle(model, data, base);
+  return data;
+}
+
+bool is_finite_unit_pose(const NeedlePose& base) noexcept {
+  double norm2 = 0.0;
+  for (double v : base.rotation_wxyz) norm2 += v * v;
+  bool finite = std::isfinite(norm2) && std::abs(norm2 - 1.0) <= 1e-6;
+  for (double v : base.position_m) finite = finite && std::isfinite(v);
+  return finite;
+}
+
+void place_straight_needle(const NeedleModel& model, NeedleData& data, const NeedlePose& base) noexcept {
   const Eigen::Quaterniond q(base.rotation_wxyz[0], base.rotation_wxyz[1], base.rotation_wxyz[2], base.rotation_wxyz[3]);
   const Eigen::Vector3d axis = q * Eigen::Vector3d::UnitX();
-  for (std::size_t n = 0; n < nodes; ++n) {
+  for (std::size_t n = 0; n < static_cast<std::size_t>(model.node_count()); ++n) {
     for (int c = 0; c < 3; ++c)
-      data.positions_m[3 * n + c] = base.position_m[c] + static_cast<double>(n) * model.element_length_m * axis[c];
-    for (int c = 0; c < 4; ++c) data.rotations_wxyz[4 * n + c] = base.rotation_wxyz[c];
+      data.positions_m[3 * n + static_cast<std::size_t>(c)] = base.position_m[static_cast<std::size_t>(c)] +
+                                                              static_cast<double>(n) * model.element_length_m * axis[c];
+    for (std::size_t c = 0; c < 4; ++c) data.rotations_wxyz[4 * n + c] = base.rotation_wxyz[c];
   }
-  return data;
+  std::fill(data.velocities_m_s.begin(), data.velocities_m_s.end(), 0.0);
+  std::fill(data.angular_velocities_rad_s.begin(), data.angular_velocities_rad_s.end(), 0.0);
 }
 
 }  // namespace nav

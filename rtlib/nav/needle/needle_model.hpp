@@ -91,4 +91,10 @@ Result<NeedleModel> make_needle_model(const NeedleParameters& parameters);
 /// The data of `model`, straight and at rest at `base` (which must be finite and unit).
 Result<NeedleData> make_needle_data(const NeedleModel& model, const NeedlePose& base);
 
+/// Whether `base` has a finite position and a finite unit quaternion (within 1e-6 in norm²).
+bool is_finite_unit_pose(const NeedlePose& base) noexcept;
+
+/// Puts the needle of `data` straight and at rest at `base` (finite and unit), along its +x.
+void place_straight_needle(const NeedleModel& model, NeedleData& data, const NeedlePose& base) noexcept;
+
 }  // namespace nav

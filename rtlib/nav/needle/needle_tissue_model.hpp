@@ -149,6 +149,10 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
 /// machines and pools. A refused pose leaves everything untouched (flags raised).
 void step(const NeedleTissueModel& model, NeedleTissueData& data, const NeedleTissueInputs& inputs) noexcept;
 
+/// The tissue's force on the needle's tip after the last step: the sum of its tip rows'
+/// forces (contact and cutting) along their directions.
+Eigen::Vector3d tip_force_n(const NeedleTissueModel& model, const NeedleTissueData& data) noexcept;
+
 /// The current position of a tissue point, given the tissue displacements (may be empty).
 Eigen::Vector3d tissue_point_position_m(const TissuePoint& point, std::span<const double> displacements_m) noexcept;
 

@@ -200,4 +200,13 @@ void step(const NeedleTissueModel& model, NeedleTissueData& data, const NeedleTi
   ++data.steps;
 }
 
+Eigen::Vector3d tip_force_n(const NeedleTissueModel& model, const NeedleTissueData& data) noexcept {
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();
+  for (int r = 0; r < data.row_count; ++r) {
+    const ConstraintRow& row = data.rows[static_cast<std::size_t>(r)];
+    if (row.slot <= model.tip_slot()) force += data.row_forces[static_cast<std::size_t>(r)] * row.direction;
+  }
+  return force;
+}
+
 }  // namespace nav

@@ -50,16 +50,6 @@ Point3 tumour_of(const StationLiver& liver, std::span<const double> positions_m)
   return p;
 }
 
-/// The magnitude of the tissue's force on the needle's tip (its contact and cutting rows).
-double tip_force_n(const NeedleTissueModel& model, const NeedleTissueData& interaction) {
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();
-  for (int r = 0; r < interaction.row_count; ++r) {
-    const ConstraintRow& row = interaction.rows[static_cast<std::size_t>(r)];
-    if (row.slot <= model.tip_slot()) force += interaction.row_forces[static_cast<std::size_t>(r)] * row.direction;
-  }
-  return force.norm();
-}
-
 std::size_t truth_steps(const Scene& scene, const WorldOptions& options, TimeNs step_ns) {
   const TimeNs latency_ns = static_cast<TimeNs>(std::llround(scene.station.display_latency_ms * 1e6));
   return static_cast<std::size_t>((options.duration_ns + latency_ns) / step_ns + 2);
@@ -117,7 +107,7 @@ Status needle_and_tumour_truth(SimulatedWorld& world, const StationLiver& liver,
       }
       const std::span<const double> nodes = d.interaction.needle.positions_m;
       world.needle_tip_truth_m.push_back({nodes[3 * tip_node], nodes[3 * tip_node + 1], nodes[3 * tip_node + 2]});
-      world.needle_peak_tip_force_n = std::max(world.needle_peak_tip_force_n, tip_force_n(model.value().interaction, d.interaction));
+      world.needle_peak_tip_force_n = std::max(world.needle_peak_tip_force_n, tip_force_n(model.value().interaction, d.interaction).norm());
     }
   }
   world.needle_punctures = d.interaction.report.punctures;
