@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "nav/core/kernel_isa.hpp"
 #include "nav/station/realtime_thread.hpp"
 #include "nav/station/scene.hpp"
 #include "nav/station/station_build.hpp"
@@ -49,6 +50,8 @@ void print_plan(const nav::station::Scene& scene) {
   std::printf("station '%s': loop %.0f Hz, tissue %.0f Hz, display latency %.1f ms\n", s.name.c_str(), s.loop_rate_hz,
               s.tissue_rate_hz, s.display_latency_ms);
   std::printf("threads: real-time loop on core %d, I/O on core %d\n", s.realtime_core, s.io_core);
+  const std::string_view isa = nav::kernel_isa_name(nav::resolve_kernel_isa(nav::KernelIsa::best));
+  std::printf("lane kernels: %.*s (every instruction set gives the same bits)\n", static_cast<int>(isa.size()), isa.data());
 }
 
 void print_realtime(const nav::station::StationSettings& s) {

@@ -17,6 +17,7 @@
 #include "nav/tissue/tet_kernels.hpp"
 #include "reduced/reduced_test_support.hpp"
 #include "support/allocation_guard.hpp"
+#include "support/kernel_isas.hpp"
 
 namespace nav {
 namespace {
@@ -196,18 +197,24 @@ TEST(ReducedKernels, InterleavedPolarMatchesNavsAndIgnoresItsNeighbours) {
   std::vector<double> all(9 * kCount);
   for (std::size_t n = 0; n < kCount; ++n)
     for (std::size_t k = 0; k < 9; ++k) all[k * kCount + n] = matrices[n](static_cast<Eigen::Index>(k % 3), static_cast<Eigen::Index>(k / 3));
-  detail::polar_rotations_interleaved(all.data(), kCount);
+  const std::vector<double> start = all;
+  detail::reduced_lane_kernels(KernelIsa::baseline).polar_rotations(all.data(), kCount);
   for (std::size_t n = 0; n < kCount; ++n) {
-    Eigen::Matrix3d got, alone_result;
+    Eigen::Matrix3d got;
     double alone[9];
     for (std::size_t k = 0; k < 9; ++k) alone[k] = matrices[n](static_cast<Eigen::Index>(k % 3), static_cast<Eigen::Index>(k / 3));
-    detail::polar_rotations_interleaved(alone, 1);
+    detail::reduced_lane_kernels(KernelIsa::baseline).polar_rotations(alone, 1);
     for (std::size_t k = 0; k < 9; ++k) {
       got(static_cast<Eigen::Index>(k % 3), static_cast<Eigen::Index>(k / 3)) = all[k * kCount + n];
       EXPECT_EQ(alone[k], all[k * kCount + n]) << n;  // bitwise: a lane does not see the others
     }
     EXPECT_LT((got - polar_rotation(matrices[n])).cwiseAbs().maxCoeff(), 1e-12) << n;
     EXPECT_LT((got.transpose() * got - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff(), 1e-13) << n;
+  }
+  for (KernelIsa isa : testing::available_kernel_isas()) {  // every variant: the same bits
+    std::vector<double> again = start;
+    detail::reduced_lane_kernels(isa).polar_rotations(again.data(), kCount);
+    EXPECT_EQ(again, all) << kernel_isa_name(isa);
   }
 }
 

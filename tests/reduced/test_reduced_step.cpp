@@ -1,7 +1,8 @@
 // The online reduced model: with a complete basis its linear implicit and quasi-static steps
 // equal the full-order TetFemModel's (gravity, point forces, moving springs, Rayleigh damping,
 // prescribed diaphragm motion through the lift); steps never allocate, repeat bitwise, refuse
-// bad inputs with the state untouched; reconstruction agrees with U q + L d.
+// bad inputs with the state untouched, and give the same bits with every instruction set's
+// kernels; reconstruction agrees with U q + L d.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +12,7 @@
 #include "nav/reduced/reduction.hpp"
 #include "reduced/reduced_test_support.hpp"
 #include "support/allocation_guard.hpp"
+#include "support/kernel_isas.hpp"
 
 namespace nav {
 namespace {
@@ -196,6 +198,13 @@ TEST(ReducedStep, StepsNeverAllocateAndRepeatBitwise) {
         EXPECT_EQ(first_allocations, 0u);
         EXPECT_EQ(second_allocations, 0u);
         EXPECT_EQ(first, second);
+        for (KernelIsa isa : testing::available_kernel_isas()) {  // every instruction set: the same bits
+          options.kernel_isa = isa;
+          const ReducedModel variant = make_reduced_model(beam.mesh, beam.scene, solver, basis, options).value();
+          std::size_t allocations = 1;
+          EXPECT_EQ(scripted_run(variant, 30, allocations), first) << kernel_isa_name(isa);
+          EXPECT_EQ(allocations, 0u);
+        }
       }
   }
 }
@@ -264,6 +273,9 @@ TEST(ReducedStep, InitErrorsNameTheField) {
   options = {};
   options.newton_iterations = 0;
   EXPECT_EQ(make_reduced_model(beam.mesh, beam.scene, solver, basis, options).error().field, "newton_iterations");
+  options = {};
+  options.kernel_isa = static_cast<KernelIsa>(99);  // no such instruction set
+  EXPECT_EQ(make_reduced_model(beam.mesh, beam.scene, solver, basis, options).error().field, "kernel_isa");
   const BeamScene other({0.03, 0.01, 0.01}, 0.005);
   EXPECT_EQ(make_reduced_model(other.mesh, other.scene, solver, basis, {}).error().field, "mesh_fingerprint");
   ReducedBasis skewed = basis;

@@ -6,6 +6,7 @@
 #include "nav/reduced/dense_cholesky.hpp"
 #include "nav/reduced/full_system.hpp"
 #include "nav/reduced/reduced_forces.hpp"
+#include "nav/reduced/reduced_kernels.hpp"
 #include "nav/reduced/reduced_tables.hpp"
 #include "nav/reduced/stvk_polynomial.hpp"
 #include "nav/tissue/tet_kernels.hpp"
@@ -27,6 +28,8 @@ Status check_options(const ReducedSolverOptions& o) {
     return error("Rayleigh damping must be a non-negative number", "rayleigh_stiffness_s");
   if (!(o.envelope_factor > 0.0 && std::isfinite(o.envelope_factor)))
     return error("the envelope factor must be a positive number", "envelope_factor");
+  if (!kernel_isa_available(o.kernel_isa))
+    return error("this build or CPU has no " + std::string(kernel_isa_name(o.kernel_isa)) + " kernels", "kernel_isa");
   return Done{};
 }
 
@@ -228,6 +231,7 @@ Result<ReducedModel> make_reduced_model(const TetMesh& mesh, const TissueScene& 
     return error("the lift must be present exactly when the scene prescribes nodes", "diaphragm_lift");
   auto t = std::make_shared<ReducedTables>();
   t->options = options;
+  t->lane_kernels = &detail::reduced_lane_kernels(options.kernel_isa);
   t->force_kind = basis.force_kind;
   t->r = basis.basis_size;
   t->node_count = full.node_count;

@@ -1,14 +1,17 @@
 #pragma once
 // The blocked cubature kernels of a ReducedModel: the sampled tetrahedra kSampleLanes at a
-// time in structure-of-arrays form (plain loops over the lanes, which the compiler
-// vectorizes), gathering U_S q and scattering U_S^T f block by block, the corotational
-// tangent in G-form (V = G blockdiag(R^T) U_s, K += V^T V). Every lane's arithmetic is the
-// same whatever the vector width, and every sum runs in an order written here: results are
-// bitwise repeatable on every architecture. noexcept, allocation-free. Internal to
+// time in structure-of-arrays form, gathering U_S q and scattering U_S^T f block by block,
+// the corotational tangent in G-form (V = G blockdiag(R^T) U_s, K += V^T V). The lane loops
+// run in the model's instruction-set variant (reduced_lane_kernels.hpp); the St
+// Venant-Kirchhoff stresses here. Every lane's arithmetic is the same whatever the vector
+// width, and every sum runs in an order written in the code: results are bitwise repeatable
+// on every architecture and instruction set. noexcept, allocation-free. Internal to
 // rtlib/nav/reduced.
 #include <cstddef>
 #include <span>
 
+#include "nav/core/kernel_isa.hpp"
+#include "nav/reduced/reduced_lane_kernels.hpp"
 #include "nav/reduced/reduced_tables.hpp"
 
 namespace nav::detail {
@@ -17,17 +20,6 @@ namespace nav::detail {
 struct ReducedState {
   std::span<const double> q;
   const double* prescribed_m;  ///< 3 values
-};
-
-/// Where the cubature kernels work, carved by the caller (sizes in doubles; `lanes` is
-/// kSampleLanes sample_blocks). Per-sample values are k-major over all lanes: value k of
-/// sample s at [k lanes + s].
-struct SampleWork {
-  double* displacements;  ///< 12 lanes: the samples' vertex displacements (written)
-  double* rotations;      ///< 9 lanes, column-major 3x3: the last good rotations (read and written)
-  double* gradients;      ///< 10 lanes: 9 of deformation gradients (the polar iterates, in place), 1 of det F > 0 flags
-  double* lane_forces;    ///< reduced forces per lane, [j kSampleLanes + l] (+ r kSampleLanes b when per_block)
-  bool per_block = false; ///< each block its own r kSampleLanes lane forces (else one set for all)
 };
 
 /// Adds each lane's reduced corotational force U_s^T f_s, f_s = -R G^T G (R^T x - X), to
@@ -52,19 +44,10 @@ void add_corotational_tangent_block(const ReducedTables& t, int b, const SampleW
 /// the displacements add_stvk_forces left in work) to `tangent`, sample by sample.
 void add_stvk_tangent_block(const ReducedTables& t, int b, const SampleWork& work, std::span<double> tangent) noexcept;
 
-/// Replaces the `lanes` 3x3 matrices of `a` (k-major: entry (i, j) of matrix n at
-/// [(3 j + i) lanes + n], each with det > 0) by the orthogonal factors of their polar
-/// decompositions: kPolarIterations Newton iterations R <- (g R + R^-T / g) / 2, all matrices
-/// interleaved, with the Frobenius scaling g = (|R^-T| / |R|)^(1/2) approximated to about
-/// 1e-3 without a square root (any positive g converges; this one keeps the loop free of
-/// library calls, so that it vectorizes).
-void polar_rotations_interleaved(double* a, std::size_t lanes) noexcept;
+/// The lane kernels of an instruction set (`best` resolved first); `isa` must be available.
+const ReducedLaneKernels& reduced_lane_kernels(KernelIsa isa) noexcept;
 
-/// out[v] = row v of the panels times q, plus the lift panels times d when not empty, for the
-/// `values` values of a ReducedDisplaySet (panels of kSampleLanes values: row v, column j at
-/// [(v / kSampleLanes) r + j) kSampleLanes + v % kSampleLanes]). Each value sums over the
-/// columns in order.
-void panel_times(std::span<const double> panels, std::span<const double> lift_panels, const double* q, int r,
-                 const double* prescribed_m, std::span<double> out) noexcept;
+/// The sample tables of `t` as the lane kernels read them.
+CubatureView cubature_view(const ReducedTables& t) noexcept;
 
 }  // namespace nav::detail

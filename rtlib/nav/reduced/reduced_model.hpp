@@ -12,6 +12,7 @@
 #include "nav/core/arena.hpp"
 #include "nav/core/error.hpp"
 #include "nav/core/health.hpp"
+#include "nav/core/kernel_isa.hpp"
 #include "nav/mesh/tet_mesh.hpp"
 #include "nav/reduced/reduced_basis.hpp"
 #include "nav/tissue/tissue_scene.hpp"
@@ -41,6 +42,9 @@ struct ReducedSolverOptions {
   /// next step then rebuilds its tangent even when frozen_tangent is set. Beyond 10 times
   /// that, q_i is held at the limit with zero rate (no run-away in an untrained direction).
   double envelope_factor = 1.5;
+  /// The instruction set of the cubature kernels: every choice gives the same bits; `best`
+  /// is the widest this CPU runs (kernel_isa.hpp).
+  KernelIsa kernel_isa = KernelIsa::best;
 };
 
 /// What the last reduced step did.

@@ -260,7 +260,8 @@ void reconstruct_display_m(const ReducedModel& model, const ReducedData& data, c
                            std::span<double> out_xyz) noexcept {
   const std::size_t values = std::min(out_xyz.size(), 3 * display.nodes.size());
   if (display.basis_size != model.basis_size()) return;
-  detail::panel_times(display.panels, display.lift_panels, data.q.data(), display.basis_size, data.prescribed_m, out_xyz.first(values));
+  model.tables().lane_kernels->panel_times(display.panels.data(), display.lift_panels.empty() ? nullptr : display.lift_panels.data(),
+                                           data.q.data(), display.basis_size, data.prescribed_m, out_xyz.data(), values);
 }
 
 }  // namespace nav

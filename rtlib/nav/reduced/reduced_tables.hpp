@@ -6,13 +6,11 @@
 #include <vector>
 
 #include "nav/reduced/reduced_basis.hpp"
+#include "nav/reduced/reduced_lane_kernels.hpp"
 #include "nav/reduced/reduced_model.hpp"
 #include "nav/tissue/elastic_material.hpp"
 
 namespace nav::detail {
-
-/// Sampled tetrahedra per block of the cubature kernels (the lanes of their loops).
-inline constexpr int kSampleLanes = 8;
 
 /// Per-model tables of a ReducedModel.
 struct ReducedTables {
@@ -23,6 +21,7 @@ struct ReducedTables {
   bool has_lift = false;
   std::size_t max_point_forces = 0;
   double gain_pa = 0.0;                     ///< St Venant-Kirchhoff incompressibility gain
+  const ReducedLaneKernels* lane_kernels = nullptr;  ///< the variant of options.kernel_isa
 
   std::vector<double> rows;                 ///< (3 node_count) x r: the basis U
   std::vector<double> lift_rows;            ///< (3 node_count) x 3: the lift L (empty without one)

@@ -9,6 +9,7 @@
 
 #include "nav/mesh/tet_mesh.hpp"
 #include "nav/tissue/elastic_material.hpp"
+#include "nav/tissue/polar_iterations.hpp"
 
 namespace nav {
 
@@ -45,9 +46,6 @@ inline double linear_energy_density(const Eigen::Matrix3d& h, const LameParamete
   const double trace = strain.trace();
   return lame.mu_pa * strain.squaredNorm() + 0.5 * lame.lambda_pa * trace * trace;
 }
-
-/// Iterations of the polar decompositions: enough for condition numbers up to about 1e8.
-inline constexpr int kPolarIterations = 8;
 
 /// Matrices decomposed together by polar_rotations, so that the iterations of independent
 /// elements interleave (and vectorise) instead of waiting on each other's divisions.
