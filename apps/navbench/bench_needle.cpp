@@ -1,7 +1,8 @@
 // navbench needle: median and p99 step times of the needle alone (20, 30, 40 elements), of
 // the needle with 8, 16 and 32 path constraints (30 elements; 32 also at 20 elements), of the
 // needle (20, 30, 40 elements) with 8, 16 and 32 path points in the reduced liver (r = 16,
-// tissue every tick), and of the needle coupled to the full-order corotational embedded
+// tissue every tick; 32 points once per instruction set of the Gauss-Seidel kernels, in
+// alternating turns), and of the needle coupled to the full-order corotational embedded
 // liver (about 5k tetrahedra) with the tissue stepping every tick or every 10 ticks; and the force profile of an insertion-retraction cycle
 // against depth with its stiffness, cutting and friction parts, as an SVG next to the JSON.
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,19 +29,30 @@ struct Record {
   int needle_steps_per_tissue_step = 0;
   double median_us = 0.0, p99_us = 0.0, residual_m = 0.0;
   int basis_size = 0;  ///< r of a reduced tissue, 0 otherwise
+  nav::KernelIsa kernel_isa = nav::KernelIsa::best;  ///< of the Gauss-Seidel lane kernels (resolved)
 };
+
+/// Appends the times of `count` calls of `tick` (given the tick index, from `first`) to `us`, in microseconds.
+void time_ticks_into(std::vector<double>& us, int first, int count, const std::function<void(int)>& tick) {
+  for (int k = first; k < first + count; ++k) {
+    const auto start = std::chrono::steady_clock::now();
+    tick(k);
+    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count());
+  }
+}
+
+/// (median, p99) of step times.
+std::pair<double, double> median_p99(std::vector<double> us) {
+  std::sort(us.begin(), us.end());
+  return {us[us.size() / 2], us[std::min(us.size() - 1, us.size() * 99 / 100)]};
+}
 
 /// Times `ticks` calls of `tick` (given the tick index); returns (median, p99) in microseconds.
 std::pair<double, double> time_ticks(int ticks, const std::function<void(int)>& tick) {
   std::vector<double> us;
   us.reserve(static_cast<std::size_t>(ticks));
-  for (int k = 0; k < ticks; ++k) {
-    const auto start = std::chrono::steady_clock::now();
-    tick(k);
-    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count());
-  }
-  std::sort(us.begin(), us.end());
-  return {us[us.size() / 2], us[std::min(us.size() - 1, us.size() * 99 / 100)]};
+  time_ticks_into(us, 0, ticks, tick);
+  return median_p99(std::move(us));
 }
 
 /// Base position of a back-and-forth motion of +-0.2 mm around x0 in 20 um steps.
@@ -110,26 +123,69 @@ Record coupled(const EmbeddedLiverScene& liver, const nav::TetFemModel& tissue, 
           static_cast<long long>(liver.liver.mesh.tets.size()), ratio, median, p99, data.interaction.report.residual_m, 0};
 }
 
-/// The needle in the reduced liver, the tissue stepping every tick: inserted towards the
-/// tumour until `points` path points hold the shaft, then timed while the base moves back
-/// and forth along the shaft and sideways (as needle_with_constraints).
-Record coupled_reduced(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements, int points, int ticks) {
-  const Approach approach = approach_tumour(liver);
-  const nav::ReducedCoupledNeedleModel model =
-      nav::make_coupled_needle_model(needle(elements), liver_capsule(approach, kReducedPathSpacingM), tissue, liver.liver.mesh, 64, 1).value();
-  nav::ReducedCoupledNeedleData data = nav::make_coupled_needle_data(model, approach.base_at(0.0)).value();
-  const double advanced_m = insert_until(model, data, approach, points);
+/// The needle in the reduced liver, the tissue stepping every tick, its Gauss-Seidel kernels
+/// of `isa`: inserted towards the tumour until `points` path points hold the shaft, then
+/// ticked while the base moves back and forth along the shaft and sideways (as
+/// needle_with_constraints).
+struct ReducedRun {
+  Approach approach;
+  nav::ReducedCoupledNeedleModel model;
+  nav::ReducedCoupledNeedleData data;
+  double advanced_m = 0.0;
   int rows = 0;
   double residual_m = 0.0;
-  const auto [median, p99] = time_ticks(ticks, [&](int k) {
-    nav::step(model, data, nav::NeedleInputs{approach.wobbled_base(advanced_m, k), {}, {}});
-    rows = std::max(rows, data.interaction.row_count);
-    residual_m = std::max(residual_m, data.interaction.report.residual_m);
-  });
-  std::fprintf(stderr, "  reduced liver, %d elements: inserted %.1f mm, path points %d, health bits %u (tissue %u)\n", elements,
-               1e3 * advanced_m, data.interaction.report.active_path_points, data.interaction.health.bits(), data.tissue.health.bits());
-  return {"coupled_reduced_liver", elements, data.interaction.report.active_path_points, rows,
-          static_cast<long long>(liver.liver.mesh.tets.size()), 1, median, p99, residual_m, tissue.basis_size()};
+  std::vector<double> us;  ///< step times
+
+  ReducedRun(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements, int points, nav::KernelIsa isa)
+      : approach(approach_tumour(liver)),
+        model(nav::make_coupled_needle_model(needle(elements), scene_of(approach, isa), tissue, liver.liver.mesh, 64, 1).value()),
+        data(nav::make_coupled_needle_data(model, approach.base_at(0.0)).value()),
+        advanced_m(insert_until(model, data, approach, points)) {}
+
+  static nav::NeedleTissueScene scene_of(const Approach& approach, nav::KernelIsa isa) {
+    nav::NeedleTissueScene scene = liver_capsule(approach, kReducedPathSpacingM);
+    scene.kernel_isa = isa;
+    return scene;
+  }
+
+  /// Times ticks [first, first + count).
+  void time(int first, int count) {
+    time_ticks_into(us, first, count, [&](int k) {
+      nav::step(model, data, nav::NeedleInputs{approach.wobbled_base(advanced_m, k), {}, {}});
+      rows = std::max(rows, data.interaction.row_count);
+      residual_m = std::max(residual_m, data.interaction.report.residual_m);
+    });
+  }
+
+  Record record(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements) const {
+    std::fprintf(stderr, "  reduced liver, %d elements, %s kernels: inserted %.1f mm, path points %d, health bits %u (tissue %u)\n",
+                 elements, std::string(nav::kernel_isa_name(model.interaction.scene.kernel_isa)).c_str(), 1e3 * advanced_m,
+                 data.interaction.report.active_path_points, data.interaction.health.bits(), data.tissue.health.bits());
+    const auto [median, p99] = median_p99(us);
+    return {"coupled_reduced_liver", elements, data.interaction.report.active_path_points, rows,
+            static_cast<long long>(liver.liver.mesh.tets.size()), 1, median, p99, residual_m, tissue.basis_size(),
+            nav::resolve_kernel_isa(model.interaction.scene.kernel_isa)};
+  }
+};
+
+Record coupled_reduced(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements, int points, int ticks) {
+  ReducedRun run(liver, tissue, elements, points, nav::KernelIsa::best);
+  run.time(0, ticks);
+  return run.record(liver, tissue, elements);
+}
+
+/// 32 path points once per available instruction set of the Gauss-Seidel kernels (the same
+/// bits), timed in turns of 500 ticks so that a shared host's slow spells fall on all alike.
+std::vector<Record> coupled_reduced_per_isa(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements, int ticks) {
+  std::vector<std::unique_ptr<ReducedRun>> runs;
+  for (nav::KernelIsa isa : {nav::KernelIsa::baseline, nav::KernelIsa::avx2, nav::KernelIsa::avx512})
+    if (nav::kernel_isa_available(isa)) runs.push_back(std::make_unique<ReducedRun>(liver, tissue, elements, 32, isa));
+  constexpr int kTurn = 500;
+  for (int first = 0; first < ticks; first += kTurn)
+    for (auto& run : runs) run->time(first, std::min(kTurn, ticks - first));
+  std::vector<Record> records;
+  for (const auto& run : runs) records.push_back(run->record(liver, tissue, elements));
+  return records;
 }
 
 /// One point of the force profile.
@@ -201,10 +257,11 @@ bool write_json(const std::string& path, const std::vector<Record>& records) {
     const Record& r = records[k];
     std::fprintf(file,
                  "  {\"case\": \"%s\", \"elements\": %d, \"constraint_points\": %d, \"rows\": %d, \"tetrahedra\": %lld, "
-                 "\"needle_steps_per_tissue_step\": %d, \"basis_size\": %d, \"step_us_median\": %.2f, \"step_us_p99\": %.2f, "
-                 "\"residual_m\": %.3e}%s\n",
+                 "\"needle_steps_per_tissue_step\": %d, \"basis_size\": %d, \"kernel_isa\": \"%s\", \"step_us_median\": %.2f, "
+                 "\"step_us_p99\": %.2f, \"residual_m\": %.3e}%s\n",
                  r.name.c_str(), r.elements, r.constraint_points, r.rows, r.tets, r.needle_steps_per_tissue_step, r.basis_size,
-                 r.median_us, r.p99_us, r.residual_m, k + 1 < records.size() ? "," : "");
+                 std::string(nav::kernel_isa_name(nav::resolve_kernel_isa(r.kernel_isa))).c_str(), r.median_us, r.p99_us, r.residual_m,
+                 k + 1 < records.size() ? "," : "");
   }
   std::fputs("]\n", file);
   return std::fclose(file) == 0;
@@ -228,12 +285,14 @@ int run_needle_bench(const std::vector<std::string>& args) {
   const nav::TetFemModel full = full_order_liver(liver);
   for (int ratio : {1, 10}) records.push_back(coupled(liver, full, ratio, quick ? 600 : 2000));
   const nav::ReducedModel reduced = reduced_liver(liver);
-  for (int elements : {20, 30, 40})
-    for (int points : {8, 16, 32}) records.push_back(coupled_reduced(liver, reduced, elements, points, ticks));
+  for (int elements : {20, 30, 40}) {
+    for (int points : {8, 16}) records.push_back(coupled_reduced(liver, reduced, elements, points, ticks));
+    for (Record& r : coupled_reduced_per_isa(liver, reduced, elements, ticks)) records.push_back(std::move(r));
+  }
   for (const Record& r : records)
-    std::fprintf(stderr, "%-32s %2d elements %2d points %3d rows %5lld tets 1:%-2d  median %9.1f us  p99 %9.1f us  residual %.1e m\n",
-                 r.name.c_str(), r.elements, r.constraint_points, r.rows, r.tets, r.needle_steps_per_tissue_step, r.median_us,
-                 r.p99_us, r.residual_m);
+    std::fprintf(stderr, "%-32s %2d elements %2d points %3d rows %5lld tets 1:%-2d %-8s median %9.1f us  p99 %9.1f us  residual %.1e m\n",
+                 r.name.c_str(), r.elements, r.constraint_points, r.rows, r.tets, r.needle_steps_per_tissue_step,
+                 std::string(nav::kernel_isa_name(nav::resolve_kernel_isa(r.kernel_isa))).c_str(), r.median_us, r.p99_us, r.residual_m);
   if (!write_json(json_path, records)) return 1;
   const std::size_t dot = json_path.rfind('.');
   write_profile_svg((dot == std::string::npos ? json_path : json_path.substr(0, dot)) + "_force_profile.svg", insertion_profile());

@@ -1,7 +1,8 @@
 // Step times of the flexible needle: alone at 20, 30 and 40 elements, with 8, 16 and 32
 // path constraints (20 and 30 elements, projected Gauss-Seidel with the scene's sweeps), and
 // coupled to the reduced embedded liver (r = 16, tissue every tick) with 8, 16 and 32 path
-// points at 20, 30 and 40 elements, on the scenes of `navbench needle` (which also times the
+// points at 20, 30 and 40 elements (32 points also per instruction set of the Gauss-Seidel
+// kernels), on the scenes of `navbench needle` (which also times the
 // coupling to the full-order liver and writes the force profile).
 #include <benchmark/benchmark.h>
 
@@ -46,16 +47,21 @@ void BM_NeedleWithPathConstraints(benchmark::State& state) {
 }
 BENCHMARK(BM_NeedleWithPathConstraints)->ArgsProduct({{8, 16, 32}, {20, 30}})->Unit(benchmark::kMicrosecond);
 
-void BM_NeedleInReducedLiver(benchmark::State& state) {
+/// The needle in the reduced liver with `points` path points, its Gauss-Seidel kernels of `isa`.
+void run_in_reduced_liver(benchmark::State& state, int points, int elements, nav::KernelIsa isa) {
+  if (!nav::kernel_isa_available(isa)) {
+    state.SkipWithError("instruction set not available");
+    return;
+  }
   static const EmbeddedLiverScene liver;
   static const nav::ReducedModel tissue = reduced_liver(liver);
   const Approach approach = approach_tumour(liver);
+  nav::NeedleTissueScene scene = liver_capsule(approach, kReducedPathSpacingM);
+  scene.kernel_isa = isa;
   const nav::ReducedCoupledNeedleModel model =
-      nav::make_coupled_needle_model(needle(static_cast<int>(state.range(1))), liver_capsule(approach, kReducedPathSpacingM), tissue,
-                                     liver.liver.mesh, 64, 1)
-          .value();
+      nav::make_coupled_needle_model(needle(elements), scene, tissue, liver.liver.mesh, 64, 1).value();
   nav::ReducedCoupledNeedleData data = nav::make_coupled_needle_data(model, approach.base_at(0.0)).value();
-  const double advanced_m = insert_until(model, data, approach, static_cast<int>(state.range(0)));
+  const double advanced_m = insert_until(model, data, approach, points);
   int tick = 0;
   for (auto _ : state) {
     nav::step(model, data, nav::NeedleInputs{approach.wobbled_base(advanced_m, tick++), {}, {}});
@@ -64,6 +70,16 @@ void BM_NeedleInReducedLiver(benchmark::State& state) {
   state.counters["rows"] = data.interaction.row_count;
   state.counters["residual_m"] = data.interaction.report.residual_m;
 }
+
+void BM_NeedleInReducedLiver(benchmark::State& state) {
+  run_in_reduced_liver(state, static_cast<int>(state.range(0)), static_cast<int>(state.range(1)), nav::KernelIsa::best);
+}
 BENCHMARK(BM_NeedleInReducedLiver)->ArgsProduct({{8, 16, 32}, {20, 30, 40}})->Unit(benchmark::kMicrosecond);
+
+/// 32 path points per instruction set of the Gauss-Seidel kernels (1 baseline, 2 avx2, 3 avx512).
+void BM_NeedleInReducedLiverKernels(benchmark::State& state) {
+  run_in_reduced_liver(state, 32, static_cast<int>(state.range(0)), static_cast<nav::KernelIsa>(state.range(1)));
+}
+BENCHMARK(BM_NeedleInReducedLiverKernels)->ArgsProduct({{20, 30, 40}, {1, 2, 3}})->Unit(benchmark::kMicrosecond);
 
 }  // namespace

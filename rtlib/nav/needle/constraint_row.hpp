@@ -6,17 +6,9 @@
 
 #include <Eigen/Core>
 
-namespace nav {
+#include "nav/needle/row_law.hpp"
 
-/// The (gap, force) graph of a row, Duriez's characteristic graphs (section 2.5).
-enum class RowLaw : std::uint8_t {
-  bilateral,         ///< gap = 0, force free (path and tip lateral directions)
-  unilateral_capped, ///< gap >= 0, 0 <= force <= cap, gap <= 0 allowed at the cap
-                     ///< (puncture up to f_p, cutting up to the cutting force)
-  friction_axial,    ///< |force| <= cap + mu |lateral force of the two linked rows|, stick or slip
-  coulomb_pair,      ///< first of two tangent rows: |(f1, f2)| <= mu * force of the linked normal row
-  coulomb_second,    ///< second of those rows, solved with the first
-};
+namespace nav {
 
 /// One row of H and its law. Forces are on the needle along `direction` (newtons); the
 /// tissue gets the opposite.
@@ -33,10 +25,6 @@ struct ConstraintRow {
   double friction_coefficient = 0.0;  ///< mu of friction_axial and coulomb_pair rows
   std::int32_t linked[2] = {-1, -1};  ///< rows (indices in the active list) a limit depends on
 };
-
-/// Rows of one constraint point: at most this many, consecutive, sharing the needle point
-/// (node and weight) and the tissue point. The solver and the compliance work per point.
-inline constexpr int kMaxRowsPerPoint = 3;
 
 /// Whether `next` belongs to the same constraint point as `row`.
 inline bool same_constraint_point(const ConstraintRow& row, const ConstraintRow& next) {

@@ -10,12 +10,6 @@ namespace {
 /// Relative slack under which a force counts as at its bound.
 constexpr double kAtBound = 1e-9;
 
-void add_column(std::span<const double> w, std::size_t m, std::size_t column, double change, std::span<double> gaps) {
-  if (change == 0.0) return;  // a force held at its bound
-  const double* c = w.data() + column * m;
-  for (std::size_t i = 0; i < m; ++i) gaps[i] += c[i] * change;
-}
-
 constexpr auto kMaxGroup = static_cast<std::size_t>(kMaxRowsPerPoint);
 
 /// One past the last row of the constraint point whose first row is `first`.
@@ -23,19 +17,6 @@ std::size_t group_end(std::span<const ConstraintRow> rows, std::size_t first) {
   std::size_t end = first + 1;
   while (end < rows.size() && end - first < kMaxGroup && same_constraint_point(rows[first], rows[end])) ++end;
   return end;
-}
-
-/// gaps += W[:, first:end] change, in one pass over the gaps.
-void add_columns(std::span<const double> w, std::size_t m, std::size_t first, std::size_t end, const double* change,
-                 std::span<double> gaps) {
-  const double* a = w.data() + first * m;
-  if (end - first == 3) {
-    const double* b = a + m;
-    const double* c = b + m;
-    for (std::size_t i = 0; i < m; ++i) gaps[i] += (a[i] * change[0] + b[i] * change[1]) + c[i] * change[2];
-    return;
-  }
-  for (std::size_t j = first; j < end; ++j) add_column(w, m, j, change[j - first], gaps);
 }
 
 double force_of(std::span<const double> forces, std::int32_t row) {
@@ -96,57 +77,30 @@ double law_violation_m(const ConstraintRow& row, double gap_m, double force_n, d
   return 0.0;
 }
 
-double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const double> w, int sweeps,
-                          std::span<double> forces, std::span<double> gaps) noexcept {
-  const std::size_t m = rows.size();
-  for (std::size_t i = 0; i < m; ++i) gaps[i] = rows[i].gap_free_m;
-  for (std::size_t j = 0; j < m; ++j) add_column(w, m, j, forces[j], gaps);
-  for (int sweep = 0; sweep < sweeps; ++sweep) {
-    for (std::size_t first = 0; first < m;) {
-      const std::size_t end = group_end(rows, first), size = end - first;
-      // The point's rows in order, their gaps kept up to date within the point's block; the
-      // other rows' gaps follow once per point.
-      double block[kMaxGroup][kMaxGroup] = {}, inverse_diagonal[kMaxGroup] = {}, change[kMaxGroup] = {};
-      for (std::size_t i = 0; i < size; ++i) {
-        for (std::size_t j = 0; j < size; ++j) block[i][j] = w[(first + j) * m + first + i];
-        inverse_diagonal[i] = block[i][i] > 0.0 ? 1.0 / block[i][i] : 0.0;
-      }
-      const auto gap_now = [&](std::size_t i) {
-        double g = gaps[first + i];
-        for (std::size_t j = 0; j < size; ++j) g += block[i][j] * change[j];
-        return g;
-      };
-      for (std::size_t i = 0; i < size; ++i) {
-        const std::size_t r = first + i;
-        const ConstraintRow& row = rows[r];
-        if (row.law == RowLaw::coulomb_second || inverse_diagonal[i] == 0.0) continue;
-        if (row.law == RowLaw::coulomb_pair && i + 1 < size) {
-          // Both tangent rows, then back onto the disk of radius mu * normal force.
-          double f1 = forces[r] - gap_now(i) * inverse_diagonal[i], f2 = forces[r + 1] - gap_now(i + 1) * inverse_diagonal[i + 1];
-          const double limit = row_limit_n(rows, r, forces), length = std::sqrt(f1 * f1 + f2 * f2);
-          if (length > limit) {
-            f1 *= limit / length;
-            f2 *= limit / length;
-          }
-          change[i] += f1 - forces[r];
-          change[i + 1] += f2 - forces[r + 1];
-          forces[r] = f1;
-          forces[r + 1] = f2;
-          continue;
-        }
-        double f = forces[r] - gap_now(i) * inverse_diagonal[i];
-        if (row.law == RowLaw::unilateral_capped) f = std::clamp(f, 0.0, row.cap);
-        if (row.law == RowLaw::friction_axial) {
-          const double limit = row_limit_n(rows, r, forces);
-          f = std::clamp(f, -limit, limit);
-        }
-        change[i] += f - forces[r];
-        forces[r] = f;
-      }
-      add_columns(w, m, first, end, change, gaps);
-      first = end;
-    }
+const detail::NeedleLaneKernels& detail::needle_lane_kernels(KernelIsa isa) noexcept {
+  switch (resolve_kernel_isa(isa)) {
+#if NAV_KERNEL_ISA_X86
+    case KernelIsa::avx2: return needle_lane_kernels_avx2;
+    case KernelIsa::avx512: return needle_lane_kernels_avx512;
+#endif
+    default: return needle_lane_kernels_baseline;
   }
+}
+
+double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const double> w, int sweeps,
+                          std::span<double> forces, std::span<double> gaps, const GaussSeidelWorkspace& work) noexcept {
+  const std::size_t m = rows.size();
+  for (std::size_t first = 0; first < m;) {
+    const std::size_t end = group_end(rows, first);
+    for (std::size_t r = first; r < end; ++r) {
+      const ConstraintRow& row = rows[r];
+      work.rows[r] = {row.cap, row.friction_coefficient, {row.linked[0], row.linked[1]}, row.law,
+                      static_cast<std::uint8_t>(r == first ? end - first : 0)};
+      gaps[r] = row.gap_free_m;
+    }
+    first = end;
+  }
+  work.kernels->gauss_seidel({m, work.rows.data(), w.data(), forces.data(), gaps.data()}, sweeps);
   double worst = 0.0;
   for (std::size_t r = 0; r < m; ++r) {
     const double limit = row_limit_n(rows, r, forces);

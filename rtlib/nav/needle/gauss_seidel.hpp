@@ -2,18 +2,28 @@
 // Projected Gauss-Seidel on delta = delta_free + W lambda with the row laws of
 // ConstraintRow: a fixed number of sweeps in the rows' fixed order (the rows of one constraint
 // point in turn, their effect on the others applied once per point), warm-started from the
-// given forces, then the largest law violation as the residual. No allocation.
+// given forces, then the largest law violation as the residual. The sweeps run in the lane
+// kernels of an instruction set (needle_lane_kernels.hpp), every variant the same bits. No
+// allocation.
 #include <span>
 
+#include "nav/core/kernel_isa.hpp"
 #include "nav/needle/constraint_row.hpp"
+#include "nav/needle/needle_lane_kernels.hpp"
 
 namespace nav {
 
+/// Where the solver works: one sweep row per constraint row, and the kernels' variant.
+struct GaussSeidelWorkspace {
+  std::span<detail::SweepRow> rows;
+  const detail::NeedleLaneKernels* kernels = &detail::needle_lane_kernels_baseline;
+};
+
 /// Runs `sweeps` sweeps. `w` is m x m column-major, `forces` (m) holds the warm start on
-/// entry and the solution on exit, `gaps` (m) receives delta_free + W lambda. Returns the
-/// largest violation of the laws, in metres.
+/// entry and the solution on exit, `gaps` (m) receives delta_free + W lambda; `work.rows`
+/// holds at least m rows. Returns the largest violation of the laws, in metres.
 double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const double> w, int sweeps,
-                          std::span<double> forces, std::span<double> gaps) noexcept;
+                          std::span<double> forces, std::span<double> gaps, const GaussSeidelWorkspace& work) noexcept;
 
 /// The violation of one row's law by (gap, force), in metres (0 when it holds).
 double law_violation_m(const ConstraintRow& row, double gap_m, double force_n, double limit_n) noexcept;
@@ -24,5 +34,12 @@ double coulomb_disk_violation_m(std::span<const double> gaps, std::span<const do
 
 /// The force bound of a friction or Coulomb row given the current forces.
 double row_limit_n(std::span<const ConstraintRow> rows, std::size_t row, std::span<const double> forces) noexcept;
+
+namespace detail {
+
+/// The solver's lane kernels of `isa` (`best` resolved); baseline when it is not available.
+const NeedleLaneKernels& needle_lane_kernels(KernelIsa isa) noexcept;
+
+}  // namespace detail
 
 }  // namespace nav

@@ -2,6 +2,7 @@
 #include <numbers>
 #include <string>
 
+#include "nav/needle/gauss_seidel.hpp"
 #include "nav/needle/needle_tissue_model.hpp"
 #include "nav/needle/tissue_points.hpp"
 
@@ -38,6 +39,8 @@ Status validate_scene(const NeedleTissueScene& s) {
   if (!non_negative(s.bevel_steering_gain) || s.bevel_steering_gain > 1.0) return scene_error("bevel_steering_gain", "must be within [0, 1]");
   if (s.gauss_seidel_sweeps < 1 || s.gauss_seidel_sweeps > 1000) return scene_error("gauss_seidel_sweeps", "must be within [1, 1000]");
   if (!positive(s.residual_bound_m)) return scene_error("residual_bound_m", "must be positive");
+  if (!kernel_isa_available(s.kernel_isa))
+    return Error{"this build or CPU has no " + std::string(kernel_isa_name(s.kernel_isa)) + " kernels", "", 0, "scene.kernel_isa"};
   return Done{};
 }
 
@@ -53,6 +56,7 @@ Result<NeedleTissueModel> make_needle_tissue_model(const NeedleParameters& needl
   model.needle = std::move(needle_model).value();
   model.scene = scene;
   model.tissue_rest_m.assign(tissue_rest_m.begin(), tissue_rest_m.end());
+  model.lane_kernels = &detail::needle_lane_kernels(scene.kernel_isa);
   model.compliance_tensor_m_per_n = scene.point_compliance_m_per_n * Eigen::Matrix3d::Identity();
   if (scene.bevel_steering) model.bevel_tilt_rad = scene.bevel_steering_gain * (0.5 * std::numbers::pi - needle.bevel_angle_rad);
   return model;
@@ -66,7 +70,7 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
   const auto nodes = static_cast<std::size_t>(model.needle.node_count());
   ArenaPlan plan;
   plan.add<LayerState>(layers).add<PathPoint>(static_cast<std::size_t>(model.scene.max_path_points));
-  plan.add<double>(slots).add<double>(slots).add<ConstraintRow>(slots);
+  plan.add<double>(slots).add<double>(slots).add<ConstraintRow>(slots).add<detail::SweepRow>(slots);
   plan.add<double>(slots * slots).add<double>(slots).add<double>(slots).add<double>(6 * nodes);
   const auto rank = static_cast<std::size_t>(model.compliance_rank);
   const std::size_t points = rank > 0 ? static_cast<std::size_t>(model.max_points()) : 0;
@@ -76,9 +80,12 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
   auto layer_states = data.arena.allocate<LayerState>("layers", layers);
   auto path = data.arena.allocate<PathPoint>("path points", static_cast<std::size_t>(model.scene.max_path_points));
   auto rows = data.arena.allocate<ConstraintRow>("constraint rows", slots);
+  auto sweep_rows = data.arena.allocate<detail::SweepRow>("sweep rows", slots);
   if (!layer_states.ok()) return layer_states.error();
   if (!path.ok()) return path.error();
   if (!rows.ok()) return rows.error();
+  if (!sweep_rows.ok()) return sweep_rows.error();
+  data.sweep_rows = sweep_rows.value();
   data.layers = layer_states.value();
   data.path = path.value();
   data.rows = rows.value();

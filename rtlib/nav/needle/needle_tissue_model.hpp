@@ -14,6 +14,7 @@
 #include "nav/core/error.hpp"
 #include "nav/core/health.hpp"
 #include "nav/needle/constraint_row.hpp"
+#include "nav/needle/needle_lane_kernels.hpp"
 #include "nav/needle/needle_model.hpp"
 #include "nav/needle/needle_tissue_scene.hpp"
 
@@ -73,6 +74,8 @@ struct NeedleTissueModel {
   std::vector<double> compliance_factors;
   /// Tissue rest positions (3 per node) that tissue points attach to; empty stand-alone.
   std::vector<double> tissue_rest_m;
+  /// The Gauss-Seidel lane kernels of scene.kernel_isa.
+  const detail::NeedleLaneKernels* lane_kernels = &detail::needle_lane_kernels_baseline;
   int layer_count() const { return static_cast<int>(scene.layers.size()); }
   /// Constraint points at most: one per layer (contact), the tip, one per path point.
   int max_points() const { return layer_count() + 1 + scene.max_path_points; }
@@ -124,6 +127,7 @@ struct NeedleTissueData {
   // Workspace of one step.
   std::span<ConstraintRow> rows;
   std::span<double> compliance, row_forces, row_gaps, nodal_forces;
+  std::span<detail::SweepRow> sweep_rows;  ///< the Gauss-Seidel workspace
   // Low-rank tissue only: per row V_node^T direction (compliance_rank values), the distinct
   // tissue nodes of the constraint points, each point's index among them, and the 3x3
   // blocks V_a V_b^T between them.

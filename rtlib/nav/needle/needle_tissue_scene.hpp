@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "nav/core/kernel_isa.hpp"
 #include "nav/mesh/tet_mesh.hpp"
 
 namespace nav {
@@ -42,6 +43,9 @@ struct NeedleTissueScene {
   bool bevel_steering = false;
   double bevel_steering_gain = 0.5;
   int gauss_seidel_sweeps = 30;
+  /// The instruction set of the Gauss-Seidel lane kernels (same bits in every one); `best`
+  /// is the widest this CPU runs (nav/core/kernel_isa.hpp).
+  KernelIsa kernel_isa = KernelIsa::best;
   /// A solve that ends with a larger law violation raises solver_not_converged.
   double residual_bound_m = 1e-5;
 };

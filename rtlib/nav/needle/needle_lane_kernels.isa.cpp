@@ -1,0 +1,143 @@
+// The lane kernels of the needle-tissue solver, compiled once per instruction set (see
+// nav/core/kernel_isa_variant.hpp): projected Gauss-Seidel whose gap updates are plain loops
+// over independent rows, which the compiler vectorizes to the variant's width; every sum in
+// an order written here, so every variant gives the same bits.
+#include "nav/core/kernel_isa_variant.hpp"
+#include "nav/needle/needle_lane_kernels.hpp"
+
+namespace nav::detail::NAV_KERNEL_ISA_NAMESPACE {
+namespace {
+
+using Index = std::size_t;
+
+/// max(a, b) and clamp(v, lo, hi) with the comparisons of the standard library's.
+double larger(double a, double b) { return a < b ? b : a; }
+double clamped(double v, double lo, double hi) {
+  const double above = v < lo ? lo : v;
+  return hi < above ? hi : above;
+}
+
+/// gaps += column change (nothing when change is zero: a force held at its bound).
+void add_column(const double* __restrict column, Index m, double change, double* __restrict gaps) {
+  if (change == 0.0) return;
+  for (Index i = 0; i < m; ++i) gaps[i] += column[i] * change;
+}
+
+/// gaps += W[:, first:first + size] change, in one pass over the gaps for a full point.
+void add_columns(const double* w, Index m, Index first, Index size, const double* change, double* __restrict gaps) {
+  const double* __restrict a = w + first * m;
+  if (size == 3) {
+    const double* __restrict b = a + m;
+    const double* __restrict c = b + m;
+    const double c0 = change[0], c1 = change[1], c2 = change[2];
+    for (Index i = 0; i < m; ++i) gaps[i] += (a[i] * c0 + b[i] * c1) + c[i] * c2;
+    return;
+  }
+  for (Index j = 0; j < size; ++j) add_column(a + j * m, m, change[j], gaps);
+}
+
+double force_of(const double* forces, std::int32_t row) { return row >= 0 ? forces[row] : 0.0; }
+
+/// The force bound of a friction or Coulomb row given the current forces (row_limit_n);
+/// inlined: it sits on the chain from one row's projection to the next.
+[[gnu::always_inline]] inline double limit_of(const SweepRow& row, const double* forces) {
+  switch (row.law) {
+    case RowLaw::friction_axial: {
+      const double a = force_of(forces, row.linked[0]), b = force_of(forces, row.linked[1]);
+      return row.cap + row.friction_coefficient * __builtin_sqrt(a * a + b * b);
+    }
+    case RowLaw::coulomb_pair:
+    case RowLaw::coulomb_second:
+      return row.friction_coefficient * larger(0.0, force_of(forces, row.linked[0]));
+    case RowLaw::bilateral:
+    case RowLaw::unilateral_capped:
+      break;
+  }
+  return row.cap;
+}
+
+/// One sweep's work on the constraint point of rows [first, first + Size). Size is a
+/// constant so that the point's block, changes and gaps stay in registers: the chain from one
+/// row's projection to the next row's gap never goes through memory.
+template <Index Size>
+void solve_point(const SweepProblem& p, Index first) {
+  const Index m = p.m;
+  double* forces = p.forces;
+  double block[Size][Size] = {}, inverse_diagonal[Size] = {}, change[Size] = {};
+#pragma GCC unroll 3
+  for (Index i = 0; i < Size; ++i) {
+#pragma GCC unroll 3
+    for (Index j = 0; j < Size; ++j) block[i][j] = p.w[(first + j) * m + first + i];
+    inverse_diagonal[i] = block[i][i] > 0.0 ? 1.0 / block[i][i] : 0.0;
+  }
+  // Row i's gap is gaps + sum_j block[i][j] change[j], j in order, where the changes of the
+  // rows not yet solved (j >= `from`, never past the last) are still +0. Their terms are zeros (NaN from a
+  // non-finite W), for which ((g + z) + z') = g + (z + z') bit for bit: they are summed
+  // apart, off the chain that runs from one row's projection to the next row's gap.
+  const auto unchanged_terms = [&](Index i, Index from) {
+    double z = block[i][from] * change[from];
+#pragma GCC unroll 3
+    for (Index j = from + 1; j < Size; ++j) z += block[i][j] * change[j];
+    return z;
+  };
+  const auto gap_now = [&](Index i, Index from) {
+    double g = p.gaps[first + i];
+#pragma GCC unroll 3
+    for (Index j = 0; j < from; ++j) g += block[i][j] * change[j];
+    return g + unchanged_terms(i, from);
+  };
+#pragma GCC unroll 3
+  for (Index i = 0; i < Size; ++i) {
+    const Index r = first + i;
+    const SweepRow& row = p.rows[r];
+    if (row.law == RowLaw::coulomb_second || inverse_diagonal[i] == 0.0) continue;
+    if (row.law == RowLaw::coulomb_pair && i + 1 < Size) {
+      // Both tangent rows, then back onto the disk of radius mu * normal force.
+      double f1 = forces[r] - gap_now(i, i) * inverse_diagonal[i], f2 = forces[r + 1] - gap_now(i + 1, i) * inverse_diagonal[i + 1];
+      const double limit = limit_of(row, forces), length = __builtin_sqrt(f1 * f1 + f2 * f2);
+      if (length > limit) {
+        f1 *= limit / length;
+        f2 *= limit / length;
+      }
+      change[i] += f1 - forces[r];
+      change[i + 1] += f2 - forces[r + 1];
+      forces[r] = f1;
+      forces[r + 1] = f2;
+      continue;
+    }
+    double f = forces[r] - gap_now(i, i) * inverse_diagonal[i];
+    if (row.law == RowLaw::unilateral_capped) f = clamped(f, 0.0, row.cap);
+    if (row.law == RowLaw::friction_axial) {
+      const double limit = limit_of(row, forces);
+      f = clamped(f, -limit, limit);
+    }
+    change[i] += f - forces[r];
+    forces[r] = f;
+  }
+  add_columns(p.w, m, first, Size, change, p.gaps);
+}
+
+void gauss_seidel(const SweepProblem& p, int sweeps) noexcept {
+  const Index m = p.m;
+  for (Index j = 0; j < m; ++j) add_column(p.w + j * m, m, p.forces[j], p.gaps);
+  for (int sweep = 0; sweep < sweeps; ++sweep)
+    for (Index first = 0; first < m; first += p.rows[first].point_rows) {
+      switch (p.rows[first].point_rows) {
+        case 3: solve_point<3>(p, first); break;
+        case 2: solve_point<2>(p, first); break;
+        default: solve_point<1>(p, first); break;
+      }
+    }
+}
+
+}  // namespace
+}  // namespace nav::detail::NAV_KERNEL_ISA_NAMESPACE
+
+namespace nav::detail {
+
+extern const NeedleLaneKernels NAV_KERNEL_ISA_NAME(needle_lane_kernels_);
+const NeedleLaneKernels NAV_KERNEL_ISA_NAME(needle_lane_kernels_){
+    NAV_KERNEL_ISA_NAMESPACE::gauss_seidel,
+};
+
+}  // namespace nav::detail

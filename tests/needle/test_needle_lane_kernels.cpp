@@ -1,0 +1,168 @@
+// The needle solver's lane kernels (needle_lane_kernels.hpp) in every instruction set this
+// build and CPU run give bitwise the baseline's results: on projected Gauss-Seidel problems
+// with every row law (friction and Coulomb rows, points of one to three rows), and on the
+// needle inserted into the reduced embedded liver until 32 path points hold it (the scene of
+// `navbench needle`), hashed after the insertion and a wobbling hold. An instruction set the
+// build or CPU lacks is refused by name.
+#include <gtest/gtest.h>
+
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "../../apps/navbench/bench_needle.hpp"
+#include "nav/needle/gauss_seidel.hpp"
+#include "needle_test_support.hpp"
+#include "support/kernel_isas.hpp"
+
+namespace nav {
+namespace {
+
+/// A mixed problem of `points` constraint points: path points (two bilateral rows and a
+/// friction row linked to them), contact points (a capped normal row and a Coulomb pair)
+/// and single capped rows, W = B B^T / m + c I from a seeded RNG, warm-started.
+struct MixedProblem {
+  std::vector<ConstraintRow> rows;
+  std::vector<double> w, warm_start;
+};
+
+MixedProblem mixed_problem(int points, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  MixedProblem problem;
+  for (int p = 0; p < points; ++p) {
+    const int kind = p % 3, first = static_cast<int>(problem.rows.size());
+    const auto add = [&](RowLaw law, double cap, double mu) {
+      ConstraintRow row;
+      row.law = law;
+      row.node = 1 + p;  // the rows of one point share node, weight and tissue point
+      row.tissue_point_m = Eigen::Vector3d(0.01 * p, 0.0, 0.0);
+      row.cap = cap;
+      row.friction_coefficient = mu;
+      row.gap_free_m = 2e-3 * unit(rng);
+      problem.rows.push_back(row);
+    };
+    if (kind == 0) {
+      add(RowLaw::bilateral, 0.0, 0.0);
+      add(RowLaw::bilateral, 0.0, 0.0);
+      add(RowLaw::friction_axial, 0.05, 0.1);
+      problem.rows.back().linked[0] = first;
+      problem.rows.back().linked[1] = first + 1;
+    } else if (kind == 1) {
+      add(RowLaw::unilateral_capped, 0.5, 0.0);
+      add(RowLaw::coulomb_pair, 0.0, 0.3);
+      add(RowLaw::coulomb_second, 0.0, 0.3);
+      problem.rows[static_cast<std::size_t>(first + 1)].linked[0] = first;
+      problem.rows[static_cast<std::size_t>(first + 2)].linked[0] = first;
+    } else {
+      add(RowLaw::unilateral_capped, 0.3, 0.0);
+    }
+  }
+  const auto m = static_cast<Eigen::Index>(problem.rows.size());
+  Eigen::MatrixXd b(m, m);
+  for (Eigen::Index i = 0; i < m; ++i)
+    for (Eigen::Index j = 0; j < m; ++j) b(i, j) = unit(rng);
+  const Eigen::MatrixXd w = 1e-3 * (b * b.transpose() / static_cast<double>(m) + 0.2 * Eigen::MatrixXd::Identity(m, m));
+  problem.w.assign(w.data(), w.data() + w.size());
+  for (Eigen::Index i = 0; i < m; ++i) problem.warm_start.push_back(i % 4 == 0 ? 0.0 : 0.1 * unit(rng));
+  return problem;
+}
+
+/// Hash of the forces and gaps after `sweeps` sweeps in `isa`'s kernels, and the residual.
+std::uint64_t solved_hash(const MixedProblem& problem, int sweeps, KernelIsa isa, double& residual_m) {
+  const std::size_t m = problem.rows.size();
+  std::vector<double> forces = problem.warm_start, gaps(m, 0.0);
+  std::vector<detail::SweepRow> work(m);
+  residual_m = solve_gauss_seidel(problem.rows, problem.w, sweeps, forces, gaps, GaussSeidelWorkspace{work, &detail::needle_lane_kernels(isa)});
+  return testing::needle_hash({forces, gaps});
+}
+
+TEST(NeedleLaneKernels, EveryVariantSolvesMixedProblemsToTheBaselineBits) {
+  int compared = 0;
+  for (int points : {1, 2, 5, 11, 33}) {  // up to 97 rows, as 32 path points and a tip row
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+      const MixedProblem problem = mixed_problem(points, seed);
+      double baseline_m = 0.0;
+      const std::uint64_t baseline = solved_hash(problem, 30, KernelIsa::baseline, baseline_m);
+      EXPECT_TRUE(std::isfinite(baseline_m));
+      for (KernelIsa isa : testing::available_kernel_isas()) {
+        double residual_m = 0.0;
+        EXPECT_EQ(solved_hash(problem, 30, isa, residual_m), baseline) << kernel_isa_name(isa) << ", " << points << " points";
+        EXPECT_EQ(residual_m, baseline_m) << kernel_isa_name(isa);
+        ++compared;
+      }
+    }
+  }
+  std::printf("%d solves compared bitwise with the baseline kernels (%zu instruction sets)\n", compared,
+              testing::available_kernel_isas().size());
+}
+
+/// The reduced liver and its approach, built once for the cases of this program.
+struct LiverFixture {
+  navbench::needle_scenes::EmbeddedLiverScene liver;
+  ReducedModel tissue = navbench::needle_scenes::reduced_liver(liver);
+  navbench::needle_scenes::Approach approach = navbench::needle_scenes::approach_tumour(liver);
+};
+
+const LiverFixture& liver_fixture() {
+  static const LiverFixture fixture;
+  return fixture;
+}
+
+/// Inserts the 20-element needle into the reduced liver with `isa`'s kernels until 32 path
+/// points hold it, holds it for 200 wobbling ticks; returns the hash of every tick's needle
+/// positions, slot forces and tissue coordinates.
+std::uint64_t liver_run(KernelIsa isa, int& path_points, int& rows) {
+  using namespace navbench::needle_scenes;
+  const LiverFixture& f = liver_fixture();
+  NeedleTissueScene scene = liver_capsule(f.approach, kReducedPathSpacingM);
+  scene.kernel_isa = isa;
+  const ReducedCoupledNeedleModel model = make_coupled_needle_model(needle(20), scene, f.tissue, f.liver.liver.mesh, 64, 1).value();
+  ReducedCoupledNeedleData data = make_coupled_needle_data(model, f.approach.base_at(0.0)).value();
+  std::uint64_t hash = 0;
+  double advanced_m = 0.0;
+  const auto tick = [&](const NeedlePose& base) {
+    step(model, data, NeedleInputs{base, {}, {}});
+    hash = 31 * hash + testing::needle_hash({data.interaction.needle.positions_m, data.interaction.slot_forces, data.tissue.q});
+  };
+  while (data.interaction.report.active_path_points < 32 && advanced_m < 0.1) tick(f.approach.base_at(advanced_m += 2e-5));
+  for (int k = 0; k < 200; ++k) tick(f.approach.wobbled_base(advanced_m, k));
+  path_points = data.interaction.report.active_path_points;
+  rows = data.interaction.row_count;
+  return hash;
+}
+
+TEST(NeedleLaneKernels, EveryVariantInsertsIntoTheReducedLiverWithTheBaselineBits) {
+  if (testing::available_kernel_isas().size() < 2) GTEST_SKIP() << "only the baseline kernels here: nothing to compare";
+  int points = 0, rows = 0;
+  const std::uint64_t baseline = liver_run(KernelIsa::baseline, points, rows);
+  ASSERT_EQ(points, 32);
+  EXPECT_GE(rows, 96);
+  std::printf("reduced liver, 32 path points, %d rows: baseline hash 0x%016" PRIx64 "\n", rows, baseline);
+  for (KernelIsa isa : testing::available_kernel_isas()) {
+    if (isa == KernelIsa::baseline) continue;
+    EXPECT_EQ(liver_run(isa, points, rows), baseline) << kernel_isa_name(isa);
+  }
+}
+
+TEST(NeedleLaneKernels, AnUnavailableInstructionSetIsRefusedByName) {
+  NeedleTissueScene scene;
+  std::vector<KernelIsa> refused = {static_cast<KernelIsa>(99)};  // no such instruction set
+  for (KernelIsa isa : {KernelIsa::avx2, KernelIsa::avx512})
+    if (!kernel_isa_available(isa)) refused.push_back(isa);
+  for (KernelIsa isa : refused) {
+    scene.kernel_isa = isa;
+    const auto model = make_needle_tissue_model(NeedleParameters{}, scene);
+    ASSERT_FALSE(model.ok());
+    EXPECT_EQ(model.error().field, "scene.kernel_isa");
+  }
+  scene.kernel_isa = KernelIsa::best;
+  const auto best = make_needle_tissue_model(NeedleParameters{}, scene);
+  ASSERT_TRUE(best.ok());
+  EXPECT_EQ(best.value().lane_kernels, &detail::needle_lane_kernels(KernelIsa::best));
+}
+
+}  // namespace
+}  // namespace nav
