@@ -19,10 +19,6 @@ std::size_t group_end(std::span<const ConstraintRow> rows, std::size_t first) {
   return end;
 }
 
-double force_of(std::span<const double> forces, std::int32_t row) {
-  return row >= 0 ? forces[static_cast<std::size_t>(row)] : 0.0;
-}
-
 }  // namespace
 
 double coulomb_disk_violation_m(std::span<const double> gaps, std::span<const double> forces, double limit_n) noexcept {
@@ -34,21 +30,7 @@ double coulomb_disk_violation_m(std::span<const double> gaps, std::span<const do
 }
 
 double row_limit_n(std::span<const ConstraintRow> rows, std::size_t r, std::span<const double> forces) noexcept {
-  const ConstraintRow& row = rows[r];
-  switch (row.law) {
-    case RowLaw::friction_axial:
-      {
-      const double a = force_of(forces, row.linked[0]), b = force_of(forces, row.linked[1]);
-      return row.cap + row.friction_coefficient * std::sqrt(a * a + b * b);
-    }
-    case RowLaw::coulomb_pair:
-    case RowLaw::coulomb_second:
-      return row.friction_coefficient * std::max(0.0, force_of(forces, row.linked[0]));
-    case RowLaw::bilateral:
-    case RowLaw::unilateral_capped:
-      break;
-  }
-  return row.cap;
+  return row_force_limit_n(rows[r], forces.data());
 }
 
 double law_violation_m(const ConstraintRow& row, double gap_m, double force_n, double limit_n) noexcept {

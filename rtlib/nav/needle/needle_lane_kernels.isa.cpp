@@ -10,8 +10,7 @@ namespace {
 
 using Index = std::size_t;
 
-/// max(a, b) and clamp(v, lo, hi) with the comparisons of the standard library's.
-double larger(double a, double b) { return a < b ? b : a; }
+/// clamp(v, lo, hi) with the comparisons of the standard library's.
 double clamped(double v, double lo, double hi) {
   const double above = v < lo ? lo : v;
   return hi < above ? hi : above;
@@ -34,26 +33,6 @@ void add_columns(const double* w, Index m, Index first, Index size, const double
     return;
   }
   for (Index j = 0; j < size; ++j) add_column(a + j * m, m, change[j], gaps);
-}
-
-double force_of(const double* forces, std::int32_t row) { return row >= 0 ? forces[row] : 0.0; }
-
-/// The force bound of a friction or Coulomb row given the current forces (row_limit_n);
-/// inlined: it sits on the chain from one row's projection to the next.
-[[gnu::always_inline]] inline double limit_of(const SweepRow& row, const double* forces) {
-  switch (row.law) {
-    case RowLaw::friction_axial: {
-      const double a = force_of(forces, row.linked[0]), b = force_of(forces, row.linked[1]);
-      return row.cap + row.friction_coefficient * __builtin_sqrt(a * a + b * b);
-    }
-    case RowLaw::coulomb_pair:
-    case RowLaw::coulomb_second:
-      return row.friction_coefficient * larger(0.0, force_of(forces, row.linked[0]));
-    case RowLaw::bilateral:
-    case RowLaw::unilateral_capped:
-      break;
-  }
-  return row.cap;
 }
 
 /// One sweep's work on the constraint point of rows [first, first + Size). Size is a
@@ -94,7 +73,7 @@ void solve_point(const SweepProblem& p, Index first) {
     if (row.law == RowLaw::coulomb_pair && i + 1 < Size) {
       // Both tangent rows, then back onto the disk of radius mu * normal force.
       double f1 = forces[r] - gap_now(i, i) * inverse_diagonal[i], f2 = forces[r + 1] - gap_now(i + 1, i) * inverse_diagonal[i + 1];
-      const double limit = limit_of(row, forces), length = __builtin_sqrt(f1 * f1 + f2 * f2);
+      const double limit = row_force_limit_n(row, forces), length = __builtin_sqrt(f1 * f1 + f2 * f2);
       if (length > limit) {
         f1 *= limit / length;
         f2 *= limit / length;
@@ -108,7 +87,7 @@ void solve_point(const SweepProblem& p, Index first) {
     double f = forces[r] - gap_now(i, i) * inverse_diagonal[i];
     if (row.law == RowLaw::unilateral_capped) f = clamped(f, 0.0, row.cap);
     if (row.law == RowLaw::friction_axial) {
-      const double limit = limit_of(row, forces);
+      const double limit = row_force_limit_n(row, forces);
       f = clamped(f, -limit, limit);
     }
     change[i] += f - forces[r];
