@@ -190,7 +190,7 @@ int main(int argc, char** argv) {
   auto truth = embedding::TumourTruth::solve(liver.value(), 0.012, 25);
   if (!truth.ok()) return fail("truth", truth.error());
   std::printf("liver: %zu tetrahedra, %d vibration modes with corotational cubature; loop built in %.2f s\n", liver.value().mesh.tets.size(),
-              loop.value().reduced.basis_size(), build_s);
+              loop.value().rungs.front().reduced.basis_size(), build_s);
 
   auto shared = std::make_unique<Shared>();
   const auto ticks = static_cast<std::size_t>(run_s * 1e9 / static_cast<double>(loop.value().options.tick_period_ns));

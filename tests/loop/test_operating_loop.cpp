@@ -446,7 +446,7 @@ TEST(OperatingLoop, DisplayedLiverCarriesTheAssimilatedTumour) {
   script.duration_ns = 3 * kNsPerSecond;
   const ScriptedRun r = run(script);
   const LoopSetup& s = setup();
-  ReducedData scratch = make_reduced_data(s.loop.reduced).value();
+  LiverDisplayScratch scratch = make_liver_display_scratch(s.loop).value();
   const std::int32_t nodes[] = {s.beam.tumour};
   const auto& rest = s.beam.mesh.nodes_m[static_cast<std::size_t>(s.beam.tumour)];
   double worst_m = 0.0, largest_m = 0.0;
@@ -465,12 +465,12 @@ TEST(OperatingLoop, BuildErrorsNameTheirField) {
   const LoopSetup& s = setup();
   OperatingLoopOptions o = s.loop.options;
   o.tissue_every_ticks = 10;  // 10 ms against a 20 ms reduced step
-  auto wrong = make_operating_loop_model(s.loop.reduced, s.loop.filter, o);
+  auto wrong = make_operating_loop_model(s.loop.rungs[0].reduced, s.loop.rungs[0].filter, o);
   ASSERT_FALSE(wrong.ok());
   EXPECT_EQ(wrong.error().field, "operating_loop.tissue_every_ticks");
   o = s.loop.options;
   o.model_from_tracker.rotation.coeffs() *= 2.0;
-  EXPECT_EQ(make_operating_loop_model(s.loop.reduced, s.loop.filter, o).error().field, "operating_loop.model_from_tracker");
+  EXPECT_EQ(make_operating_loop_model(s.loop.rungs[0].reduced, s.loop.rungs[0].filter, o).error().field, "operating_loop.model_from_tracker");
   EXPECT_EQ(s.loop.lookahead_steps, 5);
 }
 

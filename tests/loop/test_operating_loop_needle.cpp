@@ -186,7 +186,7 @@ TEST(OperatingLoopNeedle, EqualsTheStandaloneCoupledNeedleBitwise) {
   // The independent reference: the stand-alone coupled needle on the same reduced liver,
   // stepped with the base poses the loop published and, every 10th tick, the diaphragm it used.
   const ReducedCoupledNeedleModel reference =
-      make_coupled_needle_model(s.needle.parameters, s.needle.scene, s.with_needle.reduced, s.mesh, s.needle.max_point_forces, kTissueEvery)
+      make_coupled_needle_model(s.needle.parameters, s.needle.scene, s.with_needle.rungs[0].reduced, s.mesh, s.needle.max_point_forces, kTissueEvery)
           .value();
   ReducedCoupledNeedleData data = make_coupled_needle_data(reference, to_needle_pose(r.ticks[first].needle_shape.base_pose)).value();
   int node_mismatches = 0, q_mismatches = 0, compared_steps = 0;
@@ -368,7 +368,7 @@ TEST(OperatingLoopNeedle, NanNeedlePoseIsRejectedTheBaseHeldAndRecovered) {
 TEST(OperatingLoopNeedle, BadNeedleDeclarationsAreRefusedByField) {
   const LoopSetup& s = setup();
   const auto field = [&](const OperatingLoopNeedleOptions& needle) {
-    auto built = make_operating_loop_model(s.with_needle.reduced, s.with_needle.filter, s.with_needle.options, needle, s.mesh);
+    auto built = make_operating_loop_model(s.with_needle.rungs[0].reduced, s.with_needle.rungs[0].filter, s.with_needle.options, needle, s.mesh);
     return built.ok() ? std::string("(built)") : built.error().field;
   };
   OperatingLoopNeedleOptions n = s.needle;
@@ -390,7 +390,7 @@ TEST(OperatingLoopNeedle, BadNeedleDeclarationsAreRefusedByField) {
   n.scene.layers.clear();
   EXPECT_EQ(field(n), "operating_loop.needle.scene.layers");
   const TetMesh other = testing::box_mesh({0.04, 0.02, kTopM}, 0.01);
-  auto wrong_mesh = make_operating_loop_model(s.with_needle.reduced, s.with_needle.filter, s.with_needle.options, s.needle, other);
+  auto wrong_mesh = make_operating_loop_model(s.with_needle.rungs[0].reduced, s.with_needle.rungs[0].filter, s.with_needle.options, s.needle, other);
   ASSERT_FALSE(wrong_mesh.ok());
   EXPECT_EQ(wrong_mesh.error().field, "operating_loop.needle.mesh");
 }

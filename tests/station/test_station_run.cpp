@@ -102,7 +102,7 @@ TEST(StationRun, TheSimulatedDevicesKeepToTheScene) {
 // away from the holder's straight line; the modelled tip is scored against the true bent tip.
 TEST(StationRun, TheNeedlePushesAndPuncturesTheCapsuleInTheWorldAndInTheLoop) {
   const DemoStation& d = demo();
-  ASSERT_TRUE(d.loop.needle);
+  ASSERT_TRUE(d.loop.has_needle());
   const SimulatedWorld& w = d.world;
   ASSERT_EQ(w.needle_tip_truth_m.size(), 10 * w.tumour_truth_m.size());  // a tip per 1 ms tick, a tumour per 10 ms step
   const Eigen::Vector3d straight_start = w.needle_start_m;

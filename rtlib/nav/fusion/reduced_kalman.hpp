@@ -132,4 +132,18 @@ PointEstimate estimate_point(const ReducedKalmanModel& model, const ReducedKalma
 /// The corrected reduced coordinates q_model + dq (r values), e.g. to reconstruct a surface.
 void corrected_coordinates(const ReducedKalmanModel& model, const ReducedKalmanData& data, std::span<double> out_q) noexcept;
 
+/// The filter carried to another basis of the same liver (a rung of an escalation ladder):
+/// dq' = A dq and P' = A P A^T + added, with A (to.r x from.r, row-major) the map between the
+/// two coordinate sets and `added` (to.r x to.r, row-major; empty for none) the covariance of
+/// directions the source basis lacks. The accepted and rejected counts and the last update time
+/// go along; the model points are left to the next predict. `workspace` holds to.r x from.r values.
+void carry_filter(const ReducedKalmanModel& from_model, const ReducedKalmanData& from, const ReducedKalmanModel& to_model,
+                  ReducedKalmanData& to, std::span<const double> a, std::span<const double> added,
+                  std::span<double> workspace) noexcept;
+
+/// The prior covariance of the directions of `big` that a smaller basis lacks, with
+/// T = U_big^T M U_small (big.r x r_small, row-major) the map from the smaller one:
+/// N S N^T with N = I - T T^T and S the big filter's prior (init time).
+std::vector<double> unseen_directions_prior(const ReducedKalmanModel& big, std::span<const double> transfer, int r_small);
+
 }  // namespace nav

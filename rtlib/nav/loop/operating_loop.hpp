@@ -10,6 +10,11 @@
 // Optionally the loop steps a flexible needle coupled to the reduced liver: every tick the
 // needle's base follows the tracked needle pose, and the liver steps carry the needle's point
 // forces with the diaphragm (see OperatingLoopNeedleOptions).
+// Optionally the liver is an escalation ladder of reduced rungs (ReducedLadderModel): when the
+// active rung's indicator fires and the ladder allows it, the liver's state before the step,
+// the filter's correction and covariance and the needle are carried one rung up and the step
+// is redone there; with de-escalation on, the loop steps back down once the state fits the
+// rung below (see operating_loop_ladder.cpp).
 // Model/Data: the model is built at init and immutable; push_* and tick() are noexcept,
 // allocation-free, fixed-cost and bitwise repeatable. Faults flag and degrade, never stop.
 #include <Eigen/Core>
@@ -31,6 +36,7 @@
 #include "nav/fusion/reduced_kalman.hpp"
 #include "nav/fusion/rigid_pose.hpp"
 #include "nav/needle/reduced_coupling.hpp"
+#include "nav/reduced/reduced_ladder.hpp"
 #include "nav/reduced/reduced_model.hpp"
 
 namespace nav {
@@ -112,16 +118,28 @@ inline NeedlePose to_needle_pose(const RigidPose& pose) noexcept {
   return {{pose.position_m[0], pose.position_m[1], pose.position_m[2]}, {q.w(), q.x(), q.y(), q.z()}};
 }
 
-/// The immutable part of a loop: its reduced liver, the filter observing the tumour (point 0
-/// of the filter), the options and what follows from them, and optionally the needle.
-struct OperatingLoopModel {
+/// One rung of the loop's liver: a reduced model, the filter observing the tumour on it (its
+/// point 0), optionally the needle coupled to it, and the maps from the rung below.
+struct OperatingLoopRung {
   ReducedModel reduced{nullptr};
   ReducedKalmanModel filter;
-  OperatingLoopOptions options;
   std::shared_ptr<const OperatingLoopNeedleModel> needle;  ///< null: the needle is tracked as a rigid tip
+  double lookahead_decay = 1.0;  ///< the filter's decay a^lookahead_steps
+  /// From the rung below (empty on rung 0), row-major: T = U^T M U_below (r x r_below), its
+  /// transpose (the M-projection down, r_below x r) and the filter's prior covariance of the
+  /// directions the rung below lacks (r x r, see unseen_directions_prior).
+  std::vector<double> up_from_below, down_to_below, unseen_prior;
+};
+
+/// The immutable part of a loop: its liver's rungs (one without a ladder), the ladder they
+/// come from, the options and what follows from them.
+struct OperatingLoopModel {
+  std::vector<OperatingLoopRung> rungs;       ///< rung 0 first, growing r
+  std::optional<ReducedLadderModel> ladder;   ///< with more than one rung: their envelopes and moves
+  OperatingLoopOptions options;
   int lookahead_steps = 1;          ///< reduced steps from a tissue tick to it + display latency
-  double lookahead_decay = 1.0;     ///< the filter's decay a^lookahead_steps
   Eigen::Vector3d breathing_axis = Eigen::Vector3d::UnitZ();  ///< options.breathing.axis, normalised
+  bool has_needle() const { return rungs.front().needle != nullptr; }
 };
 
 /// The health of one input at a tick.
@@ -152,12 +170,16 @@ struct OperatingLoopOutputs {
   RigidPose probe_pose;             ///< the ultrasound probe at the tick's time
   Point3 diaphragm_m{};             ///< the diaphragm displacement driving the last liver step
   /// The displayed liver at tissue_time_ns: reduced coordinates q + dq (model and filter
-  /// correction; the first r are used), with diaphragm_m the whole deformed state
-  /// (see liver_displacements_m).
+  /// correction) of rung liver_rung (its first r are used), with diaphragm_m the whole
+  /// deformed state (see liver_displacements_m).
   std::array<double, kLoopMaxBasisSize> liver_q{};
+  int liver_rung = 0;               ///< the ladder's rung of the last liver step (0 without a ladder)
+  std::int64_t escalations = 0, de_escalations = 0;  ///< rung changes since the loop started
   double breathing_phase_rad = 0.0;  ///< at the tick's time
   InputStatus needle, probe, respiratory, ultrasound;  ///< ultrasound: buffer_overrun when observations were dropped
-  HealthFlags tissue;               ///< the reduced model's and the filter's flags of the last liver step
+  /// The reduced model's and the filter's flags of the last liver step (reduced_escalated when
+  /// it was redone one rung up).
+  HealthFlags tissue;
   HealthFlags loop;                 ///< clock_went_backwards: the tick's time was not after the previous one
   bool degraded = true;             ///< any input degraded or any flag raised
 };
@@ -168,12 +190,25 @@ struct PendingObservation {
   Point3 position_m{};
 };
 
-/// The loop's state: the liver and filter states, the tool tracks, the breathing predictor,
-/// a scratch liver for the look-ahead, the pending observations, the needle and the outputs.
-struct OperatingLoopData {
+/// The state of one rung of the loop's liver: the liver (inside the coupled needle when the
+/// loop has one), the look-ahead scratch and the filter.
+struct OperatingLoopRungData {
   ReducedData reduced;              ///< the liver without a needle model (with one: needle_model->tissue)
   ReducedData lookahead;            ///< scratch: the liver stepped ahead to the display time
   ReducedKalmanData filter;
+  std::optional<ReducedCoupledNeedleData> needle_model;  ///< the needle and the liver it pushes
+  ReducedData& liver() noexcept { return needle_model ? needle_model->tissue : reduced; }
+  const ReducedData& liver() const noexcept { return needle_model ? needle_model->tissue : reduced; }
+};
+
+/// The loop's state: every rung's liver and filter, the ladder's position, the tool tracks,
+/// the breathing predictor, the pending observations, the needle and the outputs.
+struct OperatingLoopData {
+  std::vector<OperatingLoopRungData> rungs;  ///< one per model rung, all allocated at init
+  int active_rung = 0;
+  int flagged_steps = 0;            ///< consecutive liver steps with the indicator up
+  int inside_steps = 0;             ///< consecutive liver steps fit for the rung below
+  std::vector<double> transfer_workspace;  ///< r_max^2, for carrying the filter between rungs
   PoseTrack needle, probe;
   BreathingPredictor breathing;
   std::vector<PendingObservation> pending;  ///< sized at init; the first pending_count are waiting
@@ -182,16 +217,15 @@ struct OperatingLoopData {
   TimeNs respiratory_newest_ns = std::numeric_limits<TimeNs>::min();  ///< the newest accepted marker sample
   double respiratory_newest_m = 0.0;  ///< its displacement along the breathing axis
   TimeNs last_tick_ns = 0;
-  /// With a needle model: the needle and the liver it pushes (needle_model->tissue is the liver).
-  std::optional<ReducedCoupledNeedleData> needle_model;
   RigidPose needle_base;            ///< the last good base pose (model frame)
   bool needle_acquired = false;     ///< a good needle pose has been seen: the needle steps
   OperatingLoopOutputs outputs;
 
-  /// The liver state the filter and the outputs follow.
-  ReducedData& liver() noexcept { return needle_model ? needle_model->tissue : reduced; }
+  /// The active rung's state: the liver the filter and the outputs follow.
+  OperatingLoopRungData& active() noexcept { return rungs[static_cast<std::size_t>(active_rung)]; }
+  const OperatingLoopRungData& active() const noexcept { return rungs[static_cast<std::size_t>(active_rung)]; }
 
-  OperatingLoopData(ReducedData reduced_data, ReducedData lookahead_data, ReducedKalmanData filter_data, PoseTrack needle_track,
+  OperatingLoopData(std::vector<OperatingLoopRungData> rung_data, std::size_t workspace_values, PoseTrack needle_track,
                     PoseTrack probe_track, BreathingPredictor breathing_predictor, std::size_t pending_capacity);
 };
 
@@ -206,7 +240,15 @@ Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, Reduc
 Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter, const OperatingLoopOptions& options,
                                                      const OperatingLoopNeedleOptions& needle, const TetMesh& mesh);
 
-/// The loop's data at rest: liver at rest, filter at its prior, empty tracks, idle needle.
+/// A loop whose liver is `ladder` (reduced rungs only: the filter needs a reduced state), with
+/// filters[i] observing the tumour on rung i, and optionally the needle, coupled to every rung
+/// (rung 0 when the loop starts). The ladder's options are the loop's escalation settings.
+/// Errors name the field ("operating_loop.ladder", "operating_loop.filters[i]", ...).
+Result<OperatingLoopModel> make_operating_loop_model(const ReducedLadderModel& ladder, std::vector<ReducedKalmanModel> filters,
+                                                     const OperatingLoopOptions& options,
+                                                     const OperatingLoopNeedleOptions* needle = nullptr, const TetMesh* mesh = nullptr);
+
+/// The loop's data at rest: liver at rest on rung 0, filter at its prior, empty tracks, idle needle.
 Result<OperatingLoopData> make_operating_loop_data(const OperatingLoopModel& model);
 
 /// A needle marker pose (tracker frame) measured at time_ns.
@@ -220,10 +262,19 @@ void push_respiratory_sample(const OperatingLoopModel& model, OperatingLoopData&
 /// step. A full queue drops its oldest entry (buffer_overrun).
 void push_tumour_observation(OperatingLoopData& data, TimeNs time_ns, const Point3& position_m) noexcept;
 
+/// Scratch liver states (one per rung) for rebuilding the displayed liver away from the
+/// real-time thread.
+struct LiverDisplayScratch {
+  std::vector<ReducedData> rungs;
+};
+
+/// The scratch for liver_displacements_m (init time).
+Result<LiverDisplayScratch> make_liver_display_scratch(const OperatingLoopModel& model);
+
 /// Displacements from rest (3 per node, metres, model frame) of the liver shown by `outputs`
-/// at `nodes`: the deformed display surface or any point, away from the real-time thread.
-/// `scratch` is a ReducedData of model.reduced owned by the caller (its state is overwritten).
-void liver_displacements_m(const OperatingLoopModel& model, const OperatingLoopOutputs& outputs, ReducedData& scratch,
+/// (on its rung) at `nodes`: the deformed display surface or any point, away from the
+/// real-time thread. `scratch` belongs to the caller (its states are overwritten).
+void liver_displacements_m(const OperatingLoopModel& model, const OperatingLoopOutputs& outputs, LiverDisplayScratch& scratch,
                            std::span<const std::int32_t> nodes, std::span<double> out_xyz) noexcept;
 
 /// One tick at now_ns: tool poses at now (and now + display latency), the needle model's step,

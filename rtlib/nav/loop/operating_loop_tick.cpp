@@ -7,6 +7,7 @@
 #include <span>
 
 #include "nav/loop/operating_loop.hpp"
+#include "nav/loop/operating_loop_ladder.hpp"
 #include "nav/needle/coupled_needle_step.hpp"
 
 namespace nav {
@@ -44,13 +45,13 @@ Point3 diaphragm_m(const OperatingLoopOptions& o, const OperatingLoopData& data,
 /// An observation carried from its capture time to the liver step's: moved by the diaphragm
 /// lift's motion of the tumour in between (L_p times the change of the diaphragm displacement),
 /// the bulk of the breathing's motion over the capture and segmentation delay.
-Point3 carried_to_step(const OperatingLoopModel& model, const OperatingLoopData& data, const PendingObservation& seen,
-                       const Point3& diaphragm_now_m) noexcept {
+Point3 carried_to_step(const OperatingLoopModel& model, const ReducedKalmanModel& filter, const OperatingLoopData& data,
+                       const PendingObservation& seen, const Point3& diaphragm_now_m) noexcept {
   Point3 out = seen.position_m;
-  if (!model.filter.has_lift) return out;
+  if (!filter.has_lift) return out;
   const Point3 then_m = diaphragm_m(model.options, data, seen.time_ns, 0);
   for (std::size_t c = 0; c < 3; ++c)
-    for (std::size_t k = 0; k < 3; ++k) out[c] += model.filter.lift_rows[3 * c + k] * (diaphragm_now_m[k] - then_m[k]);
+    for (std::size_t k = 0; k < 3; ++k) out[c] += filter.lift_rows[3 * c + k] * (diaphragm_now_m[k] - then_m[k]);
   return out;
 }
 
@@ -85,66 +86,53 @@ std::array<double, 9> covariance_ahead(const ReducedKalmanModel& f, const std::a
   return out;
 }
 
-/// Copies the liver's state into the look-ahead scratch.
-void copy_state(const ReducedData& from, ReducedData& to) noexcept {
-  std::copy(from.q.begin(), from.q.end(), to.q.begin());
-  std::copy(from.q_velocity.begin(), from.q_velocity.end(), to.q_velocity.begin());
-  std::copy(std::begin(from.prescribed_m), std::end(from.prescribed_m), std::begin(to.prescribed_m));
-  to.report = from.report;
-  to.health.clear_all();
-}
-
-/// The liver step of a tissue tick: diaphragm (and the needle's forces), reduced step, filter
-/// predict, pending observations, then the look-ahead to now + display latency.
+/// The liver step of a tissue tick: diaphragm (and the needle's forces), reduced step (on the
+/// ladder's rung, which may change), filter predict, pending observations, then the look-ahead
+/// to now + display latency.
 void tissue_tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs now_ns) noexcept {
   const OperatingLoopOptions& o = model.options;
   OperatingLoopOutputs& out = data.outputs;
-  ReducedData& liver = data.liver();
   TissueInputs inputs;
   inputs.prescribed_displacement_m = diaphragm_m(o, data, now_ns, 0);
-  if (model.needle) {
-    step_tissue(model.needle->coupled, *data.needle_model, inputs);
-    // The look-ahead carries the needle's forces of this step.
-    inputs.point_forces = std::span<const PointForce>(data.needle_model->point_forces.data(), data.needle_model->point_force_count);
-  } else {
-    step(model.reduced, liver, inputs);
-  }
-  predict(model.filter, data.filter, liver);
-  HealthFlags tissue = liver.health;
-  tissue.merge(data.filter.health);
-  liver.health.clear_all();
-  data.filter.health.clear_all();
+  HealthFlags tissue = detail::step_liver(model, data, inputs);
+  const OperatingLoopRung& rung = model.rungs[static_cast<std::size_t>(data.active_rung)];
+  OperatingLoopRungData& state = data.active();
+  ReducedData& liver = state.liver();
+  if (state.needle_model)  // the look-ahead carries the needle's forces of this step
+    inputs.point_forces = std::span<const PointForce>(state.needle_model->point_forces.data(), state.needle_model->point_force_count);
+  predict(rung.filter, state.filter, liver);
+  tissue.merge(state.filter.health);
+  state.filter.health.clear_all();
 
   for (std::size_t i = 0; i < data.pending_count; ++i) {
     const PendingObservation& seen = data.pending[i];
-    update(model.filter, data.filter, 0, carried_to_step(model, data, seen, inputs.prescribed_displacement_m), seen.time_ns);
+    update(rung.filter, state.filter, 0, carried_to_step(model, rung.filter, data, seen, inputs.prescribed_displacement_m), seen.time_ns);
   }
   data.pending_count = 0;
-  data.ultrasound_push_flags.merge(data.filter.health);  // rejected observations are the ultrasound's fault
-  data.filter.health.clear_all();
-  const PointEstimate estimate = estimate_point(model.filter, data.filter, 0);
+  data.ultrasound_push_flags.merge(state.filter.health);  // rejected observations are the ultrasound's fault
+  state.filter.health.clear_all();
+  const PointEstimate estimate = estimate_point(rung.filter, state.filter, 0);
 
-  copy_state(liver, data.lookahead);
+  detail::copy_liver_state(liver, state.lookahead);
   const TimeNs step_ns = o.tick_period_ns * o.tissue_every_ticks;
   for (int j = 1; j <= model.lookahead_steps; ++j) {
     const TimeNs horizon_ns = std::min(step_ns * j, o.display_latency_ns);
     inputs.prescribed_displacement_m = diaphragm_m(o, data, now_ns, horizon_ns);
-    step(model.reduced, data.lookahead, inputs);
+    step(rung.reduced, state.lookahead, inputs);
   }
-  tissue.merge(data.lookahead.health);
-  data.lookahead.health.clear_all();
+  tissue.merge(state.lookahead.health);
+  state.lookahead.health.clear_all();
 
   out.tissue = tissue;
   out.tissue_time_ns = now_ns;
   ++out.tissue_steps;
+  out.liver_rung = data.active_rung;
   std::copy(std::begin(liver.prescribed_m), std::end(liver.prescribed_m), out.diaphragm_m.begin());
-  for (std::size_t j = 0; j < liver.q.size(); ++j) out.liver_q[j] = liver.q[j] + data.filter.correction[j];
+  for (std::size_t j = 0; j < liver.q.size(); ++j) out.liver_q[j] = liver.q[j] + state.filter.correction[j];
   out.tumour_now_m = estimate.position_m;
   out.tumour_now_covariance_m2 = estimate.covariance_m2;
-  out.tumour_ahead_m =
-      tumour_at(model.filter, data.lookahead.q, model.lookahead_decay, data.filter.correction, data.lookahead.prescribed_m);
-  out.tumour_ahead_covariance_m2 =
-      covariance_ahead(model.filter, estimate.covariance_m2, model.lookahead_decay * model.lookahead_decay);
+  out.tumour_ahead_m = tumour_at(rung.filter, state.lookahead.q, rung.lookahead_decay, state.filter.correction, state.lookahead.prescribed_m);
+  out.tumour_ahead_covariance_m2 = covariance_ahead(rung.filter, estimate.covariance_m2, rung.lookahead_decay * rung.lookahead_decay);
 }
 
 /// Whether a pose holds no NaN or infinity.
@@ -160,7 +148,7 @@ void needle_tick(const OperatingLoopNeedleModel& needle_model, OperatingLoopData
     data.needle_acquired = true;
   }
   if (!data.needle_acquired) return;
-  ReducedCoupledNeedleData& coupled = *data.needle_model;
+  ReducedCoupledNeedleData& coupled = *data.active().needle_model;
   const NeedleParameters& p = needle_model.coupled.interaction.needle.parameters;
   const NeedleData& needle = coupled.interaction.needle;
   const RigidPose from{node_position_m(needle.positions_m, 0), node_rotation(needle.rotations_wxyz, 0)};
@@ -182,7 +170,7 @@ void needle_tick(const OperatingLoopNeedleModel& needle_model, OperatingLoopData
 void needle_outputs(const OperatingLoopNeedleModel& needle_model, OperatingLoopData& data, Point3 rigid_tip_m) noexcept {
   OperatingLoopOutputs& out = data.outputs;
   NeedleShapeOutputs& shape = out.needle_shape;
-  NeedleTissueData& interaction = data.needle_model->interaction;
+  NeedleTissueData& interaction = data.active().needle_model->interaction;
   shape.flags = interaction.health;
   interaction.health.clear_all();
   interaction.needle.health.clear_all();
@@ -208,7 +196,7 @@ InputStatus ultrasound_status(const OperatingLoopModel& model, OperatingLoopData
   InputStatus status;
   status.flags = data.ultrasound_push_flags;
   data.ultrasound_push_flags.clear_all();
-  const TimeNs last_ns = data.filter.last_update_ns;
+  const TimeNs last_ns = data.active().filter.last_update_ns;
   if (last_ns == kNever) {
     status.flags.raise(HealthFlag::missing_input);
   } else {
@@ -247,11 +235,13 @@ void push_tumour_observation(OperatingLoopData& data, TimeNs time_ns, const Poin
   data.pending[data.pending_count++] = {time_ns, position_m};
 }
 
-void liver_displacements_m(const OperatingLoopModel& model, const OperatingLoopOutputs& outputs, ReducedData& scratch,
+void liver_displacements_m(const OperatingLoopModel& model, const OperatingLoopOutputs& outputs, LiverDisplayScratch& scratch,
                            std::span<const std::int32_t> nodes, std::span<double> out_xyz) noexcept {
-  std::copy_n(outputs.liver_q.begin(), scratch.q.size(), scratch.q.begin());
-  std::copy(outputs.diaphragm_m.begin(), outputs.diaphragm_m.end(), std::begin(scratch.prescribed_m));
-  reconstruct_displacements_m(model.reduced, scratch, nodes, out_xyz);
+  const auto rung = static_cast<std::size_t>(std::clamp(outputs.liver_rung, 0, static_cast<int>(model.rungs.size()) - 1));
+  ReducedData& state = scratch.rungs[rung];
+  std::copy_n(outputs.liver_q.begin(), state.q.size(), state.q.begin());
+  std::copy(outputs.diaphragm_m.begin(), outputs.diaphragm_m.end(), std::begin(state.prescribed_m));
+  reconstruct_displacements_m(model.rungs[rung].reduced, state, nodes, out_xyz);
 }
 
 void tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs now_ns) noexcept {
@@ -265,11 +255,12 @@ void tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs now_n
   const TimeNs ahead_ns = now_ns + o.display_latency_ns;
   const PoseQuery needle = data.needle.sample_at(now_ns);
   out.needle = tool_status(data.needle, needle, data.needle_push_flags);
-  const Eigen::Vector3d& tip_in_marker_m = model.needle ? model.needle->tip_in_marker_m : o.needle_tip_in_marker_m;
+  const OperatingLoopNeedleModel* needle_model = model.rungs[static_cast<std::size_t>(data.active_rung)].needle.get();
+  const Eigen::Vector3d& tip_in_marker_m = needle_model ? needle_model->tip_in_marker_m : o.needle_tip_in_marker_m;
   out.needle_tip_m = to_point(needle.pose.rotation * tip_in_marker_m + needle.pose.position_m);
   const RigidPose needle_ahead = data.needle.sample_at(ahead_ns).pose;
   out.needle_tip_ahead_m = to_point(needle_ahead.rotation * tip_in_marker_m + needle_ahead.position_m);
-  if (model.needle) needle_tick(*model.needle, data, needle);
+  if (needle_model) needle_tick(*needle_model, data, needle);
   const PoseQuery probe = data.probe.sample_at(now_ns);
   out.probe = tool_status(data.probe, probe, data.probe_push_flags);
   out.probe_pose = probe.pose;
@@ -283,7 +274,8 @@ void tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs now_n
   out.respiratory.age_ns = data.respiratory_newest_ns == kNever ? std::numeric_limits<TimeNs>::max() : now_ns - data.respiratory_newest_ns;
 
   if (out.ticks % o.tissue_every_ticks == 0) tissue_tick(model, data, now_ns);
-  if (model.needle) needle_outputs(*model.needle, data, out.needle_tip_m);
+  // The needle as the tick leaves it, on the rung the liver step may have moved it to.
+  if (model.has_needle()) needle_outputs(*model.rungs[static_cast<std::size_t>(data.active_rung)].needle, data, out.needle_tip_m);
   out.ultrasound = ultrasound_status(model, data, now_ns);
 
   out.tip_to_tumour_m = distance_m(out.needle_tip_m, out.tumour_now_m);

@@ -67,6 +67,12 @@ class ReducedLadderModel {
   /// 1 - the smallest squared M-norm of a column of U_small carried to the rung above (0 when
   /// the smaller basis lies in the larger one's span, as for leading columns of one basis).
   double transfer_loss(int lower_rung) const;
+  /// T = U_big^T M U_small from reduced rung `lower_rung` to the one above (r_big x r_small,
+  /// row-major): q_big = T q_small, and the M-projection back is q_small = T^T q_big.
+  std::span<const double> transfer(int lower_rung) const;
+  /// The indicator of reduced rung `rung` at coordinates q: the largest |q_i| / training
+  /// bound_i, a direction with a zero bound counting as twice the envelope factor when it moves.
+  double envelope_ratio(int rung, std::span<const double> q) const;
 
   const detail::ReducedLadderTables& tables() const { return *tables_; }
   explicit ReducedLadderModel(std::shared_ptr<const detail::ReducedLadderTables> tables) : tables_(std::move(tables)) {}

@@ -86,6 +86,7 @@ const ReducedLadderOptions& ReducedLadderModel::options() const { return tables_
 const ReducedModel& ReducedLadderModel::reduced_rung(int rung) const { return tables_->rungs[static_cast<std::size_t>(rung)]; }
 const TetFemModel& ReducedLadderModel::full_order() const { return *tables_->full; }
 double ReducedLadderModel::transfer_loss(int lower_rung) const { return tables_->transfer_loss[static_cast<std::size_t>(lower_rung)]; }
+std::span<const double> ReducedLadderModel::transfer(int lower_rung) const { return tables_->transfer[static_cast<std::size_t>(lower_rung)]; }
 
 Result<ReducedLadderModel> make_reduced_ladder_model(const TetMesh& mesh, const TissueScene& scene,
                                                      const TissueSolverOptions& solver, std::span<const ReducedRungSpec> rungs,

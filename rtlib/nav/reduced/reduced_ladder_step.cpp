@@ -40,7 +40,7 @@ double lifted(const ReducedLadderTables& t, std::size_t dof, const double d[3]) 
 
 /// The largest |q_i| / bound_i of a reduced rung, as its own step measures it: a direction
 /// with a zero bound counts as twice the envelope factor when it moves.
-double envelope_ratio(const ReducedLadderTables& t, int rung, std::span<const double> q) {
+double ladder_envelope_ratio(const ReducedLadderTables& t, int rung, std::span<const double> q) {
   const std::vector<double>& bound = t.q_bound[static_cast<std::size_t>(rung)];
   const double factor = t.rungs[static_cast<std::size_t>(rung)].options().envelope_factor;
   double ratio = 0.0;
@@ -61,7 +61,7 @@ void place(const ReducedLadderTables& t, ReducedLadderData& data, int rung, std:
   std::copy(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(r), target.q_velocity.begin());
   std::copy(d, d + 3, target.prescribed_m);
   target.report = {};
-  target.report.envelope_ratio = envelope_ratio(t, rung, target.q);
+  target.report.envelope_ratio = ladder_envelope_ratio(t, rung, target.q);
   target.report.out_of_envelope = target.report.envelope_ratio > t.rungs[static_cast<std::size_t>(rung)].options().envelope_factor;
 }
 
@@ -154,7 +154,7 @@ void consider_stepping_down(const ReducedLadderTables& t, ReducedLadderData& dat
   const int from = data.active_rung;
   if (o.de_escalate_after_steps == 0 || from == 0) return;
   const double residual = project_down(t, data, from);
-  const double ratio = envelope_ratio(t, from - 1, data.projected_q);
+  const double ratio = ladder_envelope_ratio(t, from - 1, data.projected_q);
   data.report.projection_residual = residual;
   data.report.projected_envelope_ratio = ratio;
   const bool fits = ratio <= o.de_escalation_envelope_ratio && residual <= o.de_escalation_residual;
@@ -177,6 +177,10 @@ void save_state(const ReducedLadderTables& t, ReducedLadderData& data, int rung)
 }
 
 }  // namespace
+
+double ReducedLadderModel::envelope_ratio(int rung, std::span<const double> q) const {
+  return ladder_envelope_ratio(*tables_, rung, q);
+}
 
 void step(const ReducedLadderModel& model, ReducedLadderData& data, const TissueInputs& inputs) noexcept {
   const ReducedLadderTables& t = model.tables();

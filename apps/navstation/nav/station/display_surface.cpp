@@ -34,12 +34,12 @@ std::string surface_obj(const DisplaySurface& surface) {
 }
 
 Result<SurfaceReconstruction> SurfaceReconstruction::create(const OperatingLoopModel& loop, const DisplaySurface& surface) {
-  auto scratch = make_reduced_data(loop.reduced);
+  auto scratch = make_liver_display_scratch(loop);
   if (!scratch.ok()) return scratch.error();
   return SurfaceReconstruction(loop, surface, std::move(scratch).value());
 }
 
-SurfaceReconstruction::SurfaceReconstruction(const OperatingLoopModel& loop, const DisplaySurface& surface, ReducedData scratch)
+SurfaceReconstruction::SurfaceReconstruction(const OperatingLoopModel& loop, const DisplaySurface& surface, LiverDisplayScratch scratch)
     : loop_(&loop), surface_(&surface), scratch_(std::move(scratch)), displacements_m_(3 * surface.nodes.size()) {}
 
 void SurfaceReconstruction::reconstruct(const OperatingLoopOutputs& outputs, dds::DeformedSurface& out) {

@@ -43,10 +43,10 @@ class SurfaceReconstruction {
   void reconstruct(const OperatingLoopOutputs& outputs, dds::DeformedSurface& out);
 
  private:
-  SurfaceReconstruction(const OperatingLoopModel& loop, const DisplaySurface& surface, ReducedData scratch);
+  SurfaceReconstruction(const OperatingLoopModel& loop, const DisplaySurface& surface, LiverDisplayScratch scratch);
   const OperatingLoopModel* loop_;
   const DisplaySurface* surface_;
-  ReducedData scratch_;
+  LiverDisplayScratch scratch_;
   std::vector<double> displacements_m_;
 };
 

@@ -48,7 +48,7 @@ Result<StationSession> run_session(const Scene& scene, const SessionOptions& opt
   auto loop = make_station_loop(s.liver, scene, breathing, loop_settings);
   if (!loop.ok()) return Error{loop.error().describe(), scene.source_path, scene.liver.line, "liver (reduced loop)"};
   s.build_s = seconds_since(start);
-  s.basis_size = loop.value().reduced.basis_size();
+  s.basis_size = loop.value().rungs.front().reduced.basis_size();
   start = std::chrono::steady_clock::now();
   auto world = simulate_world(s.liver, scene, breathing, options.world);
   if (!world.ok()) return world.error();
