@@ -16,6 +16,12 @@
 // needle_tick then includes the needle's step. Also counted: punctures, the timed ticks with
 // needle-tissue flags (needle_flagged_ticks) and the liver steps with flags (tissue_flagged_steps,
 // tissue_flags their union).
+// BM_OperatingLoopLadderNeedleTick (r = 16): the needle's loop on a ladder, rung 0 the r modes
+// trained without the needle's loads, rung 1 those extended by 8 directions of the needle's training:
+// escalation after 5 flagged liver steps, back down after 50 that fit rung 0 (projection residual
+// up to 20 %); the insertion starts 2 s later than above. rung_change_tick_us_* times the ticks that
+// changed rung after the warm-up; escalations, de_escalations, final_rung and first_rung_change_s
+// (the loop time of the first change) count them.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -31,6 +37,7 @@
 #include "nav/loop/operating_loop.hpp"
 #include "nav/mesh/validation.hpp"
 #include "nav/mesher/embedded_liver.hpp"
+#include "nav/reduced/reduced_ladder_basis.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 
@@ -119,35 +126,51 @@ const Liver& liver() {
   return built;
 }
 
+nav::TissueSolverOptions training_solver() {
+  nav::TissueSolverOptions solver;
+  solver.integrator = nav::Integrator::quasi_static;
+  return solver;
+}
+
+nav::ReductionOptions reduction(int r) {
+  nav::ReductionOptions options;
+  options.source = nav::ReducedBasisSource::linear_modes;
+  options.force_kind = nav::ReducedForceKind::corotational_cubature;
+  options.basis_size = r;
+  options.max_cubature_samples = 32;
+  return options;
+}
+
 /// The needle base's frame in its marker's: the needle points down the marker's -z.
 nav::RigidPose needle_base_in_marker() {
   return {Eigen::Vector3d::Zero(), Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * std::numbers::pi, Eigen::Vector3d::UnitY()))};
 }
 
-/// The loop of r modes on the liver, optionally with the needle coupled to it.
-nav::OperatingLoopModel loop_model(int r, bool with_needle) {
+/// r vibration modes of the liver with corotational cubature trained on `snapshots`.
+nav::ReducedBasis trained_modes(int r, const std::vector<double>& snapshots, int snapshot_count) {
   const Liver& l = liver();
-  nav::ReductionOptions reduction;
-  reduction.source = nav::ReducedBasisSource::linear_modes;
-  reduction.force_kind = nav::ReducedForceKind::corotational_cubature;
-  reduction.basis_size = r;
-  reduction.max_cubature_samples = 32;
-  nav::TissueSolverOptions solver;
-  solver.integrator = nav::Integrator::quasi_static;
-  nav::ReducedBasis basis = nav::make_modal_basis(l.liver.mesh, l.scene, solver, reduction).value();
-  const nav::Status trained =
-      nav::add_force_reduction(l.liver.mesh, l.scene, solver, reduction, with_needle ? l.needle_snapshots : l.snapshots,
-                               with_needle ? l.needle_snapshot_count : l.snapshot_count, basis);
-  if (!trained.ok()) std::abort();
-  nav::ReducedSolverOptions reduced_options;
-  reduced_options.step_s = kStepS;
-  nav::ReducedModel reduced = nav::make_reduced_model(l.liver.mesh, l.scene, solver, basis, reduced_options).value();
+  nav::ReducedBasis basis = nav::make_modal_basis(l.liver.mesh, l.scene, training_solver(), reduction(r)).value();
+  if (!nav::add_force_reduction(l.liver.mesh, l.scene, training_solver(), reduction(r), snapshots, snapshot_count, basis).ok()) std::abort();
+  return basis;
+}
+
+/// The filter on the tumour of a reduced model of `basis`.
+nav::ReducedKalmanModel tumour_filter(const nav::ReducedBasis& basis, const nav::ReducedModel& reduced) {
   nav::ReducedKalmanOptions filter_options;
   filter_options.correction_std = nav::correction_std_from_training(basis, 1.0);
   filter_options.correlation_time_s = 2.0;
   filter_options.gate_chi_square = 1e12;  // every observation is a full update
-  const nav::ObservedPoint points[] = {l.tumour};
-  nav::ReducedKalmanModel filter = nav::make_reduced_kalman_model(l.liver.mesh, basis, reduced, points, filter_options).value();
+  const nav::ObservedPoint points[] = {liver().tumour};
+  return nav::make_reduced_kalman_model(liver().liver.mesh, basis, reduced, points, filter_options).value();
+}
+
+nav::ReducedSolverOptions reduced_options() {
+  nav::ReducedSolverOptions options;
+  options.step_s = kStepS;
+  return options;
+}
+
+nav::OperatingLoopOptions loop_options() {
   nav::OperatingLoopOptions o;
   o.tissue_every_ticks = kTissueEvery;
   o.display_latency_ns = 50 * kNsPerMs;
@@ -155,14 +178,53 @@ nav::OperatingLoopModel loop_model(int r, bool with_needle) {
   o.diaphragm_per_marker = {0.0, 0.0, 1.0};
   o.respiratory_reference_m = 0.1;
   o.needle.max_extrapolation_ns = 100 * kNsPerMs;
-  if (!with_needle) return nav::make_operating_loop_model(std::move(reduced), std::move(filter), o).value();
+  return o;
+}
+
+/// The needle: a plane capsule over the tumour, path points every 5 mm.
+nav::OperatingLoopNeedleOptions needle_options() {
+  const Liver& l = liver();
   nav::OperatingLoopNeedleOptions needle;
   nav::TissueLayer capsule;
   capsule.surface_point_m = {l.liver.tumour_centre_m[0], l.liver.tumour_centre_m[1], l.surface_above_tumour_m};
   needle.scene.layers = {capsule};
   needle.scene.path_spacing_m = 0.005;
   needle.base_in_marker = needle_base_in_marker();
-  return nav::make_operating_loop_model(std::move(reduced), std::move(filter), o, needle, l.liver.mesh).value();
+  return needle;
+}
+
+/// The loop of r modes on the liver, optionally with the needle coupled to it.
+nav::OperatingLoopModel loop_model(int r, bool with_needle) {
+  const Liver& l = liver();
+  const nav::ReducedBasis basis = with_needle ? trained_modes(r, l.needle_snapshots, l.needle_snapshot_count)
+                                              : trained_modes(r, l.snapshots, l.snapshot_count);
+  nav::ReducedModel reduced = nav::make_reduced_model(l.liver.mesh, l.scene, training_solver(), basis, reduced_options()).value();
+  nav::ReducedKalmanModel filter = tumour_filter(basis, reduced);
+  if (!with_needle) return nav::make_operating_loop_model(std::move(reduced), std::move(filter), loop_options()).value();
+  return nav::make_operating_loop_model(std::move(reduced), std::move(filter), loop_options(), needle_options(), l.liver.mesh).value();
+}
+
+/// The needle's loop on a ladder: rung 0 r modes trained without the needle's loads, rung 1
+/// those extended by 8 directions of the needle's training (its loads leave rung 0's envelope); the loop
+/// escalates after 5 flagged liver steps and steps back down after 50 that fit rung 0.
+nav::OperatingLoopModel ladder_loop_model(int r) {
+  const Liver& l = liver();
+  const nav::ReducedBasis small = trained_modes(r, l.snapshots, l.snapshot_count);
+  nav::ReducedBasis big = nav::extend_basis(l.liver.mesh, l.scene, training_solver(), small, r + 8, l.needle_snapshots,
+                                            l.needle_snapshot_count).value();
+  if (!nav::add_force_reduction(l.liver.mesh, l.scene, training_solver(), reduction(r + 8), l.needle_snapshots, l.needle_snapshot_count, big)
+           .ok())
+    std::abort();
+  const nav::ReducedRungSpec rungs[] = {{small, reduced_options()}, {big, reduced_options()}};
+  nav::ReducedLadderOptions escalation;
+  escalation.escalate_after_steps = 5;  // the first steps' transient (from rest, under gravity) stays on rung 0
+  escalation.de_escalate_after_steps = 50;
+  escalation.de_escalation_residual = 0.2;
+  const nav::ReducedLadderModel ladder =
+      nav::make_reduced_ladder_model(l.liver.mesh, l.scene, training_solver(), rungs, false, escalation).value();
+  std::vector<nav::ReducedKalmanModel> filters{tumour_filter(small, ladder.reduced_rung(0)), tumour_filter(big, ladder.reduced_rung(1))};
+  const nav::OperatingLoopNeedleOptions needle = needle_options();
+  return nav::make_operating_loop_model(ladder, std::move(filters), loop_options(), &needle, &l.liver.mesh).value();
 }
 
 /// The rigid needle of BM_OperatingLoopTick: 3 cm beside the tumour, moving toward it.
@@ -208,9 +270,10 @@ void run_loop(benchmark::State& state, const nav::OperatingLoopModel& model, nav
   const nav::Point3 tumour = liver().liver.tumour_centre_m;
   std::mt19937_64 rng(5);
   std::normal_distribution<double> noise(0.0, 0.001);
-  std::vector<double> tick_us, tissue_us, needle_us, marker_us;
+  std::vector<double> tick_us, tissue_us, needle_us, marker_us, rung_change_us;
   int needle_flagged = 0, tissue_flagged = 0;  // timed ticks whose needle-tissue or liver flags were raised
   std::uint32_t tissue_flag_union = 0;
+  double first_change_s = -1.0;  // the loop time of the first rung change
   const TimeNs warm_up_ns = 3000 * kNsPerMs;
   TimeNs now = 0;
   const auto one_tick = [&](bool timed) {
@@ -229,9 +292,14 @@ void run_loop(benchmark::State& state, const nav::OperatingLoopModel& model, nav
       nav::push_tumour_observation(data, now, {seen[0] + noise(rng), seen[1] + noise(rng), seen[2] + noise(rng)});
     }
     const bool tissue = data.outputs.ticks % kTissueEvery == 0;
+    const std::int64_t moves = data.outputs.escalations + data.outputs.de_escalations;
     const auto start = std::chrono::steady_clock::now();
     nav::tick(model, data, now);
     const double us = elapsed_us(start);
+    if (data.outputs.escalations + data.outputs.de_escalations != moves) {
+      if (first_change_s < 0.0) first_change_s = 1e-9 * static_cast<double>(now);
+      if (timed) rung_change_us.push_back(us);
+    }
     if (timed) {
       needle_flagged += data.outputs.needle_shape.flags.healthy() ? 0 : 1;
       tissue_flagged += tissue && !data.outputs.tissue.healthy() ? 1 : 0;
@@ -248,6 +316,11 @@ void run_loop(benchmark::State& state, const nav::OperatingLoopModel& model, nav
   report(state, "tissue_tick", tissue_us);
   report(state, "needle_tick", needle_us);
   report(state, "push_respiratory", marker_us);
+  report(state, "rung_change_tick", rung_change_us);
+  state.counters["escalations"] = static_cast<double>(data.outputs.escalations);
+  state.counters["de_escalations"] = static_cast<double>(data.outputs.de_escalations);
+  state.counters["final_rung"] = data.outputs.liver_rung;
+  state.counters["first_rung_change_s"] = first_change_s;
   state.counters["degraded"] = data.outputs.degraded ? 1.0 : 0.0;
   state.counters["tissue_flags"] = tissue_flag_union;  // raised on any timed liver step
   state.counters["tissue_flagged_steps"] = static_cast<double>(tissue_flagged);
@@ -264,7 +337,15 @@ void BM_OperatingLoopNeedleTick(benchmark::State& state) {
   run_loop(state, loop_model(static_cast<int>(state.range(0)), true), needle_inserted);
 }
 
+/// The same insertion 2 s later, so that it leaves rung 0's envelope after the warm-up.
+nav::RigidPose needle_inserted_later(TimeNs now) { return needle_inserted(std::max<TimeNs>(0, now - 2000 * kNsPerMs)); }
+
+void BM_OperatingLoopLadderNeedleTick(benchmark::State& state) {
+  run_loop(state, ladder_loop_model(static_cast<int>(state.range(0))), needle_inserted_later);
+}
+
 BENCHMARK(BM_OperatingLoopTick)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(20000);
 BENCHMARK(BM_OperatingLoopNeedleTick)->Arg(16)->Arg(64)->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(20000);
+BENCHMARK(BM_OperatingLoopLadderNeedleTick)->Arg(16)->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(20000);
 
 }  // namespace

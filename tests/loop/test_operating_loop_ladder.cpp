@@ -24,6 +24,7 @@
 #include "nav/reduced/reduced_ladder_basis.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
+#include "needle/needle_coupling_support.hpp"
 #include "support/allocation_guard.hpp"
 #include "tissue/tissue_test_support.hpp"
 
@@ -97,6 +98,7 @@ struct LadderSetup {
     scene.default_material = {10.0e3, 0.3, 1000.0};
     scene.fixed_nodes = testing::nodes_where(mesh, 0, 0.0);
     scene.prescribed_nodes = testing::nodes_where(mesh, 0, 0.08);
+    scene.max_point_forces = 32;
     double best = 1e9;
     for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n) {
       const auto& x = mesh.nodes_m[n];
@@ -315,6 +317,77 @@ TEST(OperatingLoopLadder, NeverAllocatesAndRepeatsBitwise) {
                   std::memcmp(a.ticks[k].liver_q.data(), b.ticks[k].liver_q.data(), sizeof(double) * kLoopMaxBasisSize) != 0 ||
                   a.ticks[k].liver_rung != b.ticks[k].liver_rung;
   EXPECT_EQ(mismatches, 0);
+}
+
+/// A run with a needle pushed at 20 mm/s into the top face over the tumour from 0.1 s, its
+/// marker pose measured every 4 ms (no delay), the breathing nominal.
+LoopRun run_with_needle(const OperatingLoopModel& model, const RigidPose& base_in_marker, TimeNs duration_ns) {
+  OperatingLoopData data = make_operating_loop_data(model).value();
+  LoopRun out;
+  out.ticks.reserve(static_cast<std::size_t>(duration_ns / kTick) + 1);
+  const RigidPose marker_from_base = inverse(base_in_marker);
+  testing::AllocationGuard guard;
+  for (TimeNs now = 0; now <= duration_ns; now += kTick) {
+    if (now % (10 * kNsPerMs) == 0) push_respiratory_sample(model, data, now, {0.02, -0.01, marker_m(now, 1.0)});
+    if (now % (4 * kNsPerMs) == 0) {
+      const double lowered_m = std::clamp(0.02 * 1e-9 * static_cast<double>(now - 100 * kNsPerMs), 0.0, 0.016);
+      const NeedlePose p = testing::needle_above(0.04, 0.01, 0.02, lowered_m);
+      const RigidPose base{{p.position_m[0], p.position_m[1], p.position_m[2]},
+                           Eigen::Quaterniond(p.rotation_wxyz[0], p.rotation_wxyz[1], p.rotation_wxyz[2], p.rotation_wxyz[3])};
+      push_needle_pose(model, data, {now, compose(base, marker_from_base)});
+    }
+    tick(model, data, now);
+    out.ticks.push_back(data.outputs);
+  }
+  out.allocations = guard.allocations();
+  return out;
+}
+
+double distance_m(const Point3& a, const Point3& b) { return error_m(a, b); }
+
+TEST(OperatingLoopLadder, ANeedlePushEscalatesAndTheNeedleIsCarriedAlong) {
+  // The rungs were trained on breathing alone: the needle's forces take rung 0 out of its
+  // envelope and the loop escalates mid-push, the needle (beam, layer, path, forces) carried
+  // to rung 1's coupling. Until then the ladder loop is the one-rung loop, bitwise.
+  const LadderSetup& s = setup();
+  OperatingLoopNeedleOptions needle;
+  needle.scene = testing::top_face_layer(0.04, 0.01, 0.02, 0.003);
+  needle.base_in_marker = {{0.0, 0.0, -0.01}, Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * std::numbers::pi, Eigen::Vector3d::UnitY()))};
+  const OperatingLoopModel ladder = make_operating_loop_model(s.ladder, s.filters, s.options, &needle, &s.mesh).value();
+  const OperatingLoopModel one = make_operating_loop_model(s.ladder.reduced_rung(0), s.filters[0], s.options, needle, s.mesh).value();
+  const TimeNs duration = 900 * kNsPerMs;
+  const LoopRun a = run_with_needle(ladder, needle.base_in_marker, duration);
+  const LoopRun b = run_with_needle(one, needle.base_in_marker, duration);
+  EXPECT_EQ(a.allocations, 0u);
+  std::size_t up = 0;
+  for (std::size_t k = 1; k < a.ticks.size() && up == 0; ++k)
+    if (a.ticks[k].liver_rung > a.ticks[k - 1].liver_rung) up = k;
+  ASSERT_GT(up, 0u) << "never escalated";
+  int mismatches = 0;
+  for (std::size_t k = 0; k < up; ++k)
+    mismatches += std::memcmp(&a.ticks[k].needle_tip_m, &b.ticks[k].needle_tip_m, sizeof(Point3)) != 0 ||
+                  std::memcmp(&a.ticks[k].tumour_now_m, &b.ticks[k].tumour_now_m, sizeof(Point3)) != 0;
+  EXPECT_EQ(mismatches, 0);
+  ASSERT_GT(a.ticks[up].needle_shape.tip_depth_m + a.ticks[up].needle_shape.tip_force_n[2], 0.0) << "escalated before contact";
+  // The tip and its force across the switch against their largest tick-to-tick change before it.
+  double tip_before_m = 0.0, force_before_n = 0.0;
+  for (std::size_t k = up - 40; k < up; ++k) {
+    tip_before_m = std::max(tip_before_m, distance_m(a.ticks[k].needle_tip_m, a.ticks[k - 1].needle_tip_m));
+    force_before_n = std::max(force_before_n, distance_m(a.ticks[k].needle_shape.tip_force_n, a.ticks[k - 1].needle_shape.tip_force_n));
+  }
+  const double tip_switch_m = distance_m(a.ticks[up].needle_tip_m, a.ticks[up - 1].needle_tip_m);
+  const double force_switch_n = distance_m(a.ticks[up].needle_shape.tip_force_n, a.ticks[up - 1].needle_shape.tip_force_n);
+  const OperatingLoopOutputs& last = a.ticks.back();
+  std::printf("needle push: escalated at %.3f s (tip depth %.2f mm); tip moved %.4f mm over the switch (largest before %.4f mm), "
+              "tip force changed %.4f N (largest before %.4f N); at the end rung %d, %d puncture(s), tip force %.3f N "
+              "(one-rung loop: %d, %.3f N)\n",
+              1e-3 * static_cast<double>(up), 1e3 * a.ticks[up].needle_shape.tip_depth_m, 1e3 * tip_switch_m, 1e3 * tip_before_m,
+              force_switch_n, force_before_n, last.liver_rung, last.needle_shape.punctures, last.needle_shape.tip_force_n[2],
+              b.ticks.back().needle_shape.punctures, b.ticks.back().needle_shape.tip_force_n[2]);
+  EXPECT_LE(tip_switch_m, 2.0 * tip_before_m);
+  EXPECT_LE(force_switch_n, 2.0 * force_before_n + 0.01);
+  EXPECT_EQ(last.needle_shape.punctures, 1);
+  EXPECT_TRUE(last.needle_shape.node_count > 0 && std::isfinite(last.needle_tip_m[2]));
 }
 
 TEST(OperatingLoopLadder, BuildErrorsNameTheirField) {
