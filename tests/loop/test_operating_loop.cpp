@@ -23,6 +23,7 @@
 #include "nav/loop/operating_loop.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
+#include "loop/loop_beam_support.hpp"
 #include "support/allocation_guard.hpp"
 #include "tissue/tissue_test_support.hpp"
 
@@ -37,20 +38,12 @@ constexpr TimeNs kLatency = 100 * kNsPerMs;            // five liver steps
 constexpr TimeNs kDuration = 8 * kNsPerSecond;
 constexpr TimeNs kSettled = 5 * kNsPerSecond;          // breathing fitted (from 4.1 s), filter converged
 constexpr TimeNs kFaultAt = 5 * kNsPerSecond;           // faults start once everything is healthy
-constexpr double kBreathingPeriodS = 2.0, kMarkerAmplitudeM = 0.006, kMarkerMeanM = 0.1;
-const Eigen::Vector3d kDiaphragmPerMarker{0.25, 0.0, 1.2};
 constexpr double kTrainingAmplitude = 2.5;  // of the nominal breath
 constexpr double kDeepBreath = 5.0;
-
-/// The true breathing: the marker's displacement along the tracker's z at time t.
-double marker_m(TimeNs t, double amplitude_factor) {
-  return kMarkerMeanM + amplitude_factor * kMarkerAmplitudeM * std::sin(2.0 * std::numbers::pi * static_cast<double>(t) * 1e-9 / kBreathingPeriodS);
-}
-
-Point3 diaphragm_at(TimeNs t, double amplitude_factor) {
-  const Eigen::Vector3d d = kDiaphragmPerMarker * (marker_m(t, amplitude_factor) - kMarkerMeanM);
-  return {d[0], d[1], d[2]};
-}
+using testing::diaphragm_at;
+using testing::kDiaphragmPerMarker;
+using testing::kMarkerMeanM;
+using testing::marker_m;
 
 const TissueSolverOptions kQuasiStaticCorotational{.integrator = Integrator::quasi_static, .step_s = kStepS, .cg_iterations = 3};
 
@@ -63,35 +56,20 @@ struct Beam {
     scene.default_material = {kModelYoungsPa, 0.3, 1000.0};
     scene.fixed_nodes = testing::nodes_where(mesh, 0, 0.0);
     scene.prescribed_nodes = testing::nodes_where(mesh, 0, 0.08);
-    double best = 1e9;
-    for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n) {
-      const auto& x = mesh.nodes_m[n];
-      const double d = std::hypot(x[0] - 0.04, x[1] - 0.01, x[2] - 0.01);
-      if (d < best) best = d, tumour = static_cast<std::int32_t>(n);
-    }
+    tumour = testing::nearest_node(mesh, {0.04, 0.01, 0.01});
   }
 };
 
-/// Full-order positions of `node` at every liver step of the breathing, for a material.
+/// Full-order positions of `node` at every liver step of the breathing, for a material (the
+/// load ramped in over the first five steps).
 std::vector<Point3> full_order_trajectory(const Beam& beam, double youngs_pa, double amplitude_factor, int steps,
                                           std::int32_t node, std::vector<double>* snapshots, int snapshot_every) {
   TissueScene scene = beam.scene;
   scene.default_material.youngs_modulus_pa = youngs_pa;
   const TetFemModel full = make_tet_fem_model(beam.mesh, scene, kQuasiStaticCorotational).value();
-  auto data = make_tet_fem_data(full).value();
-  const auto rest = full.rest_positions_m();
-  std::vector<Point3> out;
-  for (int i = 0; i < steps; ++i) {
-    TissueInputs inputs;
-    inputs.load_scale = std::min(1.0, 0.2 * (i + 1));
-    inputs.prescribed_displacement_m = diaphragm_at(i * kStep, amplitude_factor);
-    step(full, data, inputs);
-    const auto n = static_cast<std::size_t>(node);
-    out.push_back({data.positions_m[3 * n], data.positions_m[3 * n + 1], data.positions_m[3 * n + 2]});
-    if (snapshots != nullptr && (i + 1) % snapshot_every == 0)
-      for (std::size_t k = 0; k < rest.size(); ++k) snapshots->push_back(data.positions_m[k] - rest[k]);
-  }
-  return out;
+  return testing::breathe(
+      full, kStep, [&](TimeNs) { return amplitude_factor; }, [](int i) { return std::min(1.0, 0.2 * (i + 1)); }, steps, node, snapshots,
+      snapshot_every);
 }
 
 /// The loop's model (built once per process) and the truth of the tumour at every liver step.

@@ -23,6 +23,7 @@
 #include "nav/loop/operating_loop.hpp"
 #include "nav/reduced/reduced_ladder_basis.hpp"
 #include "nav/reduced/reduction.hpp"
+#include "loop/loop_beam_support.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 #include "needle/needle_coupling_support.hpp"
 #include "support/allocation_guard.hpp"
@@ -36,43 +37,25 @@ constexpr double kStepS = 0.02;
 constexpr TimeNs kTick = kNsPerMs, kStep = 20 * kNsPerMs;
 constexpr TimeNs kDuration = 8 * kNsPerSecond;
 constexpr TimeNs kDeepFrom = 2 * kNsPerSecond, kDeepTo = 4 * kNsPerSecond;  // the deep breaths
-constexpr double kBreathingPeriodS = 2.0, kMarkerAmplitudeM = 0.006, kMarkerMeanM = 0.1, kDeepBreath = 5.0;
-const Eigen::Vector3d kDiaphragmPerMarker{0.25, 0.0, 1.2};
+constexpr double kDeepBreath = 5.0;
 constexpr int kSmallR = 3, kBigR = 6;
+using testing::diaphragm_at;
+using testing::kDiaphragmPerMarker;
+using testing::kMarkerMeanM;
+using testing::marker_m;
 
 /// The breath's depth at time t (nominal 1, deep between kDeepFrom and kDeepTo).
 double depth_at(TimeNs t) { return t >= kDeepFrom && t < kDeepTo ? kDeepBreath : 1.0; }
 
-double marker_m(TimeNs t, double depth) {
-  return kMarkerMeanM + depth * kMarkerAmplitudeM * std::sin(2.0 * std::numbers::pi * static_cast<double>(t) * 1e-9 / kBreathingPeriodS);
-}
-
-Point3 diaphragm_at(TimeNs t, double depth) {
-  const Eigen::Vector3d d = kDiaphragmPerMarker * (marker_m(t, depth) - kMarkerMeanM);
-  return {d[0], d[1], d[2]};
-}
-
 const TissueSolverOptions kSolver{.integrator = Integrator::quasi_static, .step_s = kStepS, .cg_iterations = 3};
 
-/// Quasi-static full-order steps under breathing of depth `depth(t)`: the positions of `node`
-/// at every step, and every `snapshot_every`-th step's displacements into `snapshots`.
+/// Quasi-static full-order breathing of depth depth(t): `node`'s position at every step, and
+/// every snapshot_every-th step's displacements into `snapshots`.
 template <class Depth>
 std::vector<Point3> breathe(const TetMesh& mesh, const TissueScene& scene, Depth depth, int steps, std::int32_t node,
                             std::vector<double>* snapshots, int snapshot_every) {
   const TetFemModel full = make_tet_fem_model(mesh, scene, kSolver).value();
-  auto data = make_tet_fem_data(full).value();
-  const auto rest = full.rest_positions_m();
-  std::vector<Point3> out;
-  for (int i = 0; i < steps; ++i) {
-    TissueInputs inputs;
-    inputs.prescribed_displacement_m = diaphragm_at(i * kStep, depth(i * kStep));
-    step(full, data, inputs);
-    const auto n = static_cast<std::size_t>(node);
-    out.push_back({data.positions_m[3 * n], data.positions_m[3 * n + 1], data.positions_m[3 * n + 2]});
-    if (snapshots != nullptr && (i + 1) % snapshot_every == 0)
-      for (std::size_t k = 0; k < rest.size(); ++k) snapshots->push_back(data.positions_m[k] - rest[k]);
-  }
-  return out;
+  return testing::breathe(full, kStep, depth, [](int) { return 1.0; }, steps, node, snapshots, snapshot_every);
 }
 
 ReductionOptions reduction(int r) {
@@ -99,12 +82,7 @@ struct LadderSetup {
     scene.fixed_nodes = testing::nodes_where(mesh, 0, 0.0);
     scene.prescribed_nodes = testing::nodes_where(mesh, 0, 0.08);
     scene.max_point_forces = 32;
-    double best = 1e9;
-    for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n) {
-      const auto& x = mesh.nodes_m[n];
-      const double d = std::hypot(x[0] - 0.04, x[1] - 0.01, x[2] - 0.01);
-      if (d < best) best = d, tumour = static_cast<std::int32_t>(n);
-    }
+    tumour = testing::nearest_node(mesh, {0.04, 0.01, 0.01});
     std::vector<double> nominal, deep;  // one breath each, every 5th step
     breathe(mesh, scene, [](TimeNs) { return 2.5; }, 100, tumour, &nominal, 5);
     breathe(mesh, scene, [](TimeNs) { return 7.0; }, 100, tumour, &deep, 5);

@@ -24,6 +24,7 @@
 #include "nav/needle/coupled_needle_step.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "needle/needle_coupling_support.hpp"
+#include "loop/loop_beam_support.hpp"
 #include "support/allocation_guard.hpp"
 #include "tissue/tissue_test_support.hpp"
 
@@ -61,12 +62,7 @@ struct LoopSetup {
     scene.fixed_nodes = testing::nodes_where(mesh, 0, 0.0);
     scene.prescribed_nodes = testing::nodes_where(mesh, 0, 0.08);
     scene.max_point_forces = 32;
-    double best = 1e9;
-    for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n) {
-      const auto& x = mesh.nodes_m[n];
-      const double d = std::hypot(x[0] - 0.04, x[1] - 0.01, x[2] - 0.01);
-      if (d < best) best = d, tumour = static_cast<std::int32_t>(n);
-    }
+    tumour = testing::nearest_node(mesh, {0.04, 0.01, 0.01});
     const TissueSolverOptions solver{.rotation = ElementRotation::none, .integrator = Integrator::quasi_static, .step_s = kStepS,
                                      .cg_iterations = 1};
     const ReductionOptions reduction{.source = ReducedBasisSource::linear_modes, .force_kind = ReducedForceKind::linear, .basis_size = 12};
