@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "nav/reduced/reduced_envelope.hpp"
 #include "nav/reduced/reduced_ladder_tables.hpp"
 
 namespace nav {
@@ -38,18 +39,9 @@ double lifted(const ReducedLadderTables& t, std::size_t dof, const double d[3]) 
   return t.lift_rows.empty() ? 0.0 : dot(t.lift_rows.data() + 3 * dof, d, 3);
 }
 
-/// The largest |q_i| / bound_i of a reduced rung, as its own step measures it: a direction
-/// with a zero bound counts as twice the envelope factor when it moves.
+/// The indicator of reduced rung `rung` at q, as its own step measures it.
 double ladder_envelope_ratio(const ReducedLadderTables& t, int rung, std::span<const double> q) {
-  const std::vector<double>& bound = t.q_bound[static_cast<std::size_t>(rung)];
-  const double factor = t.rungs[static_cast<std::size_t>(rung)].options().envelope_factor;
-  double ratio = 0.0;
-  for (std::size_t i = 0; i < bound.size(); ++i) {
-    const double magnitude = std::abs(q[i]);
-    if (bound[i] > 0.0) ratio = std::max(ratio, magnitude / bound[i]);
-    else if (magnitude > 0.0) ratio = std::max(ratio, 2.0 * factor);
-  }
-  return ratio;
+  return detail::envelope_ratio(t.q_bound[static_cast<std::size_t>(rung)], t.rungs[static_cast<std::size_t>(rung)].options().envelope_factor, q);
 }
 
 /// Puts (q, v, d) into reduced rung `rung`, its report describing that state.

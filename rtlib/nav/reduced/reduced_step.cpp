@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "nav/reduced/dense_cholesky.hpp"
+#include "nav/reduced/reduced_envelope.hpp"
 #include "nav/reduced/reduced_forces.hpp"
 #include "nav/reduced/reduced_kernels.hpp"
 #include "nav/reduced/reduced_model.hpp"
@@ -178,12 +179,7 @@ void check_envelope(const ReducedTables& t, ReducedData& data) {
     data.q[i] = std::copysign(limit, data.q[i]);
     data.q_velocity[i] = 0.0;
   }
-  double ratio = 0.0;
-  for (std::size_t i = 0; i < t.q_bound.size(); ++i) {
-    const double magnitude = std::abs(data.q[i]);
-    if (t.q_bound[i] > 0.0) ratio = std::max(ratio, magnitude / t.q_bound[i]);
-    else if (magnitude > 0.0) ratio = std::max(ratio, t.options.envelope_factor * 2.0);  // a direction never met in training
-  }
+  const double ratio = detail::envelope_ratio(t.q_bound, t.options.envelope_factor, data.q);
   data.report.envelope_ratio = ratio;
   data.report.out_of_envelope = ratio > t.options.envelope_factor;
   if (data.report.out_of_envelope) data.health.raise(HealthFlag::reduced_out_of_envelope);
