@@ -1,6 +1,7 @@
 // navstation: the navigation station.
 //   --scene FILE --check   loads the scene, builds the models it declares, prints their memory
-//                          footprint and what the real-time setup would do here, and exits.
+//                          footprint, the liver's escalation ladder (when declared) and what the
+//                          real-time setup would do here, and exits.
 //   --scene FILE           runs the scene on its simulated world: the real-time loop and the
 //                          I/O thread for --seconds (default 10), then prints the summary.
 //   --demo                 the same on the demo scene (scenes/demo.yaml).
@@ -66,6 +67,31 @@ void print_realtime(const nav::station::StationSettings& s) {
                           : "the station would run anyway, without what was refused\n");
 }
 
+/// The reduced liver's escalation ladder: its rungs and how it moves between them.
+void print_ladder(const nav::station::LiverModels& liver) {
+  if (!liver.ladder) return;
+  const nav::ReducedLadderModel& ladder = *liver.ladder;
+  const nav::ReducedLadderOptions& o = ladder.options();
+  std::printf("liver escalation ladder: %d rungs; ", ladder.rung_count());
+  if (!o.escalation_allowed) {
+    std::printf("escalation not allowed (the indicator only raises its flag)\n");
+  } else if (o.de_escalate_after_steps > 0) {
+    std::printf("escalation allowed after %d flagged step(s); steps down after %d steps inside ratio %.3g, residual %.3g\n",
+                o.escalate_after_steps, o.de_escalate_after_steps, o.de_escalation_envelope_ratio, o.de_escalation_residual);
+  } else {
+    std::printf("escalation allowed after %d flagged step(s); never steps down\n", o.escalate_after_steps);
+  }
+  for (int k = 0; k < ladder.reduced_rung_count(); ++k) {
+    const nav::ReducedModel& rung = ladder.reduced_rung(k);
+    std::printf("  rung %d  reduced r = %d, %d sampled tetrahedra", k, rung.basis_size(), rung.sample_count());
+    if (k + 1 < ladder.reduced_rung_count()) std::printf(", transfer loss to rung %d %.1e", k + 1, ladder.transfer_loss(k));
+    std::printf("\n");
+  }
+  if (ladder.has_full_order())
+    std::printf("  rung %d  full order, %lld tetrahedra\n", ladder.reduced_rung_count(),
+                static_cast<long long>(ladder.full_order().tet_count()));
+}
+
 int check_scene(nav::station::Scene scene) {
   print_plan(scene);
   auto built = nav::station::build_station(std::move(scene));
@@ -74,6 +100,7 @@ int check_scene(nav::station::Scene scene) {
     return kExitError;
   }
   std::printf("memory footprint:\n%s", nav::station::format_footprint(built.value().footprint).c_str());
+  print_ladder(built.value().models.liver);
   print_realtime(built.value().models.scene.station);
   return 0;
 }

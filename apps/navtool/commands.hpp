@@ -21,7 +21,8 @@ int mesh_make(const std::vector<std::string>& args);
 int record_replay(const std::vector<std::string>& args);
 
 /// navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --method M --r R
-/// --force F [--samples M] [--seed S] --out FILE [--json]: see reduce.cpp.
+/// --force F [--samples M] [--seed S] [--load-scale S] --out FILE [--json], or --extend LOWER
+/// instead of --method (the next rung of a ladder): see reduce.cpp.
 int reduce(const std::vector<std::string>& args);
 
 /// navtool calib pivot --poses FILE.csv [--tool NAME] [--urdf FILE [--out FILE] [--joint J]]

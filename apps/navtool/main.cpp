@@ -15,6 +15,8 @@ constexpr const char* kUsage =
     "  navtool replay FILE [--as-fast-as-possible] [--domain D] [--local-address A] [--peer A]...\n"
     "  navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --method modes|modal-derivatives|pod\n"
     "                 --r R --force linear|corotational|stvk|stvk-cubic [--samples M] [--seed S] --out FILE [--json]\n"
+    "  navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --extend LOWER.navrb --r R\n"
+    "                 [--load-scale S] [--samples M] [--seed S] --out FILE [--json]   (the next rung of a ladder)\n"
     "  navtool calib pivot (--poses FILE.csv | --recording FILE.navrec) [--tool NAME|ID] [--urdf FILE [--out FILE] [--joint J]]\n"
     "  navtool calib handeye --marker-poses FILE.csv --camera-poses FILE.csv [--tool NAME] [--urdf FILE ...]\n"
     "  navtool calib register --model-points F.csv --tracked-points F.csv [--surface F --unit U --surface-points F.csv]\n"

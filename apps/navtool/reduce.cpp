@@ -3,12 +3,18 @@
 // solves the seeded training loads with the full-order corotational model, builds the basis
 // (vibration modes, modal derivatives or POD of the snapshots) and its force reduction, prints
 // the energy captured per mode and the cubature size, and writes the reduced-basis artifact.
+// With --extend LOWER it builds the next rung of an escalation ladder instead: LOWER's columns
+// first, completed (extend_basis) by POD directions of a training whose needle forces and
+// diaphragm displacements --load-scale widens (the probe pushes are already near what the
+// full-order training solve converges on; widened loads it cannot solve are left out and
+// named), with a force reduction and envelope trained on it.
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -16,6 +22,7 @@
 #include "nav/core/units.hpp"
 #include "nav/mesh/load_mesh.hpp"
 #include "nav/reduced/reduced_artifact.hpp"
+#include "nav/reduced/reduced_ladder_basis.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "nav/reduced/training_loads.hpp"
 #include "nav/tissue/liver_scenes.hpp"
@@ -25,13 +32,22 @@ namespace {
 
 constexpr const char* kReduceUsage =
     "usage: navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit mm|cm|m])\n"
-    "                      --method modes|modal-derivatives|pod --r R\n"
+    "                      (--method modes|modal-derivatives|pod | --extend LOWER.navrb) --r R\n"
     "                      --force linear|corotational|stvk|stvk-cubic [--samples M] [--seed S]\n"
-    "                      --out FILE [--json]\n";
+    "                      [--load-scale S] --out FILE [--json]\n"
+    "  --extend LOWER   the next rung of a ladder: LOWER's columns first (an artifact of this mesh,\n"
+    "                   R above its size), then POD directions of the training; method and force\n"
+    "                   are LOWER's (--force, if given, must match)\n"
+    "  --load-scale S   multiplies the training's needle forces and diaphragm displacements\n"
+    "                   (default 1; gravity and probe pushes stay): a wider training for an\n"
+    "                   upper rung, e.g. 3; above 1, loads the full order cannot solve are\n"
+    "                   left out and named\n";
 
 /// The command line of reduce.
 struct ReduceArgs {
   std::string liver_dir, mesh_file, out;
+  std::string extend;        ///< the lower rung's artifact, or empty
+  double load_scale = 1.0;   ///< of the training's needle forces and diaphragm displacements
   int tets = 22019;
   nav::LengthUnit unit = nav::LengthUnit::metre;
   nav::ReductionOptions reduction;
@@ -39,6 +55,34 @@ struct ReduceArgs {
   std::uint64_t seed = 1;
   bool json = false;
 };
+
+/// A command-line name and its value.
+template <typename T>
+struct Named {
+  const char* name;
+  T value;
+};
+
+constexpr Named<nav::ReducedBasisSource> kMethods[] = {
+    {"modes", nav::ReducedBasisSource::linear_modes}, {"modal-derivatives", nav::ReducedBasisSource::modal_derivatives},
+    {"pod", nav::ReducedBasisSource::pod}};
+constexpr Named<nav::ReducedForceKind> kForces[] = {
+    {"linear", nav::ReducedForceKind::linear}, {"corotational", nav::ReducedForceKind::corotational_cubature},
+    {"stvk", nav::ReducedForceKind::stvk_cubature}, {"stvk-cubic", nav::ReducedForceKind::stvk_cubic_polynomial}};
+
+template <typename T, std::size_t N>
+const Named<T>* find_name(const Named<T> (&table)[N], const std::string& name) {
+  for (const Named<T>& entry : table)
+    if (name == entry.name) return &entry;
+  return nullptr;
+}
+
+template <typename T, std::size_t N>
+std::string name_of(const Named<T> (&table)[N], T value) {
+  for (const Named<T>& entry : table)
+    if (entry.value == value) return entry.name;
+  return "?";
+}
 
 template <typename T>
 bool parse_number(const std::string& text, T& value) {
@@ -66,6 +110,11 @@ std::optional<ReduceArgs> parse_args(const std::vector<std::string>& args) {
       parsed.mesh_file = args[++i];
     } else if (a == "--out") {
       parsed.out = args[++i];
+    } else if (a == "--extend") {
+      parsed.extend = args[++i];
+    } else if (a == "--load-scale") {
+      if (!parse_number(args[++i], parsed.load_scale) || !(parsed.load_scale > 0.0 && parsed.load_scale <= 100.0))
+        return fail("--load-scale wants a factor in (0, 100], not '" + args[i] + "'");
     } else if (a == "--unit") {
       const auto unit = nav::parse_length_unit(args[++i]);
       if (!unit) return fail("unknown unit '" + args[i] + "' (mm, cm or m)");
@@ -82,34 +131,21 @@ std::optional<ReduceArgs> parse_args(const std::vector<std::string>& args) {
       if (!parse_number(args[++i], parsed.seed)) return fail("--seed wants a non-negative integer");
     } else if (a == "--method") {
       parsed.method = args[++i];
-      if (parsed.method == "modes") {
-        parsed.reduction.source = nav::ReducedBasisSource::linear_modes;
-      } else if (parsed.method == "modal-derivatives") {
-        parsed.reduction.source = nav::ReducedBasisSource::modal_derivatives;
-      } else if (parsed.method == "pod") {
-        parsed.reduction.source = nav::ReducedBasisSource::pod;
-      } else {
-        return fail("unknown --method '" + parsed.method + "' (modes, modal-derivatives or pod)");
-      }
+      const auto* method = find_name(kMethods, parsed.method);
+      if (method == nullptr) return fail("unknown --method '" + parsed.method + "' (modes, modal-derivatives or pod)");
+      parsed.reduction.source = method->value;
     } else if (a == "--force") {
       parsed.force = args[++i];
-      if (parsed.force == "linear") {
-        parsed.reduction.force_kind = nav::ReducedForceKind::linear;
-      } else if (parsed.force == "corotational") {
-        parsed.reduction.force_kind = nav::ReducedForceKind::corotational_cubature;
-      } else if (parsed.force == "stvk") {
-        parsed.reduction.force_kind = nav::ReducedForceKind::stvk_cubature;
-      } else if (parsed.force == "stvk-cubic") {
-        parsed.reduction.force_kind = nav::ReducedForceKind::stvk_cubic_polynomial;
-      } else {
-        return fail("unknown --force '" + parsed.force + "' (linear, corotational, stvk or stvk-cubic)");
-      }
+      const auto* force = find_name(kForces, parsed.force);
+      if (force == nullptr) return fail("unknown --force '" + parsed.force + "' (linear, corotational, stvk or stvk-cubic)");
+      parsed.reduction.force_kind = force->value;
     } else {
       return fail("unexpected argument '" + a + "'");
     }
   }
   if (parsed.liver_dir.empty() == parsed.mesh_file.empty()) return fail("give either --liver-dir or --mesh");
-  if (parsed.method.empty() || parsed.force.empty()) return fail("--method and --force are required");
+  if (!parsed.extend.empty() && !parsed.method.empty()) return fail("--extend takes its method from the lower artifact: drop --method");
+  if (parsed.extend.empty() && (parsed.method.empty() || parsed.force.empty())) return fail("--method and --force are required");
   if (parsed.out.empty()) return fail("--out is required");
   return parsed;
 }
@@ -118,46 +154,120 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-/// The per-mode figure: the cumulative captured energy fraction for POD, the frequency in Hz
-/// of a vibration mode, nothing (0) for modal derivatives beyond the modes.
-void print_report(const ReduceArgs& args, const nav::TetMesh& mesh, const nav::ReducedBasis& basis, int snapshot_count,
-                  double training_s, double reduction_s) {
-  const bool pod = basis.source == nav::ReducedBasisSource::pod;
-  if (args.json) {
-    std::string modes;
-    for (std::size_t k = 0; k < basis.column_values.size(); ++k) {
-      char item[64];
-      const double v = basis.column_values[k];
-      std::snprintf(item, sizeof(item), "%s%.9g", k == 0 ? "" : ", ", pod ? v : std::sqrt(std::max(v, 0.0)) / (2.0 * std::numbers::pi));
-      modes += item;
+/// The training snapshots, the loads left out of them and the time they took.
+struct Training {
+  nav::Snapshots snapshots;
+  std::vector<std::string> skipped;  ///< names of loads whose full-order solve failed (widened training only)
+  double seconds = 0.0;
+};
+
+/// Solves the training loads. A widened training (load_scale above 1) goes beyond what the
+/// full order may solve (elements invert under a 2x diaphragm move on liverFine): there a load
+/// whose solve fails is left out and named, and only none solved at all is an error.
+nav::Result<Training> solve_training(const nav::TetMesh& mesh, const nav::TissueScene& scene, std::span<const nav::TrainingLoad> loads,
+                                     double load_scale) {
+  const auto start = std::chrono::steady_clock::now();
+  Training t;
+  if (!(load_scale > 1.0)) {
+    auto all = nav::solve_static_loads(mesh, scene, loads);
+    if (!all.ok()) return all.error();
+    t.snapshots = std::move(all).value();
+  } else {
+    for (std::size_t k = 0; k < loads.size(); ++k) {
+      auto one = nav::solve_static_loads(mesh, scene, loads.subspan(k, 1));
+      if (!one.ok()) {
+        t.skipped.push_back(loads[k].name);
+        continue;
+      }
+      nav::Snapshots& s = t.snapshots;
+      s.displacements_m.insert(s.displacements_m.end(), one.value().displacements_m.begin(), one.value().displacements_m.end());
+      s.count += one.value().count;
+      s.total_steps += one.value().total_steps;
     }
-    std::printf("{\"out\": \"%s\", \"method\": \"%s\", \"force\": \"%s\", \"nodes\": %zu, \"tetrahedra\": %zu, \"r\": %d, "
-                "\"training_loads\": %d, \"%s\": [%s], \"cubature_samples\": %zu, \"training_residual_bound\": %.6g, "
-                "\"training_s\": %.2f, \"reduction_s\": %.2f}\n",
-                args.out.c_str(), args.method.c_str(), args.force.c_str(), mesh.nodes_m.size(), mesh.tets.size(),
-                basis.basis_size, snapshot_count, pod ? "captured_energy_fraction" : "mode_frequency_hz", modes.c_str(),
-                basis.sample_tets.size(), basis.training_residual_bound, training_s, reduction_s);
+    if (t.snapshots.count == 0) return nav::Error{"no training load converged at --load-scale " + std::to_string(load_scale), "", 0, ""};
+  }
+  t.seconds = seconds_since(start);
+  return t;
+}
+
+/// The per-mode figure: the cumulative captured energy fraction for POD, the frequency in Hz
+/// of a vibration mode, nothing (0) for modal derivatives beyond the modes. Columns from
+/// `lower_r` on (an extended basis) are the cumulative fraction of the energy the lower rung
+/// missed.
+void print_report(const ReduceArgs& args, const nav::TetMesh& mesh, const nav::ReducedBasis& basis, int lower_r,
+                  const Training& training, double reduction_s) {
+  std::string skipped;
+  for (const std::string& name : training.skipped) skipped += (skipped.empty() ? "\"" : ", \"") + name + "\"";
+  const bool pod = basis.source == nav::ReducedBasisSource::pod;
+  const auto own = static_cast<std::size_t>(lower_r > 0 ? lower_r : basis.basis_size);
+  const auto figure = [&](std::size_t k) {
+    const double v = basis.column_values[k];
+    return pod || k >= own ? v : std::sqrt(std::max(v, 0.0)) / (2.0 * std::numbers::pi);
+  };
+  const auto values = [&](std::size_t from, std::size_t to) {
+    std::string list;
+    for (std::size_t k = from; k < to; ++k) {
+      char item[64];
+      std::snprintf(item, sizeof(item), "%s%.9g", k == from ? "" : ", ", figure(k));
+      list += item;
+    }
+    return list;
+  };
+  if (args.json) {
+    std::string extension;
+    if (lower_r > 0)
+      extension = "\"lower\": \"" + args.extend + "\", \"lower_r\": " + std::to_string(lower_r) + ", \"extension_energy_fraction\": [" +
+                  values(own, basis.column_values.size()) + "], ";
+    std::printf("{\"out\": \"%s\", \"method\": \"%s\", \"force\": \"%s\", \"nodes\": %zu, \"tetrahedra\": %zu, \"r\": %d, %s"
+                "\"training_loads\": %d, \"load_scale\": %.6g, \"skipped_loads\": [%s], \"%s\": [%s], \"cubature_samples\": %zu, "
+                "\"training_residual_bound\": %.6g, \"training_s\": %.2f, \"reduction_s\": %.2f}\n",
+                args.out.c_str(), args.method.c_str(), args.force.c_str(), mesh.nodes_m.size(), mesh.tets.size(), basis.basis_size,
+                extension.c_str(), training.snapshots.count, args.load_scale, skipped.c_str(),
+                pod ? "captured_energy_fraction" : "mode_frequency_hz", values(0, own).c_str(), basis.sample_tets.size(),
+                basis.training_residual_bound, training.seconds, reduction_s);
     return;
   }
-  std::printf("mesh: %zu nodes, %zu tetrahedra; %d training loads solved in %.1f s; reduction in %.1f s\n",
-              mesh.nodes_m.size(), mesh.tets.size(), snapshot_count, training_s, reduction_s);
+  std::printf("mesh: %zu nodes, %zu tetrahedra; %d training loads (scale %g) solved in %.1f s; reduction in %.1f s\n",
+              mesh.nodes_m.size(), mesh.tets.size(), training.snapshots.count, args.load_scale, training.seconds, reduction_s);
+  if (!skipped.empty()) std::printf("left out (the full order does not solve them at this scale): %s\n", skipped.c_str());
+  if (lower_r > 0) std::printf("extends %s: its %d columns first, then %d new\n", args.extend.c_str(), lower_r, basis.basis_size - lower_r);
   std::printf("%-6s %s\n", "mode", pod ? "captured energy (cumulative)" : "frequency (Hz; 0: modal derivative)");
   for (std::size_t k = 0; k < basis.column_values.size(); ++k) {
-    const double v = basis.column_values[k];
-    if (pod) {
-      std::printf("%-6zu %.6f %%\n", k + 1, 100.0 * v);
+    if (k == own) std::printf("%-6s %s\n", "mode", "captured energy of what the lower rung misses (cumulative)");
+    if (pod || k >= own) {
+      std::printf("%-6zu %.6f %%\n", k + 1, 100.0 * figure(k));
     } else {
-      std::printf("%-6zu %.4f\n", k + 1, std::sqrt(std::max(v, 0.0)) / (2.0 * std::numbers::pi));
+      std::printf("%-6zu %.4f\n", k + 1, figure(k));
     }
   }
   std::printf("cubature: %zu sampled tetrahedra of %zu\n", basis.sample_tets.size(), mesh.tets.size());
   std::printf("training residual bound: %.4g\nwritten: %s\n", basis.training_residual_bound, args.out.c_str());
 }
 
+/// The lower rung of --extend: an artifact of `mesh`, smaller than --r, of the --force asked
+/// for (if any). Fills args' method and force from it.
+nav::Result<nav::ReducedBasis> load_lower(ReduceArgs& args, const nav::TetMesh& mesh) {
+  auto lower = nav::load_reduced_basis(args.extend, &mesh);
+  if (!lower.ok()) return nav::Error{"--extend: " + lower.error().describe(), "", 0, ""};
+  const nav::ReducedBasis& b = lower.value();
+  if (args.reduction.basis_size <= b.basis_size)
+    return nav::Error{"--r " + std::to_string(args.reduction.basis_size) + " must be above the " + std::to_string(b.basis_size) +
+                          " columns of the lower rung " + args.extend, "", 0, ""};
+  const std::string force = name_of(kForces, b.force_kind);
+  if (!args.force.empty() && args.force != force)
+    return nav::Error{"--force " + args.force + " differs from the lower rung's (" + force + ", " + args.extend +
+                          "): the rungs of a ladder share one element law", "", 0, ""};
+  args.force = force;
+  args.method = name_of(kMethods, b.source);
+  args.reduction.force_kind = b.force_kind;
+  args.reduction.source = b.source;
+  return lower;
+}
+
 }  // namespace
 
 int reduce(const std::vector<std::string>& args) {
-  const auto parsed = parse_args(args);
+  auto parsed = parse_args(args);
   if (!parsed) return exit_bad_input;
   const auto mesh_or_error = parsed->liver_dir.empty() ? nav::load_tet_mesh(parsed->mesh_file, parsed->unit)
                                                        : nav::load_liver_mesh(parsed->liver_dir, parsed->tets);
@@ -166,20 +276,31 @@ int reduce(const std::vector<std::string>& args) {
     return exit_bad_input;
   }
   const nav::TetMesh& mesh = mesh_or_error.value();
+  std::optional<nav::ReducedBasis> lower;
+  if (!parsed->extend.empty()) {
+    auto loaded = load_lower(*parsed, mesh);
+    if (!loaded.ok()) {
+      std::fprintf(stderr, "navtool reduce: %s\n", loaded.error().describe().c_str());
+      return exit_bad_input;
+    }
+    lower = std::move(loaded).value();
+  }
   const nav::TissueScene scene = nav::liver_reduction_scene(mesh);
   nav::TrainingLoadOptions load_options;
   load_options.seed = parsed->seed;
+  load_options.needle_force_n *= parsed->load_scale;
+  load_options.diaphragm_amplitude_m *= parsed->load_scale;
   const auto loads = nav::make_training_loads(mesh, scene, load_options, nav::LoadSet::training);
-  const auto start = std::chrono::steady_clock::now();
-  const auto snapshots = nav::solve_static_loads(mesh, scene, loads);
-  if (!snapshots.ok()) {
-    std::fprintf(stderr, "navtool reduce: training: %s\n", snapshots.error().describe().c_str());
+  const auto training = solve_training(mesh, scene, loads, parsed->load_scale);
+  if (!training.ok()) {
+    std::fprintf(stderr, "navtool reduce: training: %s\n", training.error().describe().c_str());
     return exit_failure;
   }
-  const double training_s = seconds_since(start);
-  const nav::Snapshots& s = snapshots.value();
+  const auto start = std::chrono::steady_clock::now();
+  const nav::Snapshots& s = training.value().snapshots;
   const nav::TissueSolverOptions solver = nav::reduction_solver_options(parsed->reduction.force_kind);
-  auto basis = parsed->reduction.source == nav::ReducedBasisSource::pod
+  auto basis = lower ? nav::extend_basis(mesh, scene, solver, *lower, parsed->reduction.basis_size, s.displacements_m, s.count)
+               : parsed->reduction.source == nav::ReducedBasisSource::pod
                    ? nav::make_pod_basis(mesh, scene, solver, parsed->reduction, s.displacements_m, s.count)
                    : nav::make_modal_basis(mesh, scene, solver, parsed->reduction);
   if (!basis.ok()) {
@@ -191,13 +312,13 @@ int reduce(const std::vector<std::string>& args) {
     std::fprintf(stderr, "navtool reduce: force reduction: %s\n", reduced.error().describe().c_str());
     return exit_failure;
   }
-  const double reduction_s = seconds_since(start) - training_s;
+  const double reduction_s = seconds_since(start);
   const auto saved = nav::save_reduced_basis(parsed->out, basis.value());
   if (!saved.ok()) {
     std::fprintf(stderr, "navtool reduce: %s\n", saved.error().describe().c_str());
     return exit_failure;
   }
-  print_report(*parsed, mesh, basis.value(), s.count, training_s, reduction_s);
+  print_report(*parsed, mesh, basis.value(), lower ? lower->basis_size : 0, training.value(), reduction_s);
   return exit_ok;
 }
 

@@ -1,14 +1,22 @@
-// navtool reduce, run as a process on the liver at about 1000 tetrahedra: a POD artifact with
+// navtool reduce, run as a process on the liver at about 1000 (and 500) tetrahedra: a POD artifact with
 // its captured energy per mode and cubature, a vibration-mode artifact with its frequencies,
-// both loadable for that mesh (and only that mesh); exit code 2 with a clear message for bad
-// arguments and a missing mesh file.
+// both loadable for that mesh (and only that mesh); an upper rung (--extend) that keeps the
+// lower rung's columns bit for bit and makes a ladder with no transfer loss, its widened
+// training leaving out (and naming) the loads the full order cannot solve; exit code 2 with a
+// clear message for bad arguments, a missing mesh file and a lower artifact that does not fit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <string>
 #include <vector>
 
 #include "nav/reduced/reduced_artifact.hpp"
+#include "nav/reduced/reduced_ladder.hpp"
+#include "nav/reduced/training_loads.hpp"
 #include "nav/tissue/liver_scenes.hpp"
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
@@ -90,9 +98,113 @@ TEST(NavtoolReduce, VibrationModesReportAscendingFrequencies) {
   EXPECT_EQ(basis.value().source, nav::ReducedBasisSource::linear_modes);
 }
 
+TEST(NavtoolReduce, ExtendKeepsTheLowerColumnsAndMakesALadderWithoutTransferLoss) {
+  LIVER_OR_SKIP(dir);
+  const std::string lower = nav::testing::temporary_path("reduce_lower.navrb");
+  const std::string upper = nav::testing::temporary_path("reduce_upper.navrb");
+  const std::string mesh_args = "reduce --liver-dir " + dir + " --tets 500 ";
+  const auto made = navtool(mesh_args + "--method pod --r 6 --force corotational --samples 30 --out " + lower, "2>/dev/null");
+  ASSERT_EQ(made.exit_code, 0) << made.output;
+  const auto run = navtool(mesh_args + "--extend " + lower + " --r 10 --samples 30 --load-scale 3 --out " + upper + " --json", "2>/dev/null");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("\"lower_r\": 6"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("\"r\": 10"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("\"force\": \"corotational\""), std::string::npos) << run.output;
+  const std::vector<double> extension = json_array(run.output, "extension_energy_fraction");
+  ASSERT_EQ(extension.size(), 4u) << run.output;
+  for (std::size_t k = 1; k < extension.size(); ++k) EXPECT_GE(extension[k], extension[k - 1]);
+  EXPECT_LE(extension.back(), 1.0 + 1e-12);
+
+  const nav::TetMesh mesh = nav::load_liver_mesh(dir, 500).value();
+  const auto small = nav::load_reduced_basis(lower, &mesh);
+  const auto big = nav::load_reduced_basis(upper, &mesh);
+  ASSERT_TRUE(small.ok() && big.ok()) << (small.ok() ? big.error().describe() : small.error().describe());
+  ASSERT_EQ(big.value().basis_size, 10);
+  EXPECT_EQ(big.value().force_kind, nav::ReducedForceKind::corotational_cubature);
+  EXPECT_FALSE(big.value().sample_tets.empty());
+  ASSERT_EQ(big.value().training_q_bound.size(), 10u);
+  const std::size_t kept = small.value().basis.size();  // the 6 lower columns, column-major
+  double largest = 0.0, difference = 0.0;
+  for (std::size_t i = 0; i < kept; ++i) {
+    largest = std::max(largest, std::abs(small.value().basis[i]));
+    difference = std::max(difference, std::abs(big.value().basis[i] - small.value().basis[i]));
+  }
+  EXPECT_LE(difference, 1e-12 * largest);
+  std::printf("kept columns: largest difference %.3g (largest entry %.3g)\n", difference, largest);
+  // The upper rung trained on 3 times the needle and diaphragm loads (gravity as before): a
+  // wider envelope along the shared columns, by up to that factor.
+  double widest = 0.0;
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_GE(big.value().training_q_bound[i], small.value().training_q_bound[i] * (1.0 - 1e-9)) << i;
+    widest = std::max(widest, big.value().training_q_bound[i] / small.value().training_q_bound[i]);
+  }
+  std::printf("widest envelope ratio of the shared columns: %.3f\n", widest);
+  EXPECT_GT(widest, 1.5);
+  EXPECT_LT(widest, 3.5);  // about linear in the load: at most a little beyond 3
+
+  const nav::TissueScene scene = nav::liver_reduction_scene(mesh);
+  const std::vector<nav::ReducedRungSpec> rungs{{small.value(), {}}, {big.value(), {}}};
+  const auto ladder = nav::make_reduced_ladder_model(mesh, scene, nav::reduction_solver_options(nav::ReducedForceKind::corotational_cubature),
+                                                     rungs, false, {});
+  ASSERT_TRUE(ladder.ok()) << ladder.error().describe();
+  EXPECT_LT(ladder.value().transfer_loss(0), 1e-9);
+
+  // A lower artifact that does not fit: of another mesh, not smaller than --r, of another law.
+  const std::string cube = nav::testing::test_data_path("mesh/cube.vtu");
+  const struct {
+    std::string arguments, expected;
+  } cases[] = {
+      {"reduce --mesh " + cube + " --unit m --extend " + lower + " --r 10 --out " + upper, "belongs to another mesh"},
+      {mesh_args + "--extend " + lower + " --r 6 --out " + upper, "--r 6 must be above the 6 columns of the lower rung " + lower},
+      {mesh_args + "--extend " + lower + " --r 8 --force linear --out " + upper, "--force linear differs from the lower rung's"},
+  };
+  for (const auto& c : cases) {
+    const auto refused = navtool(c.arguments);
+    EXPECT_EQ(refused.exit_code, 2) << c.arguments << "\n" << refused.output;
+    EXPECT_NE(refused.output.find(c.expected), std::string::npos) << c.arguments << "\n" << refused.output;
+    EXPECT_NE(refused.output.find(lower), std::string::npos) << c.arguments << "\n" << refused.output;
+  }
+}
+
+/// The integer after `"key": ` in `text` (-1 if absent).
+int json_int(const std::string& text, const std::string& key) {
+  const std::size_t at = text.find("\"" + key + "\": ");
+  return at == std::string::npos ? -1 : std::atoi(text.c_str() + at + key.size() + 4);
+}
+
+TEST(NavtoolReduce, AWidenedTrainingLeavesOutAndNamesTheLoadsTheFullOrderCannotSolve) {
+  LIVER_OR_SKIP(dir);
+  const std::string lower = nav::testing::temporary_path("reduce_wide_lower.navrb");
+  const std::string upper = nav::testing::temporary_path("reduce_wide_upper.navrb");
+  const std::string mesh_args = "reduce --liver-dir " + dir + " --tets 500 ";
+  const auto made = navtool(mesh_args + "--method pod --r 6 --force corotational --samples 30 --out " + lower + " --json", "2>/dev/null");
+  ASSERT_EQ(made.exit_code, 0) << made.output;
+  EXPECT_NE(made.output.find("\"skipped_loads\": []"), std::string::npos) << made.output;
+  // 12 times the needle forces and diaphragm displacements: the diaphragm moves (6 cm) invert
+  // elements of the full order; they are left out, the rest trains the upper rung.
+  const auto run = navtool(mesh_args + "--extend " + lower + " --r 10 --samples 30 --load-scale 12 --out " + upper + " --json", "2>/dev/null");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::size_t at = run.output.find("\"skipped_loads\": [");
+  ASSERT_NE(at, std::string::npos) << run.output;
+  const std::string skipped = run.output.substr(at, run.output.find(']', at) - at);
+  EXPECT_NE(skipped.find("\"diaphragm 0\""), std::string::npos) << run.output;
+  const auto left_out = static_cast<int>(std::count(skipped.begin(), skipped.end(), '"')) / 2 - 1;  // less the key's own quotes
+  const auto& fractions = nav::StaticSolveOptions{}.snapshot_fractions;
+  EXPECT_EQ(json_int(run.output, "training_loads"), json_int(made.output, "training_loads") - left_out * static_cast<int>(fractions.size()));
+  const nav::TetMesh mesh = nav::load_liver_mesh(dir, 500).value();
+  const auto big = nav::load_reduced_basis(upper, &mesh);
+  ASSERT_TRUE(big.ok()) << big.error().describe();
+  EXPECT_EQ(big.value().basis_size, 10);
+}
+
 TEST(NavtoolReduce, BadArgumentsAndMissingFilesExitWithTwoAndSayWhy) {
   const std::string out = nav::testing::temporary_path("reduce_bad.navrb");
   const std::string mesh = nav::testing::test_data_path("mesh/cube.vtu");
+  const std::string corrupt = nav::testing::temporary_path("reduce_corrupt.navrb");
+  {
+    std::ofstream file(corrupt, std::ios::binary);
+    file << "NAVRBAS\n not an artifact";
+  }
   const struct {
     std::string arguments, expected;
   } cases[] = {
@@ -102,6 +214,10 @@ TEST(NavtoolReduce, BadArgumentsAndMissingFilesExitWithTwoAndSayWhy) {
       {"--mesh " + mesh + " --method pod --r 4 --force linear", "--out is required"},
       {"--method pod --r 4 --force linear --out " + out, "give either --liver-dir or --mesh"},
       {"--mesh /no/such/mesh.vtu --unit cm --method pod --r 4 --force linear --out " + out, "/no/such/mesh.vtu"},
+      {"--mesh " + mesh + " --extend /no/such/lower.navrb --r 4 --out " + out, "--extend: /no/such/lower.navrb"},
+      {"--mesh " + mesh + " --extend " + corrupt + " --r 4 --out " + out, "--extend: " + corrupt},
+      {"--mesh " + mesh + " --extend " + corrupt + " --method pod --r 4 --out " + out, "drop --method"},
+      {"--mesh " + mesh + " --extend " + corrupt + " --r 4 --load-scale 0 --out " + out, "--load-scale wants a factor"},
   };
   for (const auto& c : cases) {
     const auto run = navtool("reduce " + c.arguments);

@@ -1,7 +1,8 @@
 // The scene loader: the example scenes parse into the values they state; every kind of
 // error (YAML syntax, unknown key, wrong type, out of range, missing key, bad choice,
 // repeated key, inconsistent values, unreadable file) names the file, the line of the key
-// at fault (counted here in the text itself) and its key path.
+// at fault (counted here in the text itself) and its key path; the reduced liver's
+// escalation ladder (`liver.model.escalation`) reads into its rungs and options.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -25,16 +26,22 @@ Error error_of(const std::string& text) {
   return scene.ok() ? Error{} : scene.error();
 }
 
-/// Checks the error of the demo scene with `from` replaced by `to`: its file, the line where
-/// `to` stands, its key path and a word of its message.
-void expect_error(const std::string& from, const std::string& to, const std::string& field, const std::string& word) {
-  const std::string text = edited(demo_text(), from, to);
+/// Checks the error of `base` with `from` replaced by `to`: its file, the line where `to`
+/// stands, its key path and a word of its message.
+void expect_error_in(const std::string& base, const std::string& from, const std::string& to, const std::string& field,
+                     const std::string& word) {
+  const std::string text = edited(base, from, to);
   const Error error = error_of(text);
   EXPECT_EQ(error.file, example_scene_path("demo.yaml"));
   EXPECT_EQ(error.line, line_of(text, to)) << error.describe();
   EXPECT_EQ(error.field, field) << error.describe();
   EXPECT_NE(error.message.find(word), std::string::npos) << error.describe();
   EXPECT_NE(error.message.find("(column "), std::string::npos) << error.describe();
+}
+
+/// As expect_error_in, on the demo scene.
+void expect_error(const std::string& from, const std::string& to, const std::string& field, const std::string& word) {
+  expect_error_in(demo_text(), from, to, field, word);
 }
 
 TEST(StationScene, DemoSceneParsesIntoItsStatedValues) {
@@ -77,6 +84,10 @@ TEST(StationScene, ReducedSceneResolvesItsPathsAgainstItsOwnFolder) {
   EXPECT_EQ(s.liver.rung, LiverRung::reduced);
   EXPECT_EQ(s.liver.reduced_artifact_path, (folder / "../../../build/liver_fine.navrb").lexically_normal().string());
   EXPECT_DOUBLE_EQ(s.liver.reduced.step_s, 1.0 / 500.0);
+  ASSERT_TRUE(s.liver.escalation.has_value());
+  ASSERT_EQ(s.liver.escalation->rungs.size(), 1u);
+  EXPECT_EQ(s.liver.escalation->rungs[0].artifact_path, (folder / "../../../build/liver_fine_r32.navrb").lexically_normal().string());
+  EXPECT_EQ(s.liver.escalation->options.de_escalate_after_steps, 200);
   ASSERT_TRUE(s.liver.tumour_m.has_value());
   EXPECT_EQ((*s.liver.tumour_m)[1], 0.04);
   EXPECT_FALSE(s.needle.has_value());
@@ -160,6 +171,98 @@ TEST(StationScene, RepeatedKeysAndSyntaxErrorsAreLocated) {
   const Error scalar = error_of("just a line of text\n");
   EXPECT_EQ(scalar.field, "(document)");
   EXPECT_NE(scalar.message.find("expected a map"), std::string::npos);
+}
+
+/// An escalation block stating every key.
+constexpr const char* kEscalationBlock =
+    "    escalation:\n"
+    "      rungs: [upper.navrb, ../top.navrb]\n"
+    "      full_order_on_top: true\n"
+    "      allowed: false\n"
+    "      escalate_after_steps: 3\n"
+    "      de_escalate_after_steps: 50\n"
+    "      de_escalation_envelope_ratio: 0.8\n"
+    "      de_escalation_residual: 0.1\n";
+
+/// The demo scene with a reduced liver on the escalation ladder of kEscalationBlock.
+const std::string& ladder_text() {
+  static const std::string text = edited(demo_text(),
+                                         "    rung: full\n    law: linear_elastic\n    rotation: corotational\n"
+                                         "    integrator: implicit_euler\n    solver: ldlt_warped\n    cg_iterations: 3\n",
+                                         std::string("    rung: reduced\n    artifact: lower.navrb\n    integrator: quasi_static\n"
+                                                     "    envelope_factor: 2.0\n") + kEscalationBlock);
+  return text;
+}
+
+/// As expect_error_in, on ladder_text().
+void expect_ladder_error(const std::string& from, const std::string& to, const std::string& field, const std::string& word) {
+  expect_error_in(ladder_text(), from, to, field, word);
+}
+
+TEST(StationScene, EscalationLadderReadsItsRungsAndOptions) {
+  const auto parsed = parse_scene(ladder_text(), example_scene_path("demo.yaml"));
+  ASSERT_TRUE(parsed.ok()) << parsed.error().describe();
+  const LiverSettings& liver = parsed.value().liver;
+  const std::filesystem::path folder = std::filesystem::path(example_scene_path("demo.yaml")).parent_path();
+  EXPECT_EQ(liver.rung, LiverRung::reduced);
+  EXPECT_EQ(liver.reduced_artifact_path, (folder / "lower.navrb").lexically_normal().string());
+  ASSERT_TRUE(liver.escalation.has_value());
+  const EscalationSettings& e = *liver.escalation;
+  EXPECT_EQ(e.line, line_of(ladder_text(), "      rungs:"));  // where the map starts
+  ASSERT_EQ(e.rungs.size(), 2u);
+  EXPECT_EQ(e.rungs[0].artifact_path, (folder / "upper.navrb").lexically_normal().string());
+  EXPECT_EQ(e.rungs[1].artifact_path, (folder / "../top.navrb").lexically_normal().string());
+  EXPECT_EQ(e.rungs[1].line, line_of(ladder_text(), "      rungs:"));
+  EXPECT_TRUE(e.full_order_on_top);
+  EXPECT_FALSE(e.options.escalation_allowed);
+  EXPECT_EQ(e.options.escalate_after_steps, 3);
+  EXPECT_EQ(e.options.de_escalate_after_steps, 50);
+  EXPECT_EQ(e.options.de_escalation_envelope_ratio, 0.8);
+  EXPECT_EQ(e.options.de_escalation_residual, 0.1);
+  EXPECT_EQ(liver.reduced.integrator, ReducedIntegrator::quasi_static);
+
+  // Only `rungs` is required; one rung a line, the rest at the ladder's defaults.
+  const std::string minimal = edited(ladder_text(), kEscalationBlock, "    escalation:\n      rungs:\n        - upper.navrb\n");
+  const auto defaults = parse_scene(minimal, example_scene_path("demo.yaml"));
+  ASSERT_TRUE(defaults.ok()) << defaults.error().describe();
+  const EscalationSettings& d = *defaults.value().liver.escalation;
+  ASSERT_EQ(d.rungs.size(), 1u);
+  EXPECT_EQ(d.rungs[0].line, line_of(minimal, "        - upper.navrb"));
+  EXPECT_FALSE(d.full_order_on_top);
+  const ReducedLadderOptions ladder_defaults;
+  EXPECT_EQ(d.options.escalation_allowed, ladder_defaults.escalation_allowed);
+  EXPECT_TRUE(d.options.escalation_allowed);
+  EXPECT_EQ(d.options.escalate_after_steps, 1);
+  EXPECT_EQ(d.options.de_escalate_after_steps, 0);
+  EXPECT_EQ(d.options.de_escalation_residual, ladder_defaults.de_escalation_residual);
+  // Without the block there is no ladder.
+  EXPECT_FALSE(parse_scene(demo_text(), example_scene_path("demo.yaml")).value().liver.escalation.has_value());
+}
+
+TEST(StationScene, EscalationErrorsNameTheirKeyPathAndLine) {
+  expect_ladder_error("allowed: false", "allowed: sometimes", "liver.model.escalation.allowed", "expected true or false");
+  expect_ladder_error("allowed: false", "alowed: false", "liver.model.escalation.alowed", "unknown key");
+  expect_ladder_error("escalate_after_steps: 3", "escalate_after_steps: 0", "liver.model.escalation.escalate_after_steps",
+                      "outside [1, ");
+  expect_ladder_error("de_escalate_after_steps: 50", "de_escalate_after_steps: -1", "liver.model.escalation.de_escalate_after_steps",
+                      "outside [0, ");
+  expect_ladder_error("rungs: [upper.navrb, ../top.navrb]", "rungs: []", "liver.model.escalation.rungs", "expected a list of 1 to 8");
+  expect_ladder_error("rungs: [upper.navrb, ../top.navrb]", "rungs: upper.navrb", "liver.model.escalation.rungs", "expected a list");
+  expect_ladder_error("rungs: [upper.navrb, ../top.navrb]", "rungs: [upper.navrb, {path: top.navrb}]",
+                      "liver.model.escalation.rungs[1]", "expected a single value");
+  expect_ladder_error("de_escalation_envelope_ratio: 0.8", "de_escalation_envelope_ratio: 2.5",
+                      "liver.model.escalation.de_escalation_envelope_ratio", "below liver.model.envelope_factor");
+  expect_ladder_error("de_escalation_residual: 0.1", "de_escalation_residual: 1.5", "liver.model.escalation.de_escalation_residual",
+                      "outside [0, 1]");
+  const std::string no_rungs = edited(ladder_text(), "      rungs: [upper.navrb, ../top.navrb]\n", "");
+  EXPECT_EQ(error_of(no_rungs).field, "liver.model.escalation.rungs");
+  EXPECT_NE(error_of(no_rungs).message.find("missing required key"), std::string::npos);
+  // A full-order liver has no ladder: the block is an unknown key there.
+  const std::string full_order = edited(demo_text(), "    cg_iterations: 3\n", "    cg_iterations: 3\n    escalation: {rungs: [a.navrb]}\n");
+  const Error unknown = error_of(full_order);
+  EXPECT_EQ(unknown.field, "liver.model.escalation");
+  EXPECT_EQ(unknown.line, line_of(full_order, "    escalation:"));
+  EXPECT_NE(unknown.message.find("unknown key"), std::string::npos) << unknown.describe();
 }
 
 TEST(StationScene, UnreadableAndOversizedFilesAreRefused) {

@@ -93,7 +93,11 @@ Result<ReducedLadderModel> make_reduced_ladder_model(const TetMesh& mesh, const 
                                                      bool full_order_on_top, const ReducedLadderOptions& options) {
   if (Status status = check_ladder_options(options); !status.ok()) return status.error();
   if (Status status = check_rungs(rungs, full_order_on_top, solver, options); !status.ok()) return status.error();
-  auto full = make_tet_fem_model(mesh, scene, solver);
+  // The full order's lumped masses give the transfers; without a full-order rung its rest
+  // system is not factored (a Jacobi preconditioner costs nothing to build).
+  TissueSolverOptions full_solver = solver;
+  if (!full_order_on_top) full_solver.solver = LinearSolver::cg_jacobi;
+  auto full = make_tet_fem_model(mesh, scene, full_solver);
   if (!full.ok()) return full.error();
   auto t = std::make_shared<ReducedLadderTables>();
   t->options = options;

@@ -1,7 +1,8 @@
 // The memory footprint of a built station: what each model reports (ReducedModel's
 // memory_bytes, every data arena's capacity), and estimates from element counts where a
-// model does not report its tables.
+// model does not report its tables (the full order, the ladder's transfer operators).
 #include <cstdio>
+#include <string>
 
 #include "nav/station/station_build.hpp"
 
@@ -23,6 +24,34 @@ std::int64_t tet_fem_table_estimate(const TetFemModel& model) {
 }
 
 std::int64_t arena_bytes(const Arena& arena) { return static_cast<std::int64_t>(arena.capacity_bytes()); }
+
+/// The ladder's transfer operators from its sizes: r_i x r_(i+1) doubles between neighbouring
+/// reduced rungs and, with the full order on top, the top basis and lift as rows and the dof
+/// masses (3 n (r_top + 4) doubles).
+std::int64_t ladder_transfer_estimate(const ReducedLadderModel& ladder) {
+  std::int64_t doubles = 0;
+  for (int k = 0; k + 1 < ladder.reduced_rung_count(); ++k)
+    doubles += std::int64_t{ladder.reduced_rung(k).basis_size()} * ladder.reduced_rung(k + 1).basis_size();
+  if (ladder.has_full_order())
+    doubles += 3 * ladder.node_count() * (ladder.reduced_rung(ladder.reduced_rung_count() - 1).basis_size() + 4);
+  return doubles * static_cast<std::int64_t>(sizeof(double));
+}
+
+/// Each rung's tables and data arena, the transfer operators and the ladder's own arena.
+void add_ladder(const ReducedLadderModel& ladder, const ReducedLadderData& data, MemoryFootprint& f) {
+  for (int k = 0; k < ladder.reduced_rung_count(); ++k) {
+    const std::string rung = "rung " + std::to_string(k) + " ";
+    f.lines.push_back({"liver", rung + "reduced tables", ladder.reduced_rung(k).memory_bytes(), false});
+    f.lines.push_back({"liver", rung + "data arena", arena_bytes(data.reduced[static_cast<std::size_t>(k)].arena), false});
+  }
+  if (ladder.has_full_order()) {
+    const std::string rung = "rung " + std::to_string(ladder.reduced_rung_count()) + " ";
+    f.lines.push_back({"liver", rung + "full-order tables", tet_fem_table_estimate(ladder.full_order()), true});
+    f.lines.push_back({"liver", rung + "data arena", arena_bytes(data.full->arena), false});
+  }
+  f.lines.push_back({"liver", "ladder transfers", ladder_transfer_estimate(ladder), true});
+  f.lines.push_back({"liver", "ladder data arena", arena_bytes(data.arena), false});
+}
 
 }  // namespace
 
@@ -51,6 +80,7 @@ MemoryFootprint measure_footprint(const StationModels& models) {
     f.lines.push_back({"liver", "reduced tables", liver.reduced->memory_bytes(), false});
     f.lines.push_back({"liver", "reduced data arena", arena_bytes(liver.reduced_data->arena), false});
   }
+  if (liver.ladder) add_ladder(*liver.ladder, *liver.ladder_data, f);
   if (models.needle) {
     const NeedleTissueModel& needle = *models.needle;
     const auto tables = sizeof(NeedleTissueModel) + needle.tissue_rest_m.size() * sizeof(double) +

@@ -97,6 +97,30 @@ void read_full_order(MapReader& r, double tissue_rate_hz, TissueSolverOptions& o
   o.step_s = 1.0 / tissue_rate_hz;
 }
 
+EscalationSettings read_escalation(MapReader r, const std::string& scene_path, double envelope_factor) {
+  EscalationSettings e;
+  e.line = r.line();
+  const YAML::Node rungs = r.required("rungs");
+  if (!rungs.IsSequence() || rungs.size() == 0 || rungs.size() > 8)
+    r.fail_at("rungs", "expected a list of 1 to 8 reduced-basis artifacts (navtool reduce --extend)");
+  for (std::size_t i = 0; i < rungs.size(); ++i) {
+    const std::string path = detail::scalar_text(r.file(), rungs[i], r.mark(), r.path_of("rungs") + "[" + std::to_string(i) + "]");
+    e.rungs.push_back({resolve(scene_path, path), rungs[i].Mark().is_null() ? e.line : rungs[i].Mark().line + 1});
+  }
+  e.full_order_on_top = r.boolean("full_order_on_top", false);
+  ReducedLadderOptions& o = e.options;
+  o.escalation_allowed = r.boolean("allowed", o.escalation_allowed);
+  o.escalate_after_steps = static_cast<int>(r.integer("escalate_after_steps", 1, 1000000, o.escalate_after_steps));
+  o.de_escalate_after_steps = static_cast<int>(r.integer("de_escalate_after_steps", 0, 1000000, o.de_escalate_after_steps));
+  o.de_escalation_envelope_ratio = r.number("de_escalation_envelope_ratio", Range{0.0, 100.0}, o.de_escalation_envelope_ratio);
+  if (o.de_escalate_after_steps > 0 && !(o.de_escalation_envelope_ratio < envelope_factor))
+    r.fail_at("de_escalation_envelope_ratio",
+              "must be below liver.model.envelope_factor, or the ladder would step down only to escalate again");
+  o.de_escalation_residual = r.number("de_escalation_residual", kFraction, o.de_escalation_residual);
+  r.finish();
+  return e;
+}
+
 void read_reduced(MapReader& r, const std::string& scene_path, double tissue_rate_hz, LiverSettings& liver) {
   liver.reduced_artifact_path = resolve(scene_path, r.text("artifact"));
   ReducedSolverOptions& o = liver.reduced;
@@ -107,6 +131,7 @@ void read_reduced(MapReader& r, const std::string& scene_path, double tissue_rat
   o.rayleigh_stiffness_s = r.number("rayleigh_stiffness_s", kNonNegative, 0.0);
   o.envelope_factor = r.number("envelope_factor", Range{1.0, 100.0}, o.envelope_factor);
   o.step_s = 1.0 / tissue_rate_hz;
+  if (r.optional("escalation")) liver.escalation = read_escalation(r.map("escalation"), scene_path, o.envelope_factor);
 }
 
 LiverSettings read_liver(MapReader r, const std::string& scene_path, double tissue_rate_hz) {

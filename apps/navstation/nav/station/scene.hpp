@@ -14,6 +14,7 @@
 #include "nav/core/units.hpp"
 #include "nav/needle/needle_parameters.hpp"
 #include "nav/needle/needle_tissue_scene.hpp"
+#include "nav/reduced/reduced_ladder.hpp"
 #include "nav/reduced/reduced_model.hpp"
 #include "nav/tissue/elastic_material.hpp"
 #include "nav/tissue/tissue_scene.hpp"
@@ -55,6 +56,23 @@ struct LiverMeshSettings {
 /// The liver's rung on the model ladder.
 enum class LiverRung { full, reduced };
 
+/// One rung above the reduced liver's own: a reduced-basis artifact (`navtool reduce --extend`).
+struct EscalationRung {
+  std::string artifact_path;  ///< resolved against the scene's folder
+  int line = 0;               ///< its line in the scene file
+};
+
+/// `liver.model.escalation:` the reduced liver as the bottom rung of an escalation ladder:
+/// further artifacts of strictly growing basis size (checked when built), optionally the
+/// full order on top, and how the ladder moves between its rungs (escalation_allowed false:
+/// the indicator only raises its flag).
+struct EscalationSettings {
+  std::vector<EscalationRung> rungs;  ///< rungs 1, 2, ... (rung 0 is liver.model.artifact)
+  bool full_order_on_top = false;
+  ReducedLadderOptions options;
+  int line = 0;  ///< line of `escalation:`
+};
+
 /// `liver:` mesh, material, model rung and the tumour (the navigation target).
 struct LiverSettings {
   LiverMeshSettings mesh;
@@ -65,6 +83,8 @@ struct LiverSettings {
   /// Reduced: the artifact written by `navtool reduce` and the online solver settings.
   std::string reduced_artifact_path;
   ReducedSolverOptions reduced;
+  /// Reduced only, when declared: the ladder the reduced liver escalates on.
+  std::optional<EscalationSettings> escalation;
   /// The tumour's centre in the model frame (metres); optional on the generated liver,
   /// which places its own.
   std::optional<Point3> tumour_m;

@@ -1,6 +1,7 @@
 #include "nav/station/station_build.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <stdexcept>
 
 #include "nav/connective/organ_attachment.hpp"
@@ -91,6 +92,68 @@ Status build_liver_model(const LiverSettings& settings, LiverModels& liver) {
   return Done{};
 }
 
+/// An Error of the ladder's builder placed at its scene key: its rungs[0] is liver.model's
+/// artifact, rungs[i] the escalation's rungs[i - 1], step_s and integrator those of the full
+/// order on top, any other field the escalation key of that name.
+Error ladder_error(const Error& inner, const Scene& scene) {
+  const EscalationSettings& e = *scene.liver.escalation;
+  std::string field = inner.field;
+  std::string key = "liver.model.escalation." + field;
+  int line = e.line;
+  if (field.rfind("rungs[", 0) == 0) {
+    const std::size_t close = field.find(']');
+    std::size_t rung = 0;
+    std::from_chars(field.data() + 6, field.data() + close, rung);
+    field = close + 2 <= field.size() ? field.substr(close + 2) : std::string();
+    key = rung == 0 ? "liver.model.artifact" : "liver.model.escalation.rungs[" + std::to_string(rung - 1) + "]";
+    line = rung == 0 ? scene.liver.line : rung <= e.rungs.size() ? e.rungs[rung - 1].line : e.line;
+  } else if (field == "step_s" || field == "integrator") {
+    key = "liver.model.escalation.full_order_on_top";
+  } else {
+    field.clear();
+  }
+  return at_section(Error{inner.message, inner.file, inner.line, field}, scene, line, key);
+}
+
+/// The full-order law of the reduced rungs' force kind, with their step, integrator and damping
+/// (what the full order on top of a ladder must share with them).
+TissueSolverOptions ladder_solver(ReducedForceKind kind, const ReducedSolverOptions& reduced) {
+  TissueSolverOptions solver = reduction_solver_options(kind);
+  solver.step_s = reduced.step_s;
+  solver.integrator = reduced.integrator == ReducedIntegrator::quasi_static ? Integrator::quasi_static : Integrator::implicit_euler;
+  solver.rayleigh_mass_per_s = reduced.rayleigh_mass_per_s;
+  solver.rayleigh_stiffness_s = reduced.rayleigh_stiffness_s;
+  return solver;
+}
+
+/// The reduced liver's escalation ladder: liver.model's artifact, then the escalation's, all
+/// of this mesh and of one force kind. Errors are placed at their scene keys.
+Status build_liver_ladder(const Scene& scene, LiverModels& liver) {
+  const LiverSettings& settings = scene.liver;
+  const EscalationSettings& e = *settings.escalation;
+  std::vector<ReducedRungSpec> rungs;
+  auto base = load_reduced_basis(settings.reduced_artifact_path, &liver.mesh);
+  if (!base.ok()) return at_section(base.error(), scene, settings.line, "liver.model.artifact");
+  rungs.push_back({std::move(base).value(), settings.reduced});
+  for (std::size_t i = 0; i < e.rungs.size(); ++i) {
+    const std::string key = "liver.model.escalation.rungs[" + std::to_string(i) + "]";
+    auto basis = load_reduced_basis(e.rungs[i].artifact_path, &liver.mesh);
+    if (!basis.ok()) return at_section(basis.error(), scene, e.rungs[i].line, key);
+    if (basis.value().force_kind != rungs[0].basis.force_kind)
+      return Error{e.rungs[i].artifact_path + ": its force kind differs from liver.model.artifact's (the rungs share one element law)",
+                   scene.source_path, e.rungs[i].line, key};
+    rungs.push_back({std::move(basis).value(), settings.reduced});
+  }
+  const TissueSolverOptions solver = ladder_solver(rungs[0].basis.force_kind, settings.reduced);
+  auto model = make_reduced_ladder_model(liver.mesh, liver.scene, solver, rungs, e.full_order_on_top, e.options);
+  if (!model.ok()) return ladder_error(model.error(), scene);
+  auto data = make_reduced_ladder_data(model.value());
+  if (!data.ok()) return at_section(data.error(), scene, e.line, "liver.model.escalation");
+  liver.ladder = std::move(model).value();
+  liver.ladder_data.emplace(std::move(data).value());
+  return Done{};
+}
+
 Status build_ligaments(const LigamentSettings& settings, const StationSettings& station, StationModels& models) {
   FrameTissueOptions options;
   options.step_s = 1.0 / station.tissue_rate_hz;
@@ -138,8 +201,13 @@ Result<BuiltStation> build_station(Scene scene) {
     step = build_ligaments(*s.ligaments, s.station, models);
     if (!step.ok()) return at_section(step.error(), s, s.ligaments->line, "ligaments");
   }
-  step = build_liver_model(s.liver, models.liver);
-  if (!step.ok()) return at_section(step.error(), s, s.liver.line, "liver.model");
+  if (s.liver.rung == LiverRung::reduced && s.liver.escalation) {
+    step = build_liver_ladder(s, models.liver);
+    if (!step.ok()) return step.error();
+  } else {
+    step = build_liver_model(s.liver, models.liver);
+    if (!step.ok()) return at_section(step.error(), s, s.liver.line, "liver.model");
+  }
   if (s.needle) {
     step = build_needle(*s.needle, models);
     if (!step.ok()) return at_section(step.error(), s, s.needle->line, "needle");

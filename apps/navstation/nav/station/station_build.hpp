@@ -1,6 +1,6 @@
 #pragma once
 // Builds what a scene declares, and only that: the frame tree, the liver mesh and its model
-// (full order or reduced), the needle (if `needle:`), the ligaments (if `ligaments:`), each
+// (full order, reduced, or the reduced escalation ladder), the needle (if `needle:`), the ligaments (if `ligaments:`), each
 // with its data at rest, and reports their memory footprint. Init-time code: it reads files,
 // allocates and returns errors that name the scene file, the section's line and its key.
 #include <cstdint>
@@ -13,13 +13,15 @@
 #include "nav/core/error.hpp"
 #include "nav/mesh/tet_mesh.hpp"
 #include "nav/needle/needle_tissue_model.hpp"
+#include "nav/reduced/reduced_ladder.hpp"
 #include "nav/reduced/reduced_model.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 #include "nav/station/scene.hpp"
 
 namespace nav::station {
 
-/// The liver as built: its mesh and scene, and the model of the declared rung with its data.
+/// The liver as built: its mesh and scene, and the model of the declared rung with its data
+/// (a reduced liver with `escalation:` builds the ladder alone, not a separate reduced model).
 struct LiverModels {
   TetMesh mesh;
   TissueScene scene;
@@ -28,6 +30,8 @@ struct LiverModels {
   std::optional<TetFemData> full_data;
   std::optional<ReducedModel> reduced;
   std::optional<ReducedData> reduced_data;
+  std::optional<ReducedLadderModel> ladder;
+  std::optional<ReducedLadderData> ladder_data;
 };
 
 /// Everything a station runs, built from one Scene.
