@@ -2,10 +2,12 @@
 // build and CPU run give bitwise the baseline's results: on projected Gauss-Seidel problems
 // with every row law (friction and Coulomb rows, points of one to three rows), and on the
 // needle inserted into the reduced embedded liver until 32 path points hold it (the scene of
-// `navbench needle`), hashed after the insertion and a wobbling hold. An instruction set the
-// build or CPU lacks is refused by name.
+// `navbench needle`), hashed after the insertion and a wobbling hold; their row combinations
+// (the compliance assembly's products) give the bits of the definition, term by term in order.
+// An instruction set the build or CPU lacks is refused by name.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
@@ -97,6 +99,52 @@ TEST(NeedleLaneKernels, EveryVariantSolvesMixedProblemsToTheBaselineBits) {
   }
   std::printf("%d solves compared bitwise with the baseline kernels (%zu instruction sets)\n", compared,
               testing::available_kernel_isas().size());
+}
+
+/// out_r = sum_k c_rk dense_(source_rk), k in order, value by value: the specification of
+/// combine_rows written apart from the kernels.
+std::vector<double> combined_by_definition(const detail::RowCombination& p) {
+  std::vector<double> out(p.rows * p.out_stride, 0.0);
+  for (std::size_t r = 0; r < p.rows; ++r) {
+    const std::size_t width = p.lower_triangle ? std::min(p.width, (r + detail::kCombinedLanes) / detail::kCombinedLanes * detail::kCombinedLanes)
+                                               : p.width;
+    for (std::size_t i = 0; i < width; ++i) {
+      double v = 0.0;
+      for (std::size_t k = 0; k < p.terms; ++k) {
+        const double term = p.coefficients[r * p.term_stride + k] *
+                            p.dense[static_cast<std::size_t>(p.sources[r * p.term_stride + k]) * p.dense_stride + i];
+        v = k == 0 ? term : v + term;
+      }
+      out[r * p.out_stride + i] = v;
+    }
+  }
+  return out;
+}
+
+TEST(NeedleLaneKernels, EveryVariantCombinesRowsToTheDefinitionsBits) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const std::size_t rows = 37, dense_rows = 29, width = 40, stride = 9;
+  std::vector<double> coefficients(rows * stride), dense(dense_rows * width);
+  std::vector<std::int32_t> sources(rows * stride);
+  for (double& c : coefficients) c = unit(rng);
+  for (double& d : dense) d = unit(rng) * std::exp(8.0 * unit(rng));  // magnitudes apart: order matters
+  for (std::int32_t& s : sources) s = static_cast<std::int32_t>(rng() % dense_rows);
+  int compared = 0;
+  for (std::size_t terms : {1, 3, 4, 6, 9})
+    for (bool lower : {false, true}) {
+      detail::RowCombination product{rows, terms, stride, coefficients.data(), sources.data(), dense.data(), width, width, lower,
+                                     nullptr, width};
+      const std::vector<double> expected = combined_by_definition(product);
+      for (KernelIsa isa : testing::available_kernel_isas()) {
+        std::vector<double> out(rows * width, 0.0);
+        product.out = out.data();
+        detail::needle_lane_kernels(isa).combine_rows(product);
+        EXPECT_EQ(out, expected) << kernel_isa_name(isa) << ", " << terms << " terms" << (lower ? ", lower triangle" : "");
+        ++compared;
+      }
+    }
+  std::printf("%d row combinations compared bitwise with their definition\n", compared);
 }
 
 /// The reduced liver and its approach, built once for the cases of this program.

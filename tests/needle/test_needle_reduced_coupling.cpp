@@ -2,9 +2,11 @@
 // step's own response to point forces; an insertion punctures and drags the tissue along
 // the shaft as the coupling to the full-order tissue does (a complete linear basis against
 // the exact linear full-order tissue); the multi-rate mode keeps the puncture; coupled
-// ticks allocate nothing and repeat bitwise; bad couplings are refused by name.
+// ticks allocate nothing and repeat bitwise; the solver's W equals H A^-1 H^T + C C^T (+ the
+// local compliance) by dense algebra; bad couplings are refused by name.
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 
 #include "nav/needle/reduced_coupling.hpp"
@@ -205,6 +207,62 @@ TEST(NeedleReducedCoupling, SignoriniAndCoulombHoldOnTheSteppedReducedTissue) {
   EXPECT_GT(checked, 100);
   EXPECT_EQ(data.interaction.report.punctures, 1);
   EXPECT_LT(worst_m, 1e-5);
+}
+
+/// W by dense algebra, apart from the solver's own: the needle's A^-1 from the assembled
+/// block-tridiagonal A inverted whole, the tissue's V V^T from the factors per row, and the
+/// local compliance on each constraint point's own rows.
+Eigen::MatrixXd dense_compliance(const NeedleTissueModel& model, const NeedleTissueData& data) {
+  const BlockTridiagonal& system = data.needle.system;
+  const Eigen::Index n = 6 * system.blocks;
+  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, n);
+  for (int k = 0; k < system.blocks; ++k) {
+    a.block<6, 6>(6 * k, 6 * k) = Eigen::Map<const Eigen::Matrix<double, 6, 6>>(system.diagonal.data() + 36 * k);
+    if (k + 1 < system.blocks) {
+      a.block<6, 6>(6 * k, 6 * k + 6) = Eigen::Map<const Eigen::Matrix<double, 6, 6>>(system.upper.data() + 36 * k);
+      a.block<6, 6>(6 * k + 6, 6 * k) = a.block<6, 6>(6 * k, 6 * k + 6).transpose();
+    }
+  }
+  const Eigen::MatrixXd inverse = a.ldlt().solve(Eigen::MatrixXd::Identity(n, n));
+  const auto m = static_cast<Eigen::Index>(data.row_count);
+  const int rank = model.compliance_rank;
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(m, n), c = Eigen::MatrixXd::Zero(m, rank);
+  for (Eigen::Index r = 0; r < m; ++r) {
+    const ConstraintRow& row = data.rows[static_cast<std::size_t>(r)];
+    for (int k = 0; k < 2; ++k) {
+      const int node = row.node + k;
+      const double w = k == 0 ? 1.0 - row.weight : row.weight;
+      if (node >= 1 && w != 0.0) h.block<1, 3>(r, 6 * (node - 1)) = w * row.direction.transpose();
+    }
+    if (row.tissue_node < 0) continue;
+    const double* v = model.compliance_factors.data() + 3 * static_cast<std::size_t>(row.tissue_node) * static_cast<std::size_t>(rank);
+    for (int j = 0; j < rank; ++j) c(r, j) = v[j] * row.direction.x() + v[rank + j] * row.direction.y() + v[2 * rank + j] * row.direction.z();
+  }
+  Eigen::MatrixXd w = h * inverse * h.transpose() + c * c.transpose();
+  for (int p = 0; p < data.point_count; ++p)
+    for (int r = data.point_first_row[static_cast<std::size_t>(p)]; r < data.point_first_row[static_cast<std::size_t>(p) + 1]; ++r)
+      for (int s = data.point_first_row[static_cast<std::size_t>(p)]; s < data.point_first_row[static_cast<std::size_t>(p) + 1]; ++s)
+        w(r, s) += model.scene.point_compliance_m_per_n *
+                   data.rows[static_cast<std::size_t>(r)].direction.dot(data.rows[static_cast<std::size_t>(s)].direction);
+  return w;
+}
+
+TEST(NeedleReducedCoupling, TheSolversComplianceIsHAInverseHTransposedPlusTheTissuesVVTransposed) {
+  const Slab slab;
+  const ReducedModel tissue = reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::quasi_static);
+  const ReducedCoupledNeedleModel model = make_coupled_needle_model(NeedleParameters{}, top_layer(0.001), tissue, slab.mesh, 32, 1).value();
+  ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
+  insert(model, data, 0.0, 0.012);
+  const NeedleTissueData& interaction = data.interaction;
+  const auto m = static_cast<Eigen::Index>(interaction.row_count);
+  ASSERT_GE(interaction.report.active_path_points, 4);
+  const Eigen::Map<const Eigen::MatrixXd> solver(interaction.compliance.data(), m, m);
+  const Eigen::MatrixXd dense = dense_compliance(model.interaction, interaction);
+  const double error = (solver - dense).cwiseAbs().maxCoeff() / dense.cwiseAbs().maxCoeff();
+  std::printf("%lld rows on %d constraint points: largest difference from the dense W %.2e of its largest entry\n",
+              static_cast<long long>(m), interaction.point_count, error);
+  EXPECT_LT(error, 1e-10);
+  EXPECT_EQ(solver, solver.transpose());  // exactly symmetric
 }
 
 TEST(NeedleReducedCoupling, MultiRateTissueKeepsThePuncture) {

@@ -33,14 +33,31 @@ Matrix12d beam_local_stiffness(const NeedleParameters& p, const NeedleSection& s
   return k;
 }
 
+namespace {
+
+/// frame K_IJ frame^T for a 3x3 block of the local stiffness, which beam_local_stiffness
+/// builds as diag(alpha, beta, beta) plus gamma (E_yz - E_zy): with the frame's columns
+/// e1, e2, e3 orthonormal that is beta I + (alpha - beta) e1 e1^T + gamma (e2 e3^T - e3 e2^T).
+Eigen::Matrix3d rotated_block(const Matrix12d& k, int row, int col, const Eigen::Matrix3d& frame) {
+  const double alpha = k(row, col), beta = k(row + 1, col + 1), gamma = k(row + 1, col + 2);
+  const Eigen::Vector3d e1 = frame.col(0), e2 = frame.col(1), e3 = frame.col(2);
+  Eigen::Matrix3d block = (alpha - beta) * (e1 * e1.transpose());
+  if (gamma != 0.0) block.noalias() += gamma * (e2 * e3.transpose() - e3 * e2.transpose());
+  for (int d = 0; d < 3; ++d) block(d, d) += beta;
+  return block;
+}
+
+}  // namespace
+
 BeamResponse corotational_beam_response(const Matrix12d& local_stiffness, double rest_length_m,
                                         const BeamEnds& ends) noexcept {
   const Eigen::Vector3d chord = ends.position_b_m - ends.position_a_m;
   const double length_m = chord.norm();
   const Eigen::Vector3d e1 = chord / length_m;
-  // Mean node frame: half way from a to b.
-  const Eigen::Quaterniond relative = ends.rotation_a.conjugate() * ends.rotation_b;
-  const Eigen::Quaterniond mean = ends.rotation_a * quaternion_from_rotation_vector(0.5 * rotation_vector_from_quaternion(relative));
+  // Mean node frame, half way from a to b along the shorter arc: the normalized sum of the
+  // two unit quaternions taken in one hemisphere (a slerp at one half).
+  const double hemisphere = ends.rotation_a.dot(ends.rotation_b) < 0.0 ? -1.0 : 1.0;
+  const Eigen::Quaterniond mean(Eigen::Vector4d(ends.rotation_a.coeffs() + hemisphere * ends.rotation_b.coeffs()).normalized());
   const Eigen::Vector3d y_mean = mean * Eigen::Vector3d::UnitY();
   const Eigen::Vector3d e3 = e1.cross(y_mean).normalized();
   const Eigen::Vector3d e2 = e3.cross(e1);
@@ -60,9 +77,7 @@ BeamResponse corotational_beam_response(const Matrix12d& local_stiffness, double
   for (int block = 0; block < 4; ++block)
     response.forces.segment<3>(3 * block).noalias() = frame * local_forces.segment<3>(3 * block);
   for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j)
-      response.tangent.block<3, 3>(3 * i, 3 * j).noalias() =
-          frame * local_stiffness.block<3, 3>(3 * i, 3 * j) * frame.transpose();
+    for (int j = 0; j < 4; ++j) response.tangent.block<3, 3>(3 * i, 3 * j) = rotated_block(local_stiffness, 3 * i, 3 * j, frame);
   return response;
 }
 

@@ -15,35 +15,44 @@ using Matrix6d = Eigen::Matrix<double, 6, 6>;
 std::size_t at(int k) { return 36 * static_cast<std::size_t>(k); }
 
 /// The inverse of a symmetric positive definite 6x6 matrix through its Cholesky factor, by
-/// fixed-size loops (Eigen's general triangular solves cost more than the arithmetic here).
-/// False when the matrix is not positive definite.
+/// fixed-size loops (Eigen's general triangular solves cost more than the arithmetic here),
+/// dividing only for the reciprocals of the factor's diagonal: the chains of the
+/// substitutions then run through multiplications. False when the matrix is not positive
+/// definite.
 bool spd_inverse(const Matrix6d& s, Matrix6d& inverse) {
-  Matrix6d g = Matrix6d::Zero();  // s = g g^T, g lower
+  double g[6][6] = {};     // s = g g^T, g lower; its diagonal is kept as reciprocals in r
+  double r[6] = {};
+#pragma GCC unroll 6
   for (int j = 0; j < 6; ++j) {
     double d = s(j, j);
-    for (int k = 0; k < j; ++k) d -= g(j, k) * g(j, k);
+    for (int k = 0; k < j; ++k) d -= g[j][k] * g[j][k];
     if (!(d > 0.0)) return false;
-    g(j, j) = std::sqrt(d);
+    r[j] = 1.0 / std::sqrt(d);
+#pragma GCC unroll 6
     for (int i = j + 1; i < 6; ++i) {
       double v = s(i, j);
-      for (int k = 0; k < j; ++k) v -= g(i, k) * g(j, k);
-      g(i, j) = v / g(j, j);
+      for (int k = 0; k < j; ++k) v -= g[i][k] * g[j][k];
+      g[i][j] = v * r[j];
     }
   }
-  Matrix6d h = Matrix6d::Zero();  // h = g^-1, lower
+  double h[6][6] = {};  // h = g^-1, lower
+#pragma GCC unroll 6
   for (int j = 0; j < 6; ++j) {
-    h(j, j) = 1.0 / g(j, j);
+    h[j][j] = r[j];
+#pragma GCC unroll 6
     for (int i = j + 1; i < 6; ++i) {
       double v = 0.0;
-      for (int k = j; k < i; ++k) v -= g(i, k) * h(k, j);
-      h(i, j) = v / g(i, i);
+      for (int k = j; k < i; ++k) v -= g[i][k] * h[k][j];
+      h[i][j] = v * r[i];
     }
   }
   // s^-1 = h^T h, symmetric by construction.
+#pragma GCC unroll 6
   for (int j = 0; j < 6; ++j)
+#pragma GCC unroll 6
     for (int i = j; i < 6; ++i) {
       double v = 0.0;
-      for (int k = i; k < 6; ++k) v += h(k, i) * h(k, j);
+      for (int k = i; k < 6; ++k) v += h[k][i] * h[k][j];
       inverse(i, j) = inverse(j, i) = v;
     }
   return true;

@@ -76,8 +76,9 @@ double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const d
     const std::size_t end = group_end(rows, first);
     for (std::size_t r = first; r < end; ++r) {
       const ConstraintRow& row = rows[r];
-      work.rows[r] = {row.cap, row.friction_coefficient, {row.linked[0], row.linked[1]}, row.law,
-                      static_cast<std::uint8_t>(r == first ? end - first : 0)};
+      const double diagonal = w[r * m + r];
+      work.rows[r] = {row.cap, row.friction_coefficient, diagonal > 0.0 ? 1.0 / diagonal : 0.0, {row.linked[0], row.linked[1]},
+                      row.law, static_cast<std::uint8_t>(r == first ? end - first : 0)};
       gaps[r] = row.gap_free_m;
     }
     first = end;

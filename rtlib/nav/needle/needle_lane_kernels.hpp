@@ -1,7 +1,8 @@
 #pragma once
 // The lane kernels of the needle-tissue solver, compiled once per instruction set from
 // needle_lane_kernels.isa.cpp (nav/core/kernel_isa.hpp): projected Gauss-Seidel on raw views
-// of W and of the rows' laws, whose gap updates run as wide as the variant allows. Plain data
+// of W and of the rows' laws, whose gap updates run as wide as the variant allows, and the
+// sparse-times-dense row combinations that assemble the low-rank W. Plain data
 // only: the kernel source includes this header and nothing with inline functions. Internal
 // to rtlib/nav/needle.
 #include <cstddef>
@@ -15,6 +16,7 @@ namespace nav::detail {
 struct SweepRow {
   double cap = 0.0;                   ///< as ConstraintRow::cap, newtons
   double friction_coefficient = 0.0;  ///< as ConstraintRow::friction_coefficient
+  double inverse_diagonal = 0.0;      ///< 1 / W_rr, or 0 when W_rr is not positive (the row is skipped)
   std::int32_t linked[2] = {-1, -1};  ///< as ConstraintRow::linked
   RowLaw law = RowLaw::bilateral;
   std::uint8_t point_rows = 0;  ///< on a constraint point's first row its row count (1 to kMaxRowsPerPoint), else 0
@@ -29,12 +31,39 @@ struct SweepProblem {
   double* gaps = nullptr;           ///< m: the free gaps on entry, delta_free + W lambda on exit
 };
 
+/// The most entries per row of a RowCombination.
+inline constexpr std::size_t kMaxCombinedTerms = 9;
+
+/// Values a RowCombination's row lengths are rounded up to (the widest variant's lanes), so
+/// that no variant finishes a row value by value: strides and buffers are padded to it.
+inline constexpr std::size_t kCombinedLanes = 8;
+
+/// Sparse rows times a dense matrix, out_r = sum_k c_rk dense_(source_rk), the terms in
+/// order: the compliance assembly's products H (C H^T) with H's few entries per row.
+struct RowCombination {
+  std::size_t rows = 0;
+  std::size_t terms = 0;                   ///< entries per row, 1 to kMaxCombinedTerms
+  std::size_t term_stride = 0;             ///< between the entries of consecutive rows
+  const double* coefficients = nullptr;    ///< c_rk at [r * term_stride + k]
+  const std::int32_t* sources = nullptr;   ///< rows of `dense`, as the coefficients
+  const double* dense = nullptr;           ///< row i at dense + i * dense_stride
+  std::size_t dense_stride = 0;
+  std::size_t width = 0;                   ///< values per output row, a multiple of kCombinedLanes
+  /// Output row r stops at r + 1 values rounded up to kCombinedLanes (at most `width`): the
+  /// values past r + 1 are the upper triangle's, for the caller to overwrite.
+  bool lower_triangle = false;
+  double* out = nullptr;                   ///< row r at out + r * out_stride
+  std::size_t out_stride = 0;
+};
+
 /// The entry points of one instruction set's variant; every variant computes the same bits.
 struct NeedleLaneKernels {
   /// Adds W forces to the gaps (the columns in order, zero forces skipped), then runs
   /// `sweeps` sweeps over the constraint points in order: each point's rows in turn with
   /// their gaps kept up to date within the point, the other rows' gaps once per point.
   void (*gauss_seidel)(const SweepProblem& problem, int sweeps) noexcept;
+  /// Fills the output rows of a RowCombination, each value summed over k in order.
+  void (*combine_rows)(const RowCombination& product) noexcept;
 };
 
 extern const NeedleLaneKernels needle_lane_kernels_baseline;

@@ -1,7 +1,8 @@
 // The lane kernels of the needle-tissue solver, compiled once per instruction set (see
 // nav/core/kernel_isa_variant.hpp): projected Gauss-Seidel whose gap updates are plain loops
-// over independent rows, which the compiler vectorizes to the variant's width; every sum in
-// an order written here, so every variant gives the same bits.
+// over independent rows, and the row combinations of the compliance assembly, whose loops run
+// over independent values; the compiler vectorizes both to the variant's width, and every sum
+// runs in an order written here, so every variant gives the same bits.
 #include "nav/core/kernel_isa_variant.hpp"
 #include "nav/needle/needle_lane_kernels.hpp"
 
@@ -47,7 +48,7 @@ void solve_point(const SweepProblem& p, Index first) {
   for (Index i = 0; i < Size; ++i) {
 #pragma GCC unroll 3
     for (Index j = 0; j < Size; ++j) block[i][j] = p.w[(first + j) * m + first + i];
-    inverse_diagonal[i] = block[i][i] > 0.0 ? 1.0 / block[i][i] : 0.0;
+    inverse_diagonal[i] = p.rows[first + i].inverse_diagonal;
   }
   // Row i's gap is gaps + sum_j block[i][j] change[j], j in order, where the changes of the
   // rows not yet solved (j >= `from`, never past the last) are still +0. Their terms are zeros (NaN from a
@@ -59,11 +60,15 @@ void solve_point(const SweepProblem& p, Index first) {
     for (Index j = from + 1; j < Size; ++j) z += block[i][j] * change[j];
     return z;
   };
+  // g + z is g itself, bit for bit, when z is a zero and g is not (x + 0 = x for x != 0):
+  // the usual case, predicted, so that the add leaves the chain.
   const auto gap_now = [&](Index i, Index from) {
     double g = p.gaps[first + i];
 #pragma GCC unroll 3
     for (Index j = 0; j < from; ++j) g += block[i][j] * change[j];
-    return g + unchanged_terms(i, from);
+    const double z = unchanged_terms(i, from);
+    if (__builtin_expect(z == 0.0 && g != 0.0, 1)) return g;
+    return g + z;
   };
 #pragma GCC unroll 3
   for (Index i = 0; i < Size; ++i) {
@@ -109,6 +114,37 @@ void gauss_seidel(const SweepProblem& p, int sweeps) noexcept {
     }
 }
 
+/// out = sum_k c_k rows_k over `width` values, k in order (at least one term): one
+/// independent chain per value, so the loop over values runs as wide as the variant allows.
+/// Terms is 0 for a count known only at run time.
+template <Index Terms>
+void combine_row(const double* c, const double* const* rows, Index terms, Index width, double* __restrict out) {
+  const Index count = Terms > 0 ? Terms : terms;
+  for (Index i = 0; i < width; ++i) {
+    double v = c[0] * rows[0][i];
+#pragma GCC unroll 9
+    for (Index k = 1; k < count; ++k) v += c[k] * rows[k][i];
+    out[i] = v;
+  }
+}
+
+void combine_rows(const RowCombination& p) noexcept {
+  const double* rows[kMaxCombinedTerms] = {};
+  for (Index r = 0; r < p.rows; ++r) {
+    const double* c = p.coefficients + r * p.term_stride;
+    for (Index k = 0; k < p.terms; ++k) rows[k] = p.dense + static_cast<Index>(p.sources[r * p.term_stride + k]) * p.dense_stride;
+    const Index lanes = kCombinedLanes, triangle = (r + lanes) / lanes * lanes;  // r + 1 rounded up
+    const Index width = p.lower_triangle && triangle < p.width ? triangle : p.width;
+    double* out = p.out + r * p.out_stride;
+    switch (p.terms) {
+      case 3: combine_row<3>(c, rows, 3, width, out); break;
+      case 6: combine_row<6>(c, rows, 6, width, out); break;
+      case 9: combine_row<9>(c, rows, 9, width, out); break;
+      default: combine_row<0>(c, rows, p.terms, width, out); break;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace nav::detail::NAV_KERNEL_ISA_NAMESPACE
 
@@ -117,6 +153,7 @@ namespace nav::detail {
 extern const NeedleLaneKernels NAV_KERNEL_ISA_NAME(needle_lane_kernels_);
 const NeedleLaneKernels NAV_KERNEL_ISA_NAME(needle_lane_kernels_){
     NAV_KERNEL_ISA_NAMESPACE::gauss_seidel,
+    NAV_KERNEL_ISA_NAMESPACE::combine_rows,
 };
 
 }  // namespace nav::detail

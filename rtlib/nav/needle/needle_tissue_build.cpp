@@ -71,11 +71,21 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
   ArenaPlan plan;
   plan.add<LayerState>(layers).add<PathPoint>(static_cast<std::size_t>(model.scene.max_path_points));
   plan.add<double>(slots).add<double>(slots).add<ConstraintRow>(slots).add<detail::SweepRow>(slots);
-  plan.add<double>(slots * slots).add<double>(slots).add<double>(slots).add<double>(6 * nodes);
+  const std::size_t compliance = slots * slots + detail::kCombinedLanes;  // see the low-rank buffers below
+  plan.add<double>(compliance).add<double>(slots).add<double>(slots).add<double>(6 * nodes);
   const auto rank = static_cast<std::size_t>(model.compliance_rank);
   const std::size_t points = rank > 0 ? static_cast<std::size_t>(model.max_points()) : 0;
-  plan.add<double>(slots * rank).add<double>(9 * points * points).add<std::int32_t>(slots + 1);
+  plan.add<double>(9 * points * points).add<std::int32_t>(slots + 1);
   plan.add<std::int32_t>(points).add<std::int32_t>(points);
+  // Low rank: 3 freedoms per free needle node and per constraint point's tissue node, and
+  // slots for rows, padded to whole lanes of the kernels; the last lower-triangle row of W
+  // may run past m^2 up to the lanes' multiple.
+  const auto lanes = [](std::size_t count) { return (count + detail::kCombinedLanes - 1) / detail::kCombinedLanes * detail::kCombinedLanes; };
+  const std::size_t needle_freedoms = rank > 0 ? lanes(3 * static_cast<std::size_t>(model.needle.element_count)) : 0;
+  const std::size_t tissue_freedoms = lanes(3 * points), freedoms = needle_freedoms + tissue_freedoms;
+  const std::size_t entries = rank > 0 ? detail::kMaxCombinedTerms * slots : 0, padded_slots = lanes(slots);
+  plan.add<double>(needle_freedoms * needle_freedoms).add<double>(tissue_freedoms * tissue_freedoms).add<double>(entries);
+  plan.add<std::int32_t>(entries).add<std::int32_t>(entries).add<double>(freedoms * padded_slots).add<double>(freedoms * padded_slots);
   NeedleTissueData data(Arena("needle_tissue_data", plan.bytes()), std::move(needle).value());
   auto layer_states = data.arena.allocate<LayerState>("layers", layers);
   auto path = data.arena.allocate<PathPoint>("path points", static_cast<std::size_t>(model.scene.max_path_points));
@@ -96,12 +106,16 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
   };
   const Buffer buffers[] = {{&data.slot_forces, slots, "slot forces"},
                             {&data.applied_forces, slots, "applied forces"},
-                            {&data.compliance, slots * slots, "compliance"},
+                            {&data.compliance, compliance, "compliance"},
                             {&data.row_forces, slots, "row forces"},
                             {&data.row_gaps, slots, "row gaps"},
                             {&data.nodal_forces, 6 * nodes, "nodal forces"},
-                            {&data.row_tissue_factors, slots * rank, "row tissue factors"},
-                            {&data.tissue_blocks, 9 * points * points, "tissue blocks"}};
+                            {&data.tissue_blocks, 9 * points * points, "tissue blocks"},
+                            {&data.low_rank.needle_compliance, needle_freedoms * needle_freedoms, "needle compliance"},
+                            {&data.low_rank.tissue_compliance, tissue_freedoms * tissue_freedoms, "tissue compliance"},
+                            {&data.low_rank.coefficients, entries, "compliance coefficients"},
+                            {&data.low_rank.row_fields, freedoms * padded_slots, "row fields"},
+                            {&data.low_rank.fields, freedoms * padded_slots, "fields"}};
   for (const Buffer& b : buffers) {
     auto carved = data.arena.allocate<double>(b.what, b.count);
     if (!carved.ok()) return carved.error();
@@ -116,6 +130,12 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
   if (!index.ok()) return index.error();
   data.distinct_tissue_nodes = distinct.value();
   data.point_tissue_index = index.value();
+  auto local_sources = data.arena.allocate<std::int32_t>("compliance local sources", entries);
+  auto sources = data.arena.allocate<std::int32_t>("compliance sources", entries);
+  if (!local_sources.ok()) return local_sources.error();
+  if (!sources.ok()) return sources.error();
+  data.low_rank.local_sources = local_sources.value();
+  data.low_rank.sources = sources.value();
   for (std::size_t l = 0; l < layers; ++l) {
     const Point3& p = model.scene.layers[l].surface_point_m;
     data.layers[l].surface = tissue_point_at(model, Eigen::Vector3d(p[0], p[1], p[2]), {});

@@ -95,19 +95,6 @@ double dot(const double* a, const double* b, int n) {
   return sum;
 }
 
-/// Low rank: the row's direction seen by the basis, V_node^T direction (zero off the tissue).
-void row_factors_of(const NeedleTissueModel& model, NeedleTissueData& data, std::size_t r) {
-  const ConstraintRow& row = data.rows[r];
-  const int rank = model.compliance_rank;
-  double* c = data.row_tissue_factors.data() + r * static_cast<std::size_t>(rank);
-  if (row.tissue_node < 0) {
-    std::fill_n(c, rank, 0.0);
-    return;
-  }
-  const double* v = node_factors(model, row.tissue_node);
-  for (int j = 0; j < rank; ++j) c[j] = (v[j] * row.direction.x() + v[rank + j] * row.direction.y()) + v[2 * rank + j] * row.direction.z();
-}
-
 /// Low rank: the 3x3 blocks V_a V_b^T between the distinct tissue nodes of the constraint
 /// points (points on one node share them), and each point's index among those nodes.
 void tissue_node_blocks(const NeedleTissueModel& model, NeedleTissueData& data) {
@@ -133,28 +120,133 @@ void tissue_node_blocks(const NeedleTissueModel& model, NeedleTissueData& data) 
     }
 }
 
-/// Low rank: sum_r c_r force(r) over the rows (c_r = V^T d_r, the rows' factors), into `sum`
+/// Low rank: sum_r c_r force(r) over the rows (c_r = V_node^T d_r), as sum over the distinct
+/// tissue nodes k of V_k^T (sum of force(r) d_r over the rows on k), into `sum`
 /// (compliance_rank values, zeroed first).
 template <class ForceOfRow>
 void factor_sum(const NeedleTissueModel& model, const NeedleTissueData& data, ForceOfRow force, double* sum) {
   const int rank = model.compliance_rank;
   std::fill_n(sum, rank, 0.0);
-  for (std::size_t r = 0; r < static_cast<std::size_t>(data.row_count); ++r) {
-    const double f = force(r);
-    const double* c = data.row_tissue_factors.data() + r * static_cast<std::size_t>(rank);
-    for (int j = 0; j < rank; ++j) sum[j] += c[j] * f;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(data.distinct_tissue_node_count); ++k) {
+    if (data.distinct_tissue_nodes[k] < 0) continue;
+    Eigen::Vector3d on_node = Eigen::Vector3d::Zero();
+    for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
+      if (static_cast<std::size_t>(data.point_tissue_index[p]) != k) continue;
+      for (auto r = static_cast<std::size_t>(data.point_first_row[p]); r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
+        on_node += force(r) * data.rows[r].direction;
+    }
+    const double* v = node_factors(model, data.distinct_tissue_nodes[k]);
+    for (int j = 0; j < rank; ++j) sum[j] += (v[j] * on_node.x() + v[rank + j] * on_node.y()) + v[2 * rank + j] * on_node.z();
   }
 }
 
 /// Low rank: takes the tissue's response to the forces it already carries out of the free
-/// gaps through the rank-sized y = sum_s c_s applied_s: gap_r -= c_r . y, O(m r) instead of
-/// one long chain of m^2 updates.
+/// gaps through the rank-sized y = sum_s c_s applied_s: gap_r -= c_r . y = d_r . (V_node y),
+/// O(m + r) per distinct node instead of one long chain of m^2 updates.
 void remove_applied_response(const NeedleTissueModel& model, NeedleTissueData& data) {
   const int rank = model.compliance_rank;
   double carried[kMaxComplianceRank];
   factor_sum(model, data, [&](std::size_t r) { return data.applied_forces[static_cast<std::size_t>(data.rows[r].slot)]; }, carried);
-  for (std::size_t r = 0; r < static_cast<std::size_t>(data.row_count); ++r)
-    data.rows[r].gap_free_m -= dot(data.row_tissue_factors.data() + r * static_cast<std::size_t>(rank), carried, rank);
+  for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
+    const std::int32_t node = data.distinct_tissue_nodes[static_cast<std::size_t>(data.point_tissue_index[p])];
+    if (node < 0) continue;
+    const double* v = node_factors(model, node);
+    const Eigen::Vector3d response(dot(v, carried, rank), dot(v + rank, carried, rank), dot(v + 2 * rank, carried, rank));
+    for (auto r = static_cast<std::size_t>(data.point_first_row[p]); r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
+      data.rows[r].gap_free_m -= data.rows[r].direction.dot(response);
+  }
+}
+
+/// `count` rounded up to whole kCombinedLanes.
+std::size_t padded(std::size_t count) { return (count + kCombinedLanes - 1) / kCombinedLanes * kCombinedLanes; }
+
+/// Low rank: a dense row-major copy (`dense_stride` per row) of `count` x `count` column-major
+/// 3x3 blocks, block (i, j) at blocks[9 * (i * stride + j)].
+void dense_from_blocks(const double* blocks, std::size_t stride, std::size_t count, double* dense, std::size_t dense_stride) {
+  for (std::size_t i = 0; i < count; ++i)
+    for (std::size_t j = 0; j < count; ++j) {
+      const double* block = blocks + 9 * (i * stride + j);
+      for (std::size_t a = 0; a < 3; ++a)
+        for (std::size_t b = 0; b < 3; ++b) dense[(3 * i + a) * dense_stride + 3 * j + b] = block[a + 3 * b];
+    }
+}
+
+/// dst[c * dst_stride + r] = src[r * src_stride + c] for r < rows, c < cols, the writes in
+/// order (on this scale strided loads cost less than strided stores).
+void copy_transposed(const double* src, std::size_t src_stride, std::size_t rows, std::size_t cols, double* dst, std::size_t dst_stride) {
+  for (std::size_t c = 0; c < cols; ++c)
+    for (std::size_t r = 0; r < rows; ++r) dst[c * dst_stride + r] = src[r * src_stride + c];
+}
+
+/// Low rank: row r's 9 entries of H, 3 for each of the needle nodes that carry its point
+/// (weight times direction; a held or unused node gets zeros on `first_block`'s freedoms)
+/// then its direction on its tissue node's freedoms, and their freedoms (needle ones from
+/// `first_block`; in `sources` the tissue ones after `tissue_offset` needle ones).
+void fill_row_entries(const NeedleTissueData& data, std::size_t r, std::size_t tissue_index, int first_block,
+                      std::size_t tissue_offset) {
+  const ConstraintRow& row = data.rows[r];
+  const std::size_t at = kMaxCombinedTerms * r;
+  double* c = data.low_rank.coefficients.data() + at;
+  std::int32_t* local = data.low_rank.local_sources.data() + at;
+  std::int32_t* combined = data.low_rank.sources.data() + at;
+  for (int k = 0; k < 2; ++k) {
+    const int node = row.node + k;
+    const double w = k == 0 ? 1.0 - row.weight : row.weight;
+    const bool used = node >= 1 && w != 0.0;
+    const int freedom = 3 * ((used ? node - 1 : first_block) - first_block);
+    for (int d = 0; d < 3; ++d) {
+      c[3 * k + d] = used ? w * row.direction[d] : 0.0;
+      local[3 * k + d] = combined[3 * k + d] = freedom + d;
+    }
+  }
+  for (int d = 0; d < 3; ++d) {
+    c[6 + d] = row.direction[d];
+    local[6 + d] = static_cast<std::int32_t>(3 * tissue_index) + d;
+    combined[6 + d] = static_cast<std::int32_t>(tissue_offset + 3 * tissue_index) + d;
+  }
+}
+
+/// Low rank: W = H C H^T, C block-diagonal over the needle's translational freedoms from
+/// `first_block` (its compliance A^-1) and the distinct tissue nodes' (V_a V_b^T), as
+/// C H^T then H (C H^T) on the kernels (rows padded to whole lanes), lower triangle then
+/// mirrored; plus on a point's own rows the local compliance the basis misses (never carried
+/// by the tissue model, so not in the applied forces' response).
+void assemble_low_rank(const NeedleTissueModel& model, NeedleTissueData& data, int first_block) {
+  LowRankWorkspace& work = data.low_rank;
+  const auto m = static_cast<std::size_t>(data.row_count), padded_m = padded(m);
+  const auto blocks = static_cast<std::size_t>(data.needle.system.blocks);
+  const std::size_t needle_nodes = blocks - static_cast<std::size_t>(first_block);
+  const auto distinct = static_cast<std::size_t>(data.distinct_tissue_node_count);
+  const std::size_t needle_freedoms = padded(3 * needle_nodes), tissue_freedoms = padded(3 * distinct);
+  const std::size_t freedoms = needle_freedoms + tissue_freedoms;
+  dense_from_blocks(data.needle.translational_compliance.data() + 9 * (static_cast<std::size_t>(first_block) * blocks +
+                                                                       static_cast<std::size_t>(first_block)),
+                    blocks, needle_nodes, work.needle_compliance.data(), needle_freedoms);
+  dense_from_blocks(data.tissue_blocks.data(), distinct, distinct, work.tissue_compliance.data(), tissue_freedoms);
+  for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p)
+    for (auto r = static_cast<std::size_t>(data.point_first_row[p]); r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
+      fill_row_entries(data, r, static_cast<std::size_t>(data.point_tissue_index[p]), first_block, needle_freedoms);
+  const NeedleLaneKernels& kernels = *model.lane_kernels;
+  // C H^T, one row of fields per constraint row: its needle part, then its tissue part.
+  kernels.combine_rows({m, 6, kMaxCombinedTerms, work.coefficients.data(), work.local_sources.data(), work.needle_compliance.data(),
+                        needle_freedoms, needle_freedoms, false, work.row_fields.data(), freedoms});
+  kernels.combine_rows({m, 3, kMaxCombinedTerms, work.coefficients.data() + 6, work.local_sources.data() + 6,
+                        work.tissue_compliance.data(), tissue_freedoms, tissue_freedoms, false, work.row_fields.data() + needle_freedoms,
+                        freedoms});
+  // Only the freedoms in use: no row of H names the padding.
+  copy_transposed(work.row_fields.data(), freedoms, m, 3 * needle_nodes, work.fields.data(), padded_m);
+  copy_transposed(work.row_fields.data() + needle_freedoms, freedoms, m, 3 * distinct, work.fields.data() + needle_freedoms * padded_m,
+                  padded_m);
+  kernels.combine_rows({m, kMaxCombinedTerms, kMaxCombinedTerms, work.coefficients.data(), work.sources.data(), work.fields.data(),
+                        padded_m, padded_m, true, data.compliance.data(), m});
+  for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
+    const auto begin = static_cast<std::size_t>(data.point_first_row[p]), end = static_cast<std::size_t>(data.point_first_row[p + 1]);
+    for (std::size_t r = begin; r < end; ++r)
+      for (std::size_t s = begin; s <= r; ++s)
+        data.compliance[r * m + s] += model.scene.point_compliance_m_per_n * data.rows[r].direction.dot(data.rows[s].direction);
+  }
+  for (std::size_t s = 0; s < m; ++s)  // the upper triangle from the lower, row by row
+    for (std::size_t r = s + 1; r < m; ++r) data.compliance[s * m + r] = data.compliance[r * m + s];
 }
 
 /// The Gaussian decay of the tissue's compliance between two points.
@@ -231,7 +323,6 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
     const std::size_t first = data.point_count > 0 ? static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(data.point_count - 1)]) : 0;
     if (r == 0 || r - first >= kMaxRowsPerPoint || !same_constraint_point(data.rows[first], data.rows[r]))
       data.point_first_row[static_cast<std::size_t>(data.point_count++)] = static_cast<std::int32_t>(r);
-    if (rank > 0) row_factors_of(model, data, r);
   }
   const auto points = static_cast<std::size_t>(data.point_count);
   data.point_first_row[points] = static_cast<std::int32_t>(m);
@@ -239,8 +330,12 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
     begin = static_cast<std::size_t>(data.point_first_row[p]);
     end = static_cast<std::size_t>(data.point_first_row[p + 1]);
   };
-  if (rank > 0) tissue_node_blocks(model, data);
-  const auto distinct = static_cast<std::size_t>(data.distinct_tissue_node_count);
+  if (rank > 0) {
+    tissue_node_blocks(model, data);
+    assemble_low_rank(model, data, first_node - 1);
+    remove_applied_response(model, data);
+    return;
+  }
   for (std::size_t p = 0; p < points; ++p) {
     std::size_t p_begin = 0, p_end = 0;
     rows_of(p, p_begin, p_end);
@@ -262,26 +357,6 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
           needle.noalias() += (w_a * w_b) * Eigen::Map<const Eigen::Matrix3d>(needle_compliance_block(data.needle, node_a, node_b));
         }
       }
-      if (rank > 0) {
-        // Low rank: the needle's block and the tissue's, V_a V_b^T of the points' carrying
-        // nodes, in one 3x3 (W needs only their sum: the applied forces' response is taken
-        // out apart), plus on a point's own rows the local compliance the basis misses
-        // (never carried by the tissue model, so not in that response).
-        const Eigen::Matrix3d both =
-            needle.transpose() + Eigen::Map<const Eigen::Matrix3d>(
-                                     data.tissue_blocks.data() + 9 * (static_cast<std::size_t>(data.point_tissue_index[q]) * distinct +
-                                                                      static_cast<std::size_t>(data.point_tissue_index[p])));
-        for (std::size_t r = p_begin; r < p_end; ++r) {
-          const Eigen::Vector3d& direction = data.rows[r].direction;
-          const Eigen::Vector3d both_row = both * direction;
-          for (std::size_t s = q_begin; s < q_end && s <= r; ++s) {
-            double entry = data.rows[s].direction.dot(both_row);
-            if (p == q) entry += model.scene.point_compliance_m_per_n * direction.dot(data.rows[s].direction);
-            data.compliance[r * m + s] = data.compliance[s * m + r] = entry;
-          }
-        }
-        continue;
-      }
       // The Gaussian kernel: the decay between the points times the tensor.
       const double decay = tissue_decay(model, at_p.tissue_point_m, at_q.tissue_point_m);
       const Eigen::Matrix3d& tissue = model.compliance_tensor_m_per_n;
@@ -299,7 +374,6 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
       }
     }
   }
-  if (rank > 0) remove_applied_response(model, data);
 }
 
 Eigen::Vector3d compliant_displacement_m(const NeedleTissueModel& model, const NeedleTissueData& data,
