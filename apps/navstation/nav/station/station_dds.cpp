@@ -63,10 +63,13 @@ void device_thread(const SimulatedWorld& world, StationChannels& ch, const DdsRu
       link.devices.reset();  // the participant goes away: its writers are announced as gone
     }
     if (options.device_outage && !link.devices && now >= options.device_outage->to_ns) {
+      // Timed before the creation: the station's reader may discover the writers while they
+      // are still being advertised.
+      const TimeNs creating_ns = ch.run_time_ns();
       auto node = make_station_node(link.domain_id, "nav_demo_devices", link.names);
       if (node.ok() && node.value()->advertise<dds::ToolPose>().ok() && node.value()->advertise<dds::UltrasoundFrame>().ok()) {
         link.devices = std::move(node).value();
-        report.device_back_ns = ch.run_time_ns();
+        report.device_back_ns = creating_ns;
       }
     }
     for (; next < world.samples.size() && world.samples[next].delivered_ns <= now; ++next) {

@@ -96,7 +96,7 @@ struct DdsRunReport {
   std::int64_t outputs_published = 0;  ///< predictions, needle states and health samples written
   std::uint64_t outbox_dropped = 0;
   TimeNs device_gone_ns = -1;       ///< when the devices' participant began to be destroyed (run time; -1: never)
-  TimeNs device_back_ns = -1;       ///< when it was created again
+  TimeNs device_back_ns = -1;       ///< when it began to be created again
   TimeNs peer_lost_seen_ns = -1;    ///< when the I/O thread saw no pose writer any more
   TimeNs peer_back_seen_ns = -1;    ///< when it saw one again
   std::uint64_t device_samples_lost = 0;  ///< samples due while the devices were gone
