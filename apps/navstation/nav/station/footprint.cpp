@@ -1,6 +1,6 @@
 // The memory footprint of a built station: what each model reports (ReducedModel's
 // memory_bytes, every data arena's capacity), and estimates from element counts where a
-// model does not report its tables (the full order, the ladder's transfer operators).
+// model does not report its tables (the full order, the ladder's transfer to it).
 #include <cstdio>
 #include <string>
 
@@ -25,16 +25,11 @@ std::int64_t tet_fem_table_estimate(const TetFemModel& model) {
 
 std::int64_t arena_bytes(const Arena& arena) { return static_cast<std::int64_t>(arena.capacity_bytes()); }
 
-/// The ladder's transfer operators from its sizes: r_i x r_(i+1) doubles between neighbouring
-/// reduced rungs and, with the full order on top, the top basis and lift as rows and the dof
-/// masses (3 n (r_top + 4) doubles).
-std::int64_t ladder_transfer_estimate(const ReducedLadderModel& ladder) {
-  std::int64_t doubles = 0;
-  for (int k = 0; k + 1 < ladder.reduced_rung_count(); ++k)
-    doubles += std::int64_t{ladder.reduced_rung(k).basis_size()} * ladder.reduced_rung(k + 1).basis_size();
-  if (ladder.has_full_order())
-    doubles += 3 * ladder.node_count() * (ladder.reduced_rung(ladder.reduced_rung_count() - 1).basis_size() + 4);
-  return doubles * static_cast<std::int64_t>(sizeof(double));
+/// The ladder's full-order transfer, estimated from its sizes: the top basis and lift as rows
+/// and the dof masses (3 n (r_top + 4) doubles).
+std::int64_t full_order_transfer_estimate(const ReducedLadderModel& ladder) {
+  const std::int64_t top_r = ladder.reduced_rung(ladder.reduced_rung_count() - 1).basis_size();
+  return 3 * ladder.node_count() * (top_r + 4) * static_cast<std::int64_t>(sizeof(double));
 }
 
 /// Each rung's tables and data arena, the transfer operators and the ladder's own arena.
@@ -49,7 +44,11 @@ void add_ladder(const ReducedLadderModel& ladder, const ReducedLadderData& data,
     f.lines.push_back({"liver", rung + "full-order tables", tet_fem_table_estimate(ladder.full_order()), true});
     f.lines.push_back({"liver", rung + "data arena", arena_bytes(data.full->arena), false});
   }
-  f.lines.push_back({"liver", "ladder transfers", ladder_transfer_estimate(ladder), true});
+  std::int64_t transfer_bytes = 0;  // between neighbouring reduced rungs, as the ladder holds them
+  for (int k = 0; k + 1 < ladder.reduced_rung_count(); ++k)
+    transfer_bytes += static_cast<std::int64_t>(ladder.transfer(k).size_bytes());
+  f.lines.push_back({"liver", "ladder transfers", transfer_bytes, false});
+  if (ladder.has_full_order()) f.lines.push_back({"liver", "ladder full-order transfer", full_order_transfer_estimate(ladder), true});
   f.lines.push_back({"liver", "ladder data arena", arena_bytes(data.arena), false});
 }
 
