@@ -100,6 +100,26 @@ TEST(NeedleBeam, RigidMotionOfTheWholeNeedleGivesZeroForce) {
   EXPECT_LT((needle_tip_m(data) - expected_tip).norm(), 1e-12);
 }
 
+TEST(NeedleBeam, RotationVectorLogarithmMatchesALongDoubleReferenceAtEveryAngle) {
+  // Angles from 1e-9 rad to pi - 1e-6 rad, through the small-angle series and past its end
+  // (near 0.1 rad), about three axes; the reference is 2 atan2(s, w) / s v in long double.
+  double worst = 0.0;
+  for (double angle = 1e-9; angle < std::numbers::pi; angle *= 1.07) {
+    for (const Eigen::Vector3d& axis : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0.6, -0.8, 0), Eigen::Vector3d(Eigen::Vector3d(1, 2, -2) / 3.0)}) {
+      const Eigen::Quaterniond q = quaternion_from_rotation_vector(angle * axis);
+      const long double s = std::hypot(std::hypot(static_cast<long double>(q.x()), static_cast<long double>(q.y())),
+                                       static_cast<long double>(q.z()));
+      const long double scale = 2.0L * std::atan2(s, static_cast<long double>(q.w())) / s;
+      const Eigen::Vector3d theta = rotation_vector_from_quaternion(q);
+      for (int d = 0; d < 3; ++d) {
+        const long double reference = scale * static_cast<long double>(q.coeffs()[d]);
+        if (reference != 0.0L) worst = std::max(worst, static_cast<double>(std::abs((theta[d] - reference) / reference)));
+      }
+    }
+  }
+  EXPECT_LT(worst, 1e-15);  // relative, a few roundings
+}
+
 TEST(NeedleBeam, BlockTridiagonalSolveAndInverseMatchADenseSolve) {
   NeedleParameters p;
   p.element_count = 30;

