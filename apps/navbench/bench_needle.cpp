@@ -30,7 +30,7 @@ struct Record {
   double median_us = 0.0, p99_us = 0.0, residual_m = 0.0;
   int basis_size = 0;  ///< r of a reduced tissue, 0 otherwise
   nav::KernelIsa kernel_isa = nav::KernelIsa::best;  ///< of the Gauss-Seidel lane kernels (resolved)
-  int sweeps = nav::NeedleTissueScene{}.gauss_seidel_sweeps;  ///< of projected Gauss-Seidel
+  int sweeps = nav::NeedleTissueScene{}.gauss_seidel_sweeps;  ///< of projected Gauss-Seidel, 0 without constraints
 };
 
 /// Appends the times of `count` calls of `tick` (given the tick index, from `first`) to `us`, in microseconds.
@@ -71,7 +71,7 @@ Record needle_alone(int elements, int ticks) {
     inputs.base.position_m = {oscillating_x_m(0.0, k), 0.0, 0.0};
     nav::step(model, data, inputs);
   });
-  return {"needle_alone", elements, 0, 0, 0, 0, median, p99, 0.0, 0};
+  return {"needle_alone", elements, 0, 0, 0, 0, median, p99, 0.0, 0, nav::KernelIsa::best, 0};  // no constraints: no sweeps
 }
 
 Record needle_with_constraints(int elements, int points, int ticks) {
