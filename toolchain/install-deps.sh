@@ -4,7 +4,7 @@
 # Usage (as root): toolchain/install-deps.sh [--rtlib-only] [--cross] [--fuzz]
 #   --rtlib-only  only what rtlib and its tests need (no station libraries)
 #   --cross       add the aarch64 cross compiler and qemu user emulation (preset aarch64)
-#   --fuzz        add clang with libFuzzer (NAV_FUZZ=ON, toolchain/fuzz)
+#   --fuzz        add clang with libFuzzer and the sanitizer runtimes (toolchain/fuzz, the asan-ubsan preset)
 set -euo pipefail
 
 core_packages=(
