@@ -12,11 +12,18 @@
 //    more than 2 % of the largest displacement above the full-order corotational model's own
 //    (the corotational law itself differs from neo-Hookean by a few %, measured and printed);
 //  - the error falls as r grows (printed as the error-against-r curve).
+// The independent solves (training, references, one basis size each) run two at a time.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <map>
 #include <memory>
+#include <optional>
+#include <thread>
 
 #include "nav/reduced/reduction.hpp"
 #include "nav/reduced/training_loads.hpp"
@@ -27,8 +34,26 @@
 namespace nav {
 namespace {
 
-/// Everything the cases share: the mesh, its scene, the training snapshots and the held-out
-/// references, solved once.
+/// A reduced model of one basis size on the held-out loads.
+struct ReducedRun {
+  std::size_t cubature_samples = 0;
+  std::vector<double> solutions_m;  ///< 3 n per held-out load
+};
+
+/// Runs the tasks on two threads, in the order listed, each on whichever thread is free first
+/// (ctest gives this program both cores: PROCESSORS 2 in tests/CMakeLists.txt).
+void run_on_two_threads(const std::vector<std::function<void()>>& tasks) {
+  std::atomic<std::size_t> next{0};
+  const auto work = [&] {
+    for (std::size_t i = next++; i < tasks.size(); i = next++) tasks[i]();
+  };
+  std::thread other(work);
+  work();
+  other.join();
+}
+
+/// Everything the cases share, solved once: the mesh, its scene, the training snapshots, the
+/// held-out references and the reduced models' solutions.
 struct Shared {
   TetMesh mesh;
   TissueScene scene;
@@ -38,7 +63,11 @@ struct Shared {
   std::vector<double> corotational_m;  ///< 3 n per held-out load
   std::vector<std::size_t> neo_loads;  ///< indices of the held-out loads with a neo-Hookean reference
   std::vector<double> neo_hookean_m;   ///< 3 n per entry of neo_loads
+  std::map<int, ReducedRun> runs;      ///< by basis size, one per kBasisSizes
 };
+
+/// The basis sizes of the error-against-r curve, the largest (longest to train) first.
+constexpr std::array<int, 6> kBasisSizes = {32, 24, 16, 8, 4, 2};
 
 class ReducedAccuracy : public ::testing::Test {
  protected:
@@ -52,22 +81,52 @@ class ReducedAccuracy : public ::testing::Test {
     const TrainingLoadOptions options;
     const auto training = make_training_loads(s->mesh, s->scene, options, LoadSet::training);
     s->held_out = make_training_loads(s->mesh, s->scene, options, LoadSet::held_out);
-    s->training = solve_static_loads(s->mesh, s->scene, training).value();
-    StaticSolveOptions full_load;
-    full_load.snapshot_fractions = {1.0};
-    s->corotational_m = solve_static_loads(s->mesh, s->scene, s->held_out, full_load).value().displacements_m;
     for (std::size_t k = 0; k < s->held_out.size(); ++k) {
       const std::string& name = s->held_out[k].name;
-      if (!(name.starts_with("gravity x") || name == "push 0" || name == "needle 0" || name == "diaphragm 0")) continue;
-      NeoHookeanOptions reference_options;
-      reference_options.load_increments = 10;
-      const auto& load = s->held_out[k];
-      const auto x = solve_neo_hookean_static(s->mesh, scene_for_load(s->scene, load), load.inputs(1.0), {}, reference_options)
-                         .value()
-                         .positions_m;
-      for (std::size_t i = 0; i < x.size(); ++i) s->neo_hookean_m.push_back(x[i] - s->mesh.nodes_m[i / 3][i % 3]);
-      s->neo_loads.push_back(k);
+      if (name.starts_with("gravity x") || name == "push 0" || name == "needle 0" || name == "diaphragm 0") s->neo_loads.push_back(k);
     }
+
+    // Independent solves, longest first: the training set in two halves (each load is solved
+    // from rest, so the halves' snapshots, one after the other, are the whole set's), the
+    // held-out loads at full load, and one neo-Hookean reference per chosen load.
+    const std::span<const TrainingLoad> all_training(training);
+    const std::size_t half = all_training.size() / 2;
+    std::optional<Result<Snapshots>> training_first, training_second, corotational;
+    std::vector<std::optional<Result<NeoHookeanSolution>>> neo_hookean(s->neo_loads.size());
+    std::vector<std::function<void()>> tasks = {
+        [&] { training_first = solve_static_loads(s->mesh, s->scene, all_training.first(half)); },
+        [&] { training_second = solve_static_loads(s->mesh, s->scene, all_training.subspan(half)); },
+        [&] {
+          StaticSolveOptions full_load;
+          full_load.snapshot_fractions = {1.0};
+          corotational = solve_static_loads(s->mesh, s->scene, s->held_out, full_load);
+        }};
+    for (std::size_t j = 0; j < s->neo_loads.size(); ++j)
+      tasks.push_back([&, j] {
+        NeoHookeanOptions reference_options;
+        reference_options.load_increments = 10;
+        const TrainingLoad& load = s->held_out[s->neo_loads[j]];
+        neo_hookean[j] = solve_neo_hookean_static(s->mesh, scene_for_load(s->scene, load), load.inputs(1.0), {}, reference_options);
+      });
+    run_on_two_threads(tasks);
+
+    s->training = training_first->value();
+    const Snapshots& second = training_second->value();
+    s->training.displacements_m.insert(s->training.displacements_m.end(), second.displacements_m.begin(), second.displacements_m.end());
+    s->training.count += second.count;
+    s->training.total_steps += second.total_steps;
+    s->corotational_m = corotational->value().displacements_m;
+    for (const auto& solution : neo_hookean) {
+      const std::vector<double>& x = solution->value().positions_m;
+      for (std::size_t i = 0; i < x.size(); ++i) s->neo_hookean_m.push_back(x[i] - s->mesh.nodes_m[i / 3][i % 3]);
+    }
+
+    // Then the reduced model of every basis size on the held-out loads.
+    std::vector<ReducedRun> runs(kBasisSizes.size());
+    tasks.clear();
+    for (std::size_t k = 0; k < kBasisSizes.size(); ++k) tasks.push_back([&, k] { runs[k] = run_of(*s, kBasisSizes[k]); });
+    run_on_two_threads(tasks);
+    for (std::size_t k = 0; k < kBasisSizes.size(); ++k) s->runs.emplace(kBasisSizes[k], std::move(runs[k]));
     shared_ = s.release();
   }
   static void TearDownTestSuite() {
@@ -78,31 +137,27 @@ class ReducedAccuracy : public ::testing::Test {
     if (!shared_) GTEST_SKIP() << "shared data missing: liverFine.vtu";
   }
 
-  /// The POD + corotational-cubature basis of size r trained on the shared snapshots.
-  static ReducedBasis basis_of(int r) {
+  /// The POD + corotational-cubature basis of size r trained on the shared snapshots, and its
+  /// static solutions of every held-out load (3 n each).
+  static ReducedRun run_of(const Shared& s, int r) {
     ReductionOptions options;
     options.source = ReducedBasisSource::pod;
     options.force_kind = ReducedForceKind::corotational_cubature;
     options.basis_size = r;
     options.max_cubature_samples = 256;
     const TissueSolverOptions solver = reduction_solver_options(options.force_kind);
-    const Shared& s = *shared_;
     ReducedBasis basis = make_pod_basis(s.mesh, s.scene, solver, options, s.training.displacements_m, s.training.count).value();
     const Status reduced = add_force_reduction(s.mesh, s.scene, solver, options, s.training.displacements_m, s.training.count, basis);
     EXPECT_TRUE(reduced.ok()) << reduced.error().describe();
-    return basis;
-  }
-
-  /// Static reduced solutions of every held-out load (3 n each).
-  static std::vector<double> reduced_solutions(const ReducedBasis& basis) {
-    std::vector<double> all;
-    for (const TrainingLoad& load : shared_->held_out) {
-      const auto u = solve_reduced_static(shared_->mesh, shared_->scene, basis, load);
+    ReducedRun run;
+    run.cubature_samples = basis.sample_tets.size();
+    for (const TrainingLoad& load : s.held_out) {
+      const auto u = solve_reduced_static(s.mesh, s.scene, basis, load);
       EXPECT_TRUE(u.ok()) << u.error().describe();
-      if (u.ok()) all.insert(all.end(), u.value().begin(), u.value().end());
-      else all.insert(all.end(), 3 * shared_->mesh.nodes_m.size(), 0.0);
+      if (u.ok()) run.solutions_m.insert(run.solutions_m.end(), u.value().begin(), u.value().end());
+      else run.solutions_m.insert(run.solutions_m.end(), 3 * s.mesh.nodes_m.size(), 0.0);
     }
-    return all;
+    return run;
   }
 
   /// Aggregate over the held-out set: RMS over loads and nodes, largest reference displacement,
@@ -143,12 +198,10 @@ class ReducedAccuracy : public ::testing::Test {
 
 Shared* ReducedAccuracy::shared_ = nullptr;
 
-// One case for both references, so that liverFine's training and references (minutes) are
-// solved once for them.
 TEST_F(ReducedAccuracy, R32AgainstFullOrderCorotationalAndNeoHookeanReference) {
-  const ReducedBasis basis = basis_of(32);
-  const std::vector<double> reduced = reduced_solutions(basis);
-  std::printf("r = 32, %zu cubature tetrahedra; held-out loads against full-order corotational:\n", basis.sample_tets.size());
+  const ReducedRun& run = shared_->runs.at(32);
+  const std::vector<double>& reduced = run.solutions_m;
+  std::printf("r = 32, %zu cubature tetrahedra; held-out loads against full-order corotational:\n", run.cubature_samples);
   const SetError e = set_error(reduced, shared_->corotational_m, all_loads(), true);
   std::printf("set: RMS %.3f mm = %.2f %% of the largest displacement %.2f mm (worst load %.2f %%); target <= %.3f mm\n", 1e3 * e.rms_m,
               100.0 * e.rms_m / e.reference_max_m, 1e3 * e.reference_max_m, e.worst_load_pct, 1e3 * e.target_max_m);
@@ -168,12 +221,11 @@ TEST_F(ReducedAccuracy, R32AgainstFullOrderCorotationalAndNeoHookeanReference) {
 
 TEST_F(ReducedAccuracy, ErrorFallsAsTheBasisGrows) {
   std::printf("error against r (held-out set, against full-order corotational):\n   r  samples  RMS (%% of max)  worst load %%  target (mm)\n");
-  std::vector<double> rms;
-  for (const int r : {2, 4, 8, 16, 24, 32}) {
-    const ReducedBasis basis = basis_of(r);
-    const SetError e = set_error(reduced_solutions(basis), shared_->corotational_m, all_loads(), false);
+  std::vector<double> rms;  // by growing r
+  for (const auto& [r, run] : shared_->runs) {
+    const SetError e = set_error(run.solutions_m, shared_->corotational_m, all_loads(), false);
     rms.push_back(e.rms_m / e.reference_max_m);
-    std::printf("  %2d  %7zu  %13.2f  %12.2f  %11.3f\n", r, basis.sample_tets.size(), 100.0 * rms.back(), e.worst_load_pct,
+    std::printf("  %2d  %7zu  %13.2f  %12.2f  %11.3f\n", r, run.cubature_samples, 100.0 * rms.back(), e.worst_load_pct,
                 1e3 * e.target_max_m);
   }
   EXPECT_LT(rms.back(), 0.5 * rms.front());

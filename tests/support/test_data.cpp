@@ -14,10 +14,25 @@ std::string shared_data_path(const std::string& relative) {
 
 bool file_exists(const std::string& path) { return std::ifstream(path).good(); }
 
+namespace {
+
+/// This process's scratch folder, removed with what the tests left in it when the process exits.
+struct ScratchFolder {
+  std::filesystem::path path = std::filesystem::temp_directory_path() / ("navrt-test-" + std::to_string(::getpid()));
+  ScratchFolder() { std::filesystem::create_directories(path); }
+  ~ScratchFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+};
+
+}  // namespace
+
 std::string temporary_path(const std::string& file_name) {
-  const auto folder = std::filesystem::temp_directory_path() / ("navrt-test-" + std::to_string(::getpid()));
-  std::filesystem::create_directories(folder);
-  return (folder / file_name).string();
+  static const ScratchFolder folder;
+  return (folder.path / file_name).string();
 }
 
 }  // namespace nav::testing

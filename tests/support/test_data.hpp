@@ -13,7 +13,8 @@ std::string shared_data_path(const std::string& relative);
 /// True if the file exists and can be opened.
 bool file_exists(const std::string& path);
 
-/// A fresh path in the system's temporary folder for a test's output.
+/// A path in this process's own temporary folder for a test's output (the folder goes when
+/// the process exits).
 std::string temporary_path(const std::string& file_name);
 
 }  // namespace nav::testing
