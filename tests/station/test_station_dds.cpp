@@ -111,6 +111,10 @@ TEST(StationDds, TheDevicesOnDdsFeedTheStationAndItsOutputsReachADisplay) {
               "frames median %.0f us, p99 %.0f us, max %.0f us\n",
               static_cast<long long>(r.poses_received), static_cast<long long>(r.frames_received), r.pose_latency.median_us,
               r.pose_latency.p99_us, r.pose_latency.max_us, r.frame_latency.median_us, r.frame_latency.p99_us, r.frame_latency.max_us);
+  std::printf("[ station  ] tumour tracker per frame (I/O thread): median %.2f ms, p99 %.2f ms, max %.2f ms; loop: %lld ticks, %lld "
+              "skipped, max lateness %.1f ms\n",
+              1e-3 * run.frame_processing.median_us, 1e-3 * run.frame_processing.p99_us, 1e-3 * run.frame_processing.max_us,
+              static_cast<long long>(run.steps.ticks), static_cast<long long>(run.steps.skipped_ticks), 1e-3 * run.steps.max_lateness_us);
   // 5 s: 3 markers at 60 Hz (delivered from 10 ms) and frames at 20 Hz (from 30 ms). The
   // station keeps the newest pose of each tool per poll (0.5 ms), so nearly all arrive (a
   // stalled I/O thread may skip a few: the loop interpolates over them).
