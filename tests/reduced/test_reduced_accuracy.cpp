@@ -40,8 +40,8 @@ struct ReducedRun {
   std::vector<double> solutions_m;  ///< 3 n per held-out load
 };
 
-/// Runs the tasks on two threads, in the order listed, each on whichever thread is free first
-/// (ctest gives this program both cores: PROCESSORS 2 in tests/CMakeLists.txt).
+/// Runs the tasks on two threads (the machine's two cores), in the order listed, each on
+/// whichever thread is free first.
 void run_on_two_threads(const std::vector<std::function<void()>>& tasks) {
   std::atomic<std::size_t> next{0};
   const auto work = [&] {
