@@ -67,7 +67,7 @@ struct Shared {
 };
 
 /// The basis sizes of the error-against-r curve, the largest (longest to train) first.
-constexpr std::array<int, 6> kBasisSizes = {32, 24, 16, 8, 4, 2};
+constexpr std::array<int, 5> kBasisSizes = {32, 16, 8, 4, 2};
 
 class ReducedAccuracy : public ::testing::Test {
  protected:
@@ -229,7 +229,7 @@ TEST_F(ReducedAccuracy, ErrorFallsAsTheBasisGrows) {
                 1e3 * e.target_max_m);
   }
   EXPECT_LT(rms.back(), 0.5 * rms.front());
-  EXPECT_LT(rms[5], rms[2]);
+  EXPECT_LT(rms.back(), rms[2]);  // r = 32 below r = 8
 }
 
 }  // namespace
