@@ -32,6 +32,36 @@ TEST(Nnls, RecoversAKnownNonNegativeSolution) {
   EXPECT_LT((result.x - expected).cwiseAbs().maxCoeff(), 1e-10);
 }
 
+TEST(Nnls, AWarmStartFromFewerColumnsFindsTheSameSolutionInFewerIterations) {
+  // As the cubature grows its selection: the solution on the first k columns starts the
+  // problem on k + 1. Each warm start must land where a cold start does.
+  std::mt19937 random(23);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::MatrixXd a(60, 24);
+  Eigen::VectorXd b(60);
+  for (Eigen::Index i = 0; i < a.size(); ++i) a.data()[i] = normal(random);
+  for (Eigen::Index i = 0; i < b.size(); ++i) b[i] = normal(random);
+  Eigen::VectorXd warm;
+  int cold_iterations = 0, warm_iterations = 0, positive = 0;
+  for (Eigen::Index k = 1; k <= a.cols(); ++k) {
+    const detail::NnlsResult cold = detail::nnls(a.leftCols(k), b);
+    Eigen::VectorXd start = Eigen::VectorXd::Zero(k);
+    start.head(warm.size()) = warm;
+    const detail::NnlsResult result = detail::nnls(a.leftCols(k), b, start);
+    ASSERT_TRUE(cold.converged && result.converged) << k << " columns";
+    EXPECT_LT((result.x - cold.x).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + cold.x.cwiseAbs().maxCoeff())) << k << " columns";
+    warm = result.x;
+    cold_iterations += cold.iterations;
+    warm_iterations += result.iterations;
+  }
+  for (Eigen::Index j = 0; j < warm.size(); ++j) positive += warm[j] > 0.0;
+  std::printf("[ nnls     ] 24 columns grown one at a time: %d outer iterations cold, %d warm; %d positive weights\n", cold_iterations,
+              warm_iterations, positive);
+  EXPECT_GT(positive, 4);                          // a solution with both free and bound weights
+  EXPECT_LT(positive, 24);
+  EXPECT_LT(2 * warm_iterations, cold_iterations);  // cold: one per positive weight each time
+}
+
 TEST(Nnls, MeetsTheKktConditionsWhenTheUnconstrainedSolutionIsNegative) {
   // min |x - b| with x >= 0 is max(b, 0); with A = I plus a coupling the KKT conditions hold.
   Eigen::MatrixXd a = Eigen::MatrixXd::Identity(6, 6);

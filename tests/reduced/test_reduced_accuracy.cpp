@@ -12,11 +12,13 @@
 //    more than 2 % of the largest displacement above the full-order corotational model's own
 //    (the corotational law itself differs from neo-Hookean by a few %, measured and printed);
 //  - the error falls as r grows (printed as the error-against-r curve).
-// The independent solves (training, references, one basis size each) run two at a time.
+// The independent solves (training in two halves; then references and one basis size each) run
+// two at a time.
 #include <gtest/gtest.h>
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -40,12 +42,23 @@ struct ReducedRun {
   std::vector<double> solutions_m;  ///< 3 n per held-out load
 };
 
+/// A named piece of the shared setup.
+struct Task {
+  std::string name;
+  std::function<void()> run;
+};
+
 /// Runs the tasks on two threads (the machine's two cores), in the order listed, each on
-/// whichever thread is free first.
-void run_on_two_threads(const std::vector<std::function<void()>>& tasks) {
+/// whichever thread is free first, and prints how long each took.
+void run_on_two_threads(const std::vector<Task>& tasks) {
   std::atomic<std::size_t> next{0};
   const auto work = [&] {
-    for (std::size_t i = next++; i < tasks.size(); i = next++) tasks[i]();
+    for (std::size_t i = next++; i < tasks.size(); i = next++) {
+      const auto start = std::chrono::steady_clock::now();
+      tasks[i].run();
+      std::printf("[ setup    ] %s: %.1f s\n", tasks[i].name.c_str(),
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    }
   };
   std::thread other(work);
   work();
@@ -86,46 +99,50 @@ class ReducedAccuracy : public ::testing::Test {
       if (name.starts_with("gravity x") || name == "push 0" || name == "needle 0" || name == "diaphragm 0") s->neo_loads.push_back(k);
     }
 
-    // Independent solves, longest first: the training set in two halves (each load is solved
-    // from rest, so the halves' snapshots, one after the other, are the whole set's), the
-    // held-out loads at full load, and one neo-Hookean reference per chosen load.
+    // First the training set in two halves, one on each core (each load is solved from rest,
+    // so the halves' snapshots, one after the other, are the whole set's).
     const std::span<const TrainingLoad> all_training(training);
     const std::size_t half = all_training.size() / 2;
     std::optional<Result<Snapshots>> training_first, training_second, corotational;
-    std::vector<std::optional<Result<NeoHookeanSolution>>> neo_hookean(s->neo_loads.size());
-    std::vector<std::function<void()>> tasks = {
-        [&] { training_first = solve_static_loads(s->mesh, s->scene, all_training.first(half)); },
-        [&] { training_second = solve_static_loads(s->mesh, s->scene, all_training.subspan(half)); },
-        [&] {
-          StaticSolveOptions full_load;
-          full_load.snapshot_fractions = {1.0};
-          corotational = solve_static_loads(s->mesh, s->scene, s->held_out, full_load);
-        }};
-    for (std::size_t j = 0; j < s->neo_loads.size(); ++j)
-      tasks.push_back([&, j] {
-        NeoHookeanOptions reference_options;
-        reference_options.load_increments = 10;
-        const TrainingLoad& load = s->held_out[s->neo_loads[j]];
-        neo_hookean[j] = solve_neo_hookean_static(s->mesh, scene_for_load(s->scene, load), load.inputs(1.0), {}, reference_options);
-      });
-    run_on_two_threads(tasks);
-
+    run_on_two_threads({
+        {"training, first half", [&] { training_first = solve_static_loads(s->mesh, s->scene, all_training.first(half)); }},
+        {"training, second half", [&] { training_second = solve_static_loads(s->mesh, s->scene, all_training.subspan(half)); }},
+    });
     s->training = training_first->value();
     const Snapshots& second = training_second->value();
     s->training.displacements_m.insert(s->training.displacements_m.end(), second.displacements_m.begin(), second.displacements_m.end());
     s->training.count += second.count;
     s->training.total_steps += second.total_steps;
+
+    // Then, longest first, the reduced model of every basis size on the held-out loads and the
+    // references: the held-out loads at full load and one neo-Hookean solve per chosen load.
+    std::vector<std::optional<Result<NeoHookeanSolution>>> neo_hookean(s->neo_loads.size());
+    std::vector<ReducedRun> runs(kBasisSizes.size());
+    const auto reduced = [&](std::size_t k) {
+      return Task{"reduced model r = " + std::to_string(kBasisSizes[k]), [&, k] { runs[k] = run_of(*s, kBasisSizes[k]); }};
+    };
+    std::vector<Task> tasks = {reduced(0)};
+    for (std::size_t j = 0; j < s->neo_loads.size(); ++j)
+      tasks.push_back({"neo-Hookean reference, " + s->held_out[s->neo_loads[j]].name, [&, j] {
+        NeoHookeanOptions reference_options;
+        reference_options.load_increments = 5;
+        const TrainingLoad& load = s->held_out[s->neo_loads[j]];
+        neo_hookean[j] = solve_neo_hookean_static(s->mesh, scene_for_load(s->scene, load), load.inputs(1.0), {}, reference_options);
+      }});
+    tasks.push_back(reduced(1));
+    tasks.push_back({"held-out loads (corotational)", [&] {
+      StaticSolveOptions full_load;
+      full_load.snapshot_fractions = {1.0};
+      corotational = solve_static_loads(s->mesh, s->scene, s->held_out, full_load);
+    }});
+    for (std::size_t k = 2; k < kBasisSizes.size(); ++k) tasks.push_back(reduced(k));
+    run_on_two_threads(tasks);
+
     s->corotational_m = corotational->value().displacements_m;
     for (const auto& solution : neo_hookean) {
       const std::vector<double>& x = solution->value().positions_m;
       for (std::size_t i = 0; i < x.size(); ++i) s->neo_hookean_m.push_back(x[i] - s->mesh.nodes_m[i / 3][i % 3]);
     }
-
-    // Then the reduced model of every basis size on the held-out loads.
-    std::vector<ReducedRun> runs(kBasisSizes.size());
-    tasks.clear();
-    for (std::size_t k = 0; k < kBasisSizes.size(); ++k) tasks.push_back([&, k] { runs[k] = run_of(*s, kBasisSizes[k]); });
-    run_on_two_threads(tasks);
     for (std::size_t k = 0; k < kBasisSizes.size(); ++k) s->runs.emplace(kBasisSizes[k], std::move(runs[k]));
     shared_ = s.release();
   }

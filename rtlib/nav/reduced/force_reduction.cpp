@@ -65,7 +65,7 @@ double worst_relative_error(const Eigen::VectorXd& residual, Eigen::Index block)
 }
 
 /// ECSW: greedy selection of the element whose column best matches the residual, then NNLS
-/// weights on the selection, until the relative training error of every snapshot (blocks of
+/// weights on the selection (warm-started from the last ones), until the relative training error of every snapshot (blocks of
 /// `block` rows) is below the tolerance (at least one element) or max_cubature_samples
 /// elements are chosen.
 Status select_samples(const Eigen::MatrixXd& columns, const Eigen::VectorXd& target, Eigen::Index block,
@@ -84,7 +84,9 @@ Status select_samples(const Eigen::MatrixXd& columns, const Eigen::VectorXd& tar
     selected.push_back(best);
     Eigen::MatrixXd sub(columns.rows(), static_cast<Eigen::Index>(selected.size()));
     for (std::size_t k = 0; k < selected.size(); ++k) sub.col(static_cast<Eigen::Index>(k)) = columns.col(selected[k]);
-    weights = detail::nnls(sub, target).x;
+    Eigen::VectorXd start = Eigen::VectorXd::Zero(sub.cols());  // the last weights, the new element at zero
+    start.head(weights.size()) = weights;
+    weights = detail::nnls(sub, target, start).x;
     residual = target - sub * weights;
   }
   if (selected.empty()) return error("no element reduces the training forces", "snapshots_m");

@@ -1,5 +1,6 @@
 #include "nav/reduced/nnls.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <vector>
 
@@ -21,11 +22,16 @@ Eigen::VectorXd passive_solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& b
 
 }  // namespace
 
-NnlsResult nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, int max_iterations) {
+NnlsResult nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& start, int max_iterations) {
   const Eigen::Index n = a.cols();
   if (max_iterations <= 0) max_iterations = 3 * static_cast<int>(n) + 10;
   NnlsResult result{Eigen::VectorXd::Zero(n), 0, false};
   std::vector<bool> passive(static_cast<std::size_t>(n), false);
+  for (Eigen::Index j = 0; j < std::min(n, start.size()); ++j)
+    if (start[j] > 0.0) {
+      result.x[j] = start[j];
+      passive[static_cast<std::size_t>(j)] = true;
+    }
   const double tolerance = 10.0 * std::numeric_limits<double>::epsilon() * a.cwiseAbs().maxCoeff() *
                            static_cast<double>(std::max(a.rows(), n)) * std::max(1.0, b.cwiseAbs().maxCoeff());
   Eigen::VectorXd& x = result.x;

@@ -13,7 +13,10 @@ struct NnlsResult {
 };
 
 /// Solves min |A x - b| with x >= 0 by at most max_iterations outer iterations (3 columns(A) if
-/// not positive). Columns of A are expected to be of comparable scale.
-NnlsResult nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, int max_iterations = 0);
+/// not positive). Columns of A are expected to be of comparable scale. `start` (empty: zero)
+/// warm-starts it with the solution of the same problem on A's first start.size() columns:
+/// its positive entries, the least-squares solution on their columns, are where it begins
+/// (one outer iteration for each column that enters, instead of one for each column used).
+NnlsResult nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& start = {}, int max_iterations = 0);
 
 }  // namespace nav::detail

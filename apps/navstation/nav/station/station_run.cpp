@@ -114,17 +114,23 @@ void io_thread(const SimulatedWorld& world, StationChannels& ch, StationRun& run
   TumourObserver observer(world.imaging, options.observer);
   ch.wait_for_start();
   std::size_t next = 0;
-  while (!ch.realtime_done.load(std::memory_order_acquire)) {
-    const TimeNs now = ch.run_time_ns();
+  // Takes the samples delivered by run time `now`, handing them to the loop while it runs.
+  const auto take_samples_until = [&](TimeNs now, bool loop_running) {
     for (; next < world.samples.size() && world.samples[next].delivered_ns <= now; ++next) {
       const DeviceSample& s = world.samples[next];
       const std::uint8_t* pixels = s.frame_index >= 0 ? world.frames[static_cast<std::size_t>(s.frame_index)].pixels.data() : nullptr;
       const std::optional<DeviceSample> for_loop = loop_sample(observer, world.imaging, s, pixels);
-      if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;
+      if (!for_loop) continue;
+      if (!loop_running) ++run.samples_after_loop;
+      else if (ch.samples.try_push(*for_loop)) ++run.samples_pushed;
     }
+  };
+  while (!ch.realtime_done.load(std::memory_order_acquire)) {
+    take_samples_until(ch.run_time_ns(), true);
     if (ch.outputs.update()) ++run.outputs_read;
     ch.clock.sleep_until_ns(ch.clock.now_ns() + kIoPeriodNs);
   }
+  take_samples_until(options.duration_ns, false);
   run.observer = observer.counts();
   run.frame_processing = latency_statistics(observer.processing_us());
 }

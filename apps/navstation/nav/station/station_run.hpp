@@ -112,6 +112,7 @@ struct StationRun {
   SetupStep io_pin;                       ///< the I/O thread's pinning
   std::int64_t outputs_read = 0;          ///< new outputs the I/O thread read from the triple buffer
   std::int64_t samples_pushed = 0;        ///< samples the I/O thread handed to the real-time thread
+  std::int64_t samples_after_loop = 0;    ///< samples delivered within the run that the I/O thread reached only after the loop had stopped (it lagged: direct hand-off)
   ObserverCounts observer;                ///< the ultrasound frames and what became of them
   LatencyStatistics frame_processing;     ///< the observer's time per frame (tumour tracker)
   std::optional<DdsRunReport> dds;
