@@ -65,9 +65,9 @@ double worst_relative_error(const Eigen::VectorXd& residual, Eigen::Index block)
 }
 
 /// ECSW: greedy selection of the element whose column best matches the residual, then NNLS
-/// weights on the selection (warm-started from the last ones), until the relative training error of every snapshot (blocks of
-/// `block` rows) is below the tolerance (at least one element) or max_cubature_samples
-/// elements are chosen.
+/// weights on the selection (warm-started from the last ones), until the relative training
+/// error of every snapshot (blocks of `block` rows) is below the tolerance (at least one
+/// element) or max_cubature_samples elements are chosen.
 Status select_samples(const Eigen::MatrixXd& columns, const Eigen::VectorXd& target, Eigen::Index block,
                       const ReductionOptions& options, ReducedBasis& basis) {
   std::vector<Eigen::Index> selected;
