@@ -3,7 +3,8 @@
 // with every row law (friction and Coulomb rows, points of one to three rows), and on the
 // needle inserted into the reduced embedded liver until 32 path points hold it (the scene of
 // `navbench needle`), hashed after the insertion and a wobbling hold; their row combinations
-// (the compliance assembly's products) give the bits of the definition, term by term in order.
+// (the compliance assembly's products) give the bits of the definition, term by term in order,
+// and their nearest-node scans the node of the plain scan in node order, ties and NaNs too.
 // An instruction set the build or CPU lacks is refused by name.
 #include <gtest/gtest.h>
 
@@ -11,6 +12,7 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -145,6 +147,65 @@ TEST(NeedleLaneKernels, EveryVariantCombinesRowsToTheDefinitionsBits) {
       }
     }
   std::printf("%d row combinations compared bitwise with their definition\n", compared);
+}
+
+/// Squared distance of node n from the query's point, summed x, y, then z.
+double squared_distance(const detail::NearestNodeQuery& q, std::size_t n) {
+  double d[3];
+  for (std::size_t c = 0; c < 3; ++c)
+    d[c] = q.rest_m[3 * n + c] + (n < q.displaced ? q.displacements_m[3 * n + c] : 0.0) - q.point_m[c];
+  return (d[0] * d[0] + d[1] * d[1]) + d[2] * d[2];
+}
+
+/// The nearest node by the plain scan in node order that nearest_node must match: node 0
+/// whatever its distance, then each node strictly nearer than the best so far.
+std::int32_t nearest_by_scan(const detail::NearestNodeQuery& q) {
+  std::int32_t nearest = -1;
+  double best = 0.0;
+  for (std::size_t n = 0; n < q.nodes; ++n) {
+    const double d2 = squared_distance(q, n);
+    if (nearest < 0 || d2 < best) {
+      best = d2;
+      nearest = static_cast<std::int32_t>(n);
+    }
+  }
+  return nearest;
+}
+
+TEST(NeedleLaneKernels, EveryVariantFindsTheNearestNodeOfThePlainScan) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  // Coordinates on a coarse grid, so that several nodes are often nearest (ties).
+  const auto grid = [&](double step, double half_steps) { return step * std::round(half_steps * unit(rng)); };
+  int compared = 0, tied = 0;
+  for (std::size_t nodes : {0, 1, 2, 7, 8, 9, 17, 100, 4293}) {
+    std::vector<double> rest(3 * nodes), displacements(3 * nodes);
+    for (double& x : rest) x = grid(0.01, 3.0);
+    for (double& u : displacements) u = grid(0.01, 1.0);
+    for (int trial = 0; trial < 12; ++trial) {
+      std::vector<double> r = rest;
+      if (trial == 3 && nodes > 0) r[0] = std::nan("");              // node 0 at NaN: it stays the answer
+      if (trial == 4 && nodes > 5) r[3 * (nodes / 2)] = std::nan("");  // a NaN elsewhere never wins
+      if (trial == 5 && nodes > 1) r[3 * (nodes - 1)] = std::numeric_limits<double>::infinity();
+      detail::NearestNodeQuery q;
+      q.rest_m = r.data();
+      q.displacements_m = displacements.data();
+      q.nodes = nodes;
+      q.displaced = trial % 3 == 0 ? nodes : (trial % 3 == 1 ? nodes / 3 : 0);  // all, some, none displaced
+      for (double& c : q.point_m) c = grid(0.01, 3.0);
+      const std::int32_t expected = nearest_by_scan(q);
+      int nearest = 0;
+      for (std::size_t n = 0; n < nodes; ++n) nearest += squared_distance(q, n) == squared_distance(q, static_cast<std::size_t>(expected));
+      tied += nearest > 1 ? 1 : 0;
+      for (KernelIsa isa : testing::available_kernel_isas()) {
+        EXPECT_EQ(detail::needle_lane_kernels(isa).nearest_node(q), expected)
+            << kernel_isa_name(isa) << ", " << nodes << " nodes, trial " << trial;
+        ++compared;
+      }
+    }
+  }
+  EXPECT_GT(tied, 10);  // the first of equals was put to the test
+  std::printf("%d nearest-node scans compared with the plain scan, %d of the queries with tied nearest nodes\n", compared, tied);
 }
 
 /// The reduced liver and its approach, built once for the cases of this program.

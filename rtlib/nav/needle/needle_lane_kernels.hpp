@@ -2,7 +2,8 @@
 // The lane kernels of the needle-tissue solver, compiled once per instruction set from
 // needle_lane_kernels.isa.cpp (nav/core/kernel_isa.hpp): projected Gauss-Seidel on raw views
 // of W and of the rows' laws, whose gap updates run as wide as the variant allows, and the
-// sparse-times-dense row combinations that assemble the low-rank W. Plain data
+// sparse-times-dense row combinations that assemble the low-rank W, and the nearest tissue
+// node of a point, which tissue points attach to. Plain data
 // only: the kernel source includes this header and nothing with inline functions. Internal
 // to rtlib/nav/needle.
 #include <cstddef>
@@ -58,6 +59,16 @@ struct RowCombination {
   std::size_t out_stride = 0;
 };
 
+/// The tissue node nearest a point: node n at rest_m[3n..3n+3) plus, for n < displaced,
+/// displacements_m[3n..3n+3); its squared distance summed x, y, then z.
+struct NearestNodeQuery {
+  const double* rest_m = nullptr;
+  const double* displacements_m = nullptr;
+  std::size_t nodes = 0;
+  std::size_t displaced = 0;  ///< at most nodes
+  double point_m[3] = {0.0, 0.0, 0.0};
+};
+
 /// The entry points of one instruction set's variant; every variant computes the same bits.
 struct NeedleLaneKernels {
   /// Adds W forces to the gaps (the columns in order, zero forces skipped), then runs
@@ -67,6 +78,10 @@ struct NeedleLaneKernels {
   void (*gauss_seidel)(const SweepProblem& problem, int sweeps) noexcept;
   /// Fills the output rows of a RowCombination, each value summed over k in order.
   void (*combine_rows)(const RowCombination& product) noexcept;
+  /// The nearest node, as a scan in node order that keeps the first of equals would find it
+  /// (node 0 whatever its distance, then each node strictly nearer than the best so far: a
+  /// NaN distance never wins); -1 when there is no node.
+  std::int32_t (*nearest_node)(const NearestNodeQuery& query) noexcept;
 };
 
 extern const NeedleLaneKernels needle_lane_kernels_baseline;

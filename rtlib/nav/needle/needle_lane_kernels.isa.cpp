@@ -1,7 +1,8 @@
 // The lane kernels of the needle-tissue solver, compiled once per instruction set (see
 // nav/core/kernel_isa_variant.hpp): projected Gauss-Seidel whose gap updates are plain loops
 // over independent rows, and the row combinations of the compliance assembly, whose loops run
-// over independent values; the compiler vectorizes both to the variant's width, and every sum
+// over independent values, and the nearest-node scan, whose distances and comparisons run over
+// independent lanes; the compiler vectorizes them to the variant's width, and every sum
 // runs in an order written here, so every variant gives the same bits.
 #include "nav/core/kernel_isa_variant.hpp"
 #include "nav/needle/needle_lane_kernels.hpp"
@@ -146,6 +147,66 @@ void combine_rows(const RowCombination& p) noexcept {
   }
 }
 
+/// Squared distance of node n from the query's point, summed x, y, then z.
+template <bool Displaced>
+[[gnu::always_inline]] inline double squared_distance(const double* __restrict rest, const double* __restrict u, Index n, double px,
+                                                      double py, double pz) {
+  double x = rest[3 * n], y = rest[3 * n + 1], z = rest[3 * n + 2];
+  if constexpr (Displaced) {
+    x += u[3 * n];
+    y += u[3 * n + 1];
+    z += u[3 * n + 2];
+  }
+  const double dx = x - px, dy = y - py, dz = z - pz;
+  return (dx * dx + dy * dy) + dz * dz;
+}
+
+/// Lane `lane`'s best becomes node n when n is strictly nearer (a NaN distance never is).
+[[gnu::always_inline]] inline void keep_nearer(double d2, Index n, Index lane, double* __restrict best, std::int64_t* __restrict index) {
+  const bool nearer = d2 < best[lane];
+  best[lane] = nearer ? d2 : best[lane];
+  index[lane] = nearer ? static_cast<std::int64_t>(n) : index[lane];
+}
+
+/// Nodes [begin, end) into the lanes' bests, node begin + k in lane k % kCombinedLanes, each
+/// lane keeping the first of its strictly nearest: the distances of a block of nodes and
+/// their comparisons run across the lanes.
+template <bool Displaced>
+void scan_nodes(const NearestNodeQuery& q, Index begin, Index end, double* __restrict best, std::int64_t* __restrict index) {
+  constexpr Index lanes = kCombinedLanes;
+  const double px = q.point_m[0], py = q.point_m[1], pz = q.point_m[2];
+  Index n = begin;
+  for (; n + lanes <= end; n += lanes)
+    for (Index l = 0; l < lanes; ++l)
+      keep_nearer(squared_distance<Displaced>(q.rest_m, q.displacements_m, n + l, px, py, pz), n + l, l, best, index);
+  for (Index l = 0; n + l < end; ++l)
+    keep_nearer(squared_distance<Displaced>(q.rest_m, q.displacements_m, n + l, px, py, pz), n + l, l, best, index);
+}
+
+std::int32_t nearest_node(const NearestNodeQuery& q) noexcept {
+  if (q.nodes == 0) return -1;
+  double best[kCombinedLanes];
+  std::int64_t index[kCombinedLanes];
+  for (Index l = 0; l < kCombinedLanes; ++l) {
+    best[l] = __builtin_inf();
+    index[l] = -1;
+  }
+  const Index displaced_end = q.displaced > 1 ? q.displaced : 1;
+  scan_nodes<true>(q, 1, displaced_end, best, index);
+  scan_nodes<false>(q, displaced_end, q.nodes, best, index);
+  // The lanes' bests against node 0: the nearest, the first of equals.
+  const double* p = q.point_m;
+  double nearest_d2 = q.displaced > 0 ? squared_distance<true>(q.rest_m, q.displacements_m, 0, p[0], p[1], p[2])
+                                      : squared_distance<false>(q.rest_m, q.displacements_m, 0, p[0], p[1], p[2]);
+  std::int64_t nearest = 0;
+  for (Index l = 0; l < kCombinedLanes; ++l)
+    if (index[l] >= 0 && (best[l] < nearest_d2 || (best[l] == nearest_d2 && index[l] < nearest))) {
+      nearest_d2 = best[l];
+      nearest = index[l];
+    }
+  return static_cast<std::int32_t>(nearest);
+}
+
 }  // namespace
 }  // namespace nav::detail::NAV_KERNEL_ISA_NAMESPACE
 
@@ -155,6 +216,7 @@ extern const NeedleLaneKernels NAV_KERNEL_ISA_NAME(needle_lane_kernels_);
 const NeedleLaneKernels NAV_KERNEL_ISA_NAME(needle_lane_kernels_){
     NAV_KERNEL_ISA_NAMESPACE::gauss_seidel,
     NAV_KERNEL_ISA_NAMESPACE::combine_rows,
+    NAV_KERNEL_ISA_NAMESPACE::nearest_node,
 };
 
 }  // namespace nav::detail

@@ -111,10 +111,18 @@ void tissue_node_blocks(const NeedleTissueModel& model, NeedleTissueData& data) 
   for (std::size_t k = 0; k < distinct; ++k)
     for (std::size_t l = 0; l <= k; ++l) {
       const std::int32_t a = data.distinct_tissue_nodes[k], b = data.distinct_tissue_nodes[l];
-      Eigen::Matrix3d block = Eigen::Matrix3d::Zero();
-      if (a >= 0 && b >= 0)
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) block(i, j) = dot(node_factors(model, a) + i * rank, node_factors(model, b) + j * rank, rank);
+      // The nine sums over the rank side by side, each in order from zero.
+      double sums[3][3] = {};
+      if (a >= 0 && b >= 0) {
+        const double* va = node_factors(model, a);
+        const double* vb = node_factors(model, b);
+        for (int n = 0; n < rank; ++n)
+          for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) sums[i][j] += va[i * rank + n] * vb[j * rank + n];
+      }
+      Eigen::Matrix3d block;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) block(i, j) = sums[i][j];
       Eigen::Map<Eigen::Matrix3d>(data.tissue_blocks.data() + 9 * (k * distinct + l)) = block;
       Eigen::Map<Eigen::Matrix3d>(data.tissue_blocks.data() + 9 * (l * distinct + k)) = block.transpose();
     }
@@ -171,11 +179,28 @@ void dense_from_blocks(const double* blocks, std::size_t stride, std::size_t cou
     }
 }
 
-/// dst[c * dst_stride + r] = src[r * src_stride + c] for r < rows, c < cols, the writes in
-/// order (on this scale strided loads cost less than strided stores).
+/// Rows and columns of the tiles that copy_transposed works in: a tile's source rows and
+/// destination rows stay in L1 while it is copied.
+constexpr std::size_t kTransposeTile = 8;
+
+/// dst[c * dst_stride + r] = src[r * src_stride + c] for r < rows, c < cols, tile by tile.
 void copy_transposed(const double* src, std::size_t src_stride, std::size_t rows, std::size_t cols, double* dst, std::size_t dst_stride) {
-  for (std::size_t c = 0; c < cols; ++c)
-    for (std::size_t r = 0; r < rows; ++r) dst[c * dst_stride + r] = src[r * src_stride + c];
+  for (std::size_t c0 = 0; c0 < cols; c0 += kTransposeTile)
+    for (std::size_t r0 = 0; r0 < rows; r0 += kTransposeTile) {
+      const std::size_t c_end = std::min(cols, c0 + kTransposeTile), r_end = std::min(rows, r0 + kTransposeTile);
+      for (std::size_t c = c0; c < c_end; ++c)
+        for (std::size_t r = r0; r < r_end; ++r) dst[c * dst_stride + r] = src[r * src_stride + c];
+    }
+}
+
+/// The upper triangle of the m x m row-major `w` from its lower one, tile by tile.
+void mirror_lower_triangle(double* w, std::size_t m) {
+  for (std::size_t s0 = 0; s0 < m; s0 += kTransposeTile)
+    for (std::size_t r0 = s0; r0 < m; r0 += kTransposeTile) {
+      const std::size_t s_end = std::min(m, s0 + kTransposeTile), r_end = std::min(m, r0 + kTransposeTile);
+      for (std::size_t s = s0; s < s_end; ++s)
+        for (std::size_t r = std::max(r0, s + 1); r < r_end; ++r) w[s * m + r] = w[r * m + s];
+    }
 }
 
 /// Low rank: row r's 9 entries of H, 3 for each of the needle nodes that carry its point
@@ -245,8 +270,7 @@ void assemble_low_rank(const NeedleTissueModel& model, NeedleTissueData& data, i
       for (std::size_t s = begin; s <= r; ++s)
         data.compliance[r * m + s] += model.scene.point_compliance_m_per_n * data.rows[r].direction.dot(data.rows[s].direction);
   }
-  for (std::size_t s = 0; s < m; ++s)  // the upper triangle from the lower, row by row
-    for (std::size_t r = s + 1; r < m; ++r) data.compliance[s * m + r] = data.compliance[r * m + s];
+  mirror_lower_triangle(data.compliance.data(), m);
 }
 
 /// The Gaussian decay of the tissue's compliance between two points.

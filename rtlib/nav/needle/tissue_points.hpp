@@ -7,7 +7,7 @@
 
 namespace nav {
 
-/// The material point now at `position_m`: its nearest tissue node (a linear scan, fixed
+/// The material point now at `position_m`: its nearest tissue node (the lane kernels' scan, fixed
 /// cost per node) and its rest position under the given displacements (may be empty).
 TissuePoint tissue_point_at(const NeedleTissueModel& model, const Eigen::Vector3d& position_m,
                             std::span<const double> displacements_m) noexcept;
