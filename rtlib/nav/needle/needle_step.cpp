@@ -157,7 +157,6 @@ bool needle_free_motion(const NeedleModel& model, NeedleData& data, const Needle
     solve_block_tridiagonal(data.system, data.residual.subspan(6));
     move_free_nodes(model, data, data.residual);
   }
-  update_velocities(model, data);
   for (int c = 0; c < 3; ++c) data.report.base_force_n[c] = data.forces[static_cast<std::size_t>(c)];
   if (!all_finite(data.positions_m) || !all_finite(data.rotations_wxyz)) {
     restore_start(data);
@@ -180,7 +179,9 @@ void update_needle_compliance(NeedleData& data, int first_node) noexcept {
 
 void step(const NeedleModel& model, NeedleData& data, const NeedleInputs& inputs) noexcept {
   if (!accept_base_pose(model, data, inputs.base)) return;
-  if (needle_free_motion(model, data, inputs)) ++data.steps;
+  if (!needle_free_motion(model, data, inputs)) return;
+  update_velocities(model, data);
+  ++data.steps;
 }
 
 Eigen::Vector3d needle_tip_m(const NeedleData& data) noexcept {

@@ -15,7 +15,8 @@ bool accept_base_pose(const NeedleModel& model, NeedleData& data, const NeedlePo
 
 /// Saves the state, moves the needle rigidly with the base increment, then runs the fixed
 /// Newton iterations of the step under the inputs' tip wrench. Leaves the factored system
-/// (A = M/h^2 + K, or K quasi-static) in data.system for compliance and correction. Call
+/// (A = M/h^2 + K, or K quasi-static) in data.system for compliance and correction, and the
+/// velocities to the correction (or step()), which moves the nodes last. Call
 /// only after accept_base_pose() returned true. False (state restored, non_finite_state
 /// raised) when the system or the state is not usable.
 bool needle_free_motion(const NeedleModel& model, NeedleData& data, const NeedleInputs& inputs) noexcept;
