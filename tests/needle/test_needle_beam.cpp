@@ -147,7 +147,7 @@ TEST(NeedleBeam, BlockTridiagonalSolveAndInverseMatchADenseSolve) {
   double worst = 0.0;
   for (int i = 1; i <= blocks; ++i)
     for (int j = 1; j <= blocks; ++j) {
-      const Eigen::Map<const Eigen::Matrix3d> c(needle_compliance_block(data, i, j));
+      const Eigen::Matrix3d c = needle_compliance_block(data, i, j);
       worst = std::max(worst, (c - dense.block(6 * (i - 1), 6 * (j - 1), 3, 3)).norm() / dense.norm());
     }
   EXPECT_LT(worst, 1e-10);

@@ -92,7 +92,12 @@ void solve_block_tridiagonal(const BlockTridiagonal& m, std::span<double> rhs) n
 }
 
 void translational_inverse_blocks(const BlockTridiagonal& m, int first, std::span<double> diagonal_work,
-                                  std::span<double> column_work, std::span<double> out) noexcept {
+                                  std::span<double> column_work, std::span<double> out, std::size_t out_stride) noexcept {
+  using DenseBlock = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>, 0, Eigen::OuterStride<>>;
+  const auto block_at = [&](int i, int j) {
+    return DenseBlock(out.data() + 3 * static_cast<std::size_t>(i) * out_stride + 3 * static_cast<std::size_t>(j),
+                      Eigen::OuterStride<>(static_cast<Eigen::Index>(out_stride)));
+  };
   using Column = Eigen::Map<Eigen::Matrix<double, 6, 3>>;
   const int n = m.blocks;
   // Diagonal blocks of the inverse, bottom up: Sigma_kk = S_k^-1 - L_k+1^T Sigma_k+1,k.
@@ -115,8 +120,8 @@ void translational_inverse_blocks(const BlockTridiagonal& m, int first, std::spa
           -ConstBlock(m.multiplier.data() + at(i + 1)).transpose() * Column(column_work.data() + 18 * static_cast<std::size_t>(i + 1));
     for (int i = first; i <= j; ++i) {
       const Eigen::Matrix3d block = Column(column_work.data() + 18 * static_cast<std::size_t>(i)).topRows<3>();
-      Eigen::Map<Eigen::Matrix3d>(out.data() + 9 * (static_cast<std::size_t>(i) * n + j)) = block;
-      Eigen::Map<Eigen::Matrix3d>(out.data() + 9 * (static_cast<std::size_t>(j) * n + i)) = block.transpose();
+      block_at(i, j) = block;
+      block_at(j, i) = block.transpose();
     }
   }
 }

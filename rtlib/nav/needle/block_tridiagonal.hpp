@@ -25,9 +25,10 @@ bool factor_block_tridiagonal(BlockTridiagonal& matrix) noexcept;
 void solve_block_tridiagonal(const BlockTridiagonal& matrix, std::span<double> rhs) noexcept;
 
 /// The 3x3 translational blocks C_ij = (A^-1)_ij[0:3, 0:3] for first_block <= i, j < blocks,
-/// written column-major at out[9 * (i * blocks + j)]. `diagonal_work` holds 36 per block and
-/// `column_work` 18 per block.
+/// written into the dense row-major `out` (`out_stride` values per row, at least 3 per
+/// block): C_ij(a, b) at out[(3 i + a) * out_stride + 3 j + b], exactly symmetric.
+/// `diagonal_work` holds 36 per block and `column_work` 18 per block.
 void translational_inverse_blocks(const BlockTridiagonal& matrix, int first_block, std::span<double> diagonal_work,
-                                  std::span<double> column_work, std::span<double> out) noexcept;
+                                  std::span<double> column_work, std::span<double> out, std::size_t out_stride) noexcept;
 
 }  // namespace nav

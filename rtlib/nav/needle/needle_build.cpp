@@ -1,4 +1,5 @@
 #include "nav/needle/needle_model.hpp"
+#include "nav/needle/needle_lane_kernels.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -41,7 +42,9 @@ Result<NeedleData> make_needle_data(const NeedleModel& model, const NeedlePose& 
   plan.add<double>(3 * nodes).add<double>(4 * nodes).add<double>(3 * nodes).add<double>(3 * nodes);
   plan.add<double>(6 * nodes).add<double>(6 * nodes);
   for (int k = 0; k < 5; ++k) plan.add<double>(36 * free_blocks);
-  plan.add<double>(18 * free_blocks).add<double>(9 * free_blocks * free_blocks);
+  const std::size_t stride = (3 * free_blocks + detail::kCombinedLanes - 1) / detail::kCombinedLanes * detail::kCombinedLanes;
+  const std::size_t translational = 3 * free_blocks * stride + detail::kCombinedLanes;
+  plan.add<double>(18 * free_blocks).add<double>(translational);
   NeedleData data(Arena("needle_data", plan.bytes()));
   struct Buffer {
     std::span<double>* span;
@@ -65,7 +68,7 @@ Result<NeedleData> make_needle_data(const NeedleModel& model, const NeedlePose& 
       {&data.system.multiplier, 36 * free_blocks, "multipliers"},
       {&data.inverse_diagonal, 36 * free_blocks, "inverse diagonal"},
       {&data.inverse_column, 18 * free_blocks, "inverse column"},
-      {&data.translational_compliance, 9 * free_blocks * free_blocks, "translational compliance"},
+      {&data.translational_compliance, translational, "translational compliance"},
   };
   for (const Buffer& b : buffers) {
     auto carved = data.arena.allocate<double>(b.what, b.count);
@@ -73,6 +76,7 @@ Result<NeedleData> make_needle_data(const NeedleModel& model, const NeedlePose& 
     *b.span = carved.value();
   }
   data.system.blocks = static_cast<int>(free_blocks);
+  data.translational_stride = stride;
   place_straight_needle(model, data, base);
   return data;
 }

@@ -69,7 +69,12 @@ struct NeedleData {
   // Workspace (meaningless between steps, except the factor, kept for constraint solves).
   std::span<double> forces, residual;       ///< 6 per node
   BlockTridiagonal system;                  ///< over the free nodes 1..n
-  std::span<double> inverse_diagonal, inverse_column, translational_compliance;
+  std::span<double> inverse_diagonal, inverse_column;
+  /// A^-1's translational part over the free nodes, dense, row-major, translational_stride
+  /// values per row (3 per free node, padded to whole lanes of the needle's kernels, which
+  /// may read a row's padding and, from the last row, a lanes' width past it).
+  std::span<double> translational_compliance;
+  std::size_t translational_stride = 0;
 
   explicit NeedleData(Arena block) : arena(std::move(block)) {}
 };

@@ -174,7 +174,7 @@ void apply_needle_correction(const NeedleModel& model, NeedleData& data, std::sp
 
 void update_needle_compliance(NeedleData& data, int first_node) noexcept {
   translational_inverse_blocks(data.system, std::max(first_node, 1) - 1, data.inverse_diagonal, data.inverse_column,
-                               data.translational_compliance);
+                               data.translational_compliance, data.translational_stride);
 }
 
 void step(const NeedleModel& model, NeedleData& data, const NeedleInputs& inputs) noexcept {

@@ -26,13 +26,21 @@ bool needle_free_motion(const NeedleModel& model, NeedleData& data, const Needle
 void apply_needle_correction(const NeedleModel& model, NeedleData& data, std::span<double> nodal_forces) noexcept;
 
 /// Fills data.translational_compliance with the blocks of A^-1 between the free nodes
-/// first_node .. n (node indices, first_node >= 1), 9 doubles per (i, j) pair.
+/// first_node .. n (node indices, first_node >= 1).
 void update_needle_compliance(NeedleData& data, int first_node) noexcept;
 
-/// The 3x3 translational compliance block between nodes i and j (both >= 1), column-major.
-inline const double* needle_compliance_block(const NeedleData& data, int node_i, int node_j) noexcept {
-  return data.translational_compliance.data() +
-         9 * (static_cast<std::size_t>(node_i - 1) * static_cast<std::size_t>(data.system.blocks) + static_cast<std::size_t>(node_j - 1));
+/// Where the translational compliance's rows of node `node` (>= 1) start, at its own column.
+inline const double* needle_compliance_row(const NeedleData& data, int node) noexcept {
+  const auto free = static_cast<std::size_t>(node - 1);
+  return data.translational_compliance.data() + 3 * free * data.translational_stride + 3 * free;
+}
+
+/// The 3x3 translational compliance block between nodes i and j (both >= 1).
+inline Eigen::Matrix3d needle_compliance_block(const NeedleData& data, int node_i, int node_j) noexcept {
+  const std::size_t stride = data.translational_stride;
+  return Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>, 0, Eigen::OuterStride<>>(
+      data.translational_compliance.data() + 3 * static_cast<std::size_t>(node_i - 1) * stride + 3 * static_cast<std::size_t>(node_j - 1),
+      Eigen::OuterStride<>(static_cast<Eigen::Index>(stride)));
 }
 
 /// One needle step without tissue: pose check, free motion, finite check.

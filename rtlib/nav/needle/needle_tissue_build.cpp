@@ -75,7 +75,7 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
   plan.add<double>(compliance).add<double>(slots).add<double>(slots).add<double>(6 * nodes);
   const auto rank = static_cast<std::size_t>(model.compliance_rank);
   const std::size_t points = rank > 0 ? static_cast<std::size_t>(model.max_points()) : 0;
-  plan.add<double>(9 * points * points).add<std::int32_t>(slots + 1);
+  plan.add<std::int32_t>(slots + 1);
   plan.add<std::int32_t>(points).add<std::int32_t>(points);
   // Low rank: 3 freedoms per free needle node and per constraint point's tissue node, and
   // slots for rows, padded to whole lanes of the kernels; the last lower-triangle row of W
@@ -84,7 +84,7 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
   const std::size_t needle_freedoms = rank > 0 ? lanes(3 * static_cast<std::size_t>(model.needle.element_count)) : 0;
   const std::size_t tissue_freedoms = lanes(3 * points), freedoms = needle_freedoms + tissue_freedoms;
   const std::size_t entries = rank > 0 ? detail::kMaxCombinedTerms * slots : 0, padded_slots = lanes(slots);
-  plan.add<double>(needle_freedoms * needle_freedoms).add<double>(tissue_freedoms * tissue_freedoms).add<double>(entries);
+  plan.add<double>(tissue_freedoms * tissue_freedoms).add<double>(entries);
   plan.add<std::int32_t>(entries).add<std::int32_t>(entries).add<double>(freedoms * padded_slots).add<double>(freedoms * padded_slots);
   NeedleTissueData data(Arena("needle_tissue_data", plan.bytes()), std::move(needle).value());
   auto layer_states = data.arena.allocate<LayerState>("layers", layers);
@@ -110,8 +110,6 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
                             {&data.row_forces, slots, "row forces"},
                             {&data.row_gaps, slots, "row gaps"},
                             {&data.nodal_forces, 6 * nodes, "nodal forces"},
-                            {&data.tissue_blocks, 9 * points * points, "tissue blocks"},
-                            {&data.low_rank.needle_compliance, needle_freedoms * needle_freedoms, "needle compliance"},
                             {&data.low_rank.tissue_compliance, tissue_freedoms * tissue_freedoms, "tissue compliance"},
                             {&data.low_rank.coefficients, entries, "compliance coefficients"},
                             {&data.low_rank.row_fields, freedoms * padded_slots, "row fields"},

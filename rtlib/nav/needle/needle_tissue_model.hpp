@@ -115,11 +115,10 @@ struct NeedleTissueReport {
 namespace detail {
 
 /// Workspace of the low-rank compliance W = H C H^T over the needle's translational
-/// freedoms and the distinct tissue nodes' (C block-diagonal: the needle's compliance and
-/// the tissue's V_a V_b^T), each row of H with 9 entries: 3 per needle node it weighs, 3 on
-/// its tissue node.
+/// freedoms and the distinct tissue nodes' (C block-diagonal: the needle's compliance, read
+/// in NeedleData, and the tissue's V_a V_b^T), each row of H with 9 entries: 3 per needle
+/// node it weighs, 3 on its tissue node.
 struct LowRankWorkspace {
-  std::span<double> needle_compliance;   ///< dense, row-major, the needle's freedoms in use
   std::span<double> tissue_compliance;   ///< dense, row-major, 3 per distinct tissue node
   std::span<double> coefficients;        ///< 9 per row: H's entries
   std::span<std::int32_t> local_sources, sources;  ///< 9 per row: their freedoms, in each part, in both
@@ -145,9 +144,8 @@ struct NeedleTissueData {
   std::span<ConstraintRow> rows;
   std::span<double> compliance, row_forces, row_gaps, nodal_forces;
   std::span<detail::SweepRow> sweep_rows;  ///< the Gauss-Seidel workspace
-  // Low-rank tissue only: the distinct tissue nodes of the constraint points, each point's
-  // index among them, and the 3x3 blocks V_a V_b^T between them.
-  std::span<double> tissue_blocks;
+  // Low-rank tissue only: the distinct tissue nodes of the constraint points and each
+  // point's index among them.
   std::span<std::int32_t> distinct_tissue_nodes, point_tissue_index;
   detail::LowRankWorkspace low_rank;
   int distinct_tissue_node_count = 0;

@@ -95,9 +95,14 @@ double dot(const double* a, const double* b, int n) {
   return sum;
 }
 
-/// Low rank: the 3x3 blocks V_a V_b^T between the distinct tissue nodes of the constraint
-/// points (points on one node share them), and each point's index among those nodes.
-void tissue_node_blocks(const NeedleTissueModel& model, NeedleTissueData& data) {
+/// `count` rounded up to whole kCombinedLanes.
+std::size_t padded(std::size_t count) { return (count + kCombinedLanes - 1) / kCombinedLanes * kCombinedLanes; }
+
+/// Low rank: the distinct tissue nodes of the constraint points (points on one node share
+/// them), each point's index among those nodes, and the tissue's compliance between them,
+/// V_a V_b^T, dense and row-major in low_rank.tissue_compliance (padded(3 distinct) values
+/// per row).
+void tissue_node_compliance(const NeedleTissueModel& model, NeedleTissueData& data) {
   const int rank = model.compliance_rank;
   std::size_t distinct = 0;
   for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
@@ -108,6 +113,7 @@ void tissue_node_blocks(const NeedleTissueModel& model, NeedleTissueData& data) 
     data.point_tissue_index[p] = static_cast<std::int32_t>(k);
   }
   data.distinct_tissue_node_count = static_cast<int>(distinct);
+  const std::size_t stride = padded(3 * distinct);
   for (std::size_t k = 0; k < distinct; ++k)
     for (std::size_t l = 0; l <= k; ++l) {
       const std::int32_t a = data.distinct_tissue_nodes[k], b = data.distinct_tissue_nodes[l];
@@ -120,11 +126,9 @@ void tissue_node_blocks(const NeedleTissueModel& model, NeedleTissueData& data) 
           for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) sums[i][j] += va[i * rank + n] * vb[j * rank + n];
       }
-      Eigen::Matrix3d block;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) block(i, j) = sums[i][j];
-      Eigen::Map<Eigen::Matrix3d>(data.tissue_blocks.data() + 9 * (k * distinct + l)) = block;
-      Eigen::Map<Eigen::Matrix3d>(data.tissue_blocks.data() + 9 * (l * distinct + k)) = block.transpose();
+      double* dense = data.low_rank.tissue_compliance.data();
+      for (std::size_t i = 0; i < 3; ++i)
+        for (std::size_t j = 0; j < 3; ++j) dense[(3 * k + i) * stride + 3 * l + j] = dense[(3 * l + j) * stride + 3 * k + i] = sums[i][j];
     }
 }
 
@@ -163,20 +167,6 @@ void remove_applied_response(const NeedleTissueModel& model, NeedleTissueData& d
     for (auto r = static_cast<std::size_t>(data.point_first_row[p]); r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
       data.rows[r].gap_free_m -= data.rows[r].direction.dot(response);
   }
-}
-
-/// `count` rounded up to whole kCombinedLanes.
-std::size_t padded(std::size_t count) { return (count + kCombinedLanes - 1) / kCombinedLanes * kCombinedLanes; }
-
-/// Low rank: a dense row-major copy (`dense_stride` per row) of `count` x `count` column-major
-/// 3x3 blocks, block (i, j) at blocks[9 * (i * stride + j)].
-void dense_from_blocks(const double* blocks, std::size_t stride, std::size_t count, double* dense, std::size_t dense_stride) {
-  for (std::size_t i = 0; i < count; ++i)
-    for (std::size_t j = 0; j < count; ++j) {
-      const double* block = blocks + 9 * (i * stride + j);
-      for (std::size_t a = 0; a < 3; ++a)
-        for (std::size_t b = 0; b < 3; ++b) dense[(3 * i + a) * dense_stride + 3 * j + b] = block[a + 3 * b];
-    }
 }
 
 /// Rows and columns of the tiles that copy_transposed works in: a tile's source rows and
@@ -232,7 +222,7 @@ void fill_row_entries(const NeedleTissueData& data, std::size_t r, std::size_t t
 }
 
 /// Low rank: W = H C H^T, C block-diagonal over the needle's translational freedoms from
-/// `first_block` (its compliance A^-1) and the distinct tissue nodes' (V_a V_b^T), as
+/// `first_block` (its compliance A^-1, read in place) and the distinct tissue nodes' (V_a V_b^T), as
 /// C H^T then H (C H^T) on the kernels (rows padded to whole lanes), lower triangle then
 /// mirrored; plus on a point's own rows the local compliance the basis misses (never carried
 /// by the tissue model, so not in the applied forces' response).
@@ -244,17 +234,14 @@ void assemble_low_rank(const NeedleTissueModel& model, NeedleTissueData& data, i
   const auto distinct = static_cast<std::size_t>(data.distinct_tissue_node_count);
   const std::size_t needle_freedoms = padded(3 * needle_nodes), tissue_freedoms = padded(3 * distinct);
   const std::size_t freedoms = needle_freedoms + tissue_freedoms;
-  dense_from_blocks(data.needle.translational_compliance.data() + 9 * (static_cast<std::size_t>(first_block) * blocks +
-                                                                       static_cast<std::size_t>(first_block)),
-                    blocks, needle_nodes, work.needle_compliance.data(), needle_freedoms);
-  dense_from_blocks(data.tissue_blocks.data(), distinct, distinct, work.tissue_compliance.data(), tissue_freedoms);
   for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p)
     for (auto r = static_cast<std::size_t>(data.point_first_row[p]); r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
       fill_row_entries(data, r, static_cast<std::size_t>(data.point_tissue_index[p]), first_block, needle_freedoms);
   const NeedleLaneKernels& kernels = *model.lane_kernels;
   // C H^T, one row of fields per constraint row: its needle part, then its tissue part.
-  kernels.combine_rows({m, 6, kMaxCombinedTerms, work.coefficients.data(), work.local_sources.data(), work.needle_compliance.data(),
-                        needle_freedoms, needle_freedoms, false, work.row_fields.data(), freedoms});
+  kernels.combine_rows({m, 6, kMaxCombinedTerms, work.coefficients.data(), work.local_sources.data(),
+                        needle_compliance_row(data.needle, first_block + 1), data.needle.translational_stride, needle_freedoms, false,
+                        work.row_fields.data(), freedoms});
   kernels.combine_rows({m, 3, kMaxCombinedTerms, work.coefficients.data() + 6, work.local_sources.data() + 6,
                         work.tissue_compliance.data(), tissue_freedoms, tissue_freedoms, false, work.row_fields.data() + needle_freedoms,
                         freedoms});
@@ -355,7 +342,7 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
     end = static_cast<std::size_t>(data.point_first_row[p + 1]);
   };
   if (rank > 0) {
-    tissue_node_blocks(model, data);
+    tissue_node_compliance(model, data);
     assemble_low_rank(model, data, first_node - 1);
     remove_applied_response(model, data);
     return;
@@ -378,7 +365,7 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
           const int node_b = at_q.node + j;
           const double w_b = j == 0 ? 1.0 - at_q.weight : at_q.weight;
           if (node_b < 1 || w_b == 0.0) continue;
-          needle.noalias() += (w_a * w_b) * Eigen::Map<const Eigen::Matrix3d>(needle_compliance_block(data.needle, node_a, node_b));
+          needle.noalias() += (w_a * w_b) * needle_compliance_block(data.needle, node_a, node_b);
         }
       }
       // The Gaussian kernel: the decay between the points times the tensor.
