@@ -169,28 +169,11 @@ void remove_applied_response(const NeedleTissueModel& model, NeedleTissueData& d
   }
 }
 
-/// Rows and columns of the tiles that copy_transposed works in: a tile's source rows and
-/// destination rows stay in L1 while it is copied.
-constexpr std::size_t kTransposeTile = 8;
-
-/// dst[c * dst_stride + r] = src[r * src_stride + c] for r < rows, c < cols, tile by tile.
+/// dst[c * dst_stride + r] = src[r * src_stride + c] for r < rows, c < cols, the writes in
+/// order (on this scale strided loads cost less than strided stores).
 void copy_transposed(const double* src, std::size_t src_stride, std::size_t rows, std::size_t cols, double* dst, std::size_t dst_stride) {
-  for (std::size_t c0 = 0; c0 < cols; c0 += kTransposeTile)
-    for (std::size_t r0 = 0; r0 < rows; r0 += kTransposeTile) {
-      const std::size_t c_end = std::min(cols, c0 + kTransposeTile), r_end = std::min(rows, r0 + kTransposeTile);
-      for (std::size_t c = c0; c < c_end; ++c)
-        for (std::size_t r = r0; r < r_end; ++r) dst[c * dst_stride + r] = src[r * src_stride + c];
-    }
-}
-
-/// The upper triangle of the m x m row-major `w` from its lower one, tile by tile.
-void mirror_lower_triangle(double* w, std::size_t m) {
-  for (std::size_t s0 = 0; s0 < m; s0 += kTransposeTile)
-    for (std::size_t r0 = s0; r0 < m; r0 += kTransposeTile) {
-      const std::size_t s_end = std::min(m, s0 + kTransposeTile), r_end = std::min(m, r0 + kTransposeTile);
-      for (std::size_t s = s0; s < s_end; ++s)
-        for (std::size_t r = std::max(r0, s + 1); r < r_end; ++r) w[s * m + r] = w[r * m + s];
-    }
+  for (std::size_t c = 0; c < cols; ++c)
+    for (std::size_t r = 0; r < rows; ++r) dst[c * dst_stride + r] = src[r * src_stride + c];
 }
 
 /// Low rank: row r's 9 entries of H, 3 for each of the needle nodes that carry its point
@@ -257,7 +240,8 @@ void assemble_low_rank(const NeedleTissueModel& model, NeedleTissueData& data, i
       for (std::size_t s = begin; s <= r; ++s)
         data.compliance[r * m + s] += model.scene.point_compliance_m_per_n * data.rows[r].direction.dot(data.rows[s].direction);
   }
-  mirror_lower_triangle(data.compliance.data(), m);
+  for (std::size_t s = 0; s < m; ++s)  // the upper triangle from the lower, row by row
+    for (std::size_t r = s + 1; r < m; ++r) data.compliance[s * m + r] = data.compliance[r * m + s];
 }
 
 /// The Gaussian decay of the tissue's compliance between two points.
