@@ -4,11 +4,15 @@
 // settings without undoing any of these. Topic QoS as the issue states it.
 #include <gtest/gtest.h>
 
+#include <ifaddrs.h>
+#include <net/if.h>
 #include <sched.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
@@ -106,6 +110,28 @@ int in_own_network_namespace(Check check) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
 }
 
+/// True when an interface named `name` is listed with IFF_RUNNING.
+bool is_running(const char* name) {
+  ifaddrs* interfaces = nullptr;
+  if (getifaddrs(&interfaces) != 0) return false;
+  bool running = false;
+  for (const ifaddrs* entry = interfaces; entry != nullptr; entry = entry->ifa_next) {
+    if (std::strcmp(entry->ifa_name, name) == 0 && (entry->ifa_flags & IFF_RUNNING) != 0) running = true;
+  }
+  freeifaddrs(interfaces);
+  return running;
+}
+
+/// Waits up to `timeout` for interface `name` to be running; true when it is.
+bool becomes_running(const char* name, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!is_running(name)) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    usleep(10000);
+  }
+  return true;
+}
+
 TEST(DdsParticipantQos, AnAddressOnAnInterfaceThatIsNotRunningIsRefusedNotDropped) {
   if (geteuid() != 0) GTEST_SKIP() << "needs root for a network namespace";
   // Fast DDS drops a whitelisted interface that is not running and would run with no UDP
@@ -122,9 +148,11 @@ TEST(DdsParticipantQos, AnAddressOnAnInterfaceThatIsNotRunningIsRefusedNotDroppe
   });
   if (down == 2) GTEST_SKIP() << "no network namespace or veth pair here";
   EXPECT_EQ(down, 0);
-  // The same address once the peer is up too (the link then has a carrier) is accepted.
+  // The same address once the peer is up too (the link then has a carrier) is accepted. The
+  // kernel reports the carrier asynchronously (its link watch may wait up to a second).
   const int up = in_own_network_namespace([] {
     if (std::system("ip link set navdown1 up") != 0) return false;
+    if (!becomes_running("navdown0", std::chrono::seconds(5))) return false;
     NetworkConfig config;
     config.local_address = "10.209.0.1";
     return make_participant_qos(config).ok();
