@@ -4,7 +4,8 @@
 // needle inserted into the reduced embedded liver until 32 path points hold it (the scene of
 // `navbench needle`), hashed after the insertion and a wobbling hold; their row combinations
 // (the compliance assembly's products) give the bits of the definition, term by term in order,
-// and their nearest-node scans the node of the plain scan in node order, ties and NaNs too.
+// their nearest-node scans the node of the plain scan in node order, ties and NaNs too, and
+// their transpositions and mirrors the values of the plain loops.
 // An instruction set the build or CPU lacks is refused by name.
 #include <gtest/gtest.h>
 
@@ -147,6 +148,43 @@ TEST(NeedleLaneKernels, EveryVariantCombinesRowsToTheDefinitionsBits) {
       }
     }
   std::printf("%d row combinations compared bitwise with their definition\n", compared);
+}
+
+TEST(NeedleLaneKernels, EveryVariantTransposesAndMirrorsValueForValue) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  int compared = 0;
+  // Sizes below, at and across whole 8 x 8 blocks; strides wider than the block.
+  for (std::size_t rows : {0, 1, 7, 8, 9, 16, 23, 97})
+    for (std::size_t cols : {0, 3, 8, 15, 90}) {
+      const std::size_t src_stride = cols + 5, dst_stride = rows + 3;
+      std::vector<double> src(rows * src_stride);
+      for (double& v : src) v = unit(rng);
+      std::vector<double> expected(cols * dst_stride, -7.0);  // untouched outside the block
+      for (std::size_t r = 0; r < rows; ++r)
+        for (std::size_t c = 0; c < cols; ++c) expected[c * dst_stride + r] = src[r * src_stride + c];
+      for (KernelIsa isa : testing::available_kernel_isas()) {
+        std::vector<double> dst(cols * dst_stride, -7.0);
+        detail::needle_lane_kernels(isa).transpose({src.data(), src_stride, rows, cols, dst.data(), dst_stride});
+        EXPECT_EQ(dst, expected) << kernel_isa_name(isa) << ", " << rows << " x " << cols;
+        ++compared;
+      }
+    }
+  for (std::size_t n : {0, 1, 5, 8, 9, 16, 17, 24, 97})
+    for (std::size_t stride : {n, n + 4}) {
+      std::vector<double> lower(n * stride);
+      for (double& v : lower) v = unit(rng);
+      std::vector<double> expected = lower;
+      for (std::size_t s = 0; s < n; ++s)
+        for (std::size_t r = s + 1; r < n; ++r) expected[s * stride + r] = lower[r * stride + s];
+      for (KernelIsa isa : testing::available_kernel_isas()) {
+        std::vector<double> a = lower;
+        detail::needle_lane_kernels(isa).mirror_lower(a.data(), n, stride);
+        EXPECT_EQ(a, expected) << kernel_isa_name(isa) << ", n " << n << ", stride " << stride;
+        ++compared;
+      }
+    }
+  std::printf("%d transpositions and mirrors compared value for value with the plain loops\n", compared);
 }
 
 /// Squared distance of node n from the query's point, summed x, y, then z.

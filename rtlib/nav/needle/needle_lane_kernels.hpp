@@ -2,8 +2,8 @@
 // The lane kernels of the needle-tissue solver, compiled once per instruction set from
 // needle_lane_kernels.isa.cpp (nav/core/kernel_isa.hpp): projected Gauss-Seidel on raw views
 // of W and of the rows' laws, whose gap updates run as wide as the variant allows, and the
-// sparse-times-dense row combinations that assemble the low-rank W, and the nearest tissue
-// node of a point, which tissue points attach to. Plain data
+// sparse-times-dense row combinations that assemble the low-rank W with the transpositions
+// between them, and the nearest tissue node of a point, which tissue points attach to. Plain data
 // only: the kernel source includes this header and nothing with inline functions. Internal
 // to rtlib/nav/needle.
 #include <cstddef>
@@ -69,6 +69,17 @@ struct NearestNodeQuery {
   double point_m[3] = {0.0, 0.0, 0.0};
 };
 
+/// A dense block copied transposed: dst[c * dst_stride + r] = src[r * src_stride + c] for
+/// r < rows, c < cols (the blocks do not overlap).
+struct Transposition {
+  const double* src = nullptr;
+  std::size_t src_stride = 0;
+  std::size_t rows = 0;
+  std::size_t cols = 0;
+  double* dst = nullptr;
+  std::size_t dst_stride = 0;
+};
+
 /// The entry points of one instruction set's variant; every variant computes the same bits.
 struct NeedleLaneKernels {
   /// Adds W forces to the gaps (the columns in order, zero forces skipped), then runs
@@ -82,6 +93,11 @@ struct NeedleLaneKernels {
   /// (node 0 whatever its distance, then each node strictly nearer than the best so far: a
   /// NaN distance never wins); -1 when there is no node.
   std::int32_t (*nearest_node)(const NearestNodeQuery& query) noexcept;
+  /// Copies a Transposition, eight by eight values through registers.
+  void (*transpose)(const Transposition& block) noexcept;
+  /// Completes a symmetric n x n matrix (row i at a + i * stride) from its lower triangle:
+  /// a[s * stride + r] = a[r * stride + s] for r > s.
+  void (*mirror_lower)(double* a, std::size_t n, std::size_t stride) noexcept;
 };
 
 extern const NeedleLaneKernels needle_lane_kernels_baseline;

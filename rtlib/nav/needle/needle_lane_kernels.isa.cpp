@@ -147,6 +147,64 @@ void combine_rows(const RowCombination& p) noexcept {
   }
 }
 
+/// Eight doubles as one value: an 8 x 8 block's row, which shuffles rearrange in registers.
+using Eight = double __attribute__((vector_size(64)));
+
+/// The 8 x 8 block at src (rows src_stride apart) transposed to dst (rows dst_stride apart):
+/// pairs of rows interleaved, then pairs of pairs, then halves.
+void transpose_8x8(const double* __restrict src, Index src_stride, double* __restrict dst, Index dst_stride) {
+  Eight row[8], pair[8], quad[8];
+#pragma GCC unroll 8
+  for (Index i = 0; i < 8; ++i) __builtin_memcpy(&row[i], src + i * src_stride, sizeof(Eight));
+#pragma GCC unroll 4
+  for (Index i = 0; i < 8; i += 2) {
+    pair[i] = __builtin_shufflevector(row[i], row[i + 1], 0, 8, 2, 10, 4, 12, 6, 14);
+    pair[i + 1] = __builtin_shufflevector(row[i], row[i + 1], 1, 9, 3, 11, 5, 13, 7, 15);
+  }
+#pragma GCC unroll 2
+  for (Index i = 0; i < 8; i += 4)
+#pragma GCC unroll 2
+    for (Index j = 0; j < 2; ++j) {
+      quad[i + j] = __builtin_shufflevector(pair[i + j], pair[i + j + 2], 0, 1, 8, 9, 4, 5, 12, 13);
+      quad[i + j + 2] = __builtin_shufflevector(pair[i + j], pair[i + j + 2], 2, 3, 10, 11, 6, 7, 14, 15);
+    }
+#pragma GCC unroll 4
+  for (Index j = 0; j < 4; ++j) {
+    const Eight low = __builtin_shufflevector(quad[j], quad[j + 4], 0, 1, 2, 3, 8, 9, 10, 11);
+    const Eight high = __builtin_shufflevector(quad[j], quad[j + 4], 4, 5, 6, 7, 12, 13, 14, 15);
+    __builtin_memcpy(dst + j * dst_stride, &low, sizeof(Eight));
+    __builtin_memcpy(dst + (j + 4) * dst_stride, &high, sizeof(Eight));
+  }
+}
+
+/// Rows [row_begin, row_end) by columns [col_begin, col_end) of a Transposition, one value at a time.
+void transpose_values(const Transposition& t, Index row_begin, Index row_end, Index col_begin, Index col_end) {
+  for (Index c = col_begin; c < col_end; ++c)
+    for (Index r = row_begin; r < row_end; ++r) t.dst[c * t.dst_stride + r] = t.src[r * t.src_stride + c];
+}
+
+void transpose(const Transposition& t) noexcept {
+  const Index whole_rows = t.rows / 8 * 8, whole_cols = t.cols / 8 * 8;
+  for (Index r = 0; r < whole_rows; r += 8)
+    for (Index c = 0; c < whole_cols; c += 8) transpose_8x8(t.src + r * t.src_stride + c, t.src_stride, t.dst + c * t.dst_stride + r, t.dst_stride);
+  transpose_values(t, 0, whole_rows, whole_cols, t.cols);
+  transpose_values(t, whole_rows, t.rows, 0, t.cols);
+}
+
+void mirror_lower(double* a, Index n, Index stride) noexcept {
+  for (Index s = 0; s < n; s += 8) {
+    // Band [s, end): its diagonal block's upper part, the whole blocks below it, the rest.
+    const Index end = s + 8 < n ? s + 8 : n;
+    for (Index i = s; i < end; ++i)
+      for (Index r = i + 1; r < end; ++r) a[i * stride + r] = a[r * stride + i];
+    Index r = end;
+    if (end - s == 8)
+      for (; r + 8 <= n; r += 8) transpose_8x8(a + r * stride + s, stride, a + s * stride + r, stride);
+    for (Index i = s; i < end; ++i)
+      for (Index k = r; k < n; ++k) a[i * stride + k] = a[k * stride + i];
+  }
+}
+
 /// Squared distance of node n from the query's point, summed x, y, then z.
 template <bool Displaced>
 [[gnu::always_inline]] inline double squared_distance(const double* __restrict rest, const double* __restrict u, Index n, double px,
@@ -217,6 +275,8 @@ const NeedleLaneKernels NAV_KERNEL_ISA_NAME(needle_lane_kernels_){
     NAV_KERNEL_ISA_NAMESPACE::gauss_seidel,
     NAV_KERNEL_ISA_NAMESPACE::combine_rows,
     NAV_KERNEL_ISA_NAMESPACE::nearest_node,
+    NAV_KERNEL_ISA_NAMESPACE::transpose,
+    NAV_KERNEL_ISA_NAMESPACE::mirror_lower,
 };
 
 }  // namespace nav::detail

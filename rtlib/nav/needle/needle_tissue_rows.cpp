@@ -169,13 +169,6 @@ void remove_applied_response(const NeedleTissueModel& model, NeedleTissueData& d
   }
 }
 
-/// dst[c * dst_stride + r] = src[r * src_stride + c] for r < rows, c < cols, the writes in
-/// order (on this scale strided loads cost less than strided stores).
-void copy_transposed(const double* src, std::size_t src_stride, std::size_t rows, std::size_t cols, double* dst, std::size_t dst_stride) {
-  for (std::size_t c = 0; c < cols; ++c)
-    for (std::size_t r = 0; r < rows; ++r) dst[c * dst_stride + r] = src[r * src_stride + c];
-}
-
 /// Low rank: row r's 9 entries of H, 3 for each of the needle nodes that carry its point
 /// (weight times direction; a held or unused node gets zeros on `first_block`'s freedoms)
 /// then its direction on its tissue node's freedoms, and their freedoms (needle ones from
@@ -229,9 +222,9 @@ void assemble_low_rank(const NeedleTissueModel& model, NeedleTissueData& data, i
                         work.tissue_compliance.data(), tissue_freedoms, tissue_freedoms, false, work.row_fields.data() + needle_freedoms,
                         freedoms});
   // Only the freedoms in use: no row of H names the padding.
-  copy_transposed(work.row_fields.data(), freedoms, m, 3 * needle_nodes, work.fields.data(), padded_m);
-  copy_transposed(work.row_fields.data() + needle_freedoms, freedoms, m, 3 * distinct, work.fields.data() + needle_freedoms * padded_m,
-                  padded_m);
+  kernels.transpose({work.row_fields.data(), freedoms, m, 3 * needle_nodes, work.fields.data(), padded_m});
+  kernels.transpose({work.row_fields.data() + needle_freedoms, freedoms, m, 3 * distinct, work.fields.data() + needle_freedoms * padded_m,
+                     padded_m});
   kernels.combine_rows({m, kMaxCombinedTerms, kMaxCombinedTerms, work.coefficients.data(), work.sources.data(), work.fields.data(),
                         padded_m, padded_m, true, data.compliance.data(), m});
   for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
@@ -240,8 +233,7 @@ void assemble_low_rank(const NeedleTissueModel& model, NeedleTissueData& data, i
       for (std::size_t s = begin; s <= r; ++s)
         data.compliance[r * m + s] += model.scene.point_compliance_m_per_n * data.rows[r].direction.dot(data.rows[s].direction);
   }
-  for (std::size_t s = 0; s < m; ++s)  // the upper triangle from the lower, row by row
-    for (std::size_t r = s + 1; r < m; ++r) data.compliance[s * m + r] = data.compliance[r * m + s];
+  kernels.mirror_lower(data.compliance.data(), m, m);
 }
 
 /// The Gaussian decay of the tissue's compliance between two points.
