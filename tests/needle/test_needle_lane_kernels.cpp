@@ -1,6 +1,7 @@
 // The needle solver's lane kernels (needle_lane_kernels.hpp) in every instruction set this
 // build and CPU run give bitwise the baseline's results: on projected Gauss-Seidel problems
-// with every row law (friction and Coulomb rows, points of one to three rows), and on the
+// with every row law (friction and Coulomb rows, points of one to three rows; W's columns
+// packed or padded), and on the
 // needle inserted into the reduced embedded liver until 32 path points hold it (the scene of
 // `navbench needle`), hashed after the insertion and a wobbling hold; their row combinations
 // (the compliance assembly's products) give the bits of the definition, term by term in order,
@@ -75,12 +76,15 @@ MixedProblem mixed_problem(int points, unsigned seed) {
   return problem;
 }
 
-/// Hash of the forces and gaps after `sweeps` sweeps in `isa`'s kernels, and the residual.
-std::uint64_t solved_hash(const MixedProblem& problem, int sweeps, KernelIsa isa, double& residual_m) {
-  const std::size_t m = problem.rows.size();
+/// Hash of the forces and gaps after `sweeps` sweeps in `isa`'s kernels, and the residual;
+/// W's columns `padding` values apart beyond m, the padding NaN (which must never be read).
+std::uint64_t solved_hash(const MixedProblem& problem, int sweeps, KernelIsa isa, double& residual_m, std::size_t padding = 0) {
+  const std::size_t m = problem.rows.size(), stride = m + padding;
+  std::vector<double> w(m * stride, std::nan(""));
+  for (std::size_t j = 0; j < m; ++j) std::copy_n(problem.w.begin() + static_cast<std::ptrdiff_t>(j * m), m, w.begin() + static_cast<std::ptrdiff_t>(j * stride));
   std::vector<double> forces = problem.warm_start, gaps(m, 0.0);
   std::vector<detail::SweepRow> work(m);
-  residual_m = solve_gauss_seidel(problem.rows, problem.w, sweeps, forces, gaps, GaussSeidelWorkspace{work, &detail::needle_lane_kernels(isa)});
+  residual_m = solve_gauss_seidel(problem.rows, w, stride, sweeps, forces, gaps, GaussSeidelWorkspace{work, &detail::needle_lane_kernels(isa)});
   return testing::needle_hash({forces, gaps});
 }
 
@@ -94,9 +98,12 @@ TEST(NeedleLaneKernels, EveryVariantSolvesMixedProblemsToTheBaselineBits) {
       EXPECT_TRUE(std::isfinite(baseline_m));
       for (KernelIsa isa : testing::available_kernel_isas()) {
         double residual_m = 0.0;
-        EXPECT_EQ(solved_hash(problem, 30, isa, residual_m), baseline) << kernel_isa_name(isa) << ", " << points << " points";
-        EXPECT_EQ(residual_m, baseline_m) << kernel_isa_name(isa);
-        ++compared;
+        for (std::size_t padding : {0, 3, 8}) {
+          EXPECT_EQ(solved_hash(problem, 30, isa, residual_m, padding), baseline)
+              << kernel_isa_name(isa) << ", " << points << " points, columns padded by " << padding;
+          EXPECT_EQ(residual_m, baseline_m) << kernel_isa_name(isa);
+          ++compared;
+        }
       }
     }
   }

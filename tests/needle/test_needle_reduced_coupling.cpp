@@ -256,7 +256,8 @@ TEST(NeedleReducedCoupling, TheSolversComplianceIsHAInverseHTransposedPlusTheTis
   const NeedleTissueData& interaction = data.interaction;
   const auto m = static_cast<Eigen::Index>(interaction.row_count);
   ASSERT_GE(interaction.report.active_path_points, 4);
-  const Eigen::Map<const Eigen::MatrixXd> solver(interaction.compliance.data(), m, m);
+  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> solver(
+      interaction.compliance.data(), m, m, Eigen::OuterStride<>(static_cast<Eigen::Index>(interaction.compliance_stride)));
   const Eigen::MatrixXd dense = dense_compliance(model.interaction, interaction);
   const double error = (solver - dense).cwiseAbs().maxCoeff() / dense.cwiseAbs().maxCoeff();
   std::printf("%lld rows on %d constraint points: largest difference from the dense W %.2e of its largest entry\n",

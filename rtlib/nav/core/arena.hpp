@@ -26,12 +26,13 @@ class Arena {
   Arena(Arena&&) noexcept = default;
   Arena& operator=(Arena&&) noexcept = default;
 
-  /// A span of `count` value-initialised T, aligned for T, or an Error naming `what`, the
+  /// A span of `count` value-initialised T, aligned for T (or to `alignment_bytes` when that is
+  /// larger, a power of two: whole cache lines for wide loads), or an Error naming `what`, the
   /// bytes asked for and the bytes left. Init-time only.
   template <typename T>
-  Result<std::span<T>> allocate(std::string_view what, std::size_t count) {
+  Result<std::span<T>> allocate(std::string_view what, std::size_t count, std::size_t alignment_bytes = alignof(T)) {
     static_assert(std::is_trivially_destructible_v<T>, "arena memory is never destroyed element-wise");
-    auto bytes = reserve(what, count, sizeof(T), alignof(T));
+    auto bytes = reserve(what, count, sizeof(T), alignment_bytes > alignof(T) ? alignment_bytes : alignof(T));
     if (!bytes.ok()) return bytes.error();
     T* first = reinterpret_cast<T*>(bytes.value());
     std::uninitialized_value_construct_n(first, count);
@@ -56,10 +57,12 @@ class Arena {
 /// that a model can declare its footprint before anything is reserved.
 class ArenaPlan {
  public:
+  /// `count` T aligned as Arena::allocate() aligns them.
   template <typename T>
-  ArenaPlan& add(std::size_t count) {
-    bytes_ = round_up(bytes_, alignof(T)) + count * sizeof(T);
-    worst_alignment_padding_ += alignof(T) - 1;
+  ArenaPlan& add(std::size_t count, std::size_t alignment_bytes = alignof(T)) {
+    const std::size_t alignment = alignment_bytes > alignof(T) ? alignment_bytes : alignof(T);
+    bytes_ = round_up(bytes_, alignment) + count * sizeof(T);
+    worst_alignment_padding_ += alignment - 1;
     return *this;
   }
   /// Bytes enough for every add()ed buffer, whatever the block's own alignment.

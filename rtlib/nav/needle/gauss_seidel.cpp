@@ -95,14 +95,14 @@ const detail::NeedleLaneKernels& detail::needle_lane_kernels(KernelIsa isa) noex
   }
 }
 
-double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const double> w, int sweeps,
+double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const double> w, std::size_t w_stride, int sweeps,
                           std::span<double> forces, std::span<double> gaps, const GaussSeidelWorkspace& work) noexcept {
   const std::size_t m = rows.size();
   for (std::size_t first = 0; first < m;) {
     const std::size_t end = group_end(rows, first);
     for (std::size_t r = first; r < end; ++r) {
       const ConstraintRow& row = rows[r];
-      const double diagonal = w[r * m + r];
+      const double diagonal = w[r * w_stride + r];
       work.rows[r] = {row.cap, row.friction_coefficient, diagonal > 0.0 ? 1.0 / diagonal : 0.0, {row.linked[0], row.linked[1]},
                       -1, row.law, static_cast<std::uint8_t>(r == first ? end - first : 0)};
       gaps[r] = row.gap_free_m;
@@ -110,7 +110,7 @@ double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const d
     first = end;
   }
   interleave_points(work.rows.first(m));
-  work.kernels->gauss_seidel({m, work.rows.data(), w.data(), forces.data(), gaps.data()}, sweeps);
+  work.kernels->gauss_seidel({m, work.rows.data(), w.data(), w_stride, forces.data(), gaps.data()}, sweeps);
   double worst = 0.0;
   for (std::size_t r = 0; r < m; ++r) {
     const double limit = row_limit_n(rows, r, forces);

@@ -30,6 +30,7 @@ struct SweepProblem {
   std::size_t m = 0;                ///< rows
   const SweepRow* rows = nullptr;   ///< m rows, constraint points consecutive
   const double* w = nullptr;        ///< m x m, column-major
+  std::size_t w_stride = 0;         ///< between W's columns, at least m
   double* forces = nullptr;         ///< m: the warm start on entry, the solution on exit
   double* gaps = nullptr;           ///< m: the free gaps on entry, delta_free + W lambda on exit
 };
@@ -40,6 +41,10 @@ inline constexpr std::size_t kMaxCombinedTerms = 9;
 /// Values a RowCombination's row lengths are rounded up to (the widest variant's lanes), so
 /// that no variant finishes a row value by value: strides and buffers are padded to it.
 inline constexpr std::size_t kCombinedLanes = 8;
+
+/// The bytes of kCombinedLanes values: the buffers the kernels run along start on a multiple
+/// of it, and with strides of whole lanes every row does, so that no load straddles two cache lines.
+inline constexpr std::size_t kLaneBytes = kCombinedLanes * sizeof(double);
 
 /// Sparse rows times a dense matrix, out_r = sum_k c_rk dense_(source_rk), the terms in
 /// order: the compliance assembly's products H (C H^T) with H's few entries per row.

@@ -25,16 +25,16 @@ void add_column(const double* __restrict column, Index m, double change, double*
 }
 
 /// gaps += W[:, first:first + size] change, in one pass over the gaps for a full point.
-void add_columns(const double* w, Index m, Index first, Index size, const double* change, double* __restrict gaps) {
-  const double* __restrict a = w + first * m;
+void add_columns(const double* w, Index m, Index stride, Index first, Index size, const double* change, double* __restrict gaps) {
+  const double* __restrict a = w + first * stride;
   if (size == 3) {
-    const double* __restrict b = a + m;
-    const double* __restrict c = b + m;
+    const double* __restrict b = a + stride;
+    const double* __restrict c = b + stride;
     const double c0 = change[0], c1 = change[1], c2 = change[2];
     for (Index i = 0; i < m; ++i) gaps[i] += (a[i] * c0 + b[i] * c1) + c[i] * c2;
     return;
   }
-  for (Index j = 0; j < size; ++j) add_column(a + j * m, m, change[j], gaps);
+  for (Index j = 0; j < size; ++j) add_column(a + j * stride, m, change[j], gaps);
 }
 
 /// One sweep's work on the constraint point of rows [first, first + Size). Size is a
@@ -42,13 +42,13 @@ void add_columns(const double* w, Index m, Index first, Index size, const double
 /// row's projection to the next row's gap never goes through memory.
 template <Index Size>
 void solve_point(const SweepProblem& p, Index first) {
-  const Index m = p.m;
+  const Index stride = p.w_stride;
   double* forces = p.forces;
   double block[Size][Size] = {}, inverse_diagonal[Size] = {}, change[Size] = {};
 #pragma GCC unroll 3
   for (Index i = 0; i < Size; ++i) {
 #pragma GCC unroll 3
-    for (Index j = 0; j < Size; ++j) block[i][j] = p.w[(first + j) * m + first + i];
+    for (Index j = 0; j < Size; ++j) block[i][j] = p.w[(first + j) * stride + first + i];
     inverse_diagonal[i] = p.rows[first + i].inverse_diagonal;
   }
   // Row i's gap is gaps + sum_j block[i][j] change[j], j in order, where the changes of the
@@ -99,12 +99,12 @@ void solve_point(const SweepProblem& p, Index first) {
     change[i] += f - forces[r];
     forces[r] = f;
   }
-  add_columns(p.w, m, first, Size, change, p.gaps);
+  add_columns(p.w, p.m, stride, first, Size, change, p.gaps);
 }
 
 void gauss_seidel(const SweepProblem& p, int sweeps) noexcept {
   const Index m = p.m;
-  for (Index j = 0; j < m; ++j) add_column(p.w + j * m, m, p.forces[j], p.gaps);
+  for (Index j = 0; j < m; ++j) add_column(p.w + j * p.w_stride, m, p.forces[j], p.gaps);
   if (m == 0) return;
   for (int sweep = 0; sweep < sweeps; ++sweep)
     for (std::int32_t first = 0; first >= 0; first = p.rows[first].next_point) {

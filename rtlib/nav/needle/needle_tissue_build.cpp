@@ -70,22 +70,24 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
   const auto nodes = static_cast<std::size_t>(model.needle.node_count());
   ArenaPlan plan;
   plan.add<LayerState>(layers).add<PathPoint>(static_cast<std::size_t>(model.scene.max_path_points));
-  plan.add<double>(slots).add<double>(slots).add<ConstraintRow>(slots).add<detail::SweepRow>(slots);
-  const std::size_t compliance = slots * slots + detail::kCombinedLanes;  // see the low-rank buffers below
-  plan.add<double>(compliance).add<double>(slots).add<double>(slots).add<double>(6 * nodes);
+  plan.add<ConstraintRow>(slots).add<detail::SweepRow>(slots);
   const auto rank = static_cast<std::size_t>(model.compliance_rank);
   const std::size_t points = rank > 0 ? static_cast<std::size_t>(model.max_points()) : 0;
   plan.add<std::int32_t>(slots + 1);
   plan.add<std::int32_t>(points).add<std::int32_t>(points);
-  // Low rank: 3 freedoms per free needle node and per constraint point's tissue node, and
-  // slots for rows, padded to whole lanes of the kernels; the last lower-triangle row of W
-  // may run past m^2 up to the lanes' multiple.
+  // W: rows of m values padded to whole lanes of the kernels (the last lower-triangle row
+  // may run past its last padded row up to the lanes' multiple). Low rank: 3 freedoms per
+  // free needle node and per constraint point's tissue node, and slots for rows, padded alike.
   const auto lanes = [](std::size_t count) { return (count + detail::kCombinedLanes - 1) / detail::kCombinedLanes * detail::kCombinedLanes; };
+  const std::size_t padded_slots = lanes(slots), compliance = slots * padded_slots + detail::kCombinedLanes;
   const std::size_t needle_freedoms = rank > 0 ? lanes(3 * static_cast<std::size_t>(model.needle.element_count)) : 0;
   const std::size_t tissue_freedoms = lanes(3 * points), freedoms = needle_freedoms + tissue_freedoms;
-  const std::size_t entries = rank > 0 ? detail::kMaxCombinedTerms * slots : 0, padded_slots = lanes(slots);
-  plan.add<double>(tissue_freedoms * tissue_freedoms).add<double>(entries);
-  plan.add<std::int32_t>(entries).add<std::int32_t>(entries).add<double>(freedoms * padded_slots).add<double>(freedoms * padded_slots);
+  const std::size_t entries = rank > 0 ? detail::kMaxCombinedTerms * slots : 0;
+  plan.add<std::int32_t>(entries).add<std::int32_t>(entries);
+  // The buffers of doubles, each starting on a whole lanes' width for the kernels' loads.
+  for (std::size_t count : {slots, slots, compliance, slots, slots, 6 * nodes, tissue_freedoms * tissue_freedoms, entries,
+                            freedoms * padded_slots, freedoms * padded_slots})
+    plan.add<double>(count, detail::kLaneBytes);
   NeedleTissueData data(Arena("needle_tissue_data", plan.bytes()), std::move(needle).value());
   auto layer_states = data.arena.allocate<LayerState>("layers", layers);
   auto path = data.arena.allocate<PathPoint>("path points", static_cast<std::size_t>(model.scene.max_path_points));
@@ -115,7 +117,7 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
                             {&data.low_rank.row_fields, freedoms * padded_slots, "row fields"},
                             {&data.low_rank.fields, freedoms * padded_slots, "fields"}};
   for (const Buffer& b : buffers) {
-    auto carved = data.arena.allocate<double>(b.what, b.count);
+    auto carved = data.arena.allocate<double>(b.what, b.count, detail::kLaneBytes);
     if (!carved.ok()) return carved.error();
     *b.span = carved.value();
   }

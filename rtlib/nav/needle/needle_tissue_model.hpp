@@ -143,6 +143,7 @@ struct NeedleTissueData {
   // Workspace of one step.
   std::span<ConstraintRow> rows;
   std::span<double> compliance, row_forces, row_gaps, nodal_forces;
+  std::size_t compliance_stride = 0;  ///< between W's rows: row_count padded to whole kernel lanes
   std::span<detail::SweepRow> sweep_rows;  ///< the Gauss-Seidel workspace
   // Low-rank tissue only: the distinct tissue nodes of the constraint points and each
   // point's index among them.

@@ -225,15 +225,16 @@ void assemble_low_rank(const NeedleTissueModel& model, NeedleTissueData& data, i
   kernels.transpose({work.row_fields.data(), freedoms, m, 3 * needle_nodes, work.fields.data(), padded_m});
   kernels.transpose({work.row_fields.data() + needle_freedoms, freedoms, m, 3 * distinct, work.fields.data() + needle_freedoms * padded_m,
                      padded_m});
+  const std::size_t stride = data.compliance_stride;
   kernels.combine_rows({m, kMaxCombinedTerms, kMaxCombinedTerms, work.coefficients.data(), work.sources.data(), work.fields.data(),
-                        padded_m, padded_m, true, data.compliance.data(), m});
+                        padded_m, padded_m, true, data.compliance.data(), stride});
   for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
     const auto begin = static_cast<std::size_t>(data.point_first_row[p]), end = static_cast<std::size_t>(data.point_first_row[p + 1]);
     for (std::size_t r = begin; r < end; ++r)
       for (std::size_t s = begin; s <= r; ++s)
-        data.compliance[r * m + s] += model.scene.point_compliance_m_per_n * data.rows[r].direction.dot(data.rows[s].direction);
+        data.compliance[r * stride + s] += model.scene.point_compliance_m_per_n * data.rows[r].direction.dot(data.rows[s].direction);
   }
-  kernels.mirror_lower(data.compliance.data(), m, m);
+  kernels.mirror_lower(data.compliance.data(), m, stride);
 }
 
 /// The Gaussian decay of the tissue's compliance between two points.
@@ -297,7 +298,8 @@ void build_rows(const NeedleTissueModel& model, NeedleTissueData& data, std::spa
 }
 
 void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data) noexcept {
-  const auto m = static_cast<std::size_t>(data.row_count);
+  const auto m = static_cast<std::size_t>(data.row_count), stride = padded(m);
+  data.compliance_stride = stride;
   data.point_count = 0;
   if (m == 0) return;
   const int last_node = model.needle.element_count;
@@ -353,7 +355,7 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
         for (std::size_t s = q_begin; s < q_end && s <= r; ++s) {
           ConstraintRow& other = data.rows[s];
           const double tissue_entry = decay * other.direction.dot(tissue_row);
-          data.compliance[r * m + s] = data.compliance[s * m + r] = needle_row.dot(other.direction) + tissue_entry;
+          data.compliance[r * stride + s] = data.compliance[s * stride + r] = needle_row.dot(other.direction) + tissue_entry;
           // The tissue displacements already hold its response to the applied forces.
           row.gap_free_m -= tissue_entry * data.applied_forces[static_cast<std::size_t>(other.slot)];
           if (s != r) other.gap_free_m -= tissue_entry * data.applied_forces[static_cast<std::size_t>(row.slot)];

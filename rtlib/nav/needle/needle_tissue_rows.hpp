@@ -30,7 +30,7 @@ Eigen::Vector3d bevel_force_n(const NeedleTissueModel& model, const NeedleTissue
 /// fills data.rows (data.row_count) with warm-start forces in data.row_forces.
 void build_rows(const NeedleTissueModel& model, NeedleTissueData& data, std::span<const double> displacements_m) noexcept;
 
-/// Fills data.compliance (row_count^2) and takes the tissue's response to the forces it
+/// Fills data.compliance (row_count rows, compliance_stride apart) and takes the tissue's response to the forces it
 /// already carries (applied_forces, in the displacements) out of the rows' free gaps.
 void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data) noexcept;
 

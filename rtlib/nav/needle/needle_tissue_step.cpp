@@ -166,7 +166,8 @@ void step(const NeedleTissueModel& model, NeedleTissueData& data, const NeedleTi
   detail::assemble_compliance(model, data);
   const auto m = static_cast<std::size_t>(data.row_count);
   data.report.residual_m = solve_gauss_seidel(std::span<const ConstraintRow>(data.rows.data(), m),
-                                              std::span<const double>(data.compliance.data(), m * m), model.scene.gauss_seidel_sweeps,
+                                              std::span<const double>(data.compliance.data(), m * data.compliance_stride),
+                                              data.compliance_stride, model.scene.gauss_seidel_sweeps,
                                               data.row_forces.first(m), data.row_gaps.first(m),
                                               GaussSeidelWorkspace{data.sweep_rows, model.lane_kernels});
   const bool finite = std::all_of(data.row_forces.begin(), data.row_forces.begin() + static_cast<std::ptrdiff_t>(m),
