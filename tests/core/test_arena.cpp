@@ -65,4 +65,23 @@ TEST(ArenaPlan, DeclaredFootprintIsEnoughForTheBuffers) {
   EXPECT_FALSE(arena.allocate<double>("one more", 8).ok());
 }
 
+TEST(ArenaPlan, WiderAlignmentsAreCarvedAndDeclaredAlike) {
+  ArenaPlan plan;
+  plan.add<std::uint8_t>(3).add<double>(5, 64).add<std::uint8_t>(1).add<double>(9, 64);
+  Arena arena("lanes", plan.bytes());
+  ASSERT_TRUE(arena.allocate<std::uint8_t>("a", 3).ok());
+  auto first = arena.allocate<double>("b", 5, 64);
+  ASSERT_TRUE(arena.allocate<std::uint8_t>("c", 1).ok());
+  auto second = arena.allocate<double>("d", 9, 64);
+  ASSERT_TRUE(first.ok() && second.ok());
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(first.value().data()) % 64, 0u);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(second.value().data()) % 64, 0u);
+  // An alignment below the type's own keeps the type's.
+  Arena small("small", 64);
+  ASSERT_TRUE(small.allocate<std::uint8_t>("a", 1).ok());
+  auto aligned = small.allocate<double>("b", 1, 1);
+  ASSERT_TRUE(aligned.ok());
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(aligned.value().data()) % alignof(double), 0u);
+}
+
 }  // namespace nav
