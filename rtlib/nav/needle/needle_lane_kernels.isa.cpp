@@ -3,7 +3,9 @@
 // over independent rows, and the row combinations of the compliance assembly, whose loops run
 // over independent values, and the nearest-node scan, whose distances and comparisons run over
 // independent lanes; the compiler vectorizes them to the variant's width, and every sum
-// runs in an order written here, so every variant gives the same bits.
+// runs in an order written here, so every variant gives the same bits. The transpositions
+// between the products move 8 x 8 blocks through registers with shuffles (GCC vector
+// extensions, lowered to each variant's own; copies, so the same bits too).
 #include "nav/core/kernel_isa_variant.hpp"
 #include "nav/needle/needle_lane_kernels.hpp"
 
