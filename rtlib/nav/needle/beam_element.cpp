@@ -35,6 +35,41 @@ Matrix12d beam_local_stiffness(const NeedleParameters& p, const NeedleSection& s
 
 namespace {
 
+/// The freedoms a corotational deformation moves, in order: theta_a, the stretch, theta_b.
+constexpr std::array<int, BeamStiffness::kMovedFreedoms> kMovedFreedoms = {3, 4, 5, 6, 9, 10, 11};
+
+/// The ten tangent blocks as (row, column) of their top-left entry in the local stiffness:
+/// aa's (0, 0), (0, 1), (1, 1); ab's (0, 2), (0, 3), (1, 2), (1, 3); bb's (2, 2), (2, 3), (3, 3).
+constexpr std::array<std::array<int, 2>, BeamStiffness::kTangentBlocks> kTangentBlocks = {
+    {{0, 0}, {0, 3}, {3, 3}, {0, 6}, {0, 9}, {3, 6}, {3, 9}, {6, 6}, {6, 9}, {9, 9}}};
+
+/// The three coefficients rotated_block() reads of the block at (row, col).
+std::array<double, 3> block_coefficients(const Matrix12d& k, int row, int col) {
+  return {k(row, col), k(row + 1, col + 1), k(row + 1, col + 2)};
+}
+
+}  // namespace
+
+BeamStiffness beam_stiffness(const Matrix12d& local) {
+  BeamStiffness s;
+  s.local = local;
+  for (std::size_t i = 0; i < 12; ++i)
+    for (int j : kMovedFreedoms) {
+      const double value = local(static_cast<Eigen::Index>(i), j);
+      if (value != 0.0) s.force_terms[i][static_cast<std::size_t>(s.force_term_count[i]++)] = {j, value};
+    }
+  for (std::size_t b = 0; b < kTangentBlocks.size(); ++b) {
+    std::size_t first = 0;
+    while (block_coefficients(local, kTangentBlocks[first][0], kTangentBlocks[first][1]) !=
+           block_coefficients(local, kTangentBlocks[b][0], kTangentBlocks[b][1]))
+      ++first;
+    s.same_block_as[b] = static_cast<int>(first);
+  }
+  return s;
+}
+
+namespace {
+
 /// The element frame's two products that every rotated block of the local stiffness uses:
 /// e1 e1^T and e2 e3^T - e3 e2^T.
 struct FrameProducts {
@@ -57,22 +92,19 @@ Eigen::Matrix3d rotated_block(const Matrix12d& k, int row, int col, const FrameP
   return block;
 }
 
-/// The 6x6 block of the rotated stiffness over 3x3 blocks (i, i + 1) x (j, j + 1); `symmetric`
-/// when it lies on the diagonal (its lower 3x3 block mirrors the upper).
-Matrix6d rotated_6x6(const Matrix12d& k, int i, int j, const FrameProducts& products, bool symmetric) {
+/// A symmetric 6x6 tangent block from its upper 3x3 blocks (the lower-left mirrors the upper-right).
+Matrix6d symmetric_6x6(const Eigen::Matrix3d& top_left, const Eigen::Matrix3d& top_right, const Eigen::Matrix3d& bottom_right) {
   Matrix6d block;
-  block.topLeftCorner<3, 3>() = rotated_block(k, 3 * i, 3 * j, products);
-  block.topRightCorner<3, 3>() = rotated_block(k, 3 * i, 3 * j + 3, products);
-  block.bottomLeftCorner<3, 3>() =
-      symmetric ? Eigen::Matrix3d(block.topRightCorner<3, 3>().transpose()) : rotated_block(k, 3 * i + 3, 3 * j, products);
-  block.bottomRightCorner<3, 3>() = rotated_block(k, 3 * i + 3, 3 * j + 3, products);
+  block.topLeftCorner<3, 3>() = top_left;
+  block.topRightCorner<3, 3>() = top_right;
+  block.bottomLeftCorner<3, 3>() = top_right.transpose();
+  block.bottomRightCorner<3, 3>() = bottom_right;
   return block;
 }
 
 }  // namespace
 
-BeamResponse corotational_beam_response(const Matrix12d& local_stiffness, double rest_length_m,
-                                        const BeamEnds& ends) noexcept {
+BeamResponse corotational_beam_response(const BeamStiffness& stiffness, double rest_length_m, const BeamEnds& ends) noexcept {
   const Eigen::Vector3d chord = ends.position_b_m - ends.position_a_m;
   const double length_m = chord.norm();
   const Eigen::Vector3d e1 = chord / length_m;
@@ -93,15 +125,29 @@ BeamResponse corotational_beam_response(const Matrix12d& local_stiffness, double
   local(6) = length_m - rest_length_m;
   local.segment<3>(3) = rotation_vector_from_quaternion(element.conjugate() * ends.rotation_a);
   local.segment<3>(9) = rotation_vector_from_quaternion(element.conjugate() * ends.rotation_b);
-  const Vector12d local_forces = local_stiffness * local;
+  // K local over the nonzero terms on the moved freedoms, each sum in freedom order from zero.
+  Vector12d local_forces;
+  for (std::size_t i = 0; i < 12; ++i) {
+    double sum = 0.0;
+    for (int t = 0; t < stiffness.force_term_count[i]; ++t) {
+      const BeamStiffness::Term& term = stiffness.force_terms[i][static_cast<std::size_t>(t)];
+      sum += term.value * local(term.freedom);
+    }
+    local_forces(static_cast<Eigen::Index>(i)) = sum;
+  }
 
   BeamResponse response;
   for (int block = 0; block < 4; ++block)
     response.forces.segment<3>(3 * block).noalias() = frame * local_forces.segment<3>(3 * block);
   const FrameProducts products = frame_products(frame);
-  response.tangent_aa = rotated_6x6(local_stiffness, 0, 0, products, true);
-  response.tangent_ab = rotated_6x6(local_stiffness, 0, 2, products, false);
-  response.tangent_bb = rotated_6x6(local_stiffness, 2, 2, products, true);
+  std::array<Eigen::Matrix3d, BeamStiffness::kTangentBlocks> blocks;
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const auto same = static_cast<std::size_t>(stiffness.same_block_as[b]);
+    blocks[b] = same < b ? blocks[same] : rotated_block(stiffness.local, kTangentBlocks[b][0], kTangentBlocks[b][1], products);
+  }
+  response.tangent_aa = symmetric_6x6(blocks[0], blocks[1], blocks[2]);
+  response.tangent_ab << blocks[3], blocks[4], blocks[5], blocks[6];
+  response.tangent_bb = symmetric_6x6(blocks[7], blocks[8], blocks[9]);
   return response;
 }
 

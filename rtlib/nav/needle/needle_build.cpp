@@ -21,7 +21,7 @@ Result<NeedleModel> make_needle_model(const NeedleParameters& parameters) {
   model.section = needle_section(parameters);
   model.element_count = parameters.element_count;
   model.element_length_m = parameters.length_m / parameters.element_count;
-  model.local_stiffness = beam_local_stiffness(parameters, model.section, model.element_length_m);
+  model.local_stiffness = beam_stiffness(beam_local_stiffness(parameters, model.section, model.element_length_m));
   const double element_mass_kg = parameters.density_kg_m3 * model.section.area_m2 * model.element_length_m;
   const double element_inertia = parameters.density_kg_m3 * model.section.polar_moment_m4 * model.element_length_m;
   model.end_and_inner_mass_kg = {0.5 * element_mass_kg, element_mass_kg};

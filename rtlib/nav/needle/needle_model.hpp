@@ -44,7 +44,7 @@ struct NeedleModel {
   NeedleSection section;
   int element_count = 0;
   double element_length_m = 0.0;
-  Matrix12d local_stiffness;
+  BeamStiffness local_stiffness;
   std::array<double, 2> end_and_inner_mass_kg{};           ///< lumped mass of end and inner nodes
   std::array<double, 2> end_and_inner_rotary_inertia_kg_m2{};  ///< rho J l per node (isotropic)
 
