@@ -92,14 +92,13 @@ Eigen::Matrix3d rotated_block(const Matrix12d& k, int row, int col, const FrameP
   return block;
 }
 
-/// A symmetric 6x6 tangent block from its upper 3x3 blocks (the lower-left mirrors the upper-right).
-Matrix6d symmetric_6x6(const Eigen::Matrix3d& top_left, const Eigen::Matrix3d& top_right, const Eigen::Matrix3d& bottom_right) {
-  Matrix6d block;
+/// Fills a symmetric 6x6 tangent block from its upper 3x3 blocks (the lower-left mirrors the upper-right).
+void set_symmetric_6x6(Matrix6d& block, const Eigen::Matrix3d& top_left, const Eigen::Matrix3d& top_right,
+                       const Eigen::Matrix3d& bottom_right) {
   block.topLeftCorner<3, 3>() = top_left;
   block.topRightCorner<3, 3>() = top_right;
   block.bottomLeftCorner<3, 3>() = top_right.transpose();
   block.bottomRightCorner<3, 3>() = bottom_right;
-  return block;
 }
 
 }  // namespace
@@ -145,9 +144,9 @@ BeamResponse corotational_beam_response(const BeamStiffness& stiffness, double r
     const auto same = static_cast<std::size_t>(stiffness.same_block_as[b]);
     blocks[b] = same < b ? blocks[same] : rotated_block(stiffness.local, kTangentBlocks[b][0], kTangentBlocks[b][1], products);
   }
-  response.tangent_aa = symmetric_6x6(blocks[0], blocks[1], blocks[2]);
+  set_symmetric_6x6(response.tangent_aa, blocks[0], blocks[1], blocks[2]);
   response.tangent_ab << blocks[3], blocks[4], blocks[5], blocks[6];
-  response.tangent_bb = symmetric_6x6(blocks[7], blocks[8], blocks[9]);
+  set_symmetric_6x6(response.tangent_bb, blocks[7], blocks[8], blocks[9]);
   return response;
 }
 
