@@ -36,7 +36,7 @@ Matrix12d beam_local_stiffness(const NeedleParameters& p, const NeedleSection& s
 namespace {
 
 /// The freedoms a corotational deformation moves, in order: theta_a, the stretch, theta_b.
-constexpr std::array<int, BeamStiffness::kMovedFreedoms> kMovedFreedoms = {3, 4, 5, 6, 9, 10, 11};
+constexpr std::array<int, BeamStiffness::kMovedFreedoms> kMovedFreedomIndices = {3, 4, 5, 6, 9, 10, 11};
 
 /// The ten tangent blocks as (row, column) of their top-left entry in the local stiffness:
 /// aa's (0, 0), (0, 1), (1, 1); ab's (0, 2), (0, 3), (1, 2), (1, 3); bb's (2, 2), (2, 3), (3, 3).
@@ -54,7 +54,7 @@ BeamStiffness beam_stiffness(const Matrix12d& local) {
   BeamStiffness s;
   s.local = local;
   for (std::size_t i = 0; i < 12; ++i)
-    for (int j : kMovedFreedoms) {
+    for (int j : kMovedFreedomIndices) {
       const double value = local(static_cast<Eigen::Index>(i), j);
       if (value != 0.0) s.force_terms[i][static_cast<std::size_t>(s.force_term_count[i]++)] = {j, value};
     }
