@@ -1,9 +1,9 @@
 // The needle solver's lane kernels (needle_lane_kernels.hpp) in every instruction set this
 // build and CPU run give bitwise the baseline's results: on projected Gauss-Seidel problems
 // with every row law (friction and Coulomb rows, points of one to three rows; W's columns
-// packed or padded), and on the
-// needle inserted into the reduced embedded liver until 32 path points hold it (the scene of
-// `navbench needle`), hashed after the insertion and a wobbling hold; their row combinations
+// packed or padded), and on the needle inserted into the reduced embedded liver until 32 path
+// points hold it (the scene of `navbench needle`), hashed after the insertion and a wobbling
+// hold; their row combinations
 // (the compliance assembly's products) give the bits of the definition, term by term in order,
 // their nearest-node scans the node of the plain scan in node order, ties and NaNs too, and
 // their transpositions and mirrors the values of the plain loops.
