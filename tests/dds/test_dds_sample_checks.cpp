@@ -1,6 +1,6 @@
 // The boundary's value checks: each kind of bad sample is named by its fault, good samples
-// pass, time order is kept per stream and per tool, unknown tools are refused, and the
-// counters add up by reason.
+// pass, time order is kept per stream and per tool, unknown tools are refused, the pose
+// inbox counts the poses it accepts, and the counters add up by reason.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -106,8 +106,11 @@ TEST(DdsSampleChecks, PoseInboxRefusesUnknownToolsAndKeepsTimeOrderPerTool) {
   EXPECT_EQ(inbox.offer(make_pose(3, 200)), SampleFault::none);
   EXPECT_EQ(inbox.offer(make_pose(8, 100)), SampleFault::none);  // another tool: its own order
   EXPECT_EQ(inbox.offer(make_pose(3, 150)), SampleFault::time_backwards);
+  EXPECT_EQ(inbox.accepted(), 2u);  // the refused ones not counted
+  EXPECT_EQ(inbox.offer(make_pose(3, 250)), SampleFault::none);  // replaces the one at 200 before it is taken
+  EXPECT_EQ(inbox.accepted(), 3u);
   ASSERT_TRUE(inbox.update(0));
-  EXPECT_EQ(inbox.latest(0).source_time_ns, 200);
+  EXPECT_EQ(inbox.latest(0).source_time_ns, 250);
   EXPECT_FALSE(inbox.update(0));
   ASSERT_TRUE(inbox.update(1));
   EXPECT_EQ(inbox.latest(1).source_time_ns, 100);

@@ -15,6 +15,7 @@ namespace nav::station {
 namespace {
 
 constexpr TimeNs kMatchTimeoutNs = 10 * kNsPerSecond;
+constexpr TimeNs kAcknowledgmentTimeoutNs = 1 * kNsPerSecond;
 constexpr TimeNs kPeerWatchPeriodNs = 5 * kNsPerMs;  // how often the I/O thread counts the matched pose writers
 constexpr std::uint32_t kTumourTargetId = 1;
 constexpr std::uint32_t kReducedRung = 1;
@@ -84,11 +85,11 @@ void device_thread(const SimulatedWorld& world, StationChannels& ch, const DdsRu
         frame->sequence_number = next;
         frame->source_time_ns = s.measured_ns;
         written_ns[next] = ch.clock.now_ns();
-        link.devices->write(*frame);
+        if (link.devices->write(*frame)) ++report.frames_written;
       } else {
         const dds::ToolPose pose = tool_pose_of(s, next);
         written_ns[next] = ch.clock.now_ns();
-        link.devices->write(pose);
+        if (link.devices->write(pose)) ++report.poses_written;
       }
     }
     ch.clock.sleep_until_ns(ch.clock.now_ns() + kIoPeriodNs);
@@ -114,10 +115,13 @@ class DisplaySurfacePublisher {
     reconstruction_->reconstruct(outputs, *sample_);
     reconstruction_us_.push_back(1e-3 * static_cast<double>(clock_.now_ns() - begin_ns));
     if (node.write(*sample_)) ++published_;
+    passed_over_ += (outputs.tissue_time_ns - next_ns_) / period_ns_;
     next_ns_ = (outputs.tissue_time_ns / period_ns_ + 1) * period_ns_;  // one surface per period of liver time
   }
 
   std::int64_t published() const noexcept { return published_; }
+  /// Periods of liver time with no surface: the I/O thread read no output within them.
+  std::int64_t passed_over() const noexcept { return passed_over_; }
   const std::vector<double>& reconstruction_us() const noexcept { return reconstruction_us_; }
 
  private:
@@ -125,7 +129,7 @@ class DisplaySurfacePublisher {
   std::optional<SurfaceReconstruction> reconstruction_;
   std::unique_ptr<dds::DeformedSurface> sample_;
   std::vector<double> reconstruction_us_;
-  std::int64_t published_ = 0;
+  std::int64_t published_ = 0, passed_over_ = 0;
   TimeNs next_ns_ = 0;
   MonotonicClock clock_;
 };
@@ -257,13 +261,10 @@ void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, Tim
     outbox.needle.try_push(needle);
   }
   if (o.ticks % health_every_ticks != 0) return;
-  HealthFlags flags = o.tissue;
-  for (const InputStatus* input : {&o.needle, &o.probe, &o.respiratory, &o.ultrasound}) flags.merge(input->flags);
-  flags.merge(o.loop);
   dds::StationHealth health;
   health.source_time_ns = o.time_ns;
   health.mode = o.degraded ? dds::StationMode::degraded : dds::StationMode::running;
-  health.flags = flags.bits();
+  health.flags = health_flag_bits(o);
   health.step_time_max_ns = step_max_ns;
   health.deadline_misses = deadline_misses;
   outbox.health.try_push(health);
@@ -323,12 +324,15 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, 
   }
   devices.join();
   report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station));
+  link.station->wait_for_acknowledgments(kAcknowledgmentTimeoutNs);  // the last outputs reach the displays before the run closes
   report.outbox_dropped = ch.outbox->dropped();
   report.pose_latency = latency_statistics(latencies_us(pose_receipts, written_ns));
   report.frame_latency = latency_statistics(latencies_us(frame_receipts, written_ns));
   run.observer = observer.counts();
   run.frame_processing = latency_statistics(observer.processing_us());
+  report.poses_accepted = static_cast<std::int64_t>(link.poses->accepted());
   report.surfaces_published = surfaces.published();
+  report.surface_periods_passed_over = surfaces.passed_over();
   report.surface_reconstruction = latency_statistics(surfaces.reconstruction_us());
   run.dds = report;
 }

@@ -35,7 +35,7 @@ void push_sample(const OperatingLoopModel& loop, OperatingLoopData& data, const 
 TickRecord record_of(const OperatingLoopOutputs& o) noexcept {
   const Point3& f = o.needle_shape.tip_force_n;
   return {o.time_ns, o.tissue_time_ns, o.tumour_now_m, o.tumour_ahead_m, o.needle_tip_m, o.degraded, o.needle.degraded,
-          o.needle.flags.bits(), std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]), o.needle_shape.punctures};
+          o.needle.flags.bits(), health_flag_bits(o), std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]), o.needle_shape.punctures};
 }
 
 template <class T>
@@ -192,6 +192,13 @@ Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWo
   run.steps.skipped_ticks = rec.skipped;
   run.ticks = std::move(rec.ticks);
   return run;
+}
+
+std::uint32_t health_flag_bits(const OperatingLoopOutputs& o) noexcept {
+  HealthFlags flags = o.tissue;
+  for (const InputStatus* input : {&o.needle, &o.probe, &o.respiratory, &o.ultrasound}) flags.merge(input->flags);
+  flags.merge(o.loop);
+  return flags.bits();
 }
 
 std::optional<DeviceSample> loop_sample(TumourObserver& observer, const ProbeImaging& imaging, const DeviceSample& sample,

@@ -34,6 +34,7 @@ struct TickRecord {
   bool degraded = true;         ///< the loop's degraded output
   bool needle_degraded = true;  ///< the needle input degraded (held, extrapolated too far or missing)
   std::uint32_t needle_flags = 0;  ///< the needle input's HealthFlag bits
+  std::uint32_t health_flags = 0;  ///< every HealthFlag bit of the tick (what the station's health reports)
   double tip_force_n = 0.0;        ///< the modelled tissue force on the needle's tip (magnitude; 0 without a needle model)
   int punctures = 0;               ///< surfaces the modelled needle has punctured
 };
@@ -92,7 +93,10 @@ struct StationRunOptions {
 struct DdsRunReport {
   LatencyStatistics pose_latency;   ///< the devices' write to the station's listener
   LatencyStatistics frame_latency;
-  std::int64_t poses_received = 0, frames_received = 0;
+  std::int64_t poses_written = 0, frames_written = 0;  ///< by the devices
+  std::int64_t poses_accepted = 0;   ///< by the station's pose inbox (checked, in time order)
+  std::int64_t poses_received = 0;   ///< taken by the I/O thread: the newest of each tool per poll
+  std::int64_t frames_received = 0;
   std::int64_t outputs_published = 0;  ///< predictions, needle states and health samples written
   std::uint64_t outbox_dropped = 0;
   TimeNs device_gone_ns = -1;       ///< when the devices' participant began to be destroyed (run time; -1: never)
@@ -101,6 +105,7 @@ struct DdsRunReport {
   TimeNs peer_back_seen_ns = -1;    ///< when it saw one again
   std::uint64_t device_samples_lost = 0;  ///< samples due while the devices were gone
   std::int64_t surfaces_published = 0;
+  std::int64_t surface_periods_passed_over = 0;  ///< periods of liver time the I/O thread read no output in (it lagged)
   LatencyStatistics surface_reconstruction;  ///< the I/O thread's time per surface
 };
 
@@ -117,6 +122,9 @@ struct StationRun {
   LatencyStatistics frame_processing;     ///< the observer's time per frame (tumour tracker)
   std::optional<DdsRunReport> dds;
 };
+
+/// Every HealthFlag bit of a tick's outputs: the tissue's, the inputs' and the loop's.
+std::uint32_t health_flag_bits(const OperatingLoopOutputs& outputs) noexcept;
 
 /// Runs the station in real time on `world`'s recording for options.duration_ns.
 Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWorld& world, const StationRunOptions& options);

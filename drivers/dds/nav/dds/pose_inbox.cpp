@@ -23,6 +23,7 @@ SampleFault PoseInbox::offer(const ToolPose& pose) noexcept {
   const SampleFault order = tool.order.advance(pose.source_time_ns);
   if (order != SampleFault::none) return order;
   tool.latest.write(pose);
+  accepted_.fetch_add(1, std::memory_order_relaxed);
   return SampleFault::none;
 }
 

@@ -3,6 +3,7 @@
 // real-time thread through one triple buffer per tool: the listener never waits for the
 // core and the core always reads the newest complete pose.
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <initializer_list>
@@ -34,6 +35,10 @@ class PoseInbox final : public SampleSink<ToolPose> {
   /// Real-time side: the pose taken by the last update() of `slot` (default before any).
   const ToolPose& latest(std::size_t slot) const noexcept { return tools_[slot].latest.read(); }
 
+  /// Poses accepted by offer() so far, every tool together (any thread): with the poses
+  /// taken by update(), it tells how many a newer pose replaced before they were taken.
+  std::uint64_t accepted() const noexcept { return accepted_.load(std::memory_order_relaxed); }
+
  private:
   /// One tool's id, its hand-off and the time order of its stream (writer side).
   struct Tool {
@@ -43,6 +48,7 @@ class PoseInbox final : public SampleSink<ToolPose> {
   };
   std::array<Tool, kMaxTools> tools_{};
   std::size_t tool_count_ = 0;
+  std::atomic<std::uint64_t> accepted_{0};
 };
 
 }  // namespace nav::dds
