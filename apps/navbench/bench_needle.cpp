@@ -1,15 +1,17 @@
 // navbench needle: median and p99 step times of the needle alone (20, 30, 40 elements), of
 // the needle with 8, 16 and 32 path constraints (30 elements; 32 also at 20 elements), of the
 // needle (20, 30, 40 elements) with 8, 16 and 32 path points in the reduced liver (r = 16,
-// tissue every tick; 32 points once per instruction set of the Gauss-Seidel kernels, in
-// alternating turns), and of the needle coupled to the full-order corotational embedded
-// liver (about 5k tetrahedra) with the tissue stepping every tick or every 10 ticks; and the force profile of an insertion-retraction cycle
-// against depth with its stiffness, cutting and friction parts, as an SVG next to the JSON.
+// tissue every tick; 32 points once per instruction set of the Gauss-Seidel kernels, every
+// element count and kernel set in alternating turns, first), and of the needle coupled to the
+// full-order corotational embedded liver (about 5k tetrahedra) with the tissue stepping every
+// tick or every 10 ticks; and the force profile of an insertion-retraction cycle against depth
+// with its stiffness, cutting and friction parts, as an SVG next to the JSON.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <initializer_list>
 #include <memory>
 #include <string>
 #include <vector>
@@ -129,6 +131,7 @@ Record coupled(const EmbeddedLiverScene& liver, const nav::TetFemModel& tissue, 
 /// ticked while the base moves back and forth along the shaft and sideways (as
 /// needle_with_constraints).
 struct ReducedRun {
+  int elements = 0;
   Approach approach;
   nav::ReducedCoupledNeedleModel model;
   nav::ReducedCoupledNeedleData data;
@@ -139,7 +142,8 @@ struct ReducedRun {
 
   ReducedRun(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements, int points, nav::KernelIsa isa,
              int sweeps = nav::NeedleTissueScene{}.gauss_seidel_sweeps)
-      : approach(approach_tumour(liver)),
+      : elements(elements),
+        approach(approach_tumour(liver)),
         model(nav::make_coupled_needle_model(needle(elements), scene_of(approach, isa, sweeps), tissue, liver.liver.mesh, 64, 1).value()),
         data(nav::make_coupled_needle_data(model, approach.base_at(0.0)).value()),
         advanced_m(insert_until(model, data, approach, points)) {}
@@ -160,7 +164,7 @@ struct ReducedRun {
     });
   }
 
-  Record record(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements) const {
+  Record record(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue) const {
     std::fprintf(stderr, "  reduced liver, %d elements, %s kernels: inserted %.1f mm, path points %d, health bits %u (tissue %u)\n",
                  elements, std::string(nav::kernel_isa_name(model.interaction.scene.kernel_isa)).c_str(), 1e3 * advanced_m,
                  data.interaction.report.active_path_points, data.interaction.health.bits(), data.tissue.health.bits());
@@ -174,26 +178,30 @@ struct ReducedRun {
 Record coupled_reduced(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements, int points, int ticks) {
   ReducedRun run(liver, tissue, elements, points, nav::KernelIsa::best);
   run.time(0, ticks);
-  return run.record(liver, tissue, elements);
+  return run.record(liver, tissue);
 }
 
 /// Sweeps at which the 32-point liver case reaches a smaller largest residual than the
 /// default's 30 sweeps did in row order (3.9 against 5.3 um).
 constexpr int kFewSweeps = 10;
 
-/// 32 path points once per available instruction set of the Gauss-Seidel kernels (the same
-/// bits), and with the best one at kFewSweeps, timed in turns of 500 ticks so that a shared
-/// host's slow spells fall on all alike.
-std::vector<Record> coupled_reduced_per_isa(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements, int ticks) {
+/// 32 path points at each of `element_counts`, once per available instruction set of the
+/// Gauss-Seidel kernels (the same bits) and with the best one at kFewSweeps: every case timed
+/// with the others in turns of 500 ticks, so that a shared host's slow spells fall on all
+/// alike, the element counts included. Records by element count, then as listed here.
+std::vector<Record> coupled_reduced_per_isa(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue,
+                                            std::initializer_list<int> element_counts, int ticks) {
   std::vector<std::unique_ptr<ReducedRun>> runs;
-  for (nav::KernelIsa isa : {nav::KernelIsa::baseline, nav::KernelIsa::avx2, nav::KernelIsa::avx512})
-    if (nav::kernel_isa_available(isa)) runs.push_back(std::make_unique<ReducedRun>(liver, tissue, elements, 32, isa));
-  runs.push_back(std::make_unique<ReducedRun>(liver, tissue, elements, 32, nav::KernelIsa::best, kFewSweeps));
+  for (int elements : element_counts) {
+    for (nav::KernelIsa isa : {nav::KernelIsa::baseline, nav::KernelIsa::avx2, nav::KernelIsa::avx512})
+      if (nav::kernel_isa_available(isa)) runs.push_back(std::make_unique<ReducedRun>(liver, tissue, elements, 32, isa));
+    runs.push_back(std::make_unique<ReducedRun>(liver, tissue, elements, 32, nav::KernelIsa::best, kFewSweeps));
+  }
   constexpr int kTurn = 500;
   for (int first = 0; first < ticks; first += kTurn)
     for (auto& run : runs) run->time(first, std::min(kTurn, ticks - first));
   std::vector<Record> records;
-  for (const auto& run : runs) records.push_back(run->record(liver, tissue, elements));
+  for (const auto& run : runs) records.push_back(run->record(liver, tissue));
   return records;
 }
 
@@ -286,17 +294,21 @@ int run_needle_bench(const std::vector<std::string>& args) {
   const std::string& json_path = parsed->json_path;
   const bool quick = parsed->quick;
   const int ticks = quick ? 500 : 20000;
+  // The 32-point cases in the reduced liver first: timed together, and before the host has
+  // run the other cases for minutes.
+  const EmbeddedLiverScene liver;
+  const nav::ReducedModel reduced = reduced_liver(liver);
+  const std::vector<Record> with_32_points = coupled_reduced_per_isa(liver, reduced, {20, 30, 40}, ticks);
   std::vector<Record> records;
   for (int elements : {20, 30, 40}) records.push_back(needle_alone(elements, ticks));
   for (int points : {8, 16, 32}) records.push_back(needle_with_constraints(30, points, ticks));
   records.push_back(needle_with_constraints(20, 32, ticks));
-  const EmbeddedLiverScene liver;
   const nav::TetFemModel full = full_order_liver(liver);
   for (int ratio : {1, 10}) records.push_back(coupled(liver, full, ratio, quick ? 600 : 2000));
-  const nav::ReducedModel reduced = reduced_liver(liver);
   for (int elements : {20, 30, 40}) {
     for (int points : {8, 16}) records.push_back(coupled_reduced(liver, reduced, elements, points, ticks));
-    for (Record& r : coupled_reduced_per_isa(liver, reduced, elements, ticks)) records.push_back(std::move(r));
+    for (const Record& r : with_32_points)
+      if (r.elements == elements) records.push_back(r);
   }
   for (const Record& r : records)
     std::fprintf(stderr,
