@@ -287,6 +287,11 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, 
                       std::ref(written_ns));
   bool peer_present = true;
   TimeNs next_watch_ns = 0;
+  const auto read_outputs = [&] {
+    if (!ch.outputs.update()) return;
+    ++run.outputs_read;
+    surfaces.publish(ch.outputs.read(), *link.station);
+  };
   while (!ch.realtime_done.load(std::memory_order_acquire)) {
     for (std::size_t slot = 0; slot < link.poses->tool_count(); ++slot) {
       if (!link.poses->update(slot)) continue;
@@ -311,10 +316,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, 
       if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;
     }
     report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station));
-    if (ch.outputs.update()) {
-      ++run.outputs_read;
-      surfaces.publish(ch.outputs.read(), *link.station);
-    }
+    read_outputs();
     const TimeNs now = ch.run_time_ns();
     if (now >= next_watch_ns) {
       watch_peer(*link.station, now, peer_present, report);
@@ -323,6 +325,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, 
     ch.clock.sleep_until_ns(ch.clock.now_ns() + kIoPeriodNs);
   }
   devices.join();
+  read_outputs();  // the loop's last outputs
   report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station));
   link.station->wait_for_acknowledgments(kAcknowledgmentTimeoutNs);  // the last outputs reach the displays before the run closes
   report.outbox_dropped = ch.outbox->dropped();
