@@ -3,8 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "support/run_command.hpp"
@@ -15,10 +13,7 @@ TEST(NavbenchConnective, QuickRunWritesSweepLiverCostAndStability) {
   const auto run = nav::testing::run_command(nav::testing::executable_path("navbench") + " connective --quick --json " +
                                              json.string() + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  std::ifstream file(json);
-  std::stringstream text;
-  text << file.rdbuf();
-  const std::string records = text.str();
+  const std::string records = nav::testing::file_text(json.string());
   for (const char* field : {"\"frames\"", "\"points\"", "\"pairs\"", "\"step_us_median\"", "\"step_us_p99\"", "\"difference_max_m\"",
                             "\"difference_rms_m\"", "\"stable\"", "\"stabilising_spring_n_m\""})
     EXPECT_NE(records.find(field), std::string::npos) << field;

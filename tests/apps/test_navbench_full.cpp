@@ -3,8 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "support/run_command.hpp"
@@ -15,10 +13,7 @@ TEST(NavbenchFull, QuickRunWritesRecordsAndPlot) {
   const auto run = nav::testing::run_command(nav::testing::executable_path("navbench") + " full --quick --json " +
                                              json.string() + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  std::ifstream file(json);
-  std::stringstream text;
-  text << file.rdbuf();
-  const std::string records = text.str();
+  const std::string records = nav::testing::file_text(json.string());
   for (const char* field : {"\"model\"", "\"tetrahedra\"", "\"integrator\"", "\"step_us_median\"", "\"step_us_p99\"",
                             "\"error_rms_m\"", "\"error_max_m\"", "\"volume_change_pct\""})
     EXPECT_NE(records.find(field), std::string::npos) << field;

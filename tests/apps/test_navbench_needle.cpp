@@ -10,10 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <regex>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -28,13 +26,6 @@ struct Record {
   int elements = 0, points = 0, ratio = 0, sweeps = 0;
   double median_us = 0.0, p99_us = 0.0, residual_m = 0.0;
 };
-
-std::string text_of(const std::filesystem::path& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
 
 std::vector<Record> records_of(const std::string& json) {
   const std::regex record(
@@ -74,7 +65,7 @@ TEST(NavbenchNeedle, QuickRunWritesRecordsAndForceProfile) {
   std::filesystem::remove(svg);
   const auto run = nav::testing::run_command(nav::testing::executable_path("navbench") + " needle --quick --json " + json.string() + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  const std::string text = text_of(json);
+  const std::string text = nav::testing::file_text(json.string());
   const std::vector<Record> records = records_of(text);
   ASSERT_EQ(records.size(), static_cast<std::size_t>(std::count(text.begin(), text.end(), '{'))) << "a record the pattern did not read";
 
@@ -112,7 +103,7 @@ TEST(NavbenchNeedle, QuickRunWritesRecordsAndForceProfile) {
   }
 
   ASSERT_TRUE(std::filesystem::exists(svg));
-  const std::string plot = text_of(svg);
+  const std::string plot = nav::testing::file_text(svg.string());
   EXPECT_NE(plot.find("<svg"), std::string::npos);
   std::size_t curves = 0;
   for (std::size_t at = plot.find("<polyline"); at != std::string::npos; at = plot.find("<polyline", at + 1)) ++curves;

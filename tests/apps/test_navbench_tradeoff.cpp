@@ -3,21 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
 
 namespace {
-
-std::string read(const std::filesystem::path& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
 
 std::size_t count_of(const std::string& text, const std::string& part) {
   std::size_t count = 0;
@@ -33,7 +24,7 @@ TEST(NavbenchTradeoff, QuickRunWritesRecordsAndParetoPlot) {
   const auto run = nav::testing::run_command(nav::testing::executable_path("navbench") + " tradeoff --quick --json " +
                                              json.string() + " --plot " + svg.string() + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  const std::string records = read(json);
+  const std::string records = nav::testing::file_text(json.string());
   const std::size_t record_count = count_of(records, "\"model\"");
   EXPECT_GE(record_count, 6u) << records;
   for (const char* field : {"\"r\"", "\"sampled_elements\"", "\"tetrahedra\"", "\"step_us_median\"", "\"step_us_p99\"",
@@ -44,7 +35,7 @@ TEST(NavbenchTradeoff, QuickRunWritesRecordsAndParetoPlot) {
   EXPECT_EQ(records.find("nan"), std::string::npos);
   EXPECT_EQ(records.find("inf"), std::string::npos);
 
-  const std::string plot = read(svg);
+  const std::string plot = nav::testing::file_text(svg.string());
   EXPECT_EQ(plot.rfind("<svg", 0), 0u);
   EXPECT_NE(plot.find("</svg>"), std::string::npos);
   EXPECT_EQ(count_of(plot, "class=\"pareto\""), 1u);  // one mesh in the quick run: one front

@@ -2,8 +2,6 @@
 // uncertainty printed and written; a search window too narrow for the lag is a clear error.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
 
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
@@ -12,6 +10,7 @@ namespace nav::calibration {
 namespace {
 
 using nav::testing::executable_path;
+using nav::testing::file_text;
 using nav::testing::run_command;
 using nav::testing::shared_data_path;
 
@@ -23,11 +22,9 @@ TEST(NavtoolCalibTemporal, WaterTankLagWrittenAndNarrowWindowRefused) {
   const std::string command = executable_path("navtool") + " calib temporal --video " + video + " --tracker " + tracker;
   const auto run = run_command(command + " --out " + out + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  std::ifstream file(out);
-  std::stringstream text;
-  text << file.rdbuf();
-  EXPECT_NE(text.str().find("video_lag_s = 0.06"), std::string::npos) << text.str();  // about 67 ms
-  EXPECT_NE(text.str().find("uncertainty_s = "), std::string::npos);
+  const std::string text = file_text(out);
+  EXPECT_NE(text.find("video_lag_s = 0.06"), std::string::npos) << text;  // about 67 ms
+  EXPECT_NE(text.find("uncertainty_s = "), std::string::npos);
   const auto narrow = run_command(command + " --max-lag-s 0.03 2>&1");
   EXPECT_EQ(narrow.exit_code, 2);
   EXPECT_NE(narrow.output.find("beyond the search window"), std::string::npos) << narrow.output;

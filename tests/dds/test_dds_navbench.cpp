@@ -6,9 +6,9 @@
 
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
-#include <sstream>
 #include <string>
+
+#include "support/test_data.hpp"
 
 namespace {
 
@@ -18,11 +18,8 @@ TEST(DdsNavbench, WritesTheLatencyTableAsJson) {
   const std::string command = std::string(NAV_BIN_DIR) + "/navbench dds --json " + json_path +
                               " --domain 150 --pose-samples 200 --frame-samples 20";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;
-  std::ifstream file(json_path);
-  ASSERT_TRUE(file.good());
-  std::stringstream text;
-  text << file.rdbuf();
-  const std::string json = text.str();
+  ASSERT_TRUE(nav::testing::file_exists(json_path));
+  const std::string json = nav::testing::file_text(json_path);
   for (const char* name : {"\"pose_in_process\"", "\"pose_cross_process\"", "\"frame_1mib_cross_process\"",
                            "\"frame_1mib_cross_process_no_data_sharing\"", "\"frame_1mib_throughput_cross_process\"",
                            "\"targets_met\""}) {

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <unistd.h>
 
 namespace nav::testing {
@@ -13,6 +14,13 @@ std::string shared_data_path(const std::string& relative) {
 }
 
 bool file_exists(const std::string& path) { return std::ifstream(path).good(); }
+
+std::string file_text(const std::string& path) {
+  std::ifstream file(path);
+  std::stringstream text;
+  text << file.rdbuf();
+  return text.str();
+}
 
 namespace {
 

@@ -13,6 +13,9 @@ std::string shared_data_path(const std::string& relative);
 /// True if the file exists and can be opened.
 bool file_exists(const std::string& path);
 
+/// The whole text of a file (empty when it cannot be read).
+std::string file_text(const std::string& path);
+
 /// A path in this process's own temporary folder for a test's output (the folder goes when
 /// the process exits).
 std::string temporary_path(const std::string& file_name);
