@@ -2,7 +2,6 @@
 // uncertainty printed and written; a search window too narrow for the lag is a clear error.
 #include <gtest/gtest.h>
 
-
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
 

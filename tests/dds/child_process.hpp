@@ -7,12 +7,12 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <fstream>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "support/test_data.hpp"
 
 namespace nav::testing {
 
@@ -74,12 +74,7 @@ class ChildProcess {
   }
 
   /// What the child wrote so far.
-  std::string log() const {
-    std::ifstream file(log_path_);
-    std::stringstream text;
-    text << file.rdbuf();
-    return text.str();
-  }
+  std::string log() const { return file_text(log_path_); }
 
  private:
   std::string log_path_;

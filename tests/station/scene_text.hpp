@@ -3,8 +3,6 @@
 // the example scenes of apps/navstation/scenes, their text, and edits that change one line.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "support/test_data.hpp"
@@ -16,17 +14,9 @@ inline std::string example_scene_path(const std::string& name) {
   return test_data_path("../../apps/navstation/scenes/" + name);
 }
 
-/// The text of a file (empty if it cannot be read).
-inline std::string read_text(const std::string& path) {
-  std::ifstream file(path);
-  std::stringstream text;
-  text << file.rdbuf();
-  return text.str();
-}
-
 /// The text of the demo scene.
 inline const std::string& demo_text() {
-  static const std::string text = read_text(example_scene_path("demo.yaml"));
+  static const std::string text = file_text(example_scene_path("demo.yaml"));
   return text;
 }
 

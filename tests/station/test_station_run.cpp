@@ -296,11 +296,11 @@ TEST(StationRun, NavstationRunsASceneAndPrintsItsSummary) {
   // the 40 frames through DDS); the real figures are printed above.
   EXPECT_LE(number_after(run.output, "deadline misses (> 5 ms late): "), 100.0);
   EXPECT_GE(number_after(run.output, "ultrasound: "), 30.0);
-  const std::string plot = testing::read_text(svg);
+  const std::string plot = testing::file_text(svg);
   EXPECT_NE(plot.find("<svg"), std::string::npos);
   EXPECT_NE(plot.find("<polyline"), std::string::npos);
   // navview ran alongside and wrote composites of the station's topics (PNG signature).
-  const std::string png = testing::read_text(images + "/navview_000001.png");
+  const std::string png = testing::file_text(images + "/navview_000001.png");
   ASSERT_GE(png.size(), 8u);
   EXPECT_EQ(png.substr(1, 3), "PNG");
   std::remove(svg.c_str());
