@@ -8,7 +8,7 @@
 set -euo pipefail
 
 core_packages=(
-  build-essential cmake ninja-build git ca-certificates pkg-config
+  build-essential cmake ninja-build ccache git ca-certificates pkg-config
   libeigen3-dev libspectra-dev libgtest-dev libgmock-dev libbenchmark-dev
 )
 station_packages=(

@@ -72,9 +72,8 @@ int record(const DdsToolArgs& args) {
     return exit_failure;
   }
   const nav::dds::BoundaryCounts counts = node.value()->boundary_counts();
-  std::printf("recorded %zu samples to %s (%llu dropped at the boundary)\n", records, args.file.c_str(),
-              static_cast<unsigned long long>(counts.wrong_size + counts.non_finite + counts.non_unit_quaternion +
-                                              counts.time_backwards + counts.buffer_full));
+  std::printf("recorded %zu samples to %s (dropped at the boundary: %s)\n", records, args.file.c_str(),
+              nav::dds::drops_by_reason(counts).c_str());
   return exit_ok;
 }
 

@@ -45,7 +45,15 @@ class ChildProcess {
   ChildProcess& operator=(const ChildProcess&) = delete;
 
   bool started() const { return pid_ > 0; }
+  pid_t pid() const { return pid_; }
   bool running() const { return pid_ > 0 && !status_; }
+
+  /// True once the child has ended; never blocks (its exit code then comes from wait()).
+  bool ended() {
+    int status = 0;
+    if (running() && waitpid(pid_, &status, WNOHANG) == pid_) status_ = status;
+    return !running();
+  }
 
   /// Sends `signal_number` to the child if it still runs.
   void signal(int signal_number) const {

@@ -120,6 +120,7 @@ TEST(DdsSampleChecks, CountersAddUpByReason) {
   BoundaryCounters counters;
   counters.count(SampleFault::none);
   counters.count(SampleFault::none);
+  counters.count(SampleFault::malformed);
   counters.count(SampleFault::wrong_size);
   counters.count(SampleFault::non_finite);
   counters.count(SampleFault::non_unit_quaternion);
@@ -129,6 +130,7 @@ TEST(DdsSampleChecks, CountersAddUpByReason) {
   counters.count(SampleFault::buffer_full);
   const BoundaryCounts counts = counters.snapshot();
   EXPECT_EQ(counts.accepted, 2u);
+  EXPECT_EQ(counts.malformed, 1u);
   EXPECT_EQ(counts.wrong_size, 1u);
   EXPECT_EQ(counts.non_finite, 1u);
   EXPECT_EQ(counts.non_unit_quaternion, 1u);
@@ -136,6 +138,8 @@ TEST(DdsSampleChecks, CountersAddUpByReason) {
   EXPECT_EQ(counts.unknown_tool, 1u);
   EXPECT_EQ(counts.buffer_full, 1u);
   EXPECT_STREQ(sample_fault_name(SampleFault::non_unit_quaternion), "non_unit_quaternion");
+  EXPECT_EQ(drops_by_reason(counts), "malformed 1, wrong_size 1, non_finite 1, non_unit_quaternion 1, time_backwards 2, unknown_tool 1, buffer_full 1");
+  EXPECT_EQ(drops_by_reason(BoundaryCounts{.accepted = 5}), "none");
 }
 
 }  // namespace

@@ -74,11 +74,13 @@ TEST(DdsWireTypes, NeedlePredictionSurfaceAndHealthRoundTrip) {
   StationHealth health = make_health(4);
   health.boundary.non_unit_quaternion = 9;
   health.boundary.buffer_full = 11;
+  health.boundary.malformed = 13;
   const auto health_back = round_trip(health);
   EXPECT_EQ(health_back->mode, StationMode::running);
   EXPECT_EQ(health_back->step_time_max_ns, 420'000);
   EXPECT_EQ(health_back->boundary.non_unit_quaternion, 9u);
   EXPECT_EQ(health_back->boundary.buffer_full, 11u);
+  EXPECT_EQ(health_back->boundary.malformed, 13u);
 }
 
 TEST(DdsWireTypes, AllTypesAreBoundedSoTheyCanUseDataSharing) {

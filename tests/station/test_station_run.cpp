@@ -250,16 +250,6 @@ TEST(StationRun, AssimilationKeepsTheTumourWithin1MillimetreRms) {
   EXPECT_LT(a.tumour_ahead_rms_m, 0.8 * o.tumour_ahead_rms_m);
 }
 
-/// The number printed right after `label` in `text`; NaN (failing any bound) when absent.
-double number_after(const std::string& text, const std::string& label) {
-  const std::size_t at = text.find(label);
-  if (at == std::string::npos) {
-    ADD_FAILURE() << "missing: " << label;
-    return std::nan("");
-  }
-  return std::strtod(text.c_str() + at + label.size(), nullptr);
-}
-
 /// The demo scene with every topic renamed under site_c/, written to a temporary file (its
 /// URDF path made absolute); the file's path.
 std::string renamed_demo_scene() {
@@ -294,8 +284,8 @@ TEST(StationRun, NavstationRunsASceneAndPrintsItsSummary) {
   // This program shares the host with other tests and runs under the sanitizers too: the
   // budgets are generous (a twentieth of the 2001 ticks more than 5 ms late, three quarters of
   // the 40 frames through DDS); the real figures are printed above.
-  EXPECT_LE(number_after(run.output, "deadline misses (> 5 ms late): "), 100.0);
-  EXPECT_GE(number_after(run.output, "ultrasound: "), 30.0);
+  EXPECT_LE(testing::number_after(run.output, "deadline misses (> 5 ms late): "), 100.0);
+  EXPECT_GE(testing::number_after(run.output, "ultrasound: "), 30.0);
   const std::string plot = testing::file_text(svg);
   EXPECT_NE(plot.find("<svg"), std::string::npos);
   EXPECT_NE(plot.find("<polyline"), std::string::npos);

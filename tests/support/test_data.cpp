@@ -1,5 +1,9 @@
 #include "support/test_data.hpp"
 
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -20,6 +24,15 @@ std::string file_text(const std::string& path) {
   std::stringstream text;
   text << file.rdbuf();
   return text.str();
+}
+
+double number_after(const std::string& text, const std::string& label) {
+  const std::size_t at = text.find(label);
+  if (at == std::string::npos) {
+    ADD_FAILURE() << "missing: " << label;
+    return std::nan("");
+  }
+  return std::strtod(text.c_str() + at + label.size(), nullptr);
 }
 
 namespace {

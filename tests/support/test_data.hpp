@@ -16,6 +16,10 @@ bool file_exists(const std::string& path);
 /// The whole text of a file (empty when it cannot be read).
 std::string file_text(const std::string& path);
 
+/// The number printed right after `label` in `text`; NaN (failing any bound) and a test
+/// failure when `label` is absent.
+double number_after(const std::string& text, const std::string& label);
+
 /// A path in this process's own temporary folder for a test's output (the folder goes when
 /// the process exits).
 std::string temporary_path(const std::string& file_name);

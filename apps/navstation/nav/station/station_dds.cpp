@@ -337,6 +337,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, 
   report.surfaces_published = surfaces.published();
   report.surface_periods_passed_over = surfaces.passed_over();
   report.surface_reconstruction = latency_statistics(surfaces.reconstruction_us());
+  report.boundary = link.station->boundary_counts();
   run.dds = report;
 }
 

@@ -17,6 +17,7 @@
 
 #include "nav/core/clock.hpp"
 #include "nav/core/error.hpp"
+#include "nav/dds/samples.hpp"
 #include "nav/dds/topics.hpp"
 #include "nav/loop/operating_loop.hpp"
 #include "nav/station/realtime_thread.hpp"
@@ -107,6 +108,7 @@ struct DdsRunReport {
   std::int64_t surfaces_published = 0;
   std::int64_t surface_periods_passed_over = 0;  ///< periods of liver time the I/O thread read no output in (it lagged)
   LatencyStatistics surface_reconstruction;  ///< the I/O thread's time per surface
+  dds::BoundaryCounts boundary;     ///< what the station's participant accepted and refused, by reason
 };
 
 /// What a real-time run measured.

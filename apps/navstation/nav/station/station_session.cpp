@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "nav/dds/sample_fault.hpp"
 #include "nav/station/station_dds.hpp"
 
 namespace nav::station {
@@ -151,6 +152,8 @@ std::string format_summary(const Scene& scene, const StationSession& s) {
     out += format("  deformed surface (%.0f vertices): %.0f published; reconstruction on the I/O thread median %.0f us, p99 %.0f us\n",
                   static_cast<double>(s.surface.nodes.size()), static_cast<double>(d.surfaces_published), d.surface_reconstruction.median_us,
                   d.surface_reconstruction.p99_us);
+    out += format("  samples accepted %.0f;", static_cast<double>(d.boundary.accepted));
+    out += " dropped at the boundary: " + dds::drops_by_reason(d.boundary) + "\n";
   }
   return out;
 }

@@ -17,7 +17,9 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include "nav/dds/checked_type.hpp"
 #include "nav/dds/participant_qos.hpp"
+#include "nav/dds/shared_memory_cleanup.hpp"
 #include "nav/dds/sample_checks.hpp"
 #include "nav/dds/topic_qos.hpp"
 #include "nav/dds/wire_convert.hpp"
@@ -103,7 +105,7 @@ struct DdsNode::Impl {
 
   template <typename Sample>
   bool create_topic() {
-    fdds::TypeSupport type(new typename WireTraits<Sample>::PubSubType());
+    fdds::TypeSupport type(new CheckedPubSubType<Sample>(counters));
     if (type.register_type(participant) != ReturnCode_t::RETCODE_OK) return false;
     constexpr Topic topic = WireTraits<Sample>::topic;
     topics[index_of(topic)] = participant->create_topic(topic_name(topic, qos.names), type.get_type_name(), fdds::TopicQos());
@@ -119,6 +121,7 @@ struct DdsNode::Impl {
 Result<std::unique_ptr<DdsNode>> DdsNode::create(const NetworkConfig& network, const TopicQosOptions& qos) {
   auto participant_qos = make_participant_qos(network);
   if (!participant_qos) return participant_qos.error();
+  if (network.shared_memory) remove_dead_shared_memory();
   auto impl = std::make_unique<Impl>();
   impl->qos = qos;
   impl->participant = fdds::DomainParticipantFactory::get_instance()->create_participant(

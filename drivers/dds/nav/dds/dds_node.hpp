@@ -21,7 +21,8 @@ namespace nav::dds {
 class DdsNode {
  public:
   /// Joins the domain with `network`, or says why it cannot (bad address, missing profile,
-  /// DDS refusal). Creates no writer or reader yet.
+  /// DDS refusal). Creates no writer or reader yet. With shared memory, first removes the
+  /// segments that dead participants left behind (shared_memory_cleanup.hpp).
   static Result<std::unique_ptr<DdsNode>> create(const NetworkConfig& network, const TopicQosOptions& qos = {});
   ~DdsNode();
   DdsNode(const DdsNode&) = delete;
@@ -34,7 +35,9 @@ class DdsNode {
   template <typename Sample>
   bool write(const Sample& sample);
 
-  /// Creates the reader of Sample's topic (once). Each valid sample is sized, checked,
+  /// Creates the reader of Sample's topic (once). Each payload is decoded through the one
+  /// checked path (checked_type.hpp: what does not decode is counted as malformed); each
+  /// valid sample is sized, checked,
   /// time-ordered, stamped with its receive time and offered to `sink`; every verdict is
   /// counted in boundary_counts(). `sink` must outlive this node.
   template <typename Sample>

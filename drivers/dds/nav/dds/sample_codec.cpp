@@ -1,10 +1,8 @@
 #include "nav/dds/sample_codec.hpp"
 
 #include <cstring>
-#include <exception>
 
-#include <fastdds/rtps/common/SerializedPayload.h>
-
+#include "nav/dds/checked_type.hpp"
 #include "nav/dds/sample_checks.hpp"
 #include "nav/dds/wire_convert.hpp"
 
@@ -29,17 +27,14 @@ bool encode_sample(const Sample& sample, std::vector<std::uint8_t>& bytes) {
 template <typename Sample>
 SampleFault decode_sample(const std::uint8_t* bytes, std::size_t size, Sample& sample) {
   typename WireTraits<Sample>::PubSubType type;
-  if (size == 0 || size > type.m_typeSize) return SampleFault::wrong_size;  // empty: no buffer to copy into
+  if (!is_plain_cdr(bytes, size)) return SampleFault::malformed;  // also: empty, no buffer to copy into
+  if (size > type.m_typeSize) return SampleFault::wrong_size;
   eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(size));
   std::memcpy(payload.data, bytes, size);
   payload.length = static_cast<std::uint32_t>(size);
   typename WireTraits<Sample>::Wire wire;
-  try {
-    if (!type.deserialize(&payload, &wire)) return SampleFault::wrong_size;
-  } catch (const std::exception&) {
-    return SampleFault::wrong_size;
-  }
-  const SampleFault fault = from_wire(wire, sample);
+  SampleFault fault = checked_deserialize<Sample>(type, payload, wire);
+  if (fault == SampleFault::none) fault = from_wire(wire, sample);
   return fault != SampleFault::none ? fault : check_sample(sample);
 }
 

@@ -19,8 +19,8 @@ Topic topic_of() noexcept;
 template <typename Sample>
 bool encode_sample(const Sample& sample, std::vector<std::uint8_t>& bytes);
 
-/// `sample` from CDR `bytes`: none, wrong_size when they do not decode, or the fault
-/// check_sample() finds in the decoded values.
+/// `sample` from CDR `bytes`: none, malformed when they do not decode (checked_type.hpp, the
+/// path DDS readers take too), wrong_size, or the fault check_sample() finds in the values.
 template <typename Sample>
 SampleFault decode_sample(const std::uint8_t* bytes, std::size_t size, Sample& sample);
 

@@ -1,10 +1,13 @@
 #include "nav/dds/sample_fault.hpp"
 
+#include <utility>
+
 namespace nav::dds {
 
 const char* sample_fault_name(SampleFault fault) noexcept {
   switch (fault) {
     case SampleFault::none: return "none";
+    case SampleFault::malformed: return "malformed";
     case SampleFault::wrong_size: return "wrong_size";
     case SampleFault::non_finite: return "non_finite";
     case SampleFault::non_unit_quaternion: return "non_unit_quaternion";
@@ -15,12 +18,28 @@ const char* sample_fault_name(SampleFault fault) noexcept {
   return "unknown";
 }
 
+std::string drops_by_reason(const BoundaryCounts& counts) {
+  const std::pair<SampleFault, std::uint64_t> drops[] = {
+      {SampleFault::malformed, counts.malformed},           {SampleFault::wrong_size, counts.wrong_size},
+      {SampleFault::non_finite, counts.non_finite},         {SampleFault::non_unit_quaternion, counts.non_unit_quaternion},
+      {SampleFault::time_backwards, counts.time_backwards}, {SampleFault::unknown_tool, counts.unknown_tool},
+      {SampleFault::buffer_full, counts.buffer_full}};
+  std::string text;
+  for (const auto& [fault, count] : drops) {
+    if (count == 0) continue;
+    if (!text.empty()) text += ", ";
+    text += std::string(sample_fault_name(fault)) + " " + std::to_string(count);
+  }
+  return text.empty() ? "none" : text;
+}
+
 BoundaryCounts BoundaryCounters::snapshot() const noexcept {
   const auto read = [this](SampleFault fault) {
     return counts_[static_cast<std::size_t>(fault)].load(std::memory_order_relaxed);
   };
   BoundaryCounts counts;
   counts.accepted = read(SampleFault::none);
+  counts.malformed = read(SampleFault::malformed);
   counts.wrong_size = read(SampleFault::wrong_size);
   counts.non_finite = read(SampleFault::non_finite);
   counts.non_unit_quaternion = read(SampleFault::non_unit_quaternion);

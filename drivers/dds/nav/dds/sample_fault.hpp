@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 
 #include "nav/dds/samples.hpp"
 
@@ -13,6 +14,7 @@ namespace nav::dds {
 /// The verdict on one incoming sample: accepted (none) or the reason it was dropped.
 enum class SampleFault : std::uint8_t {
   none = 0,
+  malformed,            // the payload does not decode: not plain CDR (XCDR1), truncated, lengths past its end
   wrong_size,           // a length field disagrees with the data, or exceeds its bound
   non_finite,           // NaN or infinity in a number
   non_unit_quaternion,  // |q| differs from 1 by more than kQuaternionNormTolerance
@@ -23,6 +25,10 @@ enum class SampleFault : std::uint8_t {
 
 /// The fault's name in snake case, for logs.
 const char* sample_fault_name(SampleFault fault) noexcept;
+
+/// The samples `counts` dropped, by reason, for a summary: "malformed 3, time_backwards 1",
+/// or "none".
+std::string drops_by_reason(const BoundaryCounts& counts);
 
 /// Counts of accepted and dropped samples. Any thread may count; any thread may read.
 class BoundaryCounters {

@@ -85,6 +85,7 @@ struct DeformedSurface {
 /// Samples dropped at the DDS boundary, by reason, and those accepted.
 struct BoundaryCounts {
   std::uint64_t accepted = 0;
+  std::uint64_t malformed = 0;
   std::uint64_t wrong_size = 0;
   std::uint64_t non_finite = 0;
   std::uint64_t non_unit_quaternion = 0;

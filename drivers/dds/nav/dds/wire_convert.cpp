@@ -152,6 +152,7 @@ void to_wire(const StationHealth& sample, nav_msgs::StationHealth& wire) {
   wire.step_time_max_ns(sample.step_time_max_ns);
   wire.deadline_misses(sample.deadline_misses);
   wire.accepted_samples(sample.boundary.accepted);
+  wire.dropped_malformed(sample.boundary.malformed);
   wire.dropped_wrong_size(sample.boundary.wrong_size);
   wire.dropped_non_finite(sample.boundary.non_finite);
   wire.dropped_non_unit_quaternion(sample.boundary.non_unit_quaternion);
@@ -169,6 +170,7 @@ SampleFault from_wire(const nav_msgs::StationHealth& wire, StationHealth& sample
   sample.step_time_max_ns = wire.step_time_max_ns();
   sample.deadline_misses = wire.deadline_misses();
   sample.boundary.accepted = wire.accepted_samples();
+  sample.boundary.malformed = wire.dropped_malformed();
   sample.boundary.wrong_size = wire.dropped_wrong_size();
   sample.boundary.non_finite = wire.dropped_non_finite();
   sample.boundary.non_unit_quaternion = wire.dropped_non_unit_quaternion();

@@ -1,0 +1,291 @@
+// Samples no Fast DDS writer of the station's types would send, sent anyway: payloads under
+// another CDR encapsulation (XCDR2 0x0007, parameter lists), a first byte of 0x01, cut short.
+// The generated decoder throws on some of them on Fast DDS's receive thread, which once ended
+// navstation and navtool record (std::terminate). Each is a counted `malformed` refusal here:
+// in the decoder alone, in a reader of this process fed over UDP by a participant of "another
+// vendor", and in a running navtool record and navstation, which finish with their summaries.
+// A participant killed with SIGKILL leaves its shared-memory segment behind; the next one to
+// start removes it.
+#include <gtest/gtest.h>
+#include <sys/file.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "child_process.hpp"
+#include "dds_test_samples.hpp"
+#include "nav/dds/checked_type.hpp"
+#include "nav/dds/dds_node.hpp"
+#include "nav/dds/recording_file.hpp"
+#include "nav/dds/sample_codec.hpp"
+#include "nav/dds/shared_memory_cleanup.hpp"
+#include "raw_payload_writer.hpp"
+
+namespace nav::dds {
+namespace {
+
+using namespace testing;
+using nav::testing::ChildProcess;
+
+const std::string kNavtool = std::string(NAV_BIN_DIR) + "/navtool";
+const std::string kNavstation = std::string(NAV_BIN_DIR) + "/navstation";
+using Payload = std::vector<std::uint8_t>;
+
+std::string temp_path(const std::string& name) { return ::testing::TempDir() + name + "_" + std::to_string(getpid()); }
+
+/// Payloads made from the valid encoding `valid`, none of which a station may take.
+std::vector<std::pair<std::string, Payload>> crafted_payloads(const Payload& valid) {
+  const auto edited = [&valid](std::uint8_t first, std::uint8_t second) {
+    Payload bytes = valid;
+    bytes[0] = first;
+    bytes[1] = second;
+    return bytes;
+  };
+  return {{"XCDR2 encapsulation 0x0007", edited(0x00, 0x07)},
+          {"first byte 0x01", edited(0x01, 0x00)},
+          {"parameter-list encapsulation 0x0003", edited(0x00, 0x03)},
+          {"encapsulation 0x0101", edited(0x01, 0x01)},
+          {"encapsulation header alone", Payload(valid.begin(), valid.begin() + 4)},
+          {"cut in half", Payload(valid.begin(), valid.begin() + static_cast<std::ptrdiff_t>(valid.size() / 2))}};
+}
+
+template <typename Sample>
+Payload encoded(const Sample& sample) {
+  Payload bytes;
+  EXPECT_TRUE(encode_sample(sample, bytes));
+  return bytes;
+}
+
+/// Every crafted payload of `valid` through Sample's checked type: refused as malformed and
+/// counted, where the generated type itself throws on at least one of them.
+template <typename Sample>
+void expect_refused_by_the_checked_type(const Payload& valid) {
+  BoundaryCounters counters;
+  CheckedPubSubType<Sample> checked(counters);
+  typename WireTraits<Sample>::PubSubType generated;
+  auto wire = std::make_unique<typename WireTraits<Sample>::Wire>();
+  std::size_t generated_throws = 0;
+  const auto crafted = crafted_payloads(valid);
+  for (const auto& [what, bytes] : crafted) {
+    eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(bytes.size()));
+    std::memcpy(payload.data, bytes.data(), bytes.size());
+    payload.length = static_cast<std::uint32_t>(bytes.size());
+    EXPECT_FALSE(checked.deserialize(&payload, wire.get())) << what;
+    try {
+      generated.deserialize(&payload, wire.get());
+    } catch (...) {
+      ++generated_throws;
+    }
+    auto sample = std::make_unique<Sample>();
+    EXPECT_EQ(decode_sample(bytes.data(), bytes.size(), *sample), SampleFault::malformed) << what;
+  }
+  EXPECT_EQ(counters.snapshot().malformed, crafted.size());
+  EXPECT_GE(generated_throws, 2u) << "the generated decoder no longer throws: the hazard this test guards is gone";
+  // The valid payload still decodes, in both encapsulations of plain CDR.
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(static_cast<std::uint32_t>(valid.size()));
+  std::memcpy(payload.data, valid.data(), valid.size());
+  payload.length = static_cast<std::uint32_t>(valid.size());
+  EXPECT_TRUE(checked.deserialize(&payload, wire.get()));
+  EXPECT_EQ(counters.snapshot().malformed, crafted.size());
+}
+
+TEST(DdsHostileSamples, EveryTypeRefusesForeignEncapsulationsAsCountedMalformedSamples) {
+  expect_refused_by_the_checked_type<ToolPose>(encoded(make_pose(1, 1000)));
+  expect_refused_by_the_checked_type<UltrasoundFrame>(encoded(*make_frame(32, 24, 2000)));
+  expect_refused_by_the_checked_type<NeedleState>(encoded(make_needle(8, 3000)));
+  expect_refused_by_the_checked_type<TargetPrediction>(encoded(make_prediction(4000)));
+  expect_refused_by_the_checked_type<DeformedSurface>(encoded(*make_surface(16, 5000)));
+  expect_refused_by_the_checked_type<StationHealth>(encoded(make_health(6000)));
+}
+
+TEST(DdsHostileSamples, PlainCdrIsTheOnlyEncapsulationTaken) {
+  const Payload valid = encoded(make_pose(1, 1000));
+  for (int first = 0; first < 256; ++first) {
+    for (int second = 0; second < 256; ++second) {
+      Payload bytes = valid;
+      bytes[0] = static_cast<std::uint8_t>(first);
+      bytes[1] = static_cast<std::uint8_t>(second);
+      ASSERT_EQ(is_plain_cdr(bytes.data(), bytes.size()), first == 0 && second <= 1) << first << " " << second;
+    }
+  }
+  EXPECT_FALSE(is_plain_cdr(valid.data(), 3));
+  EXPECT_FALSE(is_plain_cdr(nullptr, 0));
+}
+
+/// Sends, `rounds` times, every crafted payload of a valid sample and then the valid sample
+/// itself (valid_of_round(round), 1 ms later each round), 10 ms apart: a keep-last-1 reader
+/// takes each before the next. Returns the crafted payloads written.
+template <typename Sample, typename ValidOfRound>
+std::size_t send_rounds(RawPayloadWriter<Sample>& writer, ValidOfRound valid_of_round, int rounds) {
+  std::size_t crafted_written = 0;
+  for (int round = 0; round < rounds; ++round) {
+    const Payload valid = encoded(valid_of_round((round + 1) * kNsPerMs));
+    for (const auto& [what, bytes] : crafted_payloads(valid)) {
+      if (writer.write(bytes)) ++crafted_written;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    EXPECT_TRUE(writer.write(valid));
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return crafted_written;
+}
+
+TEST(DdsHostileSamples, AReaderCountsCraftedPayloadsFromAForeignParticipantAndKeepsTheValidOnes) {
+  auto node = DdsNode::create(local_network(190));
+  ASSERT_TRUE(node.ok()) << node.error().describe();
+  auto poses = std::make_unique<RingSink<ToolPose, 64>>();
+  ASSERT_TRUE(node.value()->subscribe(*poses).ok());
+  RawPayloadWriter<ToolPose> foreign(190);
+  ASSERT_TRUE(foreign.ready());
+  ASSERT_TRUE(wait_until([&] { return foreign.matched() >= 1; }));
+
+  constexpr int kRounds = 5;
+  const std::size_t crafted = send_rounds(foreign, [](TimeNs time_ns) { return make_pose(7, time_ns); }, kRounds);
+  ASSERT_TRUE(wait_until([&] { return poses->size() >= kRounds; }, std::chrono::seconds(5)));
+  const BoundaryCounts counts = node.value()->boundary_counts();
+  std::printf("crafted payloads written %zu: %s; accepted %llu\n", crafted, drops_by_reason(counts).c_str(),
+              static_cast<unsigned long long>(counts.accepted));
+  // Loopback UDP loses nothing at this pace: every crafted payload is counted, every valid
+  // one is taken, and nothing is refused for another reason.
+  EXPECT_EQ(counts.malformed, crafted);
+  EXPECT_EQ(counts.accepted, static_cast<std::uint64_t>(kRounds));
+  EXPECT_EQ(poses->size(), static_cast<std::size_t>(kRounds));
+  EXPECT_EQ(drops_by_reason(counts), "malformed " + std::to_string(crafted));
+}
+
+TEST(DdsHostileSamples, NavtoolRecordKeepsRecordingThroughCraftedPayloads) {
+  const std::string recording = temp_path("hostile.navrec");
+  ChildProcess recorder({kNavtool, "record", "--out", recording, "--duration-s", "120", "--domain", "191"},
+                        temp_path("hostile_record.log"));
+  ASSERT_TRUE(recorder.started());
+  RawPayloadWriter<ToolPose> foreign_poses(191);
+  RawPayloadWriter<UltrasoundFrame> foreign_frames(191);
+  ASSERT_TRUE(foreign_poses.ready() && foreign_frames.ready());
+  ASSERT_TRUE(wait_until([&] { return foreign_poses.matched() >= 1 && foreign_frames.matched() >= 1; }, std::chrono::seconds(30)));
+
+  constexpr int kRounds = 4;
+  const std::size_t crafted = send_rounds(foreign_poses, [](TimeNs time_ns) { return make_pose(7, time_ns); }, kRounds) +
+                              send_rounds(foreign_frames, [](TimeNs time_ns) { return *make_frame(64, 48, time_ns); }, kRounds);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the last samples reach the file
+  recorder.signal(SIGTERM);
+  const std::optional<int> exit_code = recorder.wait(std::chrono::seconds(30));
+  std::printf("crafted payloads written %zu\n%s", crafted, recorder.log().c_str());
+  ASSERT_EQ(exit_code, 0) << "navtool record did not end by itself: " << recorder.log();
+  EXPECT_GE(nav::testing::number_after(recorder.log(), "malformed "), static_cast<double>(crafted) * 0.9);
+  // The valid samples between the crafted ones are all in an intact, indexed recording.
+  auto reader = RecordingReader::open(recording);
+  ASSERT_TRUE(reader.ok()) << reader.error().describe();
+  EXPECT_FALSE(reader.value()->damage().has_value());
+  EXPECT_EQ(reader.value()->record_count(), 2u * kRounds);
+  std::remove(recording.c_str());
+}
+
+TEST(DdsHostileSamples, NavstationRunsThroughCraftedPosesAndFramesAndCountsThem) {
+  const std::string log = temp_path("hostile_station.log");
+  ChildProcess station({kNavstation, "--demo", "--seconds", "2", "--domain", "192"}, log);
+  ASSERT_TRUE(station.started());
+  RawPayloadWriter<ToolPose> foreign_poses(192);
+  RawPayloadWriter<UltrasoundFrame> foreign_frames(192);
+  ASSERT_TRUE(foreign_poses.ready() && foreign_frames.ready());
+  // The station joins once it has built its scene and simulated its world (seconds).
+  ASSERT_TRUE(wait_until([&] { return station.ended() || (foreign_poses.matched() >= 1 && foreign_frames.matched() >= 1); },
+                         std::chrono::seconds(300)));
+  const auto poses = crafted_payloads(encoded(make_pose(1, 1000)));
+  const auto frames = crafted_payloads(encoded(*make_frame(64, 48, 2000)));
+  std::size_t written = 0;
+  for (std::size_t i = 0; !station.ended() && i < 100000; ++i) {  // until the run ends (a few seconds)
+    written += foreign_poses.write(poses[i % poses.size()].second) ? 1 : 0;
+    written += foreign_frames.write(frames[i % frames.size()].second) ? 1 : 0;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  const std::optional<int> exit_code = station.wait(std::chrono::seconds(60));
+  const std::string output = station.log();
+  std::printf("crafted payloads written %zu\n%s", written, output.c_str());
+  ASSERT_EQ(exit_code, 0);
+  EXPECT_NE(output.find("tumour now"), std::string::npos);
+  EXPECT_GE(nav::testing::number_after(output, "dropped at the boundary: malformed "), 20.0);
+  EXPECT_GE(nav::testing::number_after(output, "ultrasound: "), 30.0);  // the simulated scanner's frames still arrive
+}
+
+/// The lock files of the shared-memory segments that process `pid` has mapped (its own, as
+/// no other participant shares its domain).
+std::set<std::string> segment_locks_of(pid_t pid) {
+  std::set<std::string> locks;
+  std::ifstream maps("/proc/" + std::to_string(pid) + "/maps");
+  for (std::string line; std::getline(maps, line);) {
+    const std::size_t at = line.find("/dev/shm/fastrtps_");
+    if (at != std::string::npos && line.find("fastrtps_port", at) == std::string::npos) locks.insert(line.substr(at) + "_el");
+  }
+  return locks;
+}
+
+/// True when a process holds `path` locked.
+bool held(const std::string& path) {
+  const int fd = open(path.c_str(), O_RDONLY);
+  if (fd < 0) return false;
+  const bool locked = flock(fd, LOCK_EX | LOCK_NB) != 0;
+  close(fd);
+  return locked;
+}
+
+TEST(DdsHostileSamples, TheSegmentOfAKilledParticipantIsRemovedWhenTheNextOneStarts) {
+  ChildProcess recorder({kNavtool, "record", "--out", temp_path("killed.navrec"), "--duration-s", "120", "--domain", "193"},
+                        temp_path("killed_record.log"));
+  std::set<std::string> its_locks;
+  ASSERT_TRUE(wait_until([&] { return !(its_locks = segment_locks_of(recorder.pid())).empty(); }, std::chrono::seconds(30)));
+  for (const std::string& lock : its_locks) EXPECT_TRUE(held(lock)) << lock << " not held by the live participant";
+  recorder.signal(SIGKILL);
+  EXPECT_FALSE(recorder.wait(std::chrono::seconds(10)).has_value());  // killed: no exit code
+  for (const std::string& lock : its_locks) EXPECT_FALSE(held(lock)) << lock << " still held after the kill";
+  std::this_thread::sleep_for(std::chrono::milliseconds(1200));  // older than the cleanup's 1 s guard
+
+  // The next participant to start removes what the killed one left (or one that other tests
+  // started on this host meanwhile already did): the segment and its lock file.
+  auto node = DdsNode::create(local_network(193));
+  ASSERT_TRUE(node.ok()) << node.error().describe();
+  for (const std::string& lock : its_locks) {
+    EXPECT_FALSE(std::filesystem::exists(lock)) << lock;
+    EXPECT_FALSE(std::filesystem::exists(lock.substr(0, lock.size() - 3))) << "the segment of " << lock;
+  }
+}
+
+TEST(DdsHostileSamples, CleanupKeepsSegmentsInUseOrJustCreatedAndOtherFiles) {
+  const std::filesystem::path folder = temp_path("shm");
+  std::filesystem::create_directories(folder);
+  const auto make = [&](const std::string& name, bool age) {
+    std::ofstream(folder / name) << "x";
+    if (age) std::filesystem::last_write_time(folder / name, std::filesystem::file_time_type::clock::now() - std::chrono::minutes(5));
+  };
+  for (const char* id : {"00112233445566aa", "00112233445566bb", "00112233445566cc"}) {
+    make(std::string("fastrtps_") + id, true);
+  }
+  make("fastrtps_00112233445566aa_el", true);   // dead: removed with its segment
+  make("fastrtps_00112233445566bb_el", true);   // held below: in use
+  make("fastrtps_00112233445566cc_el", false);  // just created: its owner may not hold it yet
+  make("fastrtps_port7411_el", true);           // a port: Fast DDS's own
+  make("fastrtps_0011223344556_el", true);      // not a segment name
+  const int held_fd = open((folder / "fastrtps_00112233445566bb_el").c_str(), O_RDONLY);
+  ASSERT_EQ(flock(held_fd, LOCK_EX | LOCK_NB), 0);
+
+  const SharedMemoryCleanup cleanup = remove_dead_shared_memory(folder.string());
+  close(held_fd);
+  EXPECT_EQ(cleanup.removed, 1u);
+  EXPECT_EQ(cleanup.in_use, 2u);
+  EXPECT_FALSE(std::filesystem::exists(folder / "fastrtps_00112233445566aa"));
+  EXPECT_FALSE(std::filesystem::exists(folder / "fastrtps_00112233445566aa_el"));
+  for (const char* kept : {"fastrtps_00112233445566bb", "fastrtps_00112233445566bb_el", "fastrtps_00112233445566cc",
+                           "fastrtps_00112233445566cc_el", "fastrtps_port7411_el", "fastrtps_0011223344556_el"}) {
+    EXPECT_TRUE(std::filesystem::exists(folder / kept)) << kept;
+  }
+  std::filesystem::remove_all(folder);
+}
+
+}  // namespace
+}  // namespace nav::dds
