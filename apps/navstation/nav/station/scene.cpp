@@ -280,10 +280,21 @@ UltrasoundSettings read_ultrasound(MapReader r, const std::string& scene_path) {
   return u;
 }
 
+DeviceClockSettings read_device_clock(MapReader r) {
+  DeviceClockSettings c;
+  constexpr double kDayMs = 86'400'000.0;
+  c.offset_ms = r.number("offset_ms", Range{-1e3 * kDayMs, 1e3 * kDayMs}, c.offset_ms);
+  c.max_ahead_ms = r.number("max_ahead_ms", Range{0.0, 10'000.0}, c.max_ahead_ms);
+  c.max_behind_ms = r.number("max_behind_ms", Range{0.0, 60'000.0, true}, c.max_behind_ms);
+  r.finish();
+  return c;
+}
+
 DeviceSettings read_devices(MapReader r, const std::string& scene_path) {
   DeviceSettings d;
   d.tracker = read_tracker(r.map("tracker"));
   d.ultrasound = read_ultrasound(r.map("ultrasound"), scene_path);
+  if (r.optional("clock")) d.clock = read_device_clock(r.map("clock"));
   r.finish();
   return d;
 }

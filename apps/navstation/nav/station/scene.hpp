@@ -141,9 +141,18 @@ struct UltrasoundSettings {
 };
 
 /// `devices:`
+/// `devices.clock:` how the devices' stamps relate to this host's monotonic clock, and how
+/// far a stamp may lie from its sample's arrival before the station refuses the sample.
+struct DeviceClockSettings {
+  double offset_ms = 0.0;         ///< added to a device's stamp to put it on this host's monotonic clock
+  double max_ahead_ms = 50.0;     ///< a stamp this much later than its arrival is refused
+  double max_behind_ms = 1000.0;  ///< a stamp this much earlier than its arrival is refused
+};
+
 struct DeviceSettings {
   TrackerSettings tracker;
   UltrasoundSettings ultrasound;
+  DeviceClockSettings clock;
 };
 
 /// `topics:` DDS domain and topic names (defaults: the names of nav::dds::topic_name). The

@@ -56,6 +56,9 @@ void device_thread(const SimulatedWorld& world, StationChannels& ch, const DdsRu
   frame->pixel_spacing_m = {g.spacing_m, g.spacing_m};
   frame->depth_m = g.height_px * g.spacing_m;
   frame->probe_tool_id = kProbeToolId;
+  // The simulated devices stamp on their clock: this host's monotonic clock less the scene's
+  // declared offset (the station adds it back).
+  const TimeNs loop_to_device_ns = ch.start_ns - options.arrival.source_clock_offset_ns;
   std::size_t next = 0;
   while (!ch.realtime_done.load(std::memory_order_acquire) && next < world.samples.size()) {
     const TimeNs now = ch.run_time_ns();
@@ -83,11 +86,11 @@ void device_thread(const SimulatedWorld& world, StationChannels& ch, const DdsRu
         const std::vector<std::uint8_t>& pixels = world.frames[static_cast<std::size_t>(s.frame_index)].pixels;
         std::copy(pixels.begin(), pixels.end(), frame->pixels.begin());
         frame->sequence_number = next;
-        frame->source_time_ns = s.measured_ns;
+        frame->source_time_ns = s.measured_ns + loop_to_device_ns;
         written_ns[next] = ch.clock.now_ns();
         if (link.devices->write(*frame)) ++report.frames_written;
       } else {
-        const dds::ToolPose pose = tool_pose_of(s, next);
+        const dds::ToolPose pose = tool_pose_of(s, next, loop_to_device_ns);
         written_ns[next] = ch.clock.now_ns();
         if (link.devices->write(pose)) ++report.poses_written;
       }
@@ -144,10 +147,10 @@ void watch_peer(const dds::DdsNode& station, TimeNs now, bool& present, DdsRunRe
 
 }  // namespace
 
-dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number) {
+dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs loop_to_device_ns) {
   dds::ToolPose pose;
   pose.sequence_number = sequence_number;
-  pose.source_time_ns = sample.measured_ns;
+  pose.source_time_ns = sample.measured_ns + loop_to_device_ns;
   pose.quality = 1.0f;
   set_name(pose.frame_to, "tracker");
   if (sample.kind == SampleKind::respiratory) {
@@ -166,9 +169,9 @@ dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_nu
   return pose;
 }
 
-std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs received_ns) {
+std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns) {
   DeviceSample s;
-  s.measured_ns = pose.source_time_ns;
+  s.measured_ns = pose.source_time_ns + device_to_loop_ns;
   s.delivered_ns = received_ns;
   const Eigen::Vector3d position{pose.position_m[0], pose.position_m[1], pose.position_m[2]};
   switch (pose.tool_id) {
@@ -209,7 +212,8 @@ Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id,
   return dds::DdsNode::create(network, qos);
 }
 
-Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t domain_id, const dds::TopicNames& names) {
+Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t domain_id, const dds::TopicNames& names,
+                                                               const dds::ArrivalWindow& arrival) {
   auto link = std::make_unique<StationDdsLink>();
   link->domain_id = domain_id;
   link->names = names;
@@ -221,7 +225,7 @@ Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t dom
   link->devices = std::move(devices).value();
   dds::DdsNode& s = *link->station;
   dds::DdsNode& d = *link->devices;
-  for (const Status& status : {s.subscribe(*link->poses), s.subscribe(*link->frames), s.advertise<dds::TargetPrediction>(),
+  for (const Status& status : {s.subscribe(*link->poses, arrival), s.subscribe(*link->frames, arrival), s.advertise<dds::TargetPrediction>(),
                                s.advertise<dds::NeedleState>(), s.advertise<dds::StationHealth>(), s.advertise<dds::DeformedSurface>(), d.advertise<dds::ToolPose>(),
                                d.advertise<dds::UltrasoundFrame>()})
     if (!status.ok()) return status.error();
@@ -283,6 +287,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, 
   std::vector<TimeNs> written_ns(world.samples.size(), -1);  // the devices' write times, by sequence number
   DisplaySurfacePublisher surfaces(loop, *options.dds);
   ch.wait_for_start();
+  const TimeNs device_to_loop_ns = options.dds->arrival.source_clock_offset_ns - ch.start_ns;  // stamps onto the loop's clock
   std::thread devices(device_thread, std::cref(world), std::ref(ch), std::cref(*options.dds), std::ref(link), std::ref(report),
                       std::ref(written_ns));
   bool peer_present = true;
@@ -299,7 +304,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, 
       const TimeNs received_ns = pose.receive_time_ns - ch.start_ns;
       ++report.poses_received;
       pose_receipts.push_back({pose.sequence_number, pose.receive_time_ns});
-      const std::optional<DeviceSample> sample = device_sample_of(pose, received_ns);
+      const std::optional<DeviceSample> sample = device_sample_of(pose, device_to_loop_ns, received_ns);
       if (!sample) continue;
       const std::optional<DeviceSample> for_loop = loop_sample(observer, world.imaging, *sample, nullptr);
       if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;
@@ -310,7 +315,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, 
       frame_receipts.push_back({frame->sequence_number, frame->receive_time_ns});
       DeviceSample sample;
       sample.kind = SampleKind::ultrasound_frame;
-      sample.measured_ns = frame->source_time_ns;
+      sample.measured_ns = frame->source_time_ns + device_to_loop_ns;
       sample.delivered_ns = received_ns;
       const std::optional<DeviceSample> for_loop = loop_sample(observer, world.imaging, sample, frame->pixels.data());
       if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;

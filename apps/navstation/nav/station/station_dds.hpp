@@ -35,12 +35,13 @@ inline constexpr std::uint32_t kProbeToolId = 2;
 inline constexpr std::uint32_t kRespiratoryToolId = 3;
 
 /// A recorded tracker sample as the ToolPose the tracker publishes (source time: its
-/// measurement time; sequence number: `sequence_number`).
-dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number);
+/// measurement time on the device's clock, loop time + `loop_to_device_ns`; sequence number:
+/// `sequence_number`).
+dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs loop_to_device_ns);
 
-/// A received ToolPose as the loop's sample (delivered at `received_ns`), or nothing for an
-/// unknown tool.
-std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs received_ns);
+/// A received ToolPose as the loop's sample (measured at its source time +
+/// `device_to_loop_ns`, delivered at `received_ns`), or nothing for an unknown tool.
+std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns);
 
 /// The scene's topic names, by DDS topic (what the station's participants create).
 dds::TopicNames topic_names(const TopicSettings& topics);
@@ -63,8 +64,10 @@ struct StationDdsLink {
 
   /// Creates both participants on `domain_id` with the topics named by `names`: the devices
   /// advertise poses and frames, the station subscribes to them and advertises its outputs;
-  /// waits (up to 10 s) for the match.
-  static Result<std::unique_ptr<StationDdsLink>> create(std::uint32_t domain_id, const dds::TopicNames& names = {});
+  /// waits (up to 10 s) for the match. The station refuses poses and frames stamped outside
+  /// `arrival` (sample_checks.hpp).
+  static Result<std::unique_ptr<StationDdsLink>> create(std::uint32_t domain_id, const dds::TopicNames& names = {},
+                                                        const dds::ArrivalWindow& arrival = {});
 };
 
 }  // namespace nav::station

@@ -17,6 +17,7 @@
 
 #include "nav/core/clock.hpp"
 #include "nav/core/error.hpp"
+#include "nav/dds/sample_checks.hpp"
 #include "nav/dds/samples.hpp"
 #include "nav/dds/topics.hpp"
 #include "nav/loop/operating_loop.hpp"
@@ -71,6 +72,9 @@ struct DdsRunOptions {
   TimeNs health_period_ns = 100 * kNsPerMs; ///< the station's health is published this often
   const DisplaySurface* surface = nullptr;  ///< published on nav/deformed_surface when given (outlives the run)
   TimeNs surface_period_ns = 50 * kNsPerMs; ///< of liver time between two published surfaces
+  /// How the devices' stamps map onto this host's monotonic clock, and how far from its
+  /// arrival a pose or frame may be stamped (the simulated devices stamp accordingly).
+  dds::ArrivalWindow arrival;
 };
 
 /// Latency statistics in microseconds.

@@ -73,6 +73,10 @@ Result<StationSession> run_session(const Scene& scene, const SessionOptions& opt
     run_options.dds->domain_id = scene.topics.domain_id;
     run_options.dds->topic_names = topic_names(scene.topics);
     run_options.dds->surface = &s.surface;
+    const DeviceClockSettings& clock = scene.devices.clock;
+    run_options.dds->arrival = {.source_clock_offset_ns = static_cast<TimeNs>(clock.offset_ms * 1e6),
+                                .max_ahead_ns = static_cast<TimeNs>(clock.max_ahead_ms * 1e6),
+                                .max_behind_ns = static_cast<TimeNs>(clock.max_behind_ms * 1e6)};
   }
   auto run = run_station(loop.value(), s.world, run_options);
   if (!run.ok()) return run.error();

@@ -22,7 +22,7 @@ bool is_plain_cdr(const std::uint8_t* payload, std::size_t size) noexcept;
 template <typename Sample>
 SampleFault checked_deserialize(typename WireTraits<Sample>::PubSubType& type, eprosima::fastrtps::rtps::SerializedPayload_t& payload,
                                 typename WireTraits<Sample>::Wire& wire) noexcept {
-  using Generated = typename WireTraits<Sample>::PubSubType;
+  using Generated [[maybe_unused]] = typename WireTraits<Sample>::PubSubType;  // clang does not count the qualified call below as a use
   if (!is_plain_cdr(payload.data, payload.length)) return SampleFault::malformed;
   if (payload.length > type.m_typeSize) return SampleFault::wrong_size;
   try {

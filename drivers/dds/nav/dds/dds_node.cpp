@@ -48,8 +48,8 @@ struct WriteScratch final : TopicState {
 template <typename Sample>
 class SinkListener final : public fdds::DataReaderListener, public TopicState {
  public:
-  SinkListener(SampleSink<Sample>& sink, BoundaryCounters& counters)
-      : sink_(sink), counters_(counters), sample_(std::make_unique<Sample>()) {}
+  SinkListener(SampleSink<Sample>& sink, BoundaryCounters& counters, std::optional<ArrivalWindow> window)
+      : sink_(sink), counters_(counters), window_(window), sample_(std::make_unique<Sample>()) {}
 
   void on_data_available(fdds::DataReader* reader) override {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -61,19 +61,22 @@ class SinkListener final : public fdds::DataReaderListener, public TopicState {
 
  private:
   SampleFault accept() noexcept {
+    const TimeNs arrival_ns = clock_.now_ns();
     SampleFault fault = from_wire(wire_, *sample_);
     if (fault == SampleFault::none) fault = check_sample(*sample_);
+    if (fault == SampleFault::none && window_) fault = window_->check(sample_->source_time_ns, arrival_ns);
     // Poses are time-ordered per tool by their sink (PoseInbox); other streams here.
     if constexpr (!std::is_same_v<Sample, ToolPose>) {
       if (fault == SampleFault::none) fault = order_.advance(sample_->source_time_ns);
     }
     if (fault != SampleFault::none) return fault;
-    sample_->receive_time_ns = clock_.now_ns();
+    sample_->receive_time_ns = arrival_ns;
     return sink_.offer(*sample_);
   }
 
   SampleSink<Sample>& sink_;
   BoundaryCounters& counters_;
+  std::optional<ArrivalWindow> window_;
   std::mutex mutex_;
   typename WireTraits<Sample>::Wire wire_;
   std::unique_ptr<Sample> sample_;  // on the heap: a frame is 1 MiB
@@ -163,10 +166,10 @@ bool DdsNode::write(const Sample& sample) {
 }
 
 template <typename Sample>
-Status DdsNode::subscribe(SampleSink<Sample>& sink) {
+Status DdsNode::subscribe(SampleSink<Sample>& sink, std::optional<ArrivalWindow> window) {
   constexpr std::size_t i = index_of(WireTraits<Sample>::topic);
   if (impl_->readers[i] != nullptr) return Error{"topic already subscribed", "", 0, topic_name(WireTraits<Sample>::topic)};
-  auto listener = std::make_unique<SinkListener<Sample>>(sink, impl_->counters);
+  auto listener = std::make_unique<SinkListener<Sample>>(sink, impl_->counters, window);
   impl_->readers[i] = impl_->subscriber->create_datareader(
       impl_->topics[i], reader_qos(WireTraits<Sample>::topic, impl_->qos), listener.get());
   if (impl_->readers[i] == nullptr) return Error{"Fast DDS refused the reader", "", 0, topic_name(WireTraits<Sample>::topic)};
@@ -219,7 +222,7 @@ BoundaryCounts DdsNode::boundary_counts() const noexcept { return impl_->counter
 #define NAV_DDS_NODE_SAMPLE(Sample)                    \
   template Status DdsNode::advertise<Sample>();        \
   template bool DdsNode::write<Sample>(const Sample&); \
-  template Status DdsNode::subscribe<Sample>(SampleSink<Sample>&);
+  template Status DdsNode::subscribe<Sample>(SampleSink<Sample>&, std::optional<ArrivalWindow>);
 NAV_DDS_NODE_SAMPLE(ToolPose)
 NAV_DDS_NODE_SAMPLE(UltrasoundFrame)
 NAV_DDS_NODE_SAMPLE(NeedleState)

@@ -6,10 +6,12 @@
 // No Fast DDS header here: the participant lives behind a pointer.
 #include <cstddef>
 #include <memory>
+#include <optional>
 
 #include "nav/core/clock.hpp"
 #include "nav/core/error.hpp"
 #include "nav/dds/network_config.hpp"
+#include "nav/dds/sample_checks.hpp"
 #include "nav/dds/sample_fault.hpp"
 #include "nav/dds/sample_sink.hpp"
 #include "nav/dds/samples.hpp"
@@ -37,11 +39,11 @@ class DdsNode {
 
   /// Creates the reader of Sample's topic (once). Each payload is decoded through the one
   /// checked path (checked_type.hpp: what does not decode is counted as malformed); each
-  /// valid sample is sized, checked,
+  /// valid sample is sized, checked, held to `window` around its arrival when one is given,
   /// time-ordered, stamped with its receive time and offered to `sink`; every verdict is
   /// counted in boundary_counts(). `sink` must outlive this node.
   template <typename Sample>
-  Status subscribe(SampleSink<Sample>& sink);
+  Status subscribe(SampleSink<Sample>& sink, std::optional<ArrivalWindow> window = std::nullopt);
 
   /// Remote endpoints matched by this node's writer and reader of `topic`.
   std::size_t matched(Topic topic) const;

@@ -20,6 +20,26 @@ SampleFault check_sample(const DeformedSurface& surface) noexcept;
 /// Health carries only counters and flags: nothing to refuse.
 SampleFault check_sample(const StationHealth& health) noexcept;
 
+/// How far a sample's source time may lie from its arrival. The source time, moved onto this
+/// host's monotonic clock by `source_clock_offset_ns`, must fall within [arrival -
+/// max_behind_ns, arrival + max_ahead_ns]: a stamp outside is refused before it can become
+/// the time reference of its stream (one sample stamped far ahead would otherwise make every
+/// later one "backwards").
+struct ArrivalWindow {
+  TimeNs source_clock_offset_ns = 0;      ///< added to a source time to put it on this host's monotonic clock
+  TimeNs max_ahead_ns = 50 * kNsPerMs;    ///< clock offsets are never known exactly
+  TimeNs max_behind_ns = 1 * kNsPerSecond;  ///< the slowest device's latency, with room
+
+  /// none, or time_out_of_window (also when the arithmetic would overflow).
+  SampleFault check(TimeNs source_time_ns, TimeNs arrival_ns) const noexcept {
+    TimeNs on_host_ns = 0, ahead_ns = 0;
+    if (__builtin_add_overflow(source_time_ns, source_clock_offset_ns, &on_host_ns) ||
+        __builtin_sub_overflow(on_host_ns, arrival_ns, &ahead_ns))
+      return SampleFault::time_out_of_window;
+    return ahead_ns > max_ahead_ns || ahead_ns < -max_behind_ns ? SampleFault::time_out_of_window : SampleFault::none;
+  }
+};
+
 /// The time order of one stream: refuses a source time earlier than the last accepted one
 /// (equal times pass). One writer thread.
 class StreamOrder {

@@ -12,6 +12,7 @@ const char* sample_fault_name(SampleFault fault) noexcept {
     case SampleFault::non_finite: return "non_finite";
     case SampleFault::non_unit_quaternion: return "non_unit_quaternion";
     case SampleFault::time_backwards: return "time_backwards";
+    case SampleFault::time_out_of_window: return "time_out_of_window";
     case SampleFault::unknown_tool: return "unknown_tool";
     case SampleFault::buffer_full: return "buffer_full";
   }
@@ -22,7 +23,8 @@ std::string drops_by_reason(const BoundaryCounts& counts) {
   const std::pair<SampleFault, std::uint64_t> drops[] = {
       {SampleFault::malformed, counts.malformed},           {SampleFault::wrong_size, counts.wrong_size},
       {SampleFault::non_finite, counts.non_finite},         {SampleFault::non_unit_quaternion, counts.non_unit_quaternion},
-      {SampleFault::time_backwards, counts.time_backwards}, {SampleFault::unknown_tool, counts.unknown_tool},
+      {SampleFault::time_backwards, counts.time_backwards},
+      {SampleFault::time_out_of_window, counts.time_out_of_window}, {SampleFault::unknown_tool, counts.unknown_tool},
       {SampleFault::buffer_full, counts.buffer_full}};
   std::string text;
   for (const auto& [fault, count] : drops) {
@@ -44,6 +46,7 @@ BoundaryCounts BoundaryCounters::snapshot() const noexcept {
   counts.non_finite = read(SampleFault::non_finite);
   counts.non_unit_quaternion = read(SampleFault::non_unit_quaternion);
   counts.time_backwards = read(SampleFault::time_backwards);
+  counts.time_out_of_window = read(SampleFault::time_out_of_window);
   counts.unknown_tool = read(SampleFault::unknown_tool);
   counts.buffer_full = read(SampleFault::buffer_full);
   return counts;

@@ -19,6 +19,7 @@ enum class SampleFault : std::uint8_t {
   non_finite,           // NaN or infinity in a number
   non_unit_quaternion,  // |q| differs from 1 by more than kQuaternionNormTolerance
   time_backwards,       // source time earlier than the previous sample of the stream
+  time_out_of_window,   // source time too far from the arrival time on this host's clock (ArrivalWindow)
   unknown_tool,         // a tool id the station was not configured with
   buffer_full,          // valid, but the hand-off buffer had no room
 };

@@ -90,6 +90,7 @@ struct BoundaryCounts {
   std::uint64_t non_finite = 0;
   std::uint64_t non_unit_quaternion = 0;
   std::uint64_t time_backwards = 0;
+  std::uint64_t time_out_of_window = 0;
   std::uint64_t unknown_tool = 0;
   std::uint64_t buffer_full = 0;
 };

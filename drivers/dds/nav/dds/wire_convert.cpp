@@ -157,6 +157,7 @@ void to_wire(const StationHealth& sample, nav_msgs::StationHealth& wire) {
   wire.dropped_non_finite(sample.boundary.non_finite);
   wire.dropped_non_unit_quaternion(sample.boundary.non_unit_quaternion);
   wire.dropped_time_backwards(sample.boundary.time_backwards);
+  wire.dropped_time_out_of_window(sample.boundary.time_out_of_window);
   wire.dropped_unknown_tool(sample.boundary.unknown_tool);
   wire.dropped_buffer_full(sample.boundary.buffer_full);
 }
@@ -175,6 +176,7 @@ SampleFault from_wire(const nav_msgs::StationHealth& wire, StationHealth& sample
   sample.boundary.non_finite = wire.dropped_non_finite();
   sample.boundary.non_unit_quaternion = wire.dropped_non_unit_quaternion();
   sample.boundary.time_backwards = wire.dropped_time_backwards();
+  sample.boundary.time_out_of_window = wire.dropped_time_out_of_window();
   sample.boundary.unknown_tool = wire.dropped_unknown_tool();
   sample.boundary.buffer_full = wire.dropped_buffer_full();
   return SampleFault::none;
