@@ -18,6 +18,7 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include "nav/dds/checked_type.hpp"
+#include "nav/dds/environment_guard.hpp"
 #include "nav/dds/participant_qos.hpp"
 #include "nav/dds/shared_memory_cleanup.hpp"
 #include "nav/dds/sample_checks.hpp"
@@ -122,6 +123,7 @@ struct DdsNode::Impl {
 };
 
 Result<std::unique_ptr<DdsNode>> DdsNode::create(const NetworkConfig& network, const TopicQosOptions& qos) {
+  if (const Status environment = refuse_environment_overrides(); !environment) return environment.error();
   auto participant_qos = make_participant_qos(network);
   if (!participant_qos) return participant_qos.error();
   if (network.shared_memory) remove_dead_shared_memory();
