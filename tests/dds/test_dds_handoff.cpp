@@ -90,7 +90,7 @@ TEST(DdsHandoff, StalledIoThreadNeverSlowsTheRealTimeLoop) {
     OutboxPublisher publisher;
     const TimeNs started_ns = clock.now_ns();
     while (!stop.load()) {
-      publisher.publish(*outbox, *station.value());
+      publisher.publish(*outbox, *station.value(), clock.now_ns());
       if (stall_start_ns.load() == 0 && clock.now_ns() - started_ns > 100 * kNsPerMs) {
         stall_start_ns.store(clock.now_ns());
         std::this_thread::sleep_for(std::chrono::nanoseconds(kStallNs));  // the stall

@@ -295,14 +295,15 @@ TEST(DdsHostileSamples, NavstationRunsThroughCraftedAndFutureStampedSamplesAndCo
   EXPECT_GE(nav::testing::number_after(output, "ultrasound: "), 30.0);
 }
 
-/// The lock files of the shared-memory segments that process `pid` has mapped (its own, as
-/// no other participant shares its domain).
+/// The lock files of the shared-memory segments process `pid` owns: those it keeps open (it
+/// holds their lock through that descriptor as long as it lives).
 std::set<std::string> segment_locks_of(pid_t pid) {
   std::set<std::string> locks;
-  std::ifstream maps("/proc/" + std::to_string(pid) + "/maps");
-  for (std::string line; std::getline(maps, line);) {
-    const std::size_t at = line.find("/dev/shm/fastrtps_");
-    if (at != std::string::npos && line.find("fastrtps_port", at) == std::string::npos) locks.insert(line.substr(at) + "_el");
+  std::error_code ignored;
+  for (const auto& fd : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ignored)) {
+    const std::string target = std::filesystem::read_symlink(fd.path(), ignored).string();
+    if (target.starts_with("/dev/shm/fastrtps_") && !target.starts_with("/dev/shm/fastrtps_port") && target.ends_with("_el"))
+      locks.insert(target);
   }
   return locks;
 }

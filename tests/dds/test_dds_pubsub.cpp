@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "dds_test_samples.hpp"
+#include "nav/core/health.hpp"
 #include "nav/dds/dds_node.hpp"
 #include "nav/dds/pose_inbox.hpp"
 #include "nav/dds/station_outbox.hpp"
@@ -83,7 +84,7 @@ TEST(DdsPubSub, OutboxOutputsReachTheDisplayWithHealthCounters) {
   ASSERT_TRUE(nodes.writer->advertise<StationHealth>().ok());
   // Health is transient-local: published before the display subscribes, it still arrives.
   ASSERT_TRUE(outbox->health.try_push(make_health(5)));
-  EXPECT_EQ(publisher.publish(*outbox, *nodes.writer), 1u);
+  EXPECT_EQ(publisher.publish(*outbox, *nodes.writer, 0), 1u);
   ASSERT_TRUE(nodes.reader->subscribe(*needle).ok());
   ASSERT_TRUE(nodes.reader->subscribe(*predictions).ok());
   ASSERT_TRUE(nodes.reader->subscribe(*surfaces).ok());
@@ -98,7 +99,7 @@ TEST(DdsPubSub, OutboxOutputsReachTheDisplayWithHealthCounters) {
   ASSERT_TRUE(outbox->needle.try_push(make_needle(32, 10)));
   ASSERT_TRUE(outbox->predictions.try_push(make_prediction(10)));
   ASSERT_TRUE(outbox->surfaces.try_push(*make_surface(kMaxSurfaceVertices, 10)));
-  EXPECT_EQ(publisher.publish(*outbox, *nodes.writer), 3u);
+  EXPECT_EQ(publisher.publish(*outbox, *nodes.writer, 0), 3u);
   NeedleState needle_in;
   TargetPrediction prediction_in;
   auto surface_in = std::make_unique<DeformedSurface>();
@@ -165,7 +166,8 @@ TEST(DdsPubSub, BadSamplesAreDroppedCountedAndPublishedInHealth) {
   auto popped = std::make_unique<UltrasoundFrame>();
   EXPECT_FALSE(frames->try_pop(*popped));
 
-  // The counts leave in the station's health.
+  // The counts leave in the station's health, with bad_sample raised for as long as its hold
+  // after the last refusal seen.
   auto display = DdsNode::create(local_network(104));
   ASSERT_TRUE(display.ok());
   auto health = std::make_unique<RingSink<StationHealth, 4>>();
@@ -175,9 +177,18 @@ TEST(DdsPubSub, BadSamplesAreDroppedCountedAndPublishedInHealth) {
   ASSERT_TRUE(display.value()->subscribe(*health).ok());
   ASSERT_TRUE(display.value()->wait_for_match(Topic::station_health, 1, kMatchTimeoutNs));
   ASSERT_TRUE(outbox->health.try_push(make_health(time_ns)));
-  publisher.publish(*outbox, station);
+  constexpr TimeNs kPublishedAtNs = 100 * kNsPerSecond;
+  publisher.publish(*outbox, station, kPublishedAtNs);
   StationHealth received;
   ASSERT_TRUE(wait_until([&] { return health->try_pop(received); }));
+  EXPECT_TRUE(received.flags & static_cast<std::uint32_t>(HealthFlag::bad_sample));
+  StationHealth later;
+  for (const TimeNs after_ns : {kBadSampleHoldNs - 1, kBadSampleHoldNs}) {
+    ASSERT_TRUE(outbox->health.try_push(make_health(time_ns)));
+    publisher.publish(*outbox, station, kPublishedAtNs + after_ns);
+    ASSERT_TRUE(wait_until([&] { return health->try_pop(later); }));
+    EXPECT_EQ((later.flags & static_cast<std::uint32_t>(HealthFlag::bad_sample)) != 0, after_ns < kBadSampleHoldNs) << after_ns;
+  }
   const BoundaryCounts counts = station.boundary_counts();
   EXPECT_GE(received.boundary.non_finite, 1u);
   EXPECT_GE(received.boundary.non_unit_quaternion, 1u);

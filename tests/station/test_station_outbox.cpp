@@ -115,7 +115,7 @@ TEST(StationOutbox, TheNeedlesShapeReachesADisplayOverDdsWhichDrawsItWithItsTipF
   ASSERT_TRUE(display->subscribe(*received).ok());
   ASSERT_TRUE(station->wait_for_match(dds::Topic::needle_state, 1, 10 * kNsPerSecond));
   dds::OutboxPublisher publisher;
-  EXPECT_EQ(publisher.publish(*outbox, *station), 1u);  // the needle (the predictions have no writer here)
+  EXPECT_EQ(publisher.publish(*outbox, *station, 0), 1u);  // the needle (the predictions have no writer here)
   auto needle = std::make_unique<dds::NeedleState>();
   MonotonicClock clock;
   const TimeNs deadline_ns = clock.now_ns() + 5 * kNsPerSecond;

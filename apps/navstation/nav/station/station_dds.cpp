@@ -320,7 +320,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, 
       const std::optional<DeviceSample> for_loop = loop_sample(observer, world.imaging, sample, frame->pixels.data());
       if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;
     }
-    report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station));
+    report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station, ch.clock.now_ns()));
     read_outputs();
     const TimeNs now = ch.run_time_ns();
     if (now >= next_watch_ns) {
@@ -331,7 +331,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, 
   }
   devices.join();
   read_outputs();  // the loop's last outputs
-  report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station));
+  report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station, ch.clock.now_ns()));
   link.station->wait_for_acknowledgments(kAcknowledgmentTimeoutNs);  // the last outputs reach the displays before the run closes
   report.outbox_dropped = ch.outbox->dropped();
   report.pose_latency = latency_statistics(latencies_us(pose_receipts, written_ns));

@@ -19,6 +19,11 @@ const char* sample_fault_name(SampleFault fault) noexcept {
   return "unknown";
 }
 
+std::uint64_t refused_as_invalid(const BoundaryCounts& counts) noexcept {
+  return counts.malformed + counts.wrong_size + counts.non_finite + counts.non_unit_quaternion + counts.time_backwards +
+         counts.time_out_of_window + counts.unknown_tool;
+}
+
 std::string drops_by_reason(const BoundaryCounts& counts) {
   const std::pair<SampleFault, std::uint64_t> drops[] = {
       {SampleFault::malformed, counts.malformed},           {SampleFault::wrong_size, counts.wrong_size},

@@ -27,6 +27,9 @@ enum class SampleFault : std::uint8_t {
 /// The fault's name in snake case, for logs.
 const char* sample_fault_name(SampleFault fault) noexcept;
 
+/// The samples `counts` refused as invalid: every reason but a full hand-off buffer.
+std::uint64_t refused_as_invalid(const BoundaryCounts& counts) noexcept;
+
 /// The samples `counts` dropped, by reason, for a summary: "malformed 3, time_backwards 1",
 /// or "none".
 std::string drops_by_reason(const BoundaryCounts& counts);

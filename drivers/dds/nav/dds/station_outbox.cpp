@@ -18,9 +18,10 @@ std::size_t drain(Ring& ring, Sample& item, DdsNode& node, Prepare prepare) {
 
 }  // namespace
 
-OutboxPublisher::OutboxPublisher() : surface_(std::make_unique<DeformedSurface>()) {}
+OutboxPublisher::OutboxPublisher(TimeNs bad_sample_hold_ns)
+    : surface_(std::make_unique<DeformedSurface>()), bad_sample_hold_ns_(bad_sample_hold_ns) {}
 
-std::size_t OutboxPublisher::publish(StationOutbox& outbox, DdsNode& node) {
+std::size_t OutboxPublisher::publish(StationOutbox& outbox, DdsNode& node, TimeNs now_ns) {
   const auto as_is = [](const auto&) {};
   NeedleState needle;
   TargetPrediction prediction;
@@ -31,6 +32,13 @@ std::size_t OutboxPublisher::publish(StationOutbox& outbox, DdsNode& node) {
   written += drain(outbox.health, health, node, [&](StationHealth& sample) {
     sample.boundary = node.boundary_counts();
     if (outbox.dropped() > 0) sample.flags |= static_cast<std::uint32_t>(HealthFlag::buffer_overrun);
+    const std::uint64_t refused = refused_as_invalid(sample.boundary);
+    if (refused > refused_seen_) {
+      refused_seen_ = refused;
+      last_refusal_seen_ns_ = now_ns;
+      refused_any_ = true;
+    }
+    if (refused_any_ && now_ns - last_refusal_seen_ns_ < bad_sample_hold_ns_) sample.flags |= static_cast<std::uint32_t>(HealthFlag::bad_sample);
   });
   return written;
 }
