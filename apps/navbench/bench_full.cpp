@@ -29,11 +29,6 @@ using nav::Integrator;
 constexpr double kSettleS = 1.0;
 constexpr double kDampingPerS = 40.0;
 
-std::string liver_dir() {
-  const std::string here = __FILE__;
-  return here.substr(0, here.rfind('/')) + "/../../../shared/data/liver";
-}
-
 /// A real-time model under test.
 struct Case {
   std::string model, integrator;
@@ -237,7 +232,7 @@ int run_full_bench(const std::vector<std::string>& args) {
   std::vector<Record> records;
   const std::vector<int> sizes = quick ? std::vector<int>{1000} : std::vector<int>{1000, 5000, 22019};
   for (int size : sizes) {
-    const auto mesh_or_error = nav::load_liver_mesh(liver_dir(), size);
+    const auto mesh_or_error = nav::load_liver_mesh(NAV_SHARED_LIVER_DIR, size);
     if (!mesh_or_error.ok()) {
       std::fprintf(stderr, "liver mesh of %d tets: %s\n", size, mesh_or_error.error().describe().c_str());
       return 1;

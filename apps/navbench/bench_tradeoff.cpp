@@ -39,11 +39,6 @@ namespace {
 using nav::ReducedBasisSource;
 using nav::ReducedForceKind;
 
-std::string liver_dir() {
-  const std::string here = __FILE__;
-  return here.substr(0, here.rfind('/')) + "/../../../shared/data/liver";
-}
-
 /// A mesh with its scene, target node and loads.
 struct Level {
   std::string name;
@@ -297,7 +292,7 @@ std::vector<Level> levels(bool quick) {
       quick ? std::vector<std::pair<std::string, int>>{{"liver_1k", 1000}}
             : std::vector<std::pair<std::string, int>>{{"liverFine", 22019}};
   for (const auto& [name, tets] : livers) {
-    auto mesh = nav::load_liver_mesh(liver_dir(), tets);
+    auto mesh = nav::load_liver_mesh(NAV_SHARED_LIVER_DIR, tets);
     if (!mesh.ok()) {
       std::fprintf(stderr, "%s: %s\n", name.c_str(), mesh.error().describe().c_str());
       continue;

@@ -14,12 +14,10 @@
 
 namespace {
 
-/// The liver surface, read once from ../shared/data/liver/ beside the repository (found from
-/// this file's path: benchmark programs get no data-folder definition from the build).
+/// The liver surface, read once from ../shared/data/liver/ beside the repository.
 const std::optional<nav::TriSurface>& liver_surface() {
   static const std::optional<nav::TriSurface> surface = [] {
-    const std::string here = __FILE__;
-    const std::string path = here.substr(0, here.rfind('/')) + "/../../../shared/data/liver/liver-smoothUV.obj";
+    const std::string path = NAV_SHARED_LIVER_DIR "/liver-smoothUV.obj";
     auto loaded = nav::load_obj_surface(path, nav::LengthUnit::centimetre);
     return loaded.ok() ? std::optional<nav::TriSurface>(loaded.value()) : std::nullopt;
   }();

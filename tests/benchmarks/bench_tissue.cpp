@@ -19,19 +19,12 @@
 
 namespace {
 
-/// ../shared/data/liver next to the repository, found from this file's path (the benchmark
-/// programs get no data-folder definition from the build).
-std::string liver_dir() {
-  const std::string here = __FILE__;
-  return here.substr(0, here.rfind('/')) + "/../../../shared/data/liver";
-}
-
 /// The liver at about `tet_count` elements (nav::load_liver_mesh), built once per count.
 const nav::TetMesh& liver_mesh(int tet_count) {
   static std::map<int, nav::TetMesh> meshes;
   auto found = meshes.find(tet_count);
   if (found != meshes.end()) return found->second;
-  return meshes.emplace(tet_count, nav::load_liver_mesh(liver_dir(), tet_count).value()).first->second;
+  return meshes.emplace(tet_count, nav::load_liver_mesh(NAV_SHARED_LIVER_DIR, tet_count).value()).first->second;
 }
 
 /// The anchor scene's supports and loads in SI: the held box x in [0,2], y in [3,5], z in

@@ -19,8 +19,7 @@ struct LiverFineModes {
 
 /// Builds liverFine with its `mode_count` lowest modes; nullopt when the data is missing.
 inline std::optional<LiverFineModes> load_liver_fine_modes(int mode_count) {
-  const std::string here = __FILE__;
-  auto mesh = load_liver_mesh(here.substr(0, here.rfind('/')) + "/../../../shared/data/liver", 22019);
+  auto mesh = load_liver_mesh(NAV_SHARED_LIVER_DIR, 22019);
   if (!mesh.ok()) return std::nullopt;
   LiverFineModes l{std::move(mesh).value(), {}, {}};
   l.scene = liver_scenes(l.mesh).front().scene;
