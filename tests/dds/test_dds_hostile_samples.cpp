@@ -4,7 +4,7 @@
 // navstation and navtool record (std::terminate). Each is a counted `malformed` refusal here:
 // in the decoder alone, in a reader of this process fed over UDP by a participant of "another
 // vendor", and in a running navtool record and navstation, which finish with their summaries.
-// A sample stamped far ahead of its arrival is refused by a reader that holds its stream to an
+// A needle pose at 1e300 m is refused as implausible. A sample stamped far ahead of its arrival is refused by a reader that holds its stream to an
 // arrival window, and never becomes the stream's time reference (which once made every later
 // sample "backwards"). A participant killed with SIGKILL leaves its shared-memory segment
 // behind; the next one to start removes it.
@@ -276,6 +276,9 @@ TEST(DdsHostileSamples, NavstationRunsThroughCraftedAndFutureStampedSamplesAndCo
     written += foreign_frames.write(frames[i % frames.size()].second) ? 1 : 0;
     if (i % 10 == 0) {
       stamper.value()->write(make_pose(1, clock.now_ns() + kFutureNs));
+      ToolPose far = make_pose(1, clock.now_ns());
+      far.position_m = {1e300, 0.0, 0.0};  // finite, and far outside any tracker's volume
+      stamper.value()->write(far);
       future_frame->source_time_ns = clock.now_ns() + kFutureNs;
       stamper.value()->write(*future_frame);
     }
@@ -288,6 +291,7 @@ TEST(DdsHostileSamples, NavstationRunsThroughCraftedAndFutureStampedSamplesAndCo
   EXPECT_NE(output.find("tumour now"), std::string::npos);
   EXPECT_GE(nav::testing::number_after(output, "dropped at the boundary: malformed "), 20.0);
   EXPECT_GE(nav::testing::number_after(output, "time_out_of_window "), 10.0);
+  EXPECT_GE(nav::testing::number_after(output, "implausible_pose "), 10.0);
   // The simulated devices' poses (60 Hz for 3 markers, 2 s) and frames (20 Hz) still arrive
   // and are used: none is refused as older than the future stamps.
   EXPECT_EQ(output.find("time_backwards"), std::string::npos);

@@ -116,6 +116,46 @@ TEST(DdsSampleChecks, PoseInboxRefusesUnknownToolsAndKeepsTimeOrderPerTool) {
   EXPECT_EQ(inbox.latest(1).source_time_ns, 100);
 }
 
+TEST(DdsSampleChecks, PoseBoundsRefuseLeavingTheVolumeAndMovingFasterThanAToolCan) {
+  const PoseBounds bounds;  // 3 m, 2 m/s, 2 mm
+  ToolPose first = make_pose(1, 0);
+  first.position_m = {0.0, 0.0, 0.0};
+  EXPECT_EQ(bounds.check(first, nullptr), SampleFault::none);
+  ToolPose far = first;
+  far.position_m = {1e300, 0.0, 0.0};
+  EXPECT_EQ(bounds.check(far, nullptr), SampleFault::implausible_pose);
+  far.position_m = {2.0, 2.0, 2.0};  // 3.46 m away
+  EXPECT_EQ(bounds.check(far, nullptr), SampleFault::implausible_pose);
+  // 16.7 ms later (60 Hz): 2 m/s allows 33 mm + 2 mm; the probe that jumped 5 cm is refused.
+  ToolPose next = make_pose(1, 16'700'000);
+  next.position_m = {0.034, 0.0, 0.0};
+  EXPECT_EQ(bounds.check(next, &first), SampleFault::none);
+  next.position_m = {0.05, 0.0, 0.0};
+  EXPECT_EQ(bounds.check(next, &first), SampleFault::implausible_pose);
+  // The same 5 cm after half a second: plausible. A stamp before the reference is the time
+  // order's to refuse.
+  next.source_time_ns = kNsPerSecond / 2;
+  EXPECT_EQ(bounds.check(next, &first), SampleFault::none);
+  next.source_time_ns = -1;
+  EXPECT_EQ(bounds.check(next, &first), SampleFault::none);
+}
+
+TEST(DdsSampleChecks, AnImplausibleJumpNeverBecomesTheToolsReference) {
+  PoseInbox inbox{1};
+  ToolPose pose = make_pose(1, 0);
+  pose.position_m = {0.1, 0.0, 0.0};
+  EXPECT_EQ(inbox.offer(pose), SampleFault::none);
+  ToolPose jump = make_pose(1, 10 * kNsPerMs);
+  jump.position_m = {0.3, 0.0, 0.0};  // 20 m/s
+  EXPECT_EQ(inbox.offer(jump), SampleFault::implausible_pose);
+  for (TimeNs t = 20; t <= 60; t += 10) {  // the tool where it was: every pose taken
+    pose.source_time_ns = t * kNsPerMs;
+    EXPECT_EQ(inbox.offer(pose), SampleFault::none) << t;
+  }
+  ASSERT_TRUE(inbox.update(0));
+  EXPECT_EQ(inbox.latest(0).position_m[0], 0.1);
+}
+
 TEST(DdsSampleChecks, CountersAddUpByReason) {
   BoundaryCounters counters;
   counters.count(SampleFault::none);
@@ -127,6 +167,7 @@ TEST(DdsSampleChecks, CountersAddUpByReason) {
   counters.count(SampleFault::time_backwards);
   counters.count(SampleFault::time_backwards);
   counters.count(SampleFault::unknown_tool);
+  counters.count(SampleFault::implausible_pose);
   counters.count(SampleFault::buffer_full);
   const BoundaryCounts counts = counters.snapshot();
   EXPECT_EQ(counts.accepted, 2u);
@@ -138,7 +179,11 @@ TEST(DdsSampleChecks, CountersAddUpByReason) {
   EXPECT_EQ(counts.unknown_tool, 1u);
   EXPECT_EQ(counts.buffer_full, 1u);
   EXPECT_STREQ(sample_fault_name(SampleFault::non_unit_quaternion), "non_unit_quaternion");
-  EXPECT_EQ(drops_by_reason(counts), "malformed 1, wrong_size 1, non_finite 1, non_unit_quaternion 1, time_backwards 2, unknown_tool 1, buffer_full 1");
+  EXPECT_EQ(counts.implausible_pose, 1u);
+  EXPECT_EQ(drops_by_reason(counts),
+            "malformed 1, wrong_size 1, non_finite 1, non_unit_quaternion 1, time_backwards 2, unknown_tool 1, implausible_pose 1, "
+            "buffer_full 1");
+  EXPECT_EQ(refused_as_invalid(counts), 8u);  // all but the full buffer
   EXPECT_EQ(drops_by_reason(BoundaryCounts{.accepted = 5}), "none");
 }
 

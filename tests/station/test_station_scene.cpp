@@ -70,6 +70,8 @@ TEST(StationScene, DemoSceneParsesIntoItsStatedValues) {
   EXPECT_EQ(s.devices.tracker.position_noise_m, 0.00025);
   EXPECT_EQ(s.devices.ultrasound.kind, UltrasoundKind::simulated);
   EXPECT_EQ(s.devices.ultrasound.target_noise_m, 0.001);
+  EXPECT_EQ(s.devices.tracker.volume_radius_m, 3.0);
+  EXPECT_EQ(s.devices.tracker.max_speed_m_per_s, 2.0);
   EXPECT_EQ(s.devices.clock.offset_ms, 0.0);
   EXPECT_EQ(s.devices.clock.max_ahead_ms, 50.0);
   EXPECT_EQ(s.devices.clock.max_behind_ms, 1000.0);
@@ -123,6 +125,7 @@ TEST(StationScene, OutOfRangeValuesAreNamed) {
   expect_error("cores: {realtime: 1, io: 0}", "cores: {realtime: 1, io: 1}", "station.cores.io", "must differ");
   expect_error("max_behind_ms: 1000}", "max_behind_ms: 0}", "devices.clock.max_behind_ms", "outside (0, 60000]");
   expect_error("max_ahead_ms: 50,", "max_ahead_ms: -1,", "devices.clock.max_ahead_ms", "outside");
+  expect_error("max_speed_m_per_s: 2.0", "max_speed_m_per_s: 0", "devices.tracker.max_speed_m_per_s", "outside (0, 100]");
   expect_error("outward_normal: [0, 1, 0], puncture_force_n: 2.0", "outward_normal: [0, 1], puncture_force_n: 2.0",
                "needle.layers[1].outward_normal", "list of 3 numbers");
   // A value each range allows but the needle's own validation refuses (bore wider than the tube).

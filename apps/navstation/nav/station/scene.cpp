@@ -239,6 +239,8 @@ LigamentSettings read_ligaments(MapReader r) {
 TrackerSettings read_tracker(MapReader r) {
   TrackerSettings t;
   t.kind = static_cast<TrackerKind>(r.choice("kind", {"simulated", "ndi", "apriltag"}));
+  t.volume_radius_m = r.number("volume_radius_m", Range{0.0, 100.0, true}, t.volume_radius_m);
+  t.max_speed_m_per_s = r.number("max_speed_m_per_s", Range{0.0, 100.0, true}, t.max_speed_m_per_s);
   switch (t.kind) {
     case TrackerKind::simulated:
       t.rate_hz = r.number("rate_hz", Range{0.0, 1000.0, true}, t.rate_hz);

@@ -112,6 +112,9 @@ enum class TrackerKind { simulated, ndi, apriltag };
 /// `devices.tracker:` one of the three kinds with its settings.
 struct TrackerSettings {
   TrackerKind kind = TrackerKind::simulated;
+  // every kind: where and how fast a tool can plausibly be (dds::PoseBounds)
+  double volume_radius_m = 3.0;     ///< of the tracker's measurement volume, around its origin
+  double max_speed_m_per_s = 2.0;   ///< of any tracked tool
   // simulated
   double rate_hz = 60.0;
   double latency_ms = 0.0;

@@ -213,8 +213,10 @@ Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id,
 }
 
 Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t domain_id, const dds::TopicNames& names,
-                                                               const dds::ArrivalWindow& arrival) {
+                                                               const dds::ArrivalWindow& arrival, const dds::PoseBounds& pose_bounds) {
   auto link = std::make_unique<StationDdsLink>();
+  link->poses = std::make_unique<dds::PoseInbox>(std::initializer_list<std::uint32_t>{kNeedleToolId, kProbeToolId, kRespiratoryToolId},
+                                                 pose_bounds);
   link->domain_id = domain_id;
   link->names = names;
   auto station = make_station_node(domain_id, "nav_station", names);

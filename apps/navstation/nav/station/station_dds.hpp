@@ -54,8 +54,7 @@ Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id,
 /// The devices' and the station's participants of a run, created and matched before the
 /// run starts (so that no sample is lost to discovery), with the station's sinks.
 struct StationDdsLink {
-  std::unique_ptr<dds::PoseInbox> poses = std::make_unique<dds::PoseInbox>(
-      std::initializer_list<std::uint32_t>{kNeedleToolId, kProbeToolId, kRespiratoryToolId});
+  std::unique_ptr<dds::PoseInbox> poses;
   std::unique_ptr<dds::RingSink<dds::UltrasoundFrame, 4>> frames = std::make_unique<dds::RingSink<dds::UltrasoundFrame, 4>>();
   std::unique_ptr<dds::DdsNode> station;  ///< after the sinks: destroyed before them
   std::unique_ptr<dds::DdsNode> devices;
@@ -65,9 +64,9 @@ struct StationDdsLink {
   /// Creates both participants on `domain_id` with the topics named by `names`: the devices
   /// advertise poses and frames, the station subscribes to them and advertises its outputs;
   /// waits (up to 10 s) for the match. The station refuses poses and frames stamped outside
-  /// `arrival` (sample_checks.hpp).
+  /// `arrival` and poses outside `pose_bounds` (sample_checks.hpp).
   static Result<std::unique_ptr<StationDdsLink>> create(std::uint32_t domain_id, const dds::TopicNames& names = {},
-                                                        const dds::ArrivalWindow& arrival = {});
+                                                        const dds::ArrivalWindow& arrival = {}, const dds::PoseBounds& pose_bounds = {});
 };
 
 }  // namespace nav::station

@@ -171,7 +171,7 @@ Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWo
   std::unique_ptr<dds::StationOutbox> outbox;
   std::unique_ptr<StationDdsLink> link;
   if (options.dds) {
-    auto created = StationDdsLink::create(options.dds->domain_id, options.dds->topic_names, options.dds->arrival);
+    auto created = StationDdsLink::create(options.dds->domain_id, options.dds->topic_names, options.dds->arrival, options.dds->pose_bounds);
     if (!created.ok()) return created.error();
     link = std::move(created).value();
     outbox = std::make_unique<dds::StationOutbox>();

@@ -75,6 +75,7 @@ struct DdsRunOptions {
   /// How the devices' stamps map onto this host's monotonic clock, and how far from its
   /// arrival a pose or frame may be stamped (the simulated devices stamp accordingly).
   dds::ArrivalWindow arrival;
+  dds::PoseBounds pose_bounds;  ///< where and how fast the tracked tools can be
 };
 
 /// Latency statistics in microseconds.

@@ -77,6 +77,8 @@ Result<StationSession> run_session(const Scene& scene, const SessionOptions& opt
     run_options.dds->arrival = {.source_clock_offset_ns = static_cast<TimeNs>(clock.offset_ms * 1e6),
                                 .max_ahead_ns = static_cast<TimeNs>(clock.max_ahead_ms * 1e6),
                                 .max_behind_ns = static_cast<TimeNs>(clock.max_behind_ms * 1e6)};
+    run_options.dds->pose_bounds.volume_radius_m = scene.devices.tracker.volume_radius_m;
+    run_options.dds->pose_bounds.max_speed_m_per_s = scene.devices.tracker.max_speed_m_per_s;
   }
   auto run = run_station(loop.value(), s.world, run_options);
   if (!run.ok()) return run.error();

@@ -2,7 +2,7 @@
 
 namespace nav::dds {
 
-PoseInbox::PoseInbox(std::initializer_list<std::uint32_t> tool_ids) noexcept {
+PoseInbox::PoseInbox(std::initializer_list<std::uint32_t> tool_ids, const PoseBounds& bounds) noexcept : bounds_(bounds) {
   for (const std::uint32_t id : tool_ids) {
     if (tool_count_ == kMaxTools) break;
     tools_[tool_count_++].id = id;
@@ -20,9 +20,13 @@ SampleFault PoseInbox::offer(const ToolPose& pose) noexcept {
   const int slot = slot_of(pose.tool_id);
   if (slot < 0) return SampleFault::unknown_tool;
   Tool& tool = tools_[static_cast<std::size_t>(slot)];
+  const SampleFault plausible = bounds_.check(pose, tool.accepted_any ? &tool.last_accepted : nullptr);
+  if (plausible != SampleFault::none) return plausible;
   const SampleFault order = tool.order.advance(pose.source_time_ns);
   if (order != SampleFault::none) return order;
   tool.latest.write(pose);
+  tool.last_accepted = pose;
+  tool.accepted_any = true;
   accepted_.fetch_add(1, std::memory_order_relaxed);
   return SampleFault::none;
 }

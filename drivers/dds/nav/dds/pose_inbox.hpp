@@ -18,11 +18,11 @@ inline constexpr std::size_t kMaxTools = 8;
 
 /// Per-tool latest-pose hand-off. offer() runs on one I/O thread (the pose listener);
 /// update()/latest() run on the real-time thread. Poses of tools not configured are refused,
-/// and so are poses older than the tool's previous one.
+/// and so are poses outside `bounds` (PoseBounds) and poses older than the tool's previous one.
 class PoseInbox final : public SampleSink<ToolPose> {
  public:
   /// The tools to accept, by id (at most kMaxTools; extra ids are ignored).
-  explicit PoseInbox(std::initializer_list<std::uint32_t> tool_ids) noexcept;
+  explicit PoseInbox(std::initializer_list<std::uint32_t> tool_ids, const PoseBounds& bounds = {}) noexcept;
 
   SampleFault offer(const ToolPose& pose) noexcept override;
 
@@ -40,12 +40,16 @@ class PoseInbox final : public SampleSink<ToolPose> {
   std::uint64_t accepted() const noexcept { return accepted_.load(std::memory_order_relaxed); }
 
  private:
-  /// One tool's id, its hand-off and the time order of its stream (writer side).
+  /// One tool's id, its hand-off and, writer side, the time order of its stream and its last
+  /// accepted pose.
   struct Tool {
     std::uint32_t id = 0;
     TripleBuffer<ToolPose> latest;
     StreamOrder order;
+    ToolPose last_accepted;
+    bool accepted_any = false;
   };
+  PoseBounds bounds_;
   std::array<Tool, kMaxTools> tools_{};
   std::size_t tool_count_ = 0;
   std::atomic<std::uint64_t> accepted_{0};

@@ -58,4 +58,15 @@ SampleFault check_sample(const DeformedSurface& surface) noexcept {
 
 SampleFault check_sample(const StationHealth&) noexcept { return SampleFault::none; }
 
+SampleFault PoseBounds::check(const ToolPose& pose, const ToolPose* previous) const noexcept {
+  const auto& p = pose.position_m;
+  if (std::hypot(p[0], p[1], p[2]) > volume_radius_m) return SampleFault::implausible_pose;
+  if (previous == nullptr) return SampleFault::none;
+  const double elapsed_s = 1e-9 * (static_cast<double>(pose.source_time_ns) - static_cast<double>(previous->source_time_ns));
+  if (elapsed_s < 0.0) return SampleFault::none;
+  const auto& q = previous->position_m;
+  const double moved_m = std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+  return moved_m > max_speed_m_per_s * elapsed_s + jitter_m ? SampleFault::implausible_pose : SampleFault::none;
+}
+
 }  // namespace nav::dds

@@ -40,6 +40,21 @@ struct ArrivalWindow {
   }
 };
 
+/// Where and how fast a tracked tool can be: within `volume_radius_m` of the tracker's origin,
+/// and, between two poses of one tool, no further apart than `max_speed_m_per_s` times the time
+/// between their stamps plus `jitter_m` of measurement noise. A pose outside is refused
+/// (implausible_pose) and the tool keeps its last plausible pose as the reference; the
+/// distance allowed grows with the time since, so a tool seen again elsewhere is taken.
+struct PoseBounds {
+  double volume_radius_m = 3.0;
+  double max_speed_m_per_s = 2.0;
+  double jitter_m = 0.002;
+
+  /// none or implausible_pose for `pose`, the tool's last accepted pose being `previous`
+  /// (null for its first). A stamp before previous's is left to the time-order check.
+  SampleFault check(const ToolPose& pose, const ToolPose* previous) const noexcept;
+};
+
 /// The time order of one stream: refuses a source time earlier than the last accepted one
 /// (equal times pass). One writer thread.
 class StreamOrder {

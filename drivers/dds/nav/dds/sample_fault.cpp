@@ -14,6 +14,7 @@ const char* sample_fault_name(SampleFault fault) noexcept {
     case SampleFault::time_backwards: return "time_backwards";
     case SampleFault::time_out_of_window: return "time_out_of_window";
     case SampleFault::unknown_tool: return "unknown_tool";
+    case SampleFault::implausible_pose: return "implausible_pose";
     case SampleFault::buffer_full: return "buffer_full";
   }
   return "unknown";
@@ -21,7 +22,7 @@ const char* sample_fault_name(SampleFault fault) noexcept {
 
 std::uint64_t refused_as_invalid(const BoundaryCounts& counts) noexcept {
   return counts.malformed + counts.wrong_size + counts.non_finite + counts.non_unit_quaternion + counts.time_backwards +
-         counts.time_out_of_window + counts.unknown_tool;
+         counts.time_out_of_window + counts.unknown_tool + counts.implausible_pose;
 }
 
 std::string drops_by_reason(const BoundaryCounts& counts) {
@@ -30,7 +31,7 @@ std::string drops_by_reason(const BoundaryCounts& counts) {
       {SampleFault::non_finite, counts.non_finite},         {SampleFault::non_unit_quaternion, counts.non_unit_quaternion},
       {SampleFault::time_backwards, counts.time_backwards},
       {SampleFault::time_out_of_window, counts.time_out_of_window}, {SampleFault::unknown_tool, counts.unknown_tool},
-      {SampleFault::buffer_full, counts.buffer_full}};
+      {SampleFault::implausible_pose, counts.implausible_pose},   {SampleFault::buffer_full, counts.buffer_full}};
   std::string text;
   for (const auto& [fault, count] : drops) {
     if (count == 0) continue;
@@ -53,6 +54,7 @@ BoundaryCounts BoundaryCounters::snapshot() const noexcept {
   counts.time_backwards = read(SampleFault::time_backwards);
   counts.time_out_of_window = read(SampleFault::time_out_of_window);
   counts.unknown_tool = read(SampleFault::unknown_tool);
+  counts.implausible_pose = read(SampleFault::implausible_pose);
   counts.buffer_full = read(SampleFault::buffer_full);
   return counts;
 }

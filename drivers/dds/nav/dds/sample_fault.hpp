@@ -21,6 +21,7 @@ enum class SampleFault : std::uint8_t {
   time_backwards,       // source time earlier than the previous sample of the stream
   time_out_of_window,   // source time too far from the arrival time on this host's clock (ArrivalWindow)
   unknown_tool,         // a tool id the station was not configured with
+  implausible_pose,     // outside the tracker's volume, or moved faster than a tool can (PoseBounds)
   buffer_full,          // valid, but the hand-off buffer had no room
 };
 

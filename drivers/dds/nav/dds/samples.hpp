@@ -92,6 +92,7 @@ struct BoundaryCounts {
   std::uint64_t time_backwards = 0;
   std::uint64_t time_out_of_window = 0;
   std::uint64_t unknown_tool = 0;
+  std::uint64_t implausible_pose = 0;
   std::uint64_t buffer_full = 0;
 };
 

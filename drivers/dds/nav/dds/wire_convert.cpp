@@ -159,6 +159,7 @@ void to_wire(const StationHealth& sample, nav_msgs::StationHealth& wire) {
   wire.dropped_time_backwards(sample.boundary.time_backwards);
   wire.dropped_time_out_of_window(sample.boundary.time_out_of_window);
   wire.dropped_unknown_tool(sample.boundary.unknown_tool);
+  wire.dropped_implausible_pose(sample.boundary.implausible_pose);
   wire.dropped_buffer_full(sample.boundary.buffer_full);
 }
 
@@ -178,6 +179,7 @@ SampleFault from_wire(const nav_msgs::StationHealth& wire, StationHealth& sample
   sample.boundary.time_backwards = wire.dropped_time_backwards();
   sample.boundary.time_out_of_window = wire.dropped_time_out_of_window();
   sample.boundary.unknown_tool = wire.dropped_unknown_tool();
+  sample.boundary.implausible_pose = wire.dropped_implausible_pose();
   sample.boundary.buffer_full = wire.dropped_buffer_full();
   return SampleFault::none;
 }
