@@ -324,8 +324,10 @@ bool held(const std::string& path) {
 TEST(DdsHostileSamples, TheSegmentOfAKilledParticipantIsRemovedWhenTheNextOneStarts) {
   ChildProcess recorder({kNavtool, "record", "--out", temp_path("killed.navrec"), "--duration-s", "120", "--domain", "193"},
                         temp_path("killed_record.log"));
-  std::set<std::string> its_locks;
-  ASSERT_TRUE(wait_until([&] { return !(its_locks = segment_locks_of(recorder.pid())).empty(); }, std::chrono::seconds(30)));
+  ASSERT_TRUE(wait_until([&] { return !segment_locks_of(recorder.pid()).empty(); }, std::chrono::seconds(30)));
+  // Its lock files are opened, then locked: once it has settled, it holds every one.
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  const std::set<std::string> its_locks = segment_locks_of(recorder.pid());
   for (const std::string& lock : its_locks) EXPECT_TRUE(held(lock)) << lock << " not held by the live participant";
   recorder.signal(SIGKILL);
   EXPECT_FALSE(recorder.wait(std::chrono::seconds(10)).has_value());  // killed: no exit code
