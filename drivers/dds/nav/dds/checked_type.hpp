@@ -5,6 +5,7 @@
 // expect (an unknown encapsulation, a bad first byte), and an exception there ends the process.
 // Here every such payload is a counted refusal instead: Fast DDS then drops the change and
 // goes on with the next.
+#include <fastcdr/exceptions/Exception.h>
 #include <fastdds/rtps/common/SerializedPayload.h>
 
 #include "nav/dds/sample_fault.hpp"
@@ -28,7 +29,9 @@ SampleFault checked_deserialize(typename WireTraits<Sample>::PubSubType& type, e
   try {
     // The generated decoder itself, also when `type` is a CheckedPubSubType.
     return type.Generated::deserialize(&payload, &wire) ? SampleFault::none : SampleFault::malformed;
-  } catch (...) {
+  } catch (const eprosima::fastcdr::exception::Exception&) {  // BadParamException, NotEnoughMemoryException
+    return SampleFault::malformed;
+  } catch (...) {  // anything else the generated code may throw (std::bad_alloc on a huge length)
     return SampleFault::malformed;
   }
 }
