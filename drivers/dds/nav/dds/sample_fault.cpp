@@ -1,5 +1,6 @@
 #include "nav/dds/sample_fault.hpp"
 
+#include <array>
 #include <utility>
 
 namespace nav::dds {
@@ -20,20 +21,33 @@ const char* sample_fault_name(SampleFault fault) noexcept {
   return "unknown";
 }
 
+namespace {
+
+/// Every drop count of `counts` with its cause, in the order summaries list them.
+std::array<std::pair<SampleFault, std::uint64_t>, 9> drops_of(const BoundaryCounts& counts) noexcept {
+  return {{{SampleFault::malformed, counts.malformed},
+           {SampleFault::wrong_size, counts.wrong_size},
+           {SampleFault::non_finite, counts.non_finite},
+           {SampleFault::non_unit_quaternion, counts.non_unit_quaternion},
+           {SampleFault::time_backwards, counts.time_backwards},
+           {SampleFault::time_out_of_window, counts.time_out_of_window},
+           {SampleFault::unknown_tool, counts.unknown_tool},
+           {SampleFault::implausible_pose, counts.implausible_pose},
+           {SampleFault::buffer_full, counts.buffer_full}}};
+}
+
+}  // namespace
+
 std::uint64_t refused_as_invalid(const BoundaryCounts& counts) noexcept {
-  return counts.malformed + counts.wrong_size + counts.non_finite + counts.non_unit_quaternion + counts.time_backwards +
-         counts.time_out_of_window + counts.unknown_tool + counts.implausible_pose;
+  std::uint64_t refused = 0;
+  for (const auto& [fault, count] : drops_of(counts))
+    if (fault != SampleFault::buffer_full) refused += count;
+  return refused;
 }
 
 std::string drops_by_reason(const BoundaryCounts& counts) {
-  const std::pair<SampleFault, std::uint64_t> drops[] = {
-      {SampleFault::malformed, counts.malformed},           {SampleFault::wrong_size, counts.wrong_size},
-      {SampleFault::non_finite, counts.non_finite},         {SampleFault::non_unit_quaternion, counts.non_unit_quaternion},
-      {SampleFault::time_backwards, counts.time_backwards},
-      {SampleFault::time_out_of_window, counts.time_out_of_window}, {SampleFault::unknown_tool, counts.unknown_tool},
-      {SampleFault::implausible_pose, counts.implausible_pose},   {SampleFault::buffer_full, counts.buffer_full}};
   std::string text;
-  for (const auto& [fault, count] : drops) {
+  for (const auto& [fault, count] : drops_of(counts)) {
     if (count == 0) continue;
     if (!text.empty()) text += ", ";
     text += std::string(sample_fault_name(fault)) + " " + std::to_string(count);
