@@ -241,11 +241,23 @@ TEST(DdsHostileSamples, NavtoolRecordKeepsRecordingThroughCraftedPayloads) {
   // Best-effort and keep-last: a crafted sample replaced before the listener takes it is never
   // decoded, so never counted; most are.
   EXPECT_GE(nav::testing::number_after(recorder.log(), "malformed "), static_cast<double>(crafted) / 2);
-  // The valid samples between the crafted ones are all in an intact, indexed recording.
+  // The recording is intact and holds valid samples only. A valid sample may itself be replaced
+  // by the crafted one after it before a slow listener (sanitizers) takes it, but the last one of
+  // each topic has nothing after it: the recorder must have kept it.
   auto reader = RecordingReader::open(recording);
   ASSERT_TRUE(reader.ok()) << reader.error().describe();
   EXPECT_FALSE(reader.value()->damage().has_value());
-  EXPECT_EQ(reader.value()->record_count(), 2u * kRounds);
+  const std::size_t records = reader.value()->record_count();
+  std::printf("valid samples recorded %zu of %d\n", records, 2 * kRounds);
+  EXPECT_LE(records, 2u * kRounds);
+  TimeNs last_pose_ns = 0, last_frame_ns = 0;
+  for (std::size_t i = 0; i < records; ++i) {
+    auto sample = reader.value()->read(i);
+    ASSERT_TRUE(sample.ok()) << sample.error().describe();
+    (sample.value().topic == Topic::tool_pose ? last_pose_ns : last_frame_ns) = sample.value().source_time_ns;
+  }
+  EXPECT_EQ(last_pose_ns, kRounds * kNsPerMs);
+  EXPECT_EQ(last_frame_ns, kRounds * kNsPerMs);
   std::remove(recording.c_str());
 }
 
