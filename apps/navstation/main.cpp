@@ -4,6 +4,10 @@
 //                          real-time setup would do here, and exits.
 //   --scene FILE           runs the scene on its simulated world: the real-time loop and the
 //                          I/O thread for --seconds (default 10), then prints the summary.
+//   --scene FILE --live    runs the station alone on devices that are other processes on DDS
+//                          (navdevice sim, ...): the real-time loop and the I/O thread for
+//                          --seconds, then prints the summary of timing and what arrived; the
+//                          evaluation against a simulated patient's truth is navtool evaluate.
 //   --demo                 the same on the demo scene (scenes/demo.yaml).
 //                          The simulated devices publish on DDS and the station subscribes
 //                          (the scene's topics.domain_id, or --domain D).
@@ -33,14 +37,15 @@ namespace {
 constexpr const char* kUsage =
     "usage: navstation --scene FILE --check\n"
     "       navstation (--demo | --scene FILE) [--seconds S] [--domain D] [--plot FILE.svg] [--json FILE]\n"
-    "                                             [--images DIR]\n";
+    "                                             [--images DIR]\n"
+    "       navstation --scene FILE --live [--seconds S] [--domain D] [--images DIR]\n";
 constexpr int kExitError = 1;
 constexpr int kExitUsage = 2;
 
 /// The command line.
 struct Arguments {
   std::string scene_path;
-  bool check = false, demo = false;
+  bool check = false, demo = false, live = false;
   double seconds = 10.0;
   long domain_id = -1;  ///< -1: the scene's
   std::string plot_path, json_path, images_dir;
@@ -113,33 +118,76 @@ bool write_file(const std::string& path, const std::string& text) {
   return static_cast<bool>(out);
 }
 
+/// navview, started beside the station when --images asks (headless, PNG composites into DIR).
+class NavviewBeside {
+ public:
+  NavviewBeside(const nav::station::Scene& scene, const Arguments& args) : scene_(scene), args_(args) {}
+
+  /// Starts navview on the station's topics with the liver's surface (a BeforeRun).
+  nav::Status start(const nav::station::DisplaySurface& surface) {
+    if (args_.images_dir.empty()) return nav::Done{};
+    std::error_code error;
+    std::filesystem::create_directories(args_.images_dir, error);
+    const std::string obj = (std::filesystem::path(args_.images_dir) / "liver_surface.obj").string();
+    if (error || !write_file(obj, nav::station::surface_obj(surface))) return nav::Error{"cannot write the liver surface", obj, 0, ""};
+    // navview ends by itself well after the run, should navstation never stop it.
+    const std::string duration_s = std::to_string(static_cast<int>(args_.seconds) + 300);
+    std::vector<std::string> navview_args{"--headless", "--out-dir", args_.images_dir, "--surface-mesh", obj, "--unit", "m", "--period-ms",
+                                          "500", "--duration-s", duration_s, "--domain", std::to_string(scene_.topics.domain_id)};
+    const nav::dds::TopicNames names = nav::station::topic_names(scene_.topics);
+    for (std::size_t t = 0; t < names.size(); ++t)  // navview reads the station's topics by the scene's names
+      navview_args.insert(navview_args.end(), {"--topic", std::string(nav::dds::topic_name(static_cast<nav::dds::Topic>(t))) + "=" + names[t]});
+    auto started = navstation::NavviewProcess::start(navview_args, (std::filesystem::path(args_.images_dir) / "navview.log").string());
+    if (!started.ok()) return started.error();
+    navview_.emplace(std::move(started).value());
+    return nav::Done{};
+  }
+
+  /// Stops navview and reports its images; false when it wrote none.
+  bool stop_and_report() {
+    const int exit_code = navview_ ? navview_->stop() : 0;
+    if (args_.images_dir.empty()) return true;
+    int images = 0;
+    std::error_code error;
+    for (const auto& entry : std::filesystem::directory_iterator(args_.images_dir, error))
+      images += entry.path().extension() == ".png" ? 1 : 0;
+    std::printf("navview: %d images in %s (exit code %d)\n", images, args_.images_dir.c_str(), exit_code);
+    return images > 0;  // navview's own exit code is reported, not the station's failure
+  }
+
+ private:
+  const nav::station::Scene& scene_;
+  const Arguments& args_;
+  std::optional<navstation::NavviewProcess> navview_;
+};
+
+int run_live(const nav::station::Scene& scene, const Arguments& args) {
+  print_plan(scene);
+  std::printf("building the liver and its reduced loop, then running %.1f s on the devices of domain %u ...\n", args.seconds,
+              scene.topics.domain_id);
+  std::fflush(stdout);
+  NavviewBeside navview(scene, args);
+  auto session = nav::station::run_live_session(scene, static_cast<nav::TimeNs>(args.seconds * 1e9),
+                                                [&](const nav::station::DisplaySurface& surface) { return navview.start(surface); });
+  const bool images = navview.stop_and_report();
+  if (!session.ok()) {
+    std::fprintf(stderr, "navstation: %s\n", session.error().describe().c_str());
+    return kExitError;
+  }
+  std::printf("%s", nav::station::format_live_summary(scene, session.value()).c_str());
+  return images ? 0 : kExitError;
+}
+
 int run_scene(const nav::station::Scene& scene, const Arguments& args) {
   print_plan(scene);
   std::printf("building the liver, its reduced loop and the full-order world, then running %.1f s ...\n", args.seconds);
   std::fflush(stdout);
   nav::station::SessionOptions options;
   options.world.duration_ns = static_cast<nav::TimeNs>(args.seconds * 1e9);
-  std::optional<navstation::NavviewProcess> navview;
-  const auto start_navview = [&](const nav::station::StationSession& built) -> nav::Status {
-    if (args.images_dir.empty()) return nav::Done{};
-    std::error_code error;
-    std::filesystem::create_directories(args.images_dir, error);
-    const std::string obj = (std::filesystem::path(args.images_dir) / "liver_surface.obj").string();
-    if (error || !write_file(obj, nav::station::surface_obj(built.surface))) return nav::Error{"cannot write the liver surface", obj, 0, ""};
-    // navview ends by itself well after the run, should navstation never stop it.
-    const std::string duration_s = std::to_string(static_cast<int>(args.seconds) + 300);
-    std::vector<std::string> navview_args{"--headless", "--out-dir", args.images_dir, "--surface-mesh", obj, "--unit", "m", "--period-ms",
-                                          "500", "--duration-s", duration_s, "--domain", std::to_string(scene.topics.domain_id)};
-    const nav::dds::TopicNames names = nav::station::topic_names(scene.topics);
-    for (std::size_t t = 0; t < names.size(); ++t)  // navview reads the station's topics by the scene's names
-      navview_args.insert(navview_args.end(), {"--topic", std::string(nav::dds::topic_name(static_cast<nav::dds::Topic>(t))) + "=" + names[t]});
-    auto started = navstation::NavviewProcess::start(navview_args, (std::filesystem::path(args.images_dir) / "navview.log").string());
-    if (!started.ok()) return started.error();
-    navview.emplace(std::move(started).value());
-    return nav::Done{};
-  };
+  NavviewBeside navview(scene, args);
+  const auto start_navview = [&](const nav::station::DisplaySurface& surface) { return navview.start(surface); };
   auto session = nav::station::run_session(scene, options, start_navview);
-  const int navview_exit = navview ? navview->stop() : 0;
+  const bool images = navview.stop_and_report();
   if (!session.ok()) {
     std::fprintf(stderr, "navstation: %s\n", session.error().describe().c_str());
     return kExitError;
@@ -152,14 +200,7 @@ int run_scene(const nav::station::Scene& scene, const Arguments& args) {
     if (written) std::printf("error plot: %s\n", args.plot_path.c_str());
   }
   if (!args.json_path.empty()) written = write_file(args.json_path, nav::station::session_json(scene, session.value())) && written;
-  if (!args.images_dir.empty()) {
-    int images = 0;
-    std::error_code error;
-    for (const auto& entry : std::filesystem::directory_iterator(args.images_dir, error))
-      images += entry.path().extension() == ".png" ? 1 : 0;
-    std::printf("navview: %d images in %s (exit code %d)\n", images, args.images_dir.c_str(), navview_exit);
-    written = written && images > 0;  // navview's own exit code is reported, not the station's failure
-  }
+  written = written && images;
   return written ? 0 : kExitError;
 }
 
@@ -172,6 +213,8 @@ bool parse(int argc, char** argv, Arguments& args) {
       args.scene_path = argv[++i];
     } else if (arg == "--check") {
       args.check = true;
+    } else if (arg == "--live") {
+      args.live = true;
     } else if (arg == "--demo") {
       args.demo = true;
     } else if (arg == "--seconds" && has_value) {
@@ -203,6 +246,10 @@ bool parse(int argc, char** argv, Arguments& args) {
     std::fprintf(stderr, "navstation: give --demo or --scene FILE\n");
     return false;
   }
+  if (args.live && (args.demo || args.check || !args.plot_path.empty() || !args.json_path.empty())) {
+    std::fprintf(stderr, "navstation: --live runs a --scene FILE alone (its evaluation is navtool evaluate)\n");
+    return false;
+  }
   return true;
 }
 
@@ -221,5 +268,5 @@ int main(int argc, char** argv) {
   }
   if (args.check) return check_scene(std::move(scene).value());
   if (args.domain_id >= 0) scene.value().topics.domain_id = static_cast<std::uint32_t>(args.domain_id);
-  return run_scene(scene.value(), args);
+  return args.live ? run_live(scene.value(), args) : run_scene(scene.value(), args);
 }

@@ -13,6 +13,7 @@ constexpr const char* kUsage =
     "  navtool mesh make (--liver | --surface FILE [--unit mm|cm|m] | --labels FILE) --size H_M --out FILE.vtu\n"
     "  navtool record --out FILE [--duration-s S] [--domain D] [--local-address A] [--peer A]...\n"
     "  navtool replay FILE [--as-fast-as-possible] [--domain D] [--local-address A] [--peer A]...\n"
+    "  navtool evaluate (--scene FILE [--seconds S] [--domain D] | --recording FILE.navrec) [--settle-s S] [--plot F.svg] [--json F]\n"
     "  navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --method modes|modal-derivatives|pod\n"
     "                 --r R --force linear|corotational|stvk|stvk-cubic [--samples M] [--seed S] --out FILE [--json]\n"
     "  navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --extend LOWER.navrb --r R\n"
@@ -37,6 +38,7 @@ int main(int argc, char** argv) {
   }
   if (!args.empty() && args[0] == "reduce") return navtool::reduce({args.begin() + 1, args.end()});
   if (!args.empty() && (args[0] == "record" || args[0] == "replay")) return navtool::record_replay(args);
+  if (!args.empty() && args[0] == "evaluate") return navtool::evaluate(args);
   if (args.size() >= 2 && args[0] == "calib") {
     const std::vector<std::string> calib_args(args.begin() + 2, args.end());
     if (args[1] == "pivot") return navtool::calib_pivot(calib_args);

@@ -98,6 +98,14 @@ inline StationHealth make_health(TimeNs source_time_ns) {
   return health;
 }
 
+inline GroundTruth make_truth(TimeNs source_time_ns) {
+  GroundTruth truth;
+  truth.source_time_ns = source_time_ns;
+  truth.tumour_m = {-0.04, -0.005, 0.003};
+  truth.needle_tip_m = {-0.04, 0.05, 0.02};
+  return truth;
+}
+
 /// Polls `done` every millisecond for up to `timeout`; true once it holds.
 template <typename Predicate>
 bool wait_until(Predicate done, std::chrono::milliseconds timeout = std::chrono::seconds(10)) {

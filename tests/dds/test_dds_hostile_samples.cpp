@@ -43,7 +43,6 @@ const std::string kNavtool = std::string(NAV_BIN_DIR) + "/navtool";
 const std::string kNavstation = std::string(NAV_BIN_DIR) + "/navstation";
 using Payload = std::vector<std::uint8_t>;
 
-std::string temp_path(const std::string& name) { return ::testing::TempDir() + name + "_" + std::to_string(getpid()); }
 
 /// Payloads made from the valid encoding `valid`, none of which a station may take.
 std::vector<std::pair<std::string, Payload>> crafted_payloads(const Payload& valid) {
@@ -221,9 +220,9 @@ TEST(DdsHostileSamples, AReaderCountsCraftedPayloadsFromAForeignParticipantAndKe
 }
 
 TEST(DdsHostileSamples, NavtoolRecordKeepsRecordingThroughCraftedPayloads) {
-  const std::string recording = temp_path("hostile.navrec");
+  const std::string recording = nav::testing::temporary_path("hostile.navrec");
   ChildProcess recorder({kNavtool, "record", "--out", recording, "--duration-s", "120", "--domain", "191"},
-                        temp_path("hostile_record.log"));
+                        nav::testing::temporary_path("hostile_record.log"));
   ASSERT_TRUE(recorder.started());
   RawPayloadWriter<ToolPose> foreign_poses(191);
   RawPayloadWriter<UltrasoundFrame> foreign_frames(191);
@@ -262,7 +261,7 @@ TEST(DdsHostileSamples, NavtoolRecordKeepsRecordingThroughCraftedPayloads) {
 }
 
 TEST(DdsHostileSamples, NavstationRunsThroughCraftedAndFutureStampedSamplesAndCountsThem) {
-  const std::string log = temp_path("hostile_station.log");
+  const std::string log = nav::testing::temporary_path("hostile_station.log");
   ChildProcess station({kNavstation, "--demo", "--seconds", "2", "--domain", "192"}, log);
   ASSERT_TRUE(station.started());
   RawPayloadWriter<ToolPose> foreign_poses(192);
@@ -334,8 +333,8 @@ bool held(const std::string& path) {
 }
 
 TEST(DdsHostileSamples, TheSegmentOfAKilledParticipantIsRemovedWhenTheNextOneStarts) {
-  ChildProcess recorder({kNavtool, "record", "--out", temp_path("killed.navrec"), "--duration-s", "120", "--domain", "193"},
-                        temp_path("killed_record.log"));
+  ChildProcess recorder({kNavtool, "record", "--out", nav::testing::temporary_path("killed.navrec"), "--duration-s", "120", "--domain", "193"},
+                        nav::testing::temporary_path("killed_record.log"));
   ASSERT_TRUE(wait_until([&] { return !segment_locks_of(recorder.pid()).empty(); }, std::chrono::seconds(30)));
   // Its lock files are opened, then locked: once it has settled, it holds every one.
   std::this_thread::sleep_for(std::chrono::seconds(1));
@@ -357,7 +356,7 @@ TEST(DdsHostileSamples, TheSegmentOfAKilledParticipantIsRemovedWhenTheNextOneSta
 }
 
 TEST(DdsHostileSamples, CleanupKeepsSegmentsInUseOrJustCreatedAndOtherFiles) {
-  const std::filesystem::path folder = temp_path("shm");
+  const std::filesystem::path folder = nav::testing::temporary_path("shm");
   std::filesystem::create_directories(folder);
   const auto make = [&](const std::string& name, bool age) {
     std::ofstream(folder / name) << "x";

@@ -10,13 +10,13 @@
 #include "nav/dds/pose_inbox.hpp"
 #include "nav/dds/record_replay.hpp"
 #include "nav/dds/sample_codec.hpp"
+#include "support/test_data.hpp"
 
 namespace nav::dds {
 namespace {
 
 using namespace testing;
 
-std::string temp_path(const char* name) { return ::testing::TempDir() + name; }
 
 /// Writes one record of `sample` with receive time source + 1000.
 template <typename Sample>
@@ -39,7 +39,7 @@ std::vector<std::uint64_t> write_five_poses(const std::string& path) {
 }
 
 TEST(DdsRecording, EveryTopicRoundTripsWithItsTimes) {
-  const std::string path = temp_path("nav_all_topics.navrec");
+  const std::string path = nav::testing::temporary_path("nav_all_topics.navrec");
   {
     auto writer = RecordingWriter::create(path);
     ASSERT_TRUE(writer.ok()) << writer.error().describe();
@@ -49,16 +49,18 @@ TEST(DdsRecording, EveryTopicRoundTripsWithItsTimes) {
     append(*writer.value(), make_prediction(400));
     append(*writer.value(), *make_surface(500, 500));
     append(*writer.value(), make_health(600));
+    append(*writer.value(), make_truth(700));
     ASSERT_TRUE(writer.value()->close().ok());
   }
   auto reader = RecordingReader::open(path);
   ASSERT_TRUE(reader.ok()) << reader.error().describe();
   EXPECT_TRUE(reader.value()->indexed());
   EXPECT_FALSE(reader.value()->damage().has_value());
-  ASSERT_EQ(reader.value()->record_count(), 6u);
-  const Topic topics[] = {Topic::tool_pose, Topic::ultrasound_frame, Topic::needle_state,
-                          Topic::target_prediction, Topic::deformed_surface, Topic::station_health};
-  for (std::size_t i = 0; i < 6; ++i) {
+  ASSERT_EQ(reader.value()->record_count(), kTopicCount);
+  const Topic topics[] = {Topic::tool_pose,        Topic::ultrasound_frame, Topic::needle_state, Topic::target_prediction,
+                          Topic::deformed_surface, Topic::station_health,   Topic::ground_truth};
+  static_assert(std::size(topics) == kTopicCount, "every topic is recorded");
+  for (std::size_t i = 0; i < kTopicCount; ++i) {
     auto record = reader.value()->read(i);
     ASSERT_TRUE(record.ok()) << record.error().describe();
     EXPECT_EQ(record.value().topic, topics[i]);
@@ -72,7 +74,7 @@ TEST(DdsRecording, EveryTopicRoundTripsWithItsTimes) {
 }
 
 TEST(DdsRecording, TruncatedRecordingReportsTheOffsetAndItsIntactPartPlays) {
-  const std::string path = temp_path("nav_truncated.navrec");
+  const std::string path = nav::testing::temporary_path("nav_truncated.navrec");
   const std::vector<std::uint64_t> offsets = write_five_poses(path);
   ASSERT_EQ(offsets.size(), 5u);
   std::filesystem::resize_file(path, offsets[3] + 40);  // inside the fourth record's payload
@@ -94,7 +96,7 @@ TEST(DdsRecording, TruncatedRecordingReportsTheOffsetAndItsIntactPartPlays) {
 }
 
 TEST(DdsRecording, CorruptRecordIsReportedWithItsOffsetAndTheOthersStillPlay) {
-  const std::string path = temp_path("nav_corrupt.navrec");
+  const std::string path = nav::testing::temporary_path("nav_corrupt.navrec");
   const std::vector<std::uint64_t> offsets = write_five_poses(path);
   {
     std::fstream file(path, std::ios::in | std::ios::out | std::ios::binary);
@@ -114,16 +116,16 @@ TEST(DdsRecording, CorruptRecordIsReportedWithItsOffsetAndTheOthersStillPlay) {
 }
 
 TEST(DdsRecording, NotARecordingIsAnError) {
-  const std::string path = temp_path("nav_not_a_recording.navrec");
+  const std::string path = nav::testing::temporary_path("nav_not_a_recording.navrec");
   std::ofstream(path) << "hello";
   const auto reader = RecordingReader::open(path);
   ASSERT_FALSE(reader.ok());
   EXPECT_NE(reader.error().describe().find("not a navigation recording"), std::string::npos);
-  EXPECT_FALSE(RecordingReader::open(temp_path("nav_missing.navrec")).ok());
+  EXPECT_FALSE(RecordingReader::open(nav::testing::temporary_path("nav_missing.navrec")).ok());
 }
 
 TEST(DdsRecording, RecordedPosesReplayOntoDdsUnchanged) {
-  const std::string path = temp_path("nav_dds_round_trip.navrec");
+  const std::string path = nav::testing::temporary_path("nav_dds_round_trip.navrec");
   std::vector<TimeNs> sent_ns;
   {
     auto tracker = DdsNode::create(local_network(111));

@@ -23,6 +23,7 @@ TEST(DdsSampleChecks, ValidSamplesPass) {
   EXPECT_EQ(check_sample(make_prediction(10)), SampleFault::none);
   EXPECT_EQ(check_sample(*make_surface(100, 10)), SampleFault::none);
   EXPECT_EQ(check_sample(make_health(10)), SampleFault::none);
+  EXPECT_EQ(check_sample(make_truth(10)), SampleFault::none);
 }
 
 TEST(DdsSampleChecks, NaNOrInfinityAnywhereInAPoseIsNonFinite) {
@@ -82,6 +83,10 @@ TEST(DdsSampleChecks, NonFiniteOutputsAreRefused) {
   TargetPrediction prediction = make_prediction(1);
   prediction.covariance_m2[8] = kNaN;
   EXPECT_EQ(check_sample(prediction), SampleFault::non_finite);
+
+  GroundTruth truth = make_truth(1);
+  truth.needle_tip_m[1] = kNaN;
+  EXPECT_EQ(check_sample(truth), SampleFault::non_finite);
 
   auto surface = make_surface(10, 1);
   surface->vertex_positions_m[3][0] = std::numeric_limits<float>::infinity();

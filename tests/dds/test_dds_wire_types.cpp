@@ -81,6 +81,12 @@ TEST(DdsWireTypes, NeedlePredictionSurfaceAndHealthRoundTrip) {
   EXPECT_EQ(health_back->boundary.non_unit_quaternion, 9u);
   EXPECT_EQ(health_back->boundary.buffer_full, 11u);
   EXPECT_EQ(health_back->boundary.malformed, 13u);
+
+  const GroundTruth truth = make_truth(5);
+  const auto truth_back = round_trip(truth);
+  EXPECT_EQ(truth_back->source_time_ns, 5);
+  EXPECT_EQ(truth_back->tumour_m, truth.tumour_m);
+  EXPECT_EQ(truth_back->needle_tip_m, truth.needle_tip_m);
 }
 
 TEST(DdsWireTypes, AllTypesAreBoundedSoTheyCanUseDataSharing) {
@@ -90,6 +96,7 @@ TEST(DdsWireTypes, AllTypesAreBoundedSoTheyCanUseDataSharing) {
   EXPECT_TRUE(nav_msgs::TargetPredictionPubSubType().is_bounded());
   EXPECT_TRUE(nav_msgs::DeformedSurfacePubSubType().is_bounded());
   EXPECT_TRUE(nav_msgs::StationHealthPubSubType().is_bounded());
+  EXPECT_TRUE(nav_msgs::GroundTruthPubSubType().is_bounded());
   // A full frame fits the preallocated payload, with room for the header fields.
   EXPECT_GT(nav_msgs::UltrasoundFramePubSubType().m_typeSize, kMaxFramePixels);
   EXPECT_LT(nav_msgs::UltrasoundFramePubSubType().m_typeSize, kMaxFramePixels + 256);

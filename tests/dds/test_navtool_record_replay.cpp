@@ -23,7 +23,6 @@ using nav::testing::ChildProcess;
 const std::string kNavtool = std::string(NAV_BIN_DIR) + "/navtool";
 constexpr auto kProcessTimeout = std::chrono::seconds(60);
 
-std::string temp_path(const std::string& name) { return ::testing::TempDir() + name + "_" + std::to_string(getpid()); }
 
 /// Every record of a recording, by (topic, source time), as its CDR payload.
 using RecordedPayloads = std::map<std::pair<Topic, TimeNs>, std::vector<std::uint8_t>>;
@@ -63,17 +62,17 @@ RecordedPayloads read_recording(RecordingReader& reader) {
 }
 
 TEST(NavtoolRecordReplay, ReplayedRecordingIsRecordedUnchangedAndSigtermClosesIt) {
-  const std::string input = temp_path("navtool_cli_input.navrec");
-  const std::string output = temp_path("navtool_cli_output.navrec");
+  const std::string input = nav::testing::temporary_path("navtool_cli_input.navrec");
+  const std::string output = nav::testing::temporary_path("navtool_cli_output.navrec");
   std::filesystem::remove(output);
   const RecordedPayloads written = write_input_recording(input);
   ASSERT_EQ(written.size(), 24u);
 
   ChildProcess recorder({kNavtool, "record", "--out", output, "--duration-s", "120", "--domain", "160"},
-                        temp_path("navtool_cli_record.log"));
+                        nav::testing::temporary_path("navtool_cli_record.log"));
   ASSERT_TRUE(recorder.started());
   ChildProcess player({kNavtool, "replay", input, "--wait-for-readers-s", "30", "--domain", "160"},
-                      temp_path("navtool_cli_replay.log"));
+                      nav::testing::temporary_path("navtool_cli_replay.log"));
   EXPECT_EQ(player.wait(kProcessTimeout), 0) << player.log();
   EXPECT_NE(player.log().find("replayed 24 samples, skipped 0"), std::string::npos) << player.log();
 
@@ -106,7 +105,7 @@ TEST(NavtoolRecordReplay, ReplayedRecordingIsRecordedUnchangedAndSigtermClosesIt
 }
 
 TEST(NavtoolRecordReplay, TruncatedRecordingPlaysItsIntactPartAndNamesTheOffset) {
-  const std::string input = temp_path("navtool_cli_truncated.navrec");
+  const std::string input = nav::testing::temporary_path("navtool_cli_truncated.navrec");
   write_input_recording(input);
   std::uint64_t fourth_record_offset = 0;
   {
@@ -117,7 +116,7 @@ TEST(NavtoolRecordReplay, TruncatedRecordingPlaysItsIntactPartAndNamesTheOffset)
   std::filesystem::resize_file(input, fourth_record_offset + 10);
   // Nobody listens on this domain: a short wait for readers keeps the test quick.
   ChildProcess player({kNavtool, "replay", input, "--as-fast-as-possible", "--wait-for-readers-s", "0.1", "--domain", "161"},
-                      temp_path("navtool_cli_truncated.log"));
+                      nav::testing::temporary_path("navtool_cli_truncated.log"));
   EXPECT_EQ(player.wait(kProcessTimeout), 1) << player.log();
   const std::string log = player.log();
   EXPECT_NE(log.find("byte offset " + std::to_string(fourth_record_offset)), std::string::npos) << log;
@@ -129,7 +128,7 @@ TEST(NavtoolRecordReplay, MalformedCommandLinesAreRefused) {
        {std::vector<std::string>{kNavtool, "replay", "x.navrec", "--wait-for-readers-s", "-1"},
         std::vector<std::string>{kNavtool, "replay", "x.navrec", "--wait-for-readers-s"},
         std::vector<std::string>{kNavtool, "record", "--duration-s", "1"}}) {
-    ChildProcess tool(args, temp_path("navtool_cli_usage.log"));
+    ChildProcess tool(args, nav::testing::temporary_path("navtool_cli_usage.log"));
     EXPECT_EQ(tool.wait(kProcessTimeout), 2) << args[1] << " " << args.back();
     EXPECT_NE(tool.log().find("usage: navtool"), std::string::npos) << tool.log();
   }

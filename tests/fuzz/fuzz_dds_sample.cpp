@@ -38,7 +38,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     case 2: decode_as<NeedleState>(payload, payload_size); break;
     case 3: decode_as<TargetPrediction>(payload, payload_size); break;
     case 4: decode_as<DeformedSurface>(payload, payload_size); break;
-    default: decode_as<StationHealth>(payload, payload_size); break;
+    case 5: decode_as<StationHealth>(payload, payload_size); break;
+    default: decode_as<GroundTruth>(payload, payload_size); break;
   }
   return 0;
 }

@@ -34,6 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     decode_if_of<TargetPrediction>(record.value());
     decode_if_of<DeformedSurface>(record.value());
     decode_if_of<StationHealth>(record.value());
+    decode_if_of<GroundTruth>(record.value());
   }
   return 0;
 }

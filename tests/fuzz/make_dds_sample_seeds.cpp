@@ -46,5 +46,6 @@ bool write_fuzz_seeds(const std::filesystem::path& folder) {
   using namespace nav::dds::testing;
   return write_seeds(folder, make_pose(1, 1000)) && write_seeds(folder, *make_frame(4, 3, 2000)) &&
          write_seeds(folder, make_needle(3, 3000)) && write_seeds(folder, make_prediction(4000)) &&
-         write_seeds(folder, *make_surface(2, 5000)) && write_seeds(folder, make_health(6000));
+         write_seeds(folder, *make_surface(2, 5000)) && write_seeds(folder, make_health(6000)) &&
+         write_seeds(folder, make_truth(7000));
 }

@@ -320,13 +320,14 @@ TEST(StationDds, ADevicePeerDisappearingIsFlaggedAndTheStationRecovers) {
   int samples = 0, as_the_loop = 0;
   TimeNs last_time_ns = 0;
   while (display.health->try_pop(health)) {
-    if (health.source_time_ns > flagged_ns && health.source_time_ns < r.device_back_ns)
+    const TimeNs health_ns = health.source_time_ns - run.start_ns;  // stamped on the host's clock
+    if (health_ns > flagged_ns && health_ns < r.device_back_ns)
       degraded_in_outage = degraded_in_outage || (health.mode == dds::StationMode::degraded && (health.flags & kInputLost) != 0);
-    const auto tick = std::find_if(run.ticks.begin(), run.ticks.end(), [&](const TickRecord& t) { return t.time_ns == health.source_time_ns; });
+    const auto tick = std::find_if(run.ticks.begin(), run.ticks.end(), [&](const TickRecord& t) { return t.time_ns == health_ns; });
     const bool overrun = (health.flags & kOutboxOverrun) != 0;  // the publisher's own flag: its outbox refused an output
     ++samples;
     as_the_loop += tick != run.ticks.end() && tick->health_flags == (health.flags & ~kOutboxOverrun) && (!overrun || r.outbox_dropped > 0) ? 1 : 0;
-    last_time_ns = health.source_time_ns;
+    last_time_ns = health_ns;
   }
   EXPECT_TRUE(degraded_in_outage);
   EXPECT_GT(last_time_ns, recovered_ns);

@@ -21,6 +21,7 @@ namespace nav::station {
 namespace {
 
 constexpr TimeNs kLatencyNs = 50 * kNsPerMs;
+constexpr TimeNs kLoopToHostNs = 7 * kNsPerSecond;  // where run time 0 is on the host's clock
 constexpr std::int64_t kHealthEvery = 100;
 
 OperatingLoopOutputs outputs_at(std::int64_t tick, bool tissue_tick) {
@@ -41,9 +42,9 @@ TEST(StationOutbox, PushOutputsSendsWhatEachTickOwesWithoutAllocating) {
   std::size_t allocations = 0;
   {
     testing::AllocationGuard guard;
-    push_outputs(*outbox, outputs_at(1, false), kLatencyNs, kHealthEvery, 0, 0);    // needle tick: nothing
-    push_outputs(*outbox, outputs_at(10, true), kLatencyNs, kHealthEvery, 0, 0);    // liver step
-    push_outputs(*outbox, outputs_at(100, false), kLatencyNs, kHealthEvery, 3, 42);  // health period
+    push_outputs(*outbox, outputs_at(1, false), kLoopToHostNs, kLatencyNs, kHealthEvery, 0, 0);    // needle tick: nothing
+    push_outputs(*outbox, outputs_at(10, true), kLoopToHostNs, kLatencyNs, kHealthEvery, 0, 0);    // liver step
+    push_outputs(*outbox, outputs_at(100, false), kLoopToHostNs, kLatencyNs, kHealthEvery, 3, 42);  // health period
     allocations = guard.allocations();
   }
   EXPECT_EQ(allocations, 0u);
@@ -53,6 +54,7 @@ TEST(StationOutbox, PushOutputsSendsWhatEachTickOwesWithoutAllocating) {
   EXPECT_FALSE(outbox->predictions.try_pop(extra));
   EXPECT_EQ(now.horizon_ns, 0);
   EXPECT_EQ(ahead.horizon_ns, kLatencyNs);
+  EXPECT_EQ(now.source_time_ns, outputs_at(10, true).tissue_time_ns + kLoopToHostNs);  // on the host's clock
   EXPECT_DOUBLE_EQ(now.position_m[2], 0.03);
   EXPECT_DOUBLE_EQ(ahead.position_m[2], 0.031);
   dds::NeedleState needle;
@@ -68,6 +70,7 @@ TEST(StationOutbox, PushOutputsSendsWhatEachTickOwesWithoutAllocating) {
   EXPECT_NE(health.flags & stale.bits(), 0u);
   EXPECT_EQ(health.deadline_misses, 3u);
   EXPECT_EQ(health.step_time_max_ns, 42);
+  EXPECT_EQ(health.source_time_ns, outputs_at(100, false).time_ns + kLoopToHostNs);
   EXPECT_FALSE(outbox->health.try_pop(health));
 }
 
@@ -91,7 +94,7 @@ TEST(StationOutbox, WithANeedleModelTheNeedleStateIsItsCentrelineAndTipForce) {
   std::size_t allocations = 0;
   {
     testing::AllocationGuard guard;
-    push_outputs(*outbox, o, kLatencyNs, kHealthEvery, 0, 0);
+    push_outputs(*outbox, o, kLoopToHostNs, kLatencyNs, kHealthEvery, 0, 0);
     allocations = guard.allocations();
   }
   EXPECT_EQ(allocations, 0u);
@@ -107,7 +110,7 @@ TEST(StationOutbox, WithANeedleModelTheNeedleStateIsItsCentrelineAndTipForce) {
 TEST(StationOutbox, TheNeedlesShapeReachesADisplayOverDdsWhichDrawsItWithItsTipForce) {
   auto outbox = std::make_unique<dds::StationOutbox>();
   const OperatingLoopOutputs o = with_bent_needle(outputs_at(10, true));
-  push_outputs(*outbox, o, kLatencyNs, kHealthEvery, 0, 0);
+  push_outputs(*outbox, o, kLoopToHostNs, kLatencyNs, kHealthEvery, 0, 0);
   auto station = make_station_node(156, "nav_test_station").value();
   auto display = make_station_node(156, "nav_test_display").value();
   auto received = std::make_unique<dds::RingSink<dds::NeedleState, 4>>();
@@ -157,7 +160,7 @@ TEST(StationOutbox, TheNeedlesShapeReachesADisplayOverDdsWhichDrawsItWithItsTipF
 
 TEST(StationOutbox, AFullOutboxRefusesAndCounts) {
   auto outbox = std::make_unique<dds::StationOutbox>();
-  for (std::int64_t tick = 0; tick < 100; tick += 10) push_outputs(*outbox, outputs_at(tick, true), kLatencyNs, kHealthEvery, 0, 0);
+  for (std::int64_t tick = 0; tick < 100; tick += 10) push_outputs(*outbox, outputs_at(tick, true), kLoopToHostNs, kLatencyNs, kHealthEvery, 0, 0);
   EXPECT_GT(outbox->dropped(), 0u);  // nobody drained it: the rings refused, the loop went on
 }
 

@@ -319,7 +319,8 @@ TopicSettings read_topics(MapReader r) {
   std::map<std::string, std::string> taken;
   t.domain_id = static_cast<std::uint32_t>(r.integer("domain_id", 0, 232, 0));
   for (auto [key, name] : {std::pair{"poses", &t.poses}, {"images", &t.images}, {"predictions", &t.predictions},
-                           {"surfaces", &t.surfaces}, {"needle_states", &t.needle_states}, {"health", &t.health}})
+                           {"surfaces", &t.surfaces}, {"needle_states", &t.needle_states}, {"health", &t.health},
+                           {"ground_truth", &t.ground_truth}})
     *name = read_topic(r, key, *name, taken);
   r.finish();
   return t;

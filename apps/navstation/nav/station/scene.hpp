@@ -159,8 +159,9 @@ struct DeviceSettings {
 };
 
 /// `topics:` DDS domain and topic names (defaults: the names of nav::dds::topic_name). The
-/// station reads poses and images and writes the others; navview, run beside it, reads them
-/// by the same names.
+/// station reads poses and images and writes predictions, surfaces, needle states and health;
+/// navview, run beside it, reads them by the same names. A simulated patient (navdevice sim)
+/// also publishes its truth, which only an evaluation reads.
 struct TopicSettings {
   std::uint32_t domain_id = 0;
   std::string poses = "nav/tool_pose";
@@ -169,6 +170,7 @@ struct TopicSettings {
   std::string surfaces = "nav/deformed_surface";
   std::string needle_states = "nav/needle_state";
   std::string health = "nav/station_health";
+  std::string ground_truth = "nav/ground_truth";
 };
 
 /// A whole scene file.

@@ -38,17 +38,19 @@ struct StationChannels {
 
 struct StationDdsLink;
 
-/// The I/O thread on DDS: the devices' participant plays the world's recording, the
-/// station's participant takes it, finds the tumour in the frames, feeds the ring and
-/// publishes the outbox (station_dds.cpp).
-void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, StationChannels& ch, StationRun& run,
-                   const StationRunOptions& options, StationDdsLink& link);
+/// The I/O thread on DDS: the station's participant takes the devices' poses and frames, finds
+/// the tumour in the frames (through `imaging`'s probe calibration, each frame on its own grid),
+/// feeds the ring and publishes the outbox; with a `world`, the in-process devices' participant
+/// plays its recording (station_dds.cpp), without, the devices are other processes.
+void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, const ProbeImaging& imaging, StationChannels& ch,
+                   StationRun& run, const StationRunOptions& options, StationDdsLink& link);
 
 /// Real-time side, with DDS: pushes the tick's outputs into the outbox (predictions and the
-/// needle at each liver step, health every health_every_ticks ticks). The needle is the
+/// needle at each liver step, health every health_every_ticks ticks), stamped on the host's
+/// clock (loop time + loop_to_host_ns). The needle is the
 /// needle model's centreline with its tip force when the loop steps one, its tip otherwise.
 /// No allocation, never blocks.
-void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& outputs, TimeNs display_latency_ns,
+void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& outputs, TimeNs loop_to_host_ns, TimeNs display_latency_ns,
                   std::int64_t health_every_ticks, std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept;
 
 }  // namespace nav::station

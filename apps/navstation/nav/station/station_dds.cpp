@@ -1,7 +1,6 @@
 #include "nav/station/station_dds.hpp"
 
 #include <algorithm>
-#include <cstring>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -9,6 +8,7 @@
 #include "nav/core/health.hpp"
 #include "nav/station/display_surface.hpp"
 #include "nav/station/station_channels.hpp"
+#include "nav/station/world_player.hpp"
 
 namespace nav::station {
 
@@ -20,11 +20,6 @@ constexpr TimeNs kPeerWatchPeriodNs = 5 * kNsPerMs;  // how often the I/O thread
 constexpr std::uint32_t kTumourTargetId = 1;
 constexpr std::uint32_t kReducedRung = 1;
 static_assert(kLoopMaxNeedleNodes <= static_cast<int>(dds::kMaxNeedlePoints), "a NeedleState holds every node of the loop's needle");
-
-void set_name(dds::FrameName& name, const char* text) {
-  name.fill('\0');
-  std::strncpy(name.data(), text, dds::kMaxFrameNameChars);
-}
 
 dds::Vector3 vector_of(const Point3& p) { return {p[0], p[1], p[2]}; }
 
@@ -47,20 +42,11 @@ std::vector<double> latencies_us(const std::vector<Receipt>& receipts, const std
 /// The devices' side: plays the world's recording on its own participant, each sample when
 /// its delivery time comes; during an outage the participant is destroyed (and the samples
 /// due are lost), then created again.
-void device_thread(const SimulatedWorld& world, StationChannels& ch, const DdsRunOptions& options, StationDdsLink& link,
-                   DdsRunReport& report, std::vector<TimeNs>& written_ns) {
-  auto frame = std::make_unique<dds::UltrasoundFrame>();
-  const ultrasound::BmodeGeometry& g = world.imaging.geometry;
-  frame->width_px = g.width_px;
-  frame->height_px = g.height_px;
-  frame->pixel_spacing_m = {g.spacing_m, g.spacing_m};
-  frame->depth_m = g.height_px * g.spacing_m;
-  frame->probe_tool_id = kProbeToolId;
+void device_thread(WorldPlayer& player, StationChannels& ch, const DdsRunOptions& options, StationDdsLink& link, DdsRunReport& report) {
   // The simulated devices stamp on their clock: this host's monotonic clock less the scene's
   // declared offset (the station adds it back).
-  const TimeNs loop_to_device_ns = ch.start_ns - options.arrival.source_clock_offset_ns;
-  std::size_t next = 0;
-  while (!ch.realtime_done.load(std::memory_order_acquire) && next < world.samples.size()) {
+  player.set_world_to_device_ns(ch.start_ns - options.arrival.source_clock_offset_ns);
+  while (!ch.realtime_done.load(std::memory_order_acquire) && !player.finished()) {
     const TimeNs now = ch.run_time_ns();
     if (options.device_outage && report.device_gone_ns < 0 && now >= options.device_outage->from_ns) {
       report.device_gone_ns = ch.run_time_ns();
@@ -76,25 +62,7 @@ void device_thread(const SimulatedWorld& world, StationChannels& ch, const DdsRu
         report.device_back_ns = creating_ns;
       }
     }
-    for (; next < world.samples.size() && world.samples[next].delivered_ns <= now; ++next) {
-      const DeviceSample& s = world.samples[next];
-      if (!link.devices) {
-        ++report.device_samples_lost;
-        continue;
-      }
-      if (s.kind == SampleKind::ultrasound_frame) {
-        const std::vector<std::uint8_t>& pixels = world.frames[static_cast<std::size_t>(s.frame_index)].pixels;
-        std::copy(pixels.begin(), pixels.end(), frame->pixels.begin());
-        frame->sequence_number = next;
-        frame->source_time_ns = s.measured_ns + loop_to_device_ns;
-        written_ns[next] = ch.clock.now_ns();
-        if (link.devices->write(*frame)) ++report.frames_written;
-      } else {
-        const dds::ToolPose pose = tool_pose_of(s, next, loop_to_device_ns);
-        written_ns[next] = ch.clock.now_ns();
-        if (link.devices->write(pose)) ++report.poses_written;
-      }
-    }
+    player.play_until(now, link.devices.get(), ch.clock);
     ch.clock.sleep_until_ns(ch.clock.now_ns() + kIoPeriodNs);
   }
 }
@@ -112,10 +80,12 @@ class DisplaySurfacePublisher {
     reconstruction_us_.reserve(1024);
   }
 
-  void publish(const OperatingLoopOutputs& outputs, dds::DdsNode& node) {
+  /// Publishes the surface of `outputs` (loop time; stamped loop time + loop_to_host_ns) when its period has come.
+  void publish(const OperatingLoopOutputs& outputs, TimeNs loop_to_host_ns, dds::DdsNode& node) {
     if (!reconstruction_ || outputs.tissue_steps == 0 || outputs.tissue_time_ns < next_ns_) return;
     const TimeNs begin_ns = clock_.now_ns();
     reconstruction_->reconstruct(outputs, *sample_);
+    sample_->source_time_ns += loop_to_host_ns;
     reconstruction_us_.push_back(1e-3 * static_cast<double>(clock_.now_ns() - begin_ns));
     if (node.write(*sample_)) ++published_;
     passed_over_ += (outputs.tissue_time_ns - next_ns_) / period_ns_;
@@ -147,28 +117,6 @@ void watch_peer(const dds::DdsNode& station, TimeNs now, bool& present, DdsRunRe
 
 }  // namespace
 
-dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs loop_to_device_ns) {
-  dds::ToolPose pose;
-  pose.sequence_number = sequence_number;
-  pose.source_time_ns = sample.measured_ns + loop_to_device_ns;
-  pose.quality = 1.0f;
-  set_name(pose.frame_to, "tracker");
-  if (sample.kind == SampleKind::respiratory) {
-    pose.tool_id = kRespiratoryToolId;
-    pose.position_m = {sample.point_m[0], sample.point_m[1], sample.point_m[2]};
-    set_name(pose.frame_from, "respiratory_marker");
-    return pose;
-  }
-  const bool needle = sample.kind == SampleKind::needle_pose;
-  pose.tool_id = needle ? kNeedleToolId : kProbeToolId;
-  set_name(pose.frame_from, needle ? "needle_base" : "probe_marker");
-  const Eigen::Vector3d& p = sample.pose.position_m;
-  const Eigen::Quaterniond& q = sample.pose.rotation;
-  pose.position_m = {p[0], p[1], p[2]};
-  pose.orientation_wxyz = {q.w(), q.x(), q.y(), q.z()};
-  return pose;
-}
-
 std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns) {
   DeviceSample s;
   s.measured_ns = pose.source_time_ns + device_to_loop_ns;
@@ -197,6 +145,7 @@ dds::TopicNames topic_names(const TopicSettings& topics) {
   set(dds::Topic::target_prediction, topics.predictions);
   set(dds::Topic::deformed_surface, topics.surfaces);
   set(dds::Topic::station_health, topics.health);
+  set(dds::Topic::ground_truth, topics.ground_truth);
   return names;
 }
 
@@ -213,7 +162,8 @@ Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id,
 }
 
 Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t domain_id, const dds::TopicNames& names,
-                                                               const dds::ArrivalWindow& arrival, const dds::PoseBounds& pose_bounds) {
+                                                               const dds::ArrivalWindow& arrival, const dds::PoseBounds& pose_bounds,
+                                                               bool with_simulated_devices) {
   auto link = std::make_unique<StationDdsLink>();
   link->poses = std::make_unique<dds::PoseInbox>(std::initializer_list<std::uint32_t>{kNeedleToolId, kProbeToolId, kRespiratoryToolId},
                                                  pose_bounds);
@@ -222,14 +172,16 @@ Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t dom
   auto station = make_station_node(domain_id, "nav_station", names);
   if (!station.ok()) return station.error();
   link->station = std::move(station).value();
+  dds::DdsNode& s = *link->station;
+  for (const Status& status : {s.subscribe(*link->poses, arrival), s.subscribe(*link->frames, arrival), s.advertise<dds::TargetPrediction>(),
+                               s.advertise<dds::NeedleState>(), s.advertise<dds::StationHealth>(), s.advertise<dds::DeformedSurface>()})
+    if (!status.ok()) return status.error();
+  if (!with_simulated_devices) return link;  // the devices are other processes: they come and go
   auto devices = make_station_node(domain_id, "nav_demo_devices", names);
   if (!devices.ok()) return devices.error();
   link->devices = std::move(devices).value();
-  dds::DdsNode& s = *link->station;
   dds::DdsNode& d = *link->devices;
-  for (const Status& status : {s.subscribe(*link->poses, arrival), s.subscribe(*link->frames, arrival), s.advertise<dds::TargetPrediction>(),
-                               s.advertise<dds::NeedleState>(), s.advertise<dds::StationHealth>(), s.advertise<dds::DeformedSurface>(), d.advertise<dds::ToolPose>(),
-                               d.advertise<dds::UltrasoundFrame>()})
+  for (const Status& status : {d.advertise<dds::ToolPose>(), d.advertise<dds::UltrasoundFrame>()})
     if (!status.ok()) return status.error();
   if (!s.wait_for_match(dds::Topic::tool_pose, 1, kMatchTimeoutNs) || !s.wait_for_match(dds::Topic::ultrasound_frame, 1, kMatchTimeoutNs) ||
       !d.wait_for_match(dds::Topic::tool_pose, 1, kMatchTimeoutNs) || !d.wait_for_match(dds::Topic::ultrasound_frame, 1, kMatchTimeoutNs))
@@ -238,11 +190,11 @@ Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t dom
   return link;
 }
 
-void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, TimeNs display_latency_ns, std::int64_t health_every_ticks,
-                  std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept {
+void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, TimeNs loop_to_host_ns, TimeNs display_latency_ns,
+                  std::int64_t health_every_ticks, std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept {
   if (o.time_ns == o.tissue_time_ns) {
     dds::TargetPrediction prediction;
-    prediction.source_time_ns = o.tissue_time_ns;
+    prediction.source_time_ns = o.tissue_time_ns + loop_to_host_ns;
     prediction.target_id = kTumourTargetId;
     prediction.model_rung = kReducedRung;
     prediction.position_m = vector_of(o.tumour_now_m);
@@ -253,7 +205,7 @@ void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, Tim
     prediction.covariance_m2 = o.tumour_ahead_covariance_m2;
     outbox.predictions.try_push(prediction);
     dds::NeedleState needle;
-    needle.source_time_ns = o.time_ns;
+    needle.source_time_ns = o.time_ns + loop_to_host_ns;
     needle.tool_id = kNeedleToolId;
     const NeedleShapeOutputs& shape = o.needle_shape;
     if (shape.node_count > 0) {  // the loop steps a needle model: its centreline, base to tip, and the tip force
@@ -268,7 +220,7 @@ void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, Tim
   }
   if (o.ticks % health_every_ticks != 0) return;
   dds::StationHealth health;
-  health.source_time_ns = o.time_ns;
+  health.source_time_ns = o.time_ns + loop_to_host_ns;
   health.mode = o.degraded ? dds::StationMode::degraded : dds::StationMode::running;
   health.flags = health_flag_bits(o);
   health.step_time_max_ns = step_max_ns;
@@ -276,28 +228,31 @@ void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, Tim
   outbox.health.try_push(health);
 }
 
-void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, StationChannels& ch, StationRun& run,
-                   const StationRunOptions& options, StationDdsLink& link) {
+void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, const ProbeImaging& imaging, StationChannels& ch,
+                   StationRun& run, const StationRunOptions& options, StationDdsLink& link) {
   run.io_pin = pin_to_core(options.io_core);
-  TumourObserver observer(world.imaging, options.observer);
+  TumourObserver observer(imaging, options.observer);
   dds::OutboxPublisher publisher;
   DdsRunReport report;
   auto frame = std::make_unique<dds::UltrasoundFrame>();
   std::vector<Receipt> pose_receipts, frame_receipts;
-  pose_receipts.reserve(world.samples.size());
-  frame_receipts.reserve(world.frames.size());
-  std::vector<TimeNs> written_ns(world.samples.size(), -1);  // the devices' write times, by sequence number
+  if (world != nullptr) {  // the in-process devices' samples are timed from their write to the station's listener
+    pose_receipts.reserve(world->samples.size());
+    frame_receipts.reserve(world->frames.size());
+  }
   DisplaySurfacePublisher surfaces(loop, *options.dds);
+  std::optional<WorldPlayer> player;
+  if (world != nullptr) player.emplace(*world, false);
   ch.wait_for_start();
   const TimeNs device_to_loop_ns = options.dds->arrival.source_clock_offset_ns - ch.start_ns;  // stamps onto the loop's clock
-  std::thread devices(device_thread, std::cref(world), std::ref(ch), std::cref(*options.dds), std::ref(link), std::ref(report),
-                      std::ref(written_ns));
-  bool peer_present = true;
+  std::thread devices;
+  if (player) devices = std::thread(device_thread, std::ref(*player), std::ref(ch), std::cref(*options.dds), std::ref(link), std::ref(report));
+  bool peer_present = link.devices != nullptr;
   TimeNs next_watch_ns = 0;
   const auto read_outputs = [&] {
     if (!ch.outputs.update()) return;
     ++run.outputs_read;
-    surfaces.publish(ch.outputs.read(), *link.station);
+    surfaces.publish(ch.outputs.read(), ch.start_ns, *link.station);
   };
   while (!ch.realtime_done.load(std::memory_order_acquire)) {
     for (std::size_t slot = 0; slot < link.poses->tool_count(); ++slot) {
@@ -305,21 +260,22 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, 
       const dds::ToolPose& pose = link.poses->latest(slot);
       const TimeNs received_ns = pose.receive_time_ns - ch.start_ns;
       ++report.poses_received;
-      pose_receipts.push_back({pose.sequence_number, pose.receive_time_ns});
+      if (player) pose_receipts.push_back({pose.sequence_number, pose.receive_time_ns});
       const std::optional<DeviceSample> sample = device_sample_of(pose, device_to_loop_ns, received_ns);
       if (!sample) continue;
-      const std::optional<DeviceSample> for_loop = loop_sample(observer, world.imaging, *sample, nullptr);
+      const std::optional<DeviceSample> for_loop = loop_sample(observer, *sample, {});
       if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;
     }
     while (link.frames->try_pop(*frame)) {
       const TimeNs received_ns = frame->receive_time_ns - ch.start_ns;
       ++report.frames_received;
-      frame_receipts.push_back({frame->sequence_number, frame->receive_time_ns});
+      if (player) frame_receipts.push_back({frame->sequence_number, frame->receive_time_ns});
       DeviceSample sample;
       sample.kind = SampleKind::ultrasound_frame;
       sample.measured_ns = frame->source_time_ns + device_to_loop_ns;
       sample.delivered_ns = received_ns;
-      const std::optional<DeviceSample> for_loop = loop_sample(observer, world.imaging, sample, frame->pixels.data());
+      const FrameView view{frame->pixels.data(), frame->width_px, frame->height_px, frame->pixel_spacing_m[0], frame->pixel_spacing_m[1]};
+      const std::optional<DeviceSample> for_loop = loop_sample(observer, sample, view);
       if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;
     }
     report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station, ch.clock.now_ns()));
@@ -331,13 +287,19 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld& world, 
     }
     ch.clock.sleep_until_ns(ch.clock.now_ns() + kIoPeriodNs);
   }
-  devices.join();
+  if (devices.joinable()) devices.join();
   read_outputs();  // the loop's last outputs
   report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station, ch.clock.now_ns()));
   link.station->wait_for_acknowledgments(kAcknowledgmentTimeoutNs);  // the last outputs reach the displays before the run closes
   report.outbox_dropped = ch.outbox->dropped();
-  report.pose_latency = latency_statistics(latencies_us(pose_receipts, written_ns));
-  report.frame_latency = latency_statistics(latencies_us(frame_receipts, written_ns));
+  if (player) {
+    const PlayerCounts& played = player->counts();
+    report.poses_written = played.poses_written;
+    report.frames_written = played.frames_written;
+    report.device_samples_lost = played.samples_lost;
+    report.pose_latency = latency_statistics(latencies_us(pose_receipts, player->written_ns()));
+    report.frame_latency = latency_statistics(latencies_us(frame_receipts, player->written_ns()));
+  }
   run.observer = observer.counts();
   run.frame_processing = latency_statistics(observer.processing_us());
   report.poses_accepted = static_cast<std::int64_t>(link.poses->accepted());

@@ -34,11 +34,6 @@ inline constexpr std::uint32_t kNeedleToolId = 1;
 inline constexpr std::uint32_t kProbeToolId = 2;
 inline constexpr std::uint32_t kRespiratoryToolId = 3;
 
-/// A recorded tracker sample as the ToolPose the tracker publishes (source time: its
-/// measurement time on the device's clock, loop time + `loop_to_device_ns`; sequence number:
-/// `sequence_number`).
-dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs loop_to_device_ns);
-
 /// A received ToolPose as the loop's sample (measured at its source time +
 /// `device_to_loop_ns`, delivered at `received_ns`), or nothing for an unknown tool.
 std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns);
@@ -57,16 +52,18 @@ struct StationDdsLink {
   std::unique_ptr<dds::PoseInbox> poses;
   std::unique_ptr<dds::RingSink<dds::UltrasoundFrame, 4>> frames = std::make_unique<dds::RingSink<dds::UltrasoundFrame, 4>>();
   std::unique_ptr<dds::DdsNode> station;  ///< after the sinks: destroyed before them
-  std::unique_ptr<dds::DdsNode> devices;
+  std::unique_ptr<dds::DdsNode> devices;  ///< the in-process simulated devices (none when they are other processes)
   std::uint32_t domain_id = 0;
   dds::TopicNames names{};  ///< the topics' names on the wire (empty entries: the defaults)
 
-  /// Creates both participants on `domain_id` with the topics named by `names`: the devices
-  /// advertise poses and frames, the station subscribes to them and advertises its outputs;
-  /// waits (up to 10 s) for the match. The station refuses poses and frames stamped outside
-  /// `arrival` and poses outside `pose_bounds` (sample_checks.hpp).
+  /// Creates the station's participant on `domain_id` with the topics named by `names`: it
+  /// subscribes to poses and frames and advertises its outputs, refusing poses and frames
+  /// stamped outside `arrival` and poses outside `pose_bounds` (sample_checks.hpp). With
+  /// simulated devices, also their participant in this process, advertising poses and frames,
+  /// and waits (up to 10 s) for the match; without, the devices are other processes.
   static Result<std::unique_ptr<StationDdsLink>> create(std::uint32_t domain_id, const dds::TopicNames& names = {},
-                                                        const dds::ArrivalWindow& arrival = {}, const dds::PoseBounds& pose_bounds = {});
+                                                        const dds::ArrivalWindow& arrival = {}, const dds::PoseBounds& pose_bounds = {},
+                                                        bool with_simulated_devices = true);
 };
 
 }  // namespace nav::station

@@ -100,7 +100,7 @@ void realtime_thread(const OperatingLoopModel& loop, OperatingLoopData& data, St
     if (ch.outbox != nullptr) {
       if (rec.lateness_us[i] > miss_threshold_us) ++misses;
       window_max_ns = std::max(window_max_ns, step_ns);
-      push_outputs(*ch.outbox, data.outputs, loop.options.display_latency_ns, health_every_ticks, misses, window_max_ns);
+      push_outputs(*ch.outbox, data.outputs, ch.start_ns, loop.options.display_latency_ns, health_every_ticks, misses, window_max_ns);
       if (data.outputs.ticks % health_every_ticks == 0) window_max_ns = 0;
     }
   }
@@ -118,8 +118,7 @@ void io_thread(const SimulatedWorld& world, StationChannels& ch, StationRun& run
   const auto take_samples_until = [&](TimeNs now, bool loop_running) {
     for (; next < world.samples.size() && world.samples[next].delivered_ns <= now; ++next) {
       const DeviceSample& s = world.samples[next];
-      const std::uint8_t* pixels = s.frame_index >= 0 ? world.frames[static_cast<std::size_t>(s.frame_index)].pixels.data() : nullptr;
-      const std::optional<DeviceSample> for_loop = loop_sample(observer, world.imaging, s, pixels);
+      const std::optional<DeviceSample> for_loop = loop_sample(observer, s, world_frame(world, s));
       if (!for_loop) continue;
       if (!loop_running) ++run.samples_after_loop;
       else if (ch.samples.try_push(*for_loop)) ++run.samples_pushed;
@@ -159,7 +158,12 @@ StepStatistics step_statistics(std::vector<double> step_us, const std::vector<do
   return s;
 }
 
-Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWorld& world, const StationRunOptions& options) {
+namespace {
+
+/// The run's two threads, the I/O one on DDS when options.dds is set: with a `world`, its
+/// devices play its recording in this process; without, the devices are other processes.
+Result<StationRun> run_threads(const OperatingLoopModel& loop, const SimulatedWorld* world, const ProbeImaging& imaging,
+                               const StationRunOptions& options) {
   auto data = make_operating_loop_data(loop);
   if (!data.ok()) return data.error();
   const auto capacity = static_cast<std::size_t>(options.duration_ns / loop.options.tick_period_ns + 2);
@@ -171,7 +175,8 @@ Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWo
   std::unique_ptr<dds::StationOutbox> outbox;
   std::unique_ptr<StationDdsLink> link;
   if (options.dds) {
-    auto created = StationDdsLink::create(options.dds->domain_id, options.dds->topic_names, options.dds->arrival, options.dds->pose_bounds);
+    const DdsRunOptions& o = *options.dds;
+    auto created = StationDdsLink::create(o.domain_id, o.topic_names, o.arrival, o.pose_bounds, world != nullptr);
     if (!created.ok()) return created.error();
     link = std::move(created).value();
     outbox = std::make_unique<dds::StationOutbox>();
@@ -180,10 +185,12 @@ Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWo
   StationRun run;
   std::thread realtime(realtime_thread, std::cref(loop), std::ref(data.value()), std::ref(*channels), std::ref(rec), std::cref(options),
                        std::ref(run.realtime_setup));
-  std::thread io = link ? std::thread(dds_io_thread, std::cref(loop), std::cref(world), std::ref(*channels), std::ref(run), std::cref(options), std::ref(*link))
-                        : std::thread(io_thread, std::cref(world), std::ref(*channels), std::ref(run), std::cref(options));
+  std::thread io = link ? std::thread(dds_io_thread, std::cref(loop), world, std::cref(imaging), std::ref(*channels), std::ref(run),
+                                      std::cref(options), std::ref(*link))
+                        : std::thread(io_thread, std::cref(*world), std::ref(*channels), std::ref(run), std::cref(options));
   realtime.join();
   io.join();
+  run.start_ns = channels->start_ns;
   const auto n = static_cast<std::size_t>(rec.count);
   rec.step_us.resize(n);
   rec.lateness_us.resize(n);
@@ -194,6 +201,17 @@ Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWo
   return run;
 }
 
+}  // namespace
+
+Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWorld& world, const StationRunOptions& options) {
+  return run_threads(loop, &world, world.imaging, options);
+}
+
+Result<StationRun> run_live_station(const OperatingLoopModel& loop, const ProbeImaging& imaging, const StationRunOptions& options) {
+  if (!options.dds) return Error{"a live station reads its devices on DDS: it needs DDS run options", "", 0, "dds"};
+  return run_threads(loop, nullptr, imaging, options);
+}
+
 std::uint32_t health_flag_bits(const OperatingLoopOutputs& o) noexcept {
   HealthFlags flags = o.tissue;
   for (const InputStatus* input : {&o.needle, &o.probe, &o.respiratory, &o.ultrasound}) flags.merge(input->flags);
@@ -201,12 +219,17 @@ std::uint32_t health_flag_bits(const OperatingLoopOutputs& o) noexcept {
   return flags.bits();
 }
 
-std::optional<DeviceSample> loop_sample(TumourObserver& observer, const ProbeImaging& imaging, const DeviceSample& sample,
-                                        const std::uint8_t* pixels) {
+FrameView world_frame(const SimulatedWorld& world, const DeviceSample& sample) {
+  if (sample.frame_index < 0) return {};
+  const ultrasound::BmodeGeometry& g = world.imaging.geometry;
+  return {world.frames[static_cast<std::size_t>(sample.frame_index)].pixels.data(), g.width_px, g.height_px, g.spacing_m, g.spacing_m};
+}
+
+std::optional<DeviceSample> loop_sample(TumourObserver& observer, const DeviceSample& sample, const FrameView& frame) {
   if (sample.kind == SampleKind::probe_pose) observer.add_probe_pose(sample.measured_ns, sample.pose);
   if (sample.kind != SampleKind::ultrasound_frame) return sample;
-  const ultrasound::BmodeGeometry& g = imaging.geometry;
-  const std::optional<Eigen::Vector3d> tumour = observer.observe(sample.measured_ns, pixels, g.width_px, g.height_px, g.spacing_m, g.spacing_m);
+  const std::optional<Eigen::Vector3d> tumour =
+      observer.observe(sample.measured_ns, frame.pixels, frame.width_px, frame.height_px, frame.spacing_x_m, frame.spacing_y_m);
   if (!tumour) return std::nullopt;
   DeviceSample seen = sample;
   seen.kind = SampleKind::tumour;
@@ -220,8 +243,7 @@ std::vector<DeviceSample> observed_recording(const SimulatedWorld& world, const 
   std::vector<DeviceSample> observed;
   observed.reserve(world.samples.size());
   for (const DeviceSample& s : world.samples) {
-    const std::uint8_t* pixels = s.frame_index >= 0 ? world.frames[static_cast<std::size_t>(s.frame_index)].pixels.data() : nullptr;
-    if (std::optional<DeviceSample> for_loop = loop_sample(observer, world.imaging, s, pixels)) observed.push_back(*for_loop);
+    if (std::optional<DeviceSample> for_loop = loop_sample(observer, s, world_frame(world, s))) observed.push_back(*for_loop);
   }
   if (counts != nullptr) *counts = observer.counts();
   return observed;

@@ -118,6 +118,7 @@ struct DdsRunReport {
 
 /// What a real-time run measured.
 struct StationRun {
+  TimeNs start_ns = 0;                    ///< run time 0 on this host's monotonic clock (the outputs on DDS are stamped on that clock)
   StepStatistics steps;
   std::vector<TickRecord> ticks;          ///< one per tick run
   std::vector<SetupStep> realtime_setup;  ///< what the real-time thread's setup did
@@ -136,11 +137,25 @@ std::uint32_t health_flag_bits(const OperatingLoopOutputs& outputs) noexcept;
 /// Runs the station in real time on `world`'s recording for options.duration_ns.
 Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWorld& world, const StationRunOptions& options);
 
+/// Runs the station in real time for options.duration_ns on devices that are other processes
+/// (options.dds is required): the tumour is found in their frames through `imaging`'s probe
+/// calibration.
+Result<StationRun> run_live_station(const OperatingLoopModel& loop, const ProbeImaging& imaging, const StationRunOptions& options);
+
+/// An 8-bit row-major frame on its own grid, as the observer reads it.
+struct FrameView {
+  const std::uint8_t* pixels = nullptr;
+  std::uint32_t width_px = 0, height_px = 0;
+  double spacing_x_m = 0.0, spacing_y_m = 0.0;
+};
+
+/// The world's frame of a recorded ultrasound sample.
+FrameView world_frame(const SimulatedWorld& world, const DeviceSample& sample);
+
 /// I/O side: what one device sample becomes for the loop. A probe pose also goes to the
-/// observer; an ultrasound frame (`pixels` on the world's imaging grid) becomes the tumour
-/// point found in it, delivered when the frame is, or nothing.
-std::optional<DeviceSample> loop_sample(TumourObserver& observer, const ProbeImaging& imaging, const DeviceSample& sample,
-                                        const std::uint8_t* pixels);
+/// observer; an ultrasound frame (its pixels in `frame`) becomes the tumour point found in it,
+/// delivered when the frame is, or nothing.
+std::optional<DeviceSample> loop_sample(TumourObserver& observer, const DeviceSample& sample, const FrameView& frame);
 
 /// The world's recording as the loop sees it: every frame replaced by its tumour point (or
 /// left out), as the I/O thread does it; `counts` (optional) gets the observer's counts.

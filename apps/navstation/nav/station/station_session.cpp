@@ -38,59 +38,107 @@ PlotSeries tumour_series(const StationSession& s, std::span<const TickRecord> ti
 
 }  // namespace
 
+StationRunOptions station_run_options(const Scene& scene, TimeNs duration_ns, TimeNs miss_threshold_ns, bool lock_memory) {
+  StationRunOptions run_options;
+  run_options.duration_ns = duration_ns;
+  run_options.miss_threshold_ns = miss_threshold_ns;
+  run_options.realtime = {scene.station.realtime_core, scene.station.realtime_priority, scene.station.lock_memory && lock_memory};
+  run_options.io_core = scene.station.io_core;
+  return run_options;
+}
+
+DdsRunOptions dds_run_options(const Scene& scene, const DisplaySurface* surface) {
+  DdsRunOptions dds;
+  dds.domain_id = scene.topics.domain_id;
+  dds.topic_names = topic_names(scene.topics);
+  dds.surface = surface;
+  const DeviceClockSettings& clock = scene.devices.clock;
+  dds.arrival = {.source_clock_offset_ns = static_cast<TimeNs>(clock.offset_ms * 1e6),
+                 .max_ahead_ns = static_cast<TimeNs>(clock.max_ahead_ms * 1e6),
+                 .max_behind_ns = static_cast<TimeNs>(clock.max_behind_ms * 1e6)};
+  dds.pose_bounds.volume_radius_m = scene.devices.tracker.volume_radius_m;
+  dds.pose_bounds.max_speed_m_per_s = scene.devices.tracker.max_speed_m_per_s;
+  return dds;
+}
+
+namespace {
+
+/// The station's own side of a session: its liver, reduced loop and display surface.
+struct StationParts {
+  StationLiver liver;
+  OperatingLoopModel loop;
+  DisplaySurface surface;
+  double build_s = 0.0;  ///< liver and reduced loop
+};
+
+/// Builds the station's parts of `scene`, then calls before_run (if any) with its surface.
+Result<StationParts> build_station_parts(const Scene& scene, const BreathingGeometry& breathing, const BeforeRun& before_run) {
+  const auto start = std::chrono::steady_clock::now();
+  auto liver = make_station_liver(scene);
+  if (!liver.ok()) return liver.error();
+  auto loop = make_station_loop(liver.value(), scene, breathing, StationLoopSettings{});
+  if (!loop.ok()) return Error{loop.error().describe(), scene.source_path, scene.liver.line, "liver (reduced loop)"};
+  const double build_s = seconds_since(start);
+  auto surface = make_display_surface(liver.value().mesh);
+  if (!surface.ok()) return Error{surface.error().describe(), scene.source_path, scene.liver.line, "liver.mesh"};
+  if (before_run) {
+    const Status ready = before_run(surface.value());
+    if (!ready.ok()) return ready.error();
+  }
+  return StationParts{std::move(liver).value(), std::move(loop).value(), std::move(surface).value(), build_s};
+}
+
+}  // namespace
+
 Result<StationSession> run_session(const Scene& scene, const SessionOptions& options, const BeforeRun& before_run) {
   StationSession s;
   const BreathingGeometry breathing;
-  const StationLoopSettings loop_settings;
-  auto start = std::chrono::steady_clock::now();
-  auto liver = make_station_liver(scene);
-  if (!liver.ok()) return liver.error();
-  s.liver = std::move(liver).value();
-  auto loop = make_station_loop(s.liver, scene, breathing, loop_settings);
-  if (!loop.ok()) return Error{loop.error().describe(), scene.source_path, scene.liver.line, "liver (reduced loop)"};
-  s.build_s = seconds_since(start);
-  s.basis_size = loop.value().rungs.front().reduced.basis_size();
-  start = std::chrono::steady_clock::now();
-  auto world = simulate_world(s.liver, scene, breathing, options.world);
+  auto parts = build_station_parts(scene, breathing, before_run);
+  if (!parts.ok()) return parts.error();
+  StationParts& p = parts.value();  // the run publishes p.surface: the liver and the surface move into the session at its end
+  const OperatingLoopModel& loop = p.loop;
+  s.build_s = p.build_s;
+  s.basis_size = loop.rungs.front().reduced.basis_size();
+  const auto start = std::chrono::steady_clock::now();
+  auto world = simulate_world(p.liver, scene, breathing, options.world);
   if (!world.ok()) return world.error();
   s.world = std::move(world).value();
   s.world_s = seconds_since(start);
-  auto surface = make_display_surface(s.liver.mesh);
-  if (!surface.ok()) return Error{surface.error().describe(), scene.source_path, scene.liver.line, "liver.mesh"};
-  s.surface = std::move(surface).value();
-  if (before_run) {
-    const Status ready = before_run(s);
-    if (!ready.ok()) return ready.error();
-  }
 
-  StationRunOptions run_options;
-  run_options.duration_ns = options.world.duration_ns;
-  run_options.miss_threshold_ns = options.miss_threshold_ns;
-  run_options.realtime = {scene.station.realtime_core, scene.station.realtime_priority, scene.station.lock_memory && options.lock_memory};
-  run_options.io_core = scene.station.io_core;
-  if (options.dds) {
-    run_options.dds = DdsRunOptions{};
-    run_options.dds->domain_id = scene.topics.domain_id;
-    run_options.dds->topic_names = topic_names(scene.topics);
-    run_options.dds->surface = &s.surface;
-    const DeviceClockSettings& clock = scene.devices.clock;
-    run_options.dds->arrival = {.source_clock_offset_ns = static_cast<TimeNs>(clock.offset_ms * 1e6),
-                                .max_ahead_ns = static_cast<TimeNs>(clock.max_ahead_ms * 1e6),
-                                .max_behind_ns = static_cast<TimeNs>(clock.max_behind_ms * 1e6)};
-    run_options.dds->pose_bounds.volume_radius_m = scene.devices.tracker.volume_radius_m;
-    run_options.dds->pose_bounds.max_speed_m_per_s = scene.devices.tracker.max_speed_m_per_s;
-  }
-  auto run = run_station(loop.value(), s.world, run_options);
+  StationRunOptions run_options = station_run_options(scene, options.world.duration_ns, options.miss_threshold_ns, options.lock_memory);
+  if (options.dds) run_options.dds = dds_run_options(scene, &p.surface);
+  auto run = run_station(loop, s.world, run_options);
   if (!run.ok()) return run.error();
   s.run = std::move(run).value();
-  auto open_loop = replay_station(loop.value(), s.world.samples, options.world.duration_ns, false);
+  auto open_loop = replay_station(loop, s.world.samples, options.world.duration_ns, false);
   if (!open_loop.ok()) return open_loop.error();
   s.open_loop = std::move(open_loop).value();
-  s.display_latency_ns = loop.value().options.display_latency_ns;
+  s.display_latency_ns = loop.options.display_latency_ns;
   s.settle_ns = options.settle_ns;
   s.miss_threshold_ns = options.miss_threshold_ns;
   s.assimilated = prediction_errors(s.world, s.run.ticks, s.display_latency_ns, options.settle_ns);
   s.without = prediction_errors(s.world, s.open_loop.ticks, s.display_latency_ns, options.settle_ns);
+  s.liver = std::move(p.liver);
+  s.surface = std::move(p.surface);
+  return s;
+}
+
+Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, const BeforeRun& before_run) {
+  LiveSession s;
+  auto parts = build_station_parts(scene, BreathingGeometry{}, before_run);
+  if (!parts.ok()) return parts.error();
+  StationParts& p = parts.value();  // the run publishes p.surface: the liver and the surface move into the session at its end
+  const OperatingLoopModel& loop = p.loop;
+  s.build_s = p.build_s;
+  s.basis_size = loop.rungs.front().reduced.basis_size();
+  s.miss_threshold_ns = 5 * kNsPerMs;
+  StationRunOptions run_options = station_run_options(scene, duration_ns, s.miss_threshold_ns, true);
+  run_options.dds = dds_run_options(scene, &p.surface);
+  auto run = run_live_station(loop, demo_probe_imaging(), run_options);
+  if (!run.ok()) return run.error();
+  s.run = std::move(run).value();
+  s.liver = std::move(p.liver);
+  s.surface = std::move(p.surface);
   return s;
 }
 
@@ -108,11 +156,46 @@ NeedlePeaks needle_peaks(const std::vector<TickRecord>& ticks) {
   return peaks;
 }
 
+/// The figures of a real-time run: timing, the I/O thread, the ultrasound and DDS.
+std::string run_figures(const Scene& scene, const StationRun& run, const DisplaySurface& surface, TimeNs miss_threshold_ns) {
+  const StepStatistics& t = run.steps;
+  std::string out;
+  out += format("step time over %.0f ticks: median %.1f us, p99 %.1f us, p99.9 %.1f us", static_cast<double>(t.ticks), t.median_us, t.p99_us,
+                t.p999_us);
+  out += format(", max %.1f us\n", t.max_us);
+  out += format("tick lateness: jitter (std) %.1f us, max %.1f us (tick %.0f)\n", t.jitter_us, t.max_lateness_us,
+                static_cast<double>(t.latest_tick));
+  out += format("deadline misses (> %.0f ms late): %.0f, skipped ticks: %.0f\n", 1e-6 * static_cast<double>(miss_threshold_ns),
+                static_cast<double>(t.deadline_misses), static_cast<double>(t.skipped_ticks));
+  out += format("I/O thread: %.0f samples pushed, %.0f outputs read\n", static_cast<double>(run.samples_pushed),
+                static_cast<double>(run.outputs_read));
+  const ObserverCounts& u = run.observer;
+  out += format("ultrasound: %.0f B-mode frames, %.0f tumour points found (dropped: %.0f without a confident detection, %.0f without a probe pose)\n",
+                static_cast<double>(u.frames), static_cast<double>(u.observations), static_cast<double>(u.dropped_no_detection),
+                static_cast<double>(u.dropped_no_pose));
+  out += format("  tumour tracker per frame (I/O thread): median %.2f ms, p99 %.2f ms\n", 1e-3 * run.frame_processing.median_us,
+                1e-3 * run.frame_processing.p99_us);
+  if (run.dds) {
+    const DdsRunReport& d = *run.dds;
+    out += format("DDS (domain %.0f; shared memory and UDP on 127.0.0.1): %.0f poses and %.0f frames received, %.0f outputs published\n",
+                  static_cast<double>(scene.topics.domain_id), static_cast<double>(d.poses_received), static_cast<double>(d.frames_received),
+                  static_cast<double>(d.outputs_published));
+    if (d.pose_latency.count > 0)  // the devices in this process: their write times are known
+      out += format("  writer to reader: poses median %.0f us, p99 %.0f us; frames median %.0f us, p99 %.0f us\n", d.pose_latency.median_us,
+                  d.pose_latency.p99_us, d.frame_latency.median_us, d.frame_latency.p99_us);
+    out += format("  deformed surface (%.0f vertices): %.0f published; reconstruction on the I/O thread median %.0f us, p99 %.0f us\n",
+                  static_cast<double>(surface.nodes.size()), static_cast<double>(d.surfaces_published), d.surface_reconstruction.median_us,
+                  d.surface_reconstruction.p99_us);
+    out += format("  samples accepted %.0f;", static_cast<double>(d.boundary.accepted));
+    out += " dropped at the boundary: " + dds::drops_by_reason(d.boundary) + "\n";
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string format_summary(const Scene& scene, const StationSession& s) {
   const StationSettings& st = scene.station;
-  const StepStatistics& t = s.run.steps;
   std::string out = "station '" + st.name + "': ";
   out += format("%.0f Hz loop, liver every %.0f ms (%.0f reduced modes), display latency %.0f ms\n", st.loop_rate_hz,
                 1e3 / st.tissue_rate_hz, s.basis_size, 1e-6 * static_cast<double>(s.display_latency_ns));
@@ -133,35 +216,20 @@ std::string format_summary(const Scene& scene, const StationSession& s) {
     out += format("needle (coupled to the liver): tip force peak %.2f N, %.0f punctures; the full-order truth: %.2f N, %.0f punctures\n",
                   n.tip_force_n, static_cast<double>(n.punctures), s.world.needle_peak_tip_force_n, static_cast<double>(s.world.needle_punctures));
   }
-  out += format("step time over %.0f ticks: median %.1f us, p99 %.1f us, p99.9 %.1f us", static_cast<double>(t.ticks), t.median_us, t.p99_us,
-                t.p999_us);
-  out += format(", max %.1f us\n", t.max_us);
-  out += format("tick lateness: jitter (std) %.1f us, max %.1f us (tick %.0f)\n", t.jitter_us, t.max_lateness_us,
-                static_cast<double>(t.latest_tick));
-  out += format("deadline misses (> %.0f ms late): %.0f, skipped ticks: %.0f\n", 1e-6 * static_cast<double>(s.miss_threshold_ns),
-                static_cast<double>(t.deadline_misses), static_cast<double>(t.skipped_ticks));
-  out += format("I/O thread: %.0f samples pushed, %.0f outputs read\n", static_cast<double>(s.run.samples_pushed),
-                static_cast<double>(s.run.outputs_read));
-  const ObserverCounts& u = s.run.observer;
-  out += format("ultrasound: %.0f B-mode frames, %.0f tumour points found (dropped: %.0f without a confident detection, %.0f without a probe pose)\n",
-                static_cast<double>(u.frames), static_cast<double>(u.observations), static_cast<double>(u.dropped_no_detection),
-                static_cast<double>(u.dropped_no_pose));
-  out += format("  tumour tracker per frame (I/O thread): median %.2f ms, p99 %.2f ms\n", 1e-3 * s.run.frame_processing.median_us,
-                1e-3 * s.run.frame_processing.p99_us);
-  if (s.run.dds) {
-    const DdsRunReport& d = *s.run.dds;
-    out += format("DDS (domain %.0f; shared memory and UDP on 127.0.0.1): %.0f poses and %.0f frames received, %.0f outputs published\n",
-                  static_cast<double>(scene.topics.domain_id), static_cast<double>(d.poses_received), static_cast<double>(d.frames_received),
-                  static_cast<double>(d.outputs_published));
-    out += format("  writer to reader: poses median %.0f us, p99 %.0f us; frames median %.0f us, p99 %.0f us\n", d.pose_latency.median_us,
-                  d.pose_latency.p99_us, d.frame_latency.median_us, d.frame_latency.p99_us);
-    out += format("  deformed surface (%.0f vertices): %.0f published; reconstruction on the I/O thread median %.0f us, p99 %.0f us\n",
-                  static_cast<double>(s.surface.nodes.size()), static_cast<double>(d.surfaces_published), d.surface_reconstruction.median_us,
-                  d.surface_reconstruction.p99_us);
-    out += format("  samples accepted %.0f;", static_cast<double>(d.boundary.accepted));
-    out += " dropped at the boundary: " + dds::drops_by_reason(d.boundary) + "\n";
-  }
+  out += run_figures(scene, s.run, s.surface, s.miss_threshold_ns);
   return out;
+}
+
+std::string format_live_summary(const Scene& scene, const LiveSession& s) {
+  const StationSettings& st = scene.station;
+  std::string out = "station '" + st.name + "' (live: devices on DDS): ";
+  out += format("%.0f Hz loop, liver every %.0f ms (%.0f reduced modes), display latency %.0f ms\n", st.loop_rate_hz, 1e3 / st.tissue_rate_hz,
+                s.basis_size, st.display_latency_ms);
+  out += format("start-up: liver and reduced loop %.1f s (%.0f tetrahedra)\n", s.build_s, static_cast<double>(s.liver.mesh.tets.size()));
+  out += "real-time setup:";
+  for (const SetupStep& step : s.run.realtime_setup) out += " " + step.name + ": " + outcome_name(step.outcome) + ";";
+  out += std::string(" I/O pin: ") + outcome_name(s.run.io_pin.outcome) + "\n";
+  return out + run_figures(scene, s.run, s.surface, s.miss_threshold_ns);
 }
 
 std::string session_json(const Scene& scene, const StationSession& s) {

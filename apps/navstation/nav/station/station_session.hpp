@@ -28,11 +28,9 @@ struct SessionOptions {
   bool dds = true;                         ///< devices and station on DDS (the scene's domain); false: direct hand-off
 };
 
-struct StationSession;
-
-/// Called once the session is built, just before the station runs (e.g. to start a display);
-/// an error stops the session.
-using BeforeRun = std::function<Status(const StationSession&)>;
+/// Called once the session is built, just before the station runs (e.g. to start a display
+/// of the liver's surface); an error stops the session.
+using BeforeRun = std::function<Status(const DisplaySurface&)>;
 
 /// A finished session.
 struct StationSession {
@@ -52,11 +50,35 @@ struct StationSession {
 /// Runs `scene` for options.world.duration_ns.
 Result<StationSession> run_session(const Scene& scene, const SessionOptions& options, const BeforeRun& before_run = {});
 
+/// A live run: the station alone, its devices other processes on DDS (navdevice).
+struct LiveSession {
+  StationLiver liver;
+  DisplaySurface surface;
+  StationRun run;
+  TimeNs miss_threshold_ns = 0;
+  int basis_size = 0;
+  double build_s = 0.0;  ///< start-up: liver and reduced loop
+};
+
+/// Runs the station of `scene` for `duration_ns` on whatever devices publish on its topics.
+/// It cannot score itself: `navtool evaluate` compares its predictions with a simulated
+/// patient's truth.
+Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, const BeforeRun& before_run = {});
+
 /// The printed summary: setup, prediction errors with and without assimilation, timing.
 std::string format_summary(const Scene& scene, const StationSession& session);
 
+/// The printed summary of a live run: setup, timing, what arrived and what was refused.
+std::string format_live_summary(const Scene& scene, const LiveSession& session);
+
 /// The same figures as one JSON object.
 std::string session_json(const Scene& scene, const StationSession& session);
+
+/// The run options of `scene`'s real-time setup (lock_memory false: not applied whatever the scene says).
+StationRunOptions station_run_options(const Scene& scene, TimeNs duration_ns, TimeNs miss_threshold_ns, bool lock_memory);
+
+/// The DDS options of `scene` (domain, topic names, arrival window, pose bounds), publishing `surface` when given.
+DdsRunOptions dds_run_options(const Scene& scene, const DisplaySurface* surface);
 
 /// The tumour's errors over time (now and ahead, with and without assimilation), in millimetres.
 std::vector<PlotSeries> error_series(const StationSession& session);

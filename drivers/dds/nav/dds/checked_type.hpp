@@ -5,6 +5,8 @@
 // expect (an unknown encapsulation, a bad first byte), and an exception there ends the process.
 // Here every such payload is a counted refusal instead: Fast DDS then drops the change and
 // goes on with the next.
+#include <cstring>
+
 #include <fastcdr/exceptions/Exception.h>
 #include <fastdds/rtps/common/SerializedPayload.h>
 
@@ -44,9 +46,23 @@ class CheckedPubSubType final : public WireTraits<Sample>::PubSubType {
  public:
   explicit CheckedPubSubType(BoundaryCounters& counters) : counters_(counters) {}
 
+  /// A payload shared with a writer of this host (data sharing) lives in that writer's pool,
+  /// which the writer reuses when it writes again: read while it is overwritten, it may not
+  /// decode (Fast DDS drops such a sample, as it drops the overwritten ones that do). So the
+  /// payload is decoded from a copy; a copy that does not decode and differs from the payload
+  /// after the attempt was torn by its writer, which is not counted as sent malformed.
   bool deserialize(eprosima::fastrtps::rtps::SerializedPayload_t* payload, void* data) override {
-    const SampleFault fault = checked_deserialize<Sample>(*this, *payload, *static_cast<typename WireTraits<Sample>::Wire*>(data));
+    thread_local eprosima::fastrtps::rtps::SerializedPayload_t copy(this->m_typeSize);
+    const bool copied = payload->data != nullptr && payload->length <= copy.max_size;
+    if (copied) {
+      std::memcpy(copy.data, payload->data, payload->length);
+      copy.length = payload->length;
+      copy.encapsulation = payload->encapsulation;
+      copy.pos = 0;
+    }
+    const SampleFault fault = checked_deserialize<Sample>(*this, copied ? copy : *payload, *static_cast<typename WireTraits<Sample>::Wire*>(data));
     if (fault == SampleFault::none) return true;
+    if (copied && std::memcmp(copy.data, payload->data, copy.length) != 0) return false;  // torn by its writer while copied
     counters_.count(fault);
     return false;
   }

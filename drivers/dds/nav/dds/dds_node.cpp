@@ -118,7 +118,8 @@ struct DdsNode::Impl {
 
   bool create_topics() {
     return create_topic<ToolPose>() && create_topic<UltrasoundFrame>() && create_topic<NeedleState>() &&
-           create_topic<TargetPrediction>() && create_topic<DeformedSurface>() && create_topic<StationHealth>();
+           create_topic<TargetPrediction>() && create_topic<DeformedSurface>() && create_topic<StationHealth>() &&
+           create_topic<GroundTruth>();
   }
 };
 
@@ -231,6 +232,7 @@ NAV_DDS_NODE_SAMPLE(NeedleState)
 NAV_DDS_NODE_SAMPLE(TargetPrediction)
 NAV_DDS_NODE_SAMPLE(DeformedSurface)
 NAV_DDS_NODE_SAMPLE(StationHealth)
+NAV_DDS_NODE_SAMPLE(GroundTruth)
 #undef NAV_DDS_NODE_SAMPLE
 
 }  // namespace nav::dds

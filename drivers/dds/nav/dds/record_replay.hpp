@@ -40,7 +40,8 @@ class Recorder {
              std::unique_ptr<RingSink<NeedleState, kRecorderQueueDepth>>,
              std::unique_ptr<RingSink<TargetPrediction, kRecorderQueueDepth>>,
              std::unique_ptr<RingSink<DeformedSurface, kRecorderQueueDepth>>,
-             std::unique_ptr<RingSink<StationHealth, kRecorderQueueDepth>>>
+             std::unique_ptr<RingSink<StationHealth, kRecorderQueueDepth>>,
+             std::unique_ptr<RingSink<GroundTruth, kRecorderQueueDepth>>>
       sinks_;
 };
 

@@ -48,6 +48,7 @@ NAV_DDS_CODEC_SAMPLE(NeedleState)
 NAV_DDS_CODEC_SAMPLE(TargetPrediction)
 NAV_DDS_CODEC_SAMPLE(DeformedSurface)
 NAV_DDS_CODEC_SAMPLE(StationHealth)
+NAV_DDS_CODEC_SAMPLE(GroundTruth)
 #undef NAV_DDS_CODEC_SAMPLE
 
 }  // namespace nav::dds

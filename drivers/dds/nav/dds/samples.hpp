@@ -82,6 +82,15 @@ struct DeformedSurface {
   std::array<std::array<float, 3>, kMaxSurfaceVertices> vertex_positions_m{};
 };
 
+/// What a simulated patient knows and a station never reads: where the tumour and the needle's
+/// tip truly are at source_time_ns (model frame), for evaluating the station from outside.
+struct GroundTruth {
+  TimeNs source_time_ns = 0;
+  TimeNs receive_time_ns = 0;
+  Vector3 tumour_m{};
+  Vector3 needle_tip_m{};
+};
+
 /// Samples dropped at the DDS boundary, by reason, and those accepted.
 struct BoundaryCounts {
   std::uint64_t accepted = 0;

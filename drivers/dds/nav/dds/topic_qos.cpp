@@ -39,6 +39,7 @@ const char* topic_name(Topic topic) noexcept {
     case Topic::target_prediction: return "nav/target_prediction";
     case Topic::deformed_surface: return "nav/deformed_surface";
     case Topic::station_health: return "nav/station_health";
+    case Topic::ground_truth: return "nav/ground_truth";
   }
   return "nav/unknown";
 }

@@ -18,10 +18,11 @@ enum class Topic : std::uint8_t {
   target_prediction,
   deformed_surface,
   station_health,
+  ground_truth,  ///< a simulated patient's truth, for evaluation only
 };
 
 /// The number of topics (Topic values are 0 .. kTopicCount - 1).
-inline constexpr std::size_t kTopicCount = static_cast<std::size_t>(Topic::station_health) + 1;
+inline constexpr std::size_t kTopicCount = static_cast<std::size_t>(Topic::ground_truth) + 1;
 
 /// The topics' names on the wire, by Topic (index static_cast<std::size_t>(topic)); an empty
 /// entry keeps the default topic_name(topic). A station scene renames its topics with it.

@@ -130,6 +130,19 @@ SampleFault from_wire(const nav_msgs::TargetPrediction& wire, TargetPrediction& 
   return SampleFault::none;
 }
 
+void to_wire(const GroundTruth& sample, nav_msgs::GroundTruth& wire) {
+  wire.source_time_ns(sample.source_time_ns);
+  wire.tumour_m() = sample.tumour_m;
+  wire.needle_tip_m() = sample.needle_tip_m;
+}
+
+SampleFault from_wire(const nav_msgs::GroundTruth& wire, GroundTruth& sample) noexcept {
+  sample.source_time_ns = wire.source_time_ns();
+  sample.tumour_m = wire.tumour_m();
+  sample.needle_tip_m = wire.needle_tip_m();
+  return SampleFault::none;
+}
+
 void to_wire(const DeformedSurface& sample, nav_msgs::DeformedSurface& wire) {
   wire.source_time_ns(sample.source_time_ns);
   wire.surface_id(sample.surface_id);

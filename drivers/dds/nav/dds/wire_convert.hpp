@@ -16,6 +16,7 @@ void to_wire(const NeedleState& sample, nav_msgs::NeedleState& wire);
 void to_wire(const TargetPrediction& sample, nav_msgs::TargetPrediction& wire);
 void to_wire(const DeformedSurface& sample, nav_msgs::DeformedSurface& wire);
 void to_wire(const StationHealth& sample, nav_msgs::StationHealth& wire);
+void to_wire(const GroundTruth& sample, nav_msgs::GroundTruth& wire);
 
 /// Fill `sample` from `wire`: none, or wrong_size (then `sample` is partly written).
 SampleFault from_wire(const nav_msgs::ToolPose& wire, ToolPose& sample) noexcept;
@@ -24,6 +25,7 @@ SampleFault from_wire(const nav_msgs::NeedleState& wire, NeedleState& sample) no
 SampleFault from_wire(const nav_msgs::TargetPrediction& wire, TargetPrediction& sample) noexcept;
 SampleFault from_wire(const nav_msgs::DeformedSurface& wire, DeformedSurface& sample) noexcept;
 SampleFault from_wire(const nav_msgs::StationHealth& wire, StationHealth& sample) noexcept;
+SampleFault from_wire(const nav_msgs::GroundTruth& wire, GroundTruth& sample) noexcept;
 
 /// A plain sample's wire type, its Fast DDS type support and its topic.
 template <typename Sample>
@@ -64,6 +66,12 @@ struct WireTraits<StationHealth> {
   using Wire = nav_msgs::StationHealth;
   using PubSubType = nav_msgs::StationHealthPubSubType;
   static constexpr Topic topic = Topic::station_health;
+};
+template <>
+struct WireTraits<GroundTruth> {
+  using Wire = nav_msgs::GroundTruth;
+  using PubSubType = nav_msgs::GroundTruthPubSubType;
+  static constexpr Topic topic = Topic::ground_truth;
 };
 
 }  // namespace nav::dds

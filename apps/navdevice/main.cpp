@@ -1,0 +1,22 @@
+// navdevice: a device of the station as a process of its own, a DDS participant on the
+// scene's domain and topic names, with the project's network rules.
+//   navdevice sim --scene FILE [--seconds S] [--domain D] [--no-wait]
+//       the simulated patient: the scene's full-order liver (generated or its mesh file)
+//       breathing under a needle insertion, watched by a simulated tracker (nav/tool_pose)
+//       and a synthetic B-mode scanner (nav/ultrasound_frame), with its truth on
+//       nav/ground_truth (for navtool evaluate; a station never reads it). It waits (up to
+//       --wait-s, default 60) for a station to read its poses unless --no-wait, then plays.
+// Each prints a status line a second, stops cleanly on SIGINT and SIGTERM, and exits 0 when
+// done, 1 naming the device when it fails, 2 on a usage error.
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "sim_device.hpp"
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (!args.empty() && args.front() == "sim") return navdevice::run_sim({args.begin() + 1, args.end()});
+  std::fprintf(stderr, "usage: navdevice sim --scene FILE [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n");
+  return 2;
+}

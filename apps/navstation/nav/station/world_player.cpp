@@ -1,0 +1,85 @@
+#include "nav/station/world_player.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+#include "nav/station/station_dds.hpp"
+
+namespace nav::station {
+
+namespace {
+
+void set_name(dds::FrameName& name, const char* text) {
+  name.fill('\0');
+  std::strncpy(name.data(), text, dds::kMaxFrameNameChars);
+}
+
+dds::Vector3 vector_of(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
+
+}  // namespace
+
+WorldPlayer::WorldPlayer(const SimulatedWorld& world, bool publish_truth)
+    : world_(world), publish_truth_(publish_truth), frame_(std::make_unique<dds::UltrasoundFrame>()),
+      written_ns_(world.samples.size(), -1) {
+  const ultrasound::BmodeGeometry& g = world.imaging.geometry;
+  frame_->width_px = g.width_px;
+  frame_->height_px = g.height_px;
+  frame_->pixel_spacing_m = {g.spacing_m, g.spacing_m};
+  frame_->depth_m = g.height_px * g.spacing_m;
+  frame_->probe_tool_id = kProbeToolId;
+}
+
+void WorldPlayer::play_until(TimeNs now_ns, dds::DdsNode* node, const MonotonicClock& clock) {
+  for (; next_ < world_.samples.size() && world_.samples[next_].delivered_ns <= now_ns; ++next_) {
+    const DeviceSample& s = world_.samples[next_];
+    if (node == nullptr) {
+      ++counts_.samples_lost;
+      continue;
+    }
+    if (s.kind == SampleKind::ultrasound_frame) {
+      const std::vector<std::uint8_t>& pixels = world_.frames[static_cast<std::size_t>(s.frame_index)].pixels;
+      std::copy(pixels.begin(), pixels.end(), frame_->pixels.begin());
+      frame_->sequence_number = next_;
+      frame_->source_time_ns = s.measured_ns + world_to_device_ns_;
+      written_ns_[next_] = clock.now_ns();
+      if (node->write(*frame_)) ++counts_.frames_written;
+    } else {
+      const dds::ToolPose pose = tool_pose_of(s, next_, world_to_device_ns_);
+      written_ns_[next_] = clock.now_ns();
+      if (node->write(pose)) ++counts_.poses_written;
+    }
+  }
+  if (!publish_truth_ || node == nullptr) return;
+  const TimeNs world_end_ns = static_cast<TimeNs>(world_.tumour_truth_m.size() - 1) * world_.step_ns;
+  for (; next_truth_ns_ <= std::min(now_ns, world_end_ns); next_truth_ns_ += world_.step_ns) {
+    dds::GroundTruth truth;
+    truth.source_time_ns = next_truth_ns_ + world_to_device_ns_;
+    const Point3 tumour = world_.tumour_at(next_truth_ns_);
+    truth.tumour_m = {tumour[0], tumour[1], tumour[2]};
+    truth.needle_tip_m = vector_of(world_.needle_tip_at(next_truth_ns_));
+    if (node->write(truth)) ++counts_.truths_written;
+  }
+}
+
+dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns) {
+  dds::ToolPose pose;
+  pose.sequence_number = sequence_number;
+  pose.source_time_ns = sample.measured_ns + world_to_device_ns;
+  pose.quality = 1.0f;
+  set_name(pose.frame_to, "tracker");
+  if (sample.kind == SampleKind::respiratory) {
+    pose.tool_id = kRespiratoryToolId;
+    pose.position_m = vector_of(sample.point_m);
+    set_name(pose.frame_from, "respiratory_marker");
+    return pose;
+  }
+  const bool needle = sample.kind == SampleKind::needle_pose;
+  pose.tool_id = needle ? kNeedleToolId : kProbeToolId;
+  set_name(pose.frame_from, needle ? "needle_base" : "probe_marker");
+  const Eigen::Quaterniond& q = sample.pose.rotation;
+  pose.position_m = vector_of(sample.pose.position_m);
+  pose.orientation_wxyz = {q.w(), q.x(), q.y(), q.z()};
+  return pose;
+}
+
+}  // namespace nav::station

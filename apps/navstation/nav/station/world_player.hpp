@@ -1,0 +1,60 @@
+#pragma once
+// A simulated world's devices on DDS: plays the world's recording on a participant as a
+// tracker and a scanner would publish it (the needle, probe and respiratory markers on
+// nav/tool_pose by tool id, the B-mode frames on nav/ultrasound_frame, each when its delivery
+// time comes) and, when asked, the world's truth (tumour and needle tip, model frame) on
+// nav/ground_truth at every tissue step. Every stamp is on the devices' clock: world time +
+// world_to_device_ns. Used by the in-process devices of a session (station_dds.cpp) and by the
+// simulated patient's own process (navdevice sim). I/O-thread code: it allocates its frame
+// once, at construction.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "nav/core/clock.hpp"
+#include "nav/dds/dds_node.hpp"
+#include "nav/dds/samples.hpp"
+#include "nav/station/simulated_world.hpp"
+
+namespace nav::station {
+
+/// What a WorldPlayer has written, and lost while its participant was gone.
+struct PlayerCounts {
+  std::int64_t poses_written = 0, frames_written = 0, truths_written = 0;
+  std::uint64_t samples_lost = 0;  ///< samples due while there was no participant
+};
+
+/// Plays one world's recording, in order, once.
+class WorldPlayer {
+ public:
+  WorldPlayer(const SimulatedWorld& world, bool publish_truth);
+
+  /// Sets where world time 0 is on the devices' clock (before the first play_until).
+  void set_world_to_device_ns(TimeNs world_to_device_ns) noexcept { world_to_device_ns_ = world_to_device_ns; }
+
+  /// Writes on `node` what is due by world time `now_ns`; with no node (the devices are gone)
+  /// the samples due are lost and counted. `clock` times each write (written_ns()).
+  void play_until(TimeNs now_ns, dds::DdsNode* node, const MonotonicClock& clock);
+
+  /// Every recorded sample has been played (the truth may go on to the world's end).
+  bool finished() const noexcept { return next_ >= world_.samples.size(); }
+  const PlayerCounts& counts() const noexcept { return counts_; }
+  /// When each sample was written (clock time, by sequence number = recording index; -1: never).
+  const std::vector<TimeNs>& written_ns() const noexcept { return written_ns_; }
+
+ private:
+  const SimulatedWorld& world_;
+  bool publish_truth_;
+  TimeNs world_to_device_ns_ = 0;
+  std::size_t next_ = 0;
+  TimeNs next_truth_ns_ = 0;
+  std::unique_ptr<dds::UltrasoundFrame> frame_;
+  std::vector<TimeNs> written_ns_;
+  PlayerCounts counts_;
+};
+
+/// A recorded tracker sample as the ToolPose the tracker publishes (source time: its
+/// measurement time on the device's clock, world time + `world_to_device_ns`).
+dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns);
+
+}  // namespace nav::station
