@@ -8,6 +8,9 @@
 //                          (navdevice sim, ...): the real-time loop and the I/O thread for
 //                          --seconds, then prints the summary of timing and what arrived; the
 //                          evaluation against a simulated patient's truth is navtool evaluate.
+//   --scene FILE --replay REC  runs the station on the poses and frames of a recorded session
+//                          (navtool record) on a simulated clock, as fast as it computes, and
+//                          prints the hash of its outputs: the same recording, the same bits.
 //   --demo                 the same on the demo scene (scenes/demo.yaml).
 //                          The simulated devices publish on DDS and the station subscribes
 //                          (the scene's topics.domain_id, or --domain D).
@@ -29,6 +32,7 @@
 #include "nav/station/scene.hpp"
 #include "nav/station/station_build.hpp"
 #include "nav/station/station_dds.hpp"
+#include "nav/station/session_replay.hpp"
 #include "nav/station/station_session.hpp"
 #include "navview_process.hpp"
 
@@ -38,7 +42,8 @@ constexpr const char* kUsage =
     "usage: navstation --scene FILE --check\n"
     "       navstation (--demo | --scene FILE) [--seconds S] [--domain D] [--plot FILE.svg] [--json FILE]\n"
     "                                             [--images DIR]\n"
-    "       navstation --scene FILE --live [--seconds S] [--domain D] [--images DIR]\n";
+    "       navstation --scene FILE --live [--seconds S] [--domain D] [--images DIR]\n"
+    "       navstation --scene FILE --replay REC.navrec\n";
 constexpr int kExitError = 1;
 constexpr int kExitUsage = 2;
 
@@ -48,7 +53,7 @@ struct Arguments {
   bool check = false, demo = false, live = false;
   double seconds = 10.0;
   long domain_id = -1;  ///< -1: the scene's
-  std::string plot_path, json_path, images_dir;
+  std::string plot_path, json_path, images_dir, replay_path;
 };
 
 void print_plan(const nav::station::Scene& scene) {
@@ -178,6 +183,19 @@ int run_live(const nav::station::Scene& scene, const Arguments& args) {
   return images ? 0 : kExitError;
 }
 
+int run_replay(const nav::station::Scene& scene, const Arguments& args) {
+  print_plan(scene);
+  std::printf("building the liver and its reduced loop, then replaying %s ...\n", args.replay_path.c_str());
+  std::fflush(stdout);
+  auto replay = nav::station::replay_session(scene, args.replay_path);
+  if (!replay.ok()) {
+    std::fprintf(stderr, "navstation: %s\n", replay.error().describe().c_str());
+    return kExitError;
+  }
+  std::printf("%s", nav::station::format_replay(scene, args.replay_path, replay.value()).c_str());
+  return 0;
+}
+
 int run_scene(const nav::station::Scene& scene, const Arguments& args) {
   print_plan(scene);
   std::printf("building the liver, its reduced loop and the full-order world, then running %.1f s ...\n", args.seconds);
@@ -213,6 +231,8 @@ bool parse(int argc, char** argv, Arguments& args) {
       args.scene_path = argv[++i];
     } else if (arg == "--check") {
       args.check = true;
+    } else if (arg == "--replay" && has_value) {
+      args.replay_path = argv[++i];
     } else if (arg == "--live") {
       args.live = true;
     } else if (arg == "--demo") {
@@ -246,6 +266,11 @@ bool parse(int argc, char** argv, Arguments& args) {
     std::fprintf(stderr, "navstation: give --demo or --scene FILE\n");
     return false;
   }
+  if (!args.replay_path.empty() && (args.demo || args.check || args.live || !args.plot_path.empty() || !args.json_path.empty() ||
+                                    !args.images_dir.empty())) {
+    std::fprintf(stderr, "navstation: --replay runs a --scene FILE alone on a recording\n");
+    return false;
+  }
   if (args.live && (args.demo || args.check || !args.plot_path.empty() || !args.json_path.empty())) {
     std::fprintf(stderr, "navstation: --live runs a --scene FILE alone (its evaluation is navtool evaluate)\n");
     return false;
@@ -268,5 +293,6 @@ int main(int argc, char** argv) {
   }
   if (args.check) return check_scene(std::move(scene).value());
   if (args.domain_id >= 0) scene.value().topics.domain_id = static_cast<std::uint32_t>(args.domain_id);
+  if (!args.replay_path.empty()) return run_replay(scene.value(), args);
   return args.live ? run_live(scene.value(), args) : run_scene(scene.value(), args);
 }

@@ -1,5 +1,6 @@
 // navtool record / replay: writes every station topic seen on a DDS domain to an indexed
-// recording, and plays a recording back onto a domain at the recorded pace or at once.
+// recording, and plays a recording back onto a domain at the recorded pace or at once; with
+// --scene, on the scene's domain and topic names.
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -9,6 +10,8 @@
 #include "commands.hpp"
 #include "nav/dds/record_replay.hpp"
 #include "nav/dds/stop_request.hpp"
+#include "nav/station/scene.hpp"
+#include "nav/station/station_dds.hpp"
 
 namespace navtool {
 namespace {
@@ -16,17 +19,35 @@ namespace {
 /// The options shared by record and replay.
 struct DdsToolArgs {
   std::string file;
+  std::string scene_path;  ///< the scene whose domain and topic names to use (a --domain given after it wins)
   nav::dds::NetworkConfig network;
+  nav::dds::TopicQosOptions qos;
   double duration_s = 10.0;
   double wait_for_readers_s = 2.0;  // replay: how long each topic waits for its first reader
   bool as_fast_as_possible = false;
 };
+
+/// Takes the domain and topic names of the scene at `path`; false (after printing why) when it does not load.
+bool take_scene(const std::string& path, DdsToolArgs& parsed) {
+  auto scene = nav::station::load_scene(path);
+  if (!scene.ok()) {
+    std::fprintf(stderr, "navtool: %s\n", scene.error().describe().c_str());
+    return false;
+  }
+  parsed.scene_path = path;
+  parsed.network.domain_id = scene.value().topics.domain_id;
+  parsed.qos.names = nav::station::topic_names(scene.value().topics);
+  return true;
+}
 
 bool parse(const std::vector<std::string>& args, bool recording, DdsToolArgs& parsed) {
   for (std::size_t i = 1; i < args.size(); ++i) {
     const bool has_value = i + 1 < args.size();
     try {
       if (args[i] == "--domain" && has_value) parsed.network.domain_id = static_cast<std::uint32_t>(std::stoul(args[++i]));
+      else if (args[i] == "--scene" && has_value) {
+        if (!take_scene(args[++i], parsed)) return false;
+      }
       else if (args[i] == "--local-address" && has_value) parsed.network.local_address = args[++i];
       else if (args[i] == "--peer" && has_value) parsed.network.peer_addresses.push_back(args[++i]);
       else if (recording && args[i] == "--out" && has_value) parsed.file = args[++i];
@@ -44,7 +65,7 @@ bool parse(const std::vector<std::string>& args, bool recording, DdsToolArgs& pa
 }
 
 int record(const DdsToolArgs& args) {
-  auto node = nav::dds::DdsNode::create(args.network);
+  auto node = nav::dds::DdsNode::create(args.network, args.qos);
   if (!node) {
     std::fprintf(stderr, "navtool record: %s\n", node.error().describe().c_str());
     return exit_bad_input;
@@ -87,7 +108,7 @@ int replay(const DdsToolArgs& args) {
     std::fprintf(stderr, "navtool replay: damaged recording: %s; playing the intact part\n",
                  recording.value()->damage()->describe().c_str());
   }
-  auto node = nav::dds::DdsNode::create(args.network);
+  auto node = nav::dds::DdsNode::create(args.network, args.qos);
   if (!node) {
     std::fprintf(stderr, "navtool replay: %s\n", node.error().describe().c_str());
     return exit_bad_input;
@@ -107,8 +128,8 @@ int record_replay(const std::vector<std::string>& args) {
   DdsToolArgs parsed;
   const bool recording = !args.empty() && args[0] == "record";
   if (args.empty() || !parse(args, recording, parsed)) {
-    std::fputs(recording ? "usage: navtool record --out FILE [--duration-s S] [--domain D] [--local-address A] [--peer A]...\n"
-                         : "usage: navtool replay FILE [--as-fast-as-possible] [--wait-for-readers-s S] [--domain D] [--local-address A] [--peer A]...\n",
+    std::fputs(recording ? "usage: navtool record --out FILE [--duration-s S] [--scene FILE] [--domain D] [--local-address A] [--peer A]...\n"
+                         : "usage: navtool replay FILE [--as-fast-as-possible] [--wait-for-readers-s S] [--scene FILE] [--domain D] [--local-address A] [--peer A]...\n",
                stderr);
     return exit_bad_input;
   }

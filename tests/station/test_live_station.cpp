@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <fstream>
 #include <string>
 
 #include "dds/child_process.hpp"
@@ -26,19 +27,31 @@ bool wait_for_text(const ChildProcess& process, const std::string& text, std::ch
   return true;
 }
 
+/// The demo scene with every topic renamed from nav/ to site_b/ (and its URDF by absolute path), in a file.
+std::string renamed_demo_scene() {
+  std::string text = edited(demo_text(), "urdf: ../../../calibration/urdf/station.urdf",
+                            "urdf: " + example_scene_path("../../../calibration/urdf/station.urdf"));
+  for (std::size_t at = text.find(": nav/"); at != std::string::npos; at = text.find(": nav/", at)) text.replace(at, 6, ": site_b/");
+  const std::string path = temporary_path("site_b.yaml");
+  std::ofstream(path) << text;
+  return path;
+}
+
 TEST(LiveStation, TheStationOnDdsFromTheSimulatedPatientIsEvaluatedLiveAndFromItsRecording) {
+  // Every process takes the scene's topic names (site_b/...), as a site's own scene names them.
+  const std::string scene = renamed_demo_scene();
   const std::string domain = "171";
   const std::string recording = temporary_path("live_station.navrec");
-  ChildProcess patient({kBin + "/navdevice", "sim", "--scene", kDemoScene, "--seconds", "7", "--domain", domain},
+  ChildProcess patient({kBin + "/navdevice", "sim", "--scene", scene, "--seconds", "7", "--domain", domain},
                        temporary_path("live_patient.log"));
   ASSERT_TRUE(patient.started());
   // The patient simulates its world first (seconds), then waits for a station.
   ASSERT_TRUE(wait_for_text(patient, "waiting up to", std::chrono::seconds(300))) << patient.log();
-  ChildProcess recorder({kBin + "/navtool", "record", "--out", recording, "--duration-s", "60", "--domain", domain},
+  ChildProcess recorder({kBin + "/navtool", "record", "--out", recording, "--duration-s", "60", "--scene", scene, "--domain", domain},
                         temporary_path("live_record.log"));
-  ChildProcess evaluation({kBin + "/navtool", "evaluate", "--scene", kDemoScene, "--seconds", "14", "--domain", domain},
+  ChildProcess evaluation({kBin + "/navtool", "evaluate", "--scene", scene, "--seconds", "14", "--domain", domain},
                           temporary_path("live_evaluate.log"));
-  ChildProcess station({kBin + "/navstation", "--scene", kDemoScene, "--live", "--seconds", "8", "--domain", domain},
+  ChildProcess station({kBin + "/navstation", "--scene", scene, "--live", "--seconds", "8", "--domain", domain},
                        temporary_path("live_station.log"));
   ASSERT_TRUE(recorder.started() && evaluation.started() && station.started());
 
@@ -73,6 +86,22 @@ TEST(LiveStation, TheStationOnDdsFromTheSimulatedPatientIsEvaluatedLiveAndFromIt
   ASSERT_EQ(from_recording.wait(std::chrono::seconds(60)), 0) << from_recording.log();
   std::printf("%s", from_recording.log().c_str());
   EXPECT_NEAR(number_after(from_recording.log(), "tumour now "), live_now_mm, 0.2);
+
+  // The station replays the session from its recording on a simulated clock: twice, the same bits.
+  std::string hashes[2];
+  for (std::string& hash : hashes) {
+    ChildProcess replay({kBin + "/navstation", "--scene", scene, "--replay", recording}, temporary_path("live_replay.log"));
+    ASSERT_EQ(replay.wait(std::chrono::seconds(120)), 0) << replay.log();
+    const std::string log = replay.log();
+    std::printf("%s", log.c_str());
+    EXPECT_GE(number_after(log, "from the recording: "), 500.0);  // poses
+    EXPECT_GE(number_after(log, "frames ("), 50.0);               // tumour points found
+    EXPECT_EQ(number_after(log, "), "), 0.0);                     // records refused
+    const std::size_t at = log.find("output hash ");
+    ASSERT_NE(at, std::string::npos);
+    hash = log.substr(at + 12, 16);
+  }
+  EXPECT_EQ(hashes[0], hashes[1]);
   std::remove(recording.c_str());
 }
 

@@ -1,0 +1,116 @@
+#include "nav/station/session_replay.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include "nav/dds/recording_file.hpp"
+#include "nav/dds/sample_checks.hpp"
+#include "nav/dds/sample_codec.hpp"
+#include "nav/station/station_dds.hpp"
+#include "nav/station/station_liver.hpp"
+
+namespace nav::station {
+
+namespace {
+
+/// A recorded pose or frame, in arrival order (frames by their index in `frames`).
+struct Arrival {
+  TimeNs received_ns = 0;
+  std::size_t record = 0;
+};
+
+/// Reads the recording's poses and frames into loop samples on the recording's own clock
+/// (loop time 0 at the first arrival), each frame observed for its tumour point.
+Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader, const ProbeImaging& imaging, TimeNs device_to_host_ns,
+                                                   SessionReplay& out) {
+  std::vector<Arrival> arrivals;
+  for (std::size_t i = 0; i < reader.record_count(); ++i) {
+    auto record = reader.read(i);
+    if (!record.ok()) {
+      ++out.records_refused;
+      continue;
+    }
+    const dds::Topic topic = record.value().topic;
+    if (topic == dds::Topic::tool_pose || topic == dds::Topic::ultrasound_frame) arrivals.push_back({record.value().receive_time_ns, i});
+  }
+  std::stable_sort(arrivals.begin(), arrivals.end(), [](const Arrival& a, const Arrival& b) { return a.received_ns < b.received_ns; });
+  std::vector<DeviceSample> samples;
+  if (arrivals.empty()) return samples;
+  const TimeNs origin_ns = arrivals.front().received_ns;
+  out.duration_ns = arrivals.back().received_ns - origin_ns;
+  TumourObserver observer(imaging);
+  auto frame = std::make_unique<dds::UltrasoundFrame>();
+  dds::ToolPose pose;
+  for (const Arrival& a : arrivals) {
+    const dds::RecordedSample record = reader.read(a.record).value();
+    const TimeNs delivered_ns = a.received_ns - origin_ns;
+    const TimeNs device_to_loop_ns = device_to_host_ns - origin_ns;
+    if (record.topic == dds::Topic::tool_pose) {
+      const bool taken = dds::decode_sample(record.payload.data(), record.payload.size(), pose) == dds::SampleFault::none &&
+                         dds::check_sample(pose) == dds::SampleFault::none;
+      const std::optional<DeviceSample> sample = taken ? device_sample_of(pose, device_to_loop_ns, delivered_ns) : std::nullopt;
+      if (!sample) {
+        ++out.records_refused;
+        continue;
+      }
+      ++out.poses;
+      if (std::optional<DeviceSample> for_loop = loop_sample(observer, *sample, {})) samples.push_back(*for_loop);
+      continue;
+    }
+    if (dds::decode_sample(record.payload.data(), record.payload.size(), *frame) != dds::SampleFault::none ||
+        dds::check_sample(*frame) != dds::SampleFault::none) {
+      ++out.records_refused;
+      continue;
+    }
+    ++out.frames;
+    DeviceSample sample;
+    sample.kind = SampleKind::ultrasound_frame;
+    sample.measured_ns = frame->source_time_ns + device_to_loop_ns;
+    sample.delivered_ns = delivered_ns;
+    const FrameView view{frame->pixels.data(), frame->width_px, frame->height_px, frame->pixel_spacing_m[0], frame->pixel_spacing_m[1]};
+    if (std::optional<DeviceSample> for_loop = loop_sample(observer, sample, view)) samples.push_back(*for_loop);
+  }
+  out.observer = observer.counts();
+  return samples;
+}
+
+}  // namespace
+
+Result<SessionReplay> replay_session(const Scene& scene, const std::string& path) {
+  auto reader = dds::RecordingReader::open(path);
+  if (!reader.ok()) return reader.error();
+  SessionReplay out;
+  out.damage = reader.value()->damage();
+  auto liver = make_station_liver(scene);
+  if (!liver.ok()) return liver.error();
+  auto loop = make_station_loop(liver.value(), scene, BreathingGeometry{}, StationLoopSettings{});
+  if (!loop.ok()) return Error{loop.error().describe(), scene.source_path, scene.liver.line, "liver (reduced loop)"};
+  const auto device_to_host_ns = static_cast<TimeNs>(scene.devices.clock.offset_ms * 1e6);
+  auto samples = observed_session(*reader.value(), demo_probe_imaging(), device_to_host_ns, out);
+  if (!samples.ok()) return samples.error();
+  if (samples.value().empty()) return Error{"the recording holds no tracker poses or ultrasound frames to replay", path, 0, ""};
+  auto replay = replay_station(loop.value(), samples.value(), out.duration_ns, true);
+  if (!replay.ok()) return replay.error();
+  out.replay = std::move(replay).value();
+  return out;
+}
+
+std::string format_replay(const Scene& scene, const std::string& path, const SessionReplay& r) {
+  char text[1024];
+  const TickRecord last = r.replay.ticks.empty() ? TickRecord{} : r.replay.ticks.back();
+  std::snprintf(text, sizeof(text),
+                "replay of %s through station '%s' on a simulated clock: %.3f s, %zu ticks\n"
+                "  from the recording: %lld poses, %lld frames (%lld tumour points found), %lld records refused%s%s\n"
+                "  last tick: tumour now (%.2f, %.2f, %.2f) mm, needle tip (%.2f, %.2f, %.2f) mm\n"
+                "  output hash %016llx\n",
+                path.c_str(), scene.station.name.c_str(), 1e-9 * static_cast<double>(r.duration_ns), r.replay.ticks.size(),
+                static_cast<long long>(r.poses), static_cast<long long>(r.frames), static_cast<long long>(r.observer.observations),
+                static_cast<long long>(r.records_refused), r.damage ? "; damaged: " : "", r.damage ? r.damage->describe().c_str() : "",
+                1e3 * last.tumour_now_m[0], 1e3 * last.tumour_now_m[1], 1e3 * last.tumour_now_m[2], 1e3 * last.needle_tip_m[0],
+                1e3 * last.needle_tip_m[1], 1e3 * last.needle_tip_m[2], static_cast<unsigned long long>(r.replay.output_hash));
+  return text;
+}
+
+}  // namespace nav::station
