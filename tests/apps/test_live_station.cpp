@@ -5,7 +5,10 @@
 
 #include <chrono>
 #include <cstdio>
+#include <algorithm>
 #include <fstream>
+#include <sstream>
+#include <vector>
 #include <string>
 
 #include "dds/child_process.hpp"
@@ -103,6 +106,61 @@ TEST(LiveStation, TheStationOnDdsFromTheSimulatedPatientIsEvaluatedLiveAndFromIt
   }
   EXPECT_EQ(hashes[0], hashes[1]);
   std::remove(recording.c_str());
+}
+
+/// The periods navstation --live printed after `label` ("0.000-0.412 s (flags), ..."): from, to (s) and flags.
+struct Period {
+  double from_s = 0.0, to_s = 0.0;
+  std::string flags;
+};
+
+std::vector<Period> degraded_periods(const std::string& log, const std::string& label) {
+  std::vector<Period> periods;
+  const std::size_t at = log.find(label);
+  if (at == std::string::npos) return periods;
+  const std::size_t from = at + label.size();
+  std::istringstream line(log.substr(from, log.find('\n', from) - from));
+  std::string item;
+  while (std::getline(line, item, ',')) {
+    Period p;
+    char dash = 0;
+    std::istringstream fields(item);
+    if (!(fields >> p.from_s >> dash >> p.to_s)) continue;
+    const std::size_t open = item.find('('), close = item.find(')');
+    if (open != std::string::npos && close != std::string::npos) p.flags = item.substr(open + 1, close - open - 1);
+    periods.push_back(p);
+  }
+  return periods;
+}
+
+TEST(LiveStation, APatientKilledMidRunDegradesTheStationWhichKeepsItsLoopAndRecoversWhenItReturns) {
+  const std::string domain = "174";
+  ChildProcess first({kBin + "/navdevice", "sim", "--scene", kDemoScene, "--seconds", "30", "--domain", domain},
+                     temporary_path("killed_patient.log"));
+  ASSERT_TRUE(wait_for_text(first, "waiting up to", std::chrono::seconds(300))) << first.log();
+  ChildProcess station({kBin + "/navstation", "--scene", kDemoScene, "--live", "--seconds", "14", "--domain", domain},
+                       temporary_path("killed_station.log"));
+  ASSERT_TRUE(wait_for_text(first, "navdevice sim: 3 s", std::chrono::seconds(60))) << first.log();
+  first.signal(SIGKILL);  // no goodbye: its writers vanish with the process
+  first.wait(std::chrono::seconds(10));
+  ChildProcess second({kBin + "/navdevice", "sim", "--scene", kDemoScene, "--seconds", "6", "--domain", domain, "--no-wait"},
+                      temporary_path("returning_patient.log"));
+  const std::optional<int> station_exit = station.wait(std::chrono::seconds(120));
+  const std::optional<int> second_exit = second.wait(std::chrono::seconds(60));
+  const std::string log = station.log();
+  std::printf("%s\n%s", log.c_str(), second.log().c_str());
+  ASSERT_EQ(station_exit, 0);
+  EXPECT_EQ(second_exit, 0);
+  // The loop kept its rate throughout (14 s at 1 kHz, a few ticks skipped at most).
+  EXPECT_GE(number_after(log, "step time over "), 13900.0);
+  // The needle input degraded while the patient was not there (before it came, and from the
+  // kill until it came back), flagged; good again after, well before the run's end.
+  const std::vector<Period> periods = degraded_periods(log, "needle input degraded:");
+  ASSERT_GE(periods.size(), 2u) << log;
+  const auto outage = std::find_if(periods.begin() + 1, periods.end(), [](const Period& p) { return p.to_s - p.from_s > 1.0; });
+  ASSERT_NE(outage, periods.end()) << "no degraded stretch longer than 1 s after the start";
+  EXPECT_NE(outage->flags.find("_input"), std::string::npos) << outage->flags;
+  EXPECT_LT(outage->to_s, 13.0) << "the station did not recover when the patient came back";
 }
 
 TEST(LiveStation, TheSimulatedPatientNamesWhatIsWrong) {

@@ -179,8 +179,8 @@ TEST(DdsHostileSamples, AFutureStampIsRefusedAndDoesNotBlindThePosesOrFramesAfte
 }
 
 /// Sends, `rounds` times, every crafted payload of a valid sample and then the valid sample
-/// itself (valid_of_round(round), 1 ms later each round), 10 ms apart: a keep-last-1 reader
-/// takes each before the next. Returns the crafted payloads written.
+/// itself (valid_of_round(round), 1 ms later each round), 10 ms apart: a reader of the
+/// shallowest history (frames: 2) takes each before the next. Returns the crafted payloads written.
 template <typename Sample, typename ValidOfRound>
 std::size_t send_rounds(RawPayloadWriter<Sample>& writer, ValidOfRound valid_of_round, int rounds) {
   std::size_t crafted_written = 0;

@@ -224,13 +224,13 @@ TEST(DdsParticipantQos, UnparsableProfileFileIsAnError) {
   EXPECT_NE(qos.error().message.find("parsed"), std::string::npos) << qos.error().describe();
 }
 
-TEST(DdsTopicQos, PosesAreBestEffortLatestOnlyWithADeadline) {
+TEST(DdsTopicQos, PosesAreBestEffortKeepingABurstOfEveryToolWithADeadline) {
   const TopicQosOptions options;
   const auto writer = writer_qos(Topic::tool_pose, options);
   const auto reader = reader_qos(Topic::tool_pose, options);
   for (const auto* history : {&writer.history(), &reader.history()}) {
     EXPECT_EQ(history->kind, fdds::KEEP_LAST_HISTORY_QOS);
-    EXPECT_EQ(history->depth, 1);
+    EXPECT_EQ(history->depth, 8);  // the tools of a tracker's burst share the unkeyed topic
   }
   EXPECT_EQ(writer.reliability().kind, fdds::BEST_EFFORT_RELIABILITY_QOS);
   EXPECT_EQ(reader.reliability().kind, fdds::BEST_EFFORT_RELIABILITY_QOS);

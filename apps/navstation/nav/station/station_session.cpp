@@ -220,6 +220,38 @@ std::string format_summary(const Scene& scene, const StationSession& s) {
   return out;
 }
 
+std::vector<DegradedPeriod> degraded_periods(const std::vector<TickRecord>& ticks, DegradedWhat what) {
+  std::vector<DegradedPeriod> periods;
+  bool open = false;
+  for (const TickRecord& t : ticks) {
+    const bool degraded = what == DegradedWhat::outputs ? t.degraded : t.needle_degraded;
+    if (degraded && !open) periods.push_back({t.time_ns, t.time_ns, 0});
+    if (degraded) periods.back().to_ns = t.time_ns, periods.back().flags |= what == DegradedWhat::outputs ? t.health_flags : t.needle_flags;
+    open = degraded;
+  }
+  return periods;
+}
+
+namespace {
+
+/// One line of degraded periods, e.g. " 0.000-0.412 s (missing_input), 3.120-5.840 s (stale_input)".
+std::string format_periods(const std::vector<DegradedPeriod>& periods) {
+  constexpr std::size_t kPeriodsShown = 8;
+  std::string out;
+  for (std::size_t i = 0; i < std::min(periods.size(), kPeriodsShown); ++i) {
+    const DegradedPeriod& p = periods[i];
+    out += format(" %.3f-%.3f s (", 1e-9 * static_cast<double>(p.from_ns), 1e-9 * static_cast<double>(p.to_ns));
+    std::string names;
+    for (std::uint32_t bit = 1; bit != 0; bit <<= 1)
+      if ((p.flags & bit) != 0) names += std::string(names.empty() ? "" : " ") + health_flag_name(static_cast<HealthFlag>(bit));
+    out += names + ")" + (i + 1 < periods.size() ? "," : "");
+  }
+  if (periods.size() > kPeriodsShown) out += format(" and %.0f more", static_cast<double>(periods.size() - kPeriodsShown));
+  return out + (periods.empty() ? " never\n" : "\n");
+}
+
+}  // namespace
+
 std::string format_live_summary(const Scene& scene, const LiveSession& s) {
   const StationSettings& st = scene.station;
   std::string out = "station '" + st.name + "' (live: devices on DDS): ";
@@ -229,6 +261,8 @@ std::string format_live_summary(const Scene& scene, const LiveSession& s) {
   out += "real-time setup:";
   for (const SetupStep& step : s.run.realtime_setup) out += " " + step.name + ": " + outcome_name(step.outcome) + ";";
   out += std::string(" I/O pin: ") + outcome_name(s.run.io_pin.outcome) + "\n";
+  out += "outputs degraded:" + format_periods(degraded_periods(s.run.ticks, DegradedWhat::outputs));
+  out += "needle input degraded:" + format_periods(degraded_periods(s.run.ticks, DegradedWhat::needle_input));
   return out + run_figures(scene, s.run, s.surface, s.miss_threshold_ns);
 }
 

@@ -68,7 +68,21 @@ Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, con
 /// The printed summary: setup, prediction errors with and without assimilation, timing.
 std::string format_summary(const Scene& scene, const StationSession& session);
 
-/// The printed summary of a live run: setup, timing, what arrived and what was refused.
+/// A stretch of ticks whose outputs were degraded, with every health flag raised in it.
+struct DegradedPeriod {
+  TimeNs from_ns = 0, to_ns = 0;  ///< the first and last degraded tick (run time)
+  std::uint32_t flags = 0;        ///< HealthFlag bits
+};
+
+/// What a degraded period is of: the loop's outputs (any flag that degrades them, e.g. the
+/// reduced liver out of its training envelope) or the tracked needle's input alone.
+enum class DegradedWhat { outputs, needle_input };
+
+/// The degraded stretches of a run's ticks, in time order.
+std::vector<DegradedPeriod> degraded_periods(const std::vector<TickRecord>& ticks, DegradedWhat what);
+
+/// The printed summary of a live run: setup, when and why it was degraded, timing, what
+/// arrived and what was refused.
 std::string format_live_summary(const Scene& scene, const LiveSession& session);
 
 /// The same figures as one JSON object.

@@ -7,12 +7,18 @@ namespace {
 
 namespace fdds = eprosima::fastdds::dds;
 
+/// Poses of every tool share one unkeyed topic and a tracker writes them in bursts (one per
+/// tool at each measurement): a history of one would let each pose of a burst replace the one
+/// before it before the reader takes it (a third of the demo's poses were lost so, and the
+/// needle went stale). This holds a burst of kPoseBurstTools tools with room to spare.
+constexpr int kPoseBurstTools = 8;
+
 /// The policies that writers and readers of `topic` share; Qos is either endpoint's QoS.
 template <typename Qos>
 Qos endpoint_qos(Topic topic, const TopicQosOptions& options) {
   Qos qos;
   qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
-  qos.history().depth = topic == Topic::ultrasound_frame ? 2 : 1;
+  qos.history().depth = topic == Topic::tool_pose ? kPoseBurstTools : topic == Topic::ultrasound_frame ? 2 : 1;
   const bool best_effort = topic == Topic::tool_pose || topic == Topic::ultrasound_frame;
   qos.reliability().kind = best_effort ? fdds::BEST_EFFORT_RELIABILITY_QOS : fdds::RELIABLE_RELIABILITY_QOS;
   qos.durability().kind =
