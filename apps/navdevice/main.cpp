@@ -5,7 +5,7 @@
 //       breathing under a needle insertion, watched by a simulated tracker (nav/tool_pose)
 //       and a synthetic B-mode scanner (nav/ultrasound_frame), with its truth on
 //       nav/ground_truth (for navtool evaluate; a station never reads it). It waits (up to
-//       --wait-s, default 60) for a station to read its poses unless --no-wait, then plays.
+//       --wait-s, default 60) for a running station (its health) unless --no-wait, then plays.
 // Each prints a status line a second, stops cleanly on SIGINT and SIGTERM, and exits 0 when
 // done, 1 naming the device when it fails, 2 on a usage error.
 #include <cstdio>

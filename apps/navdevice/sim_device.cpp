@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "nav/core/clock.hpp"
+#include "nav/dds/sample_sink.hpp"
 #include "nav/dds/stop_request.hpp"
 #include "nav/station/scene.hpp"
 #include "nav/station/simulated_world.hpp"
@@ -88,20 +89,24 @@ int run_sim(const std::vector<std::string>& arguments) {
   auto world = nav::station::simulate_world(liver.value(), s, nav::station::BreathingGeometry{}, world_options);
   if (!world.ok()) return fail(world.error().describe());
 
-  auto node = nav::station::make_station_node(s.topics.domain_id, "navdevice_sim", nav::station::topic_names(s.topics));
+  auto node = nav::station::make_station_node(s.topics.domain_id, "navdevice_sim", nav::station::topic_names(s.topics), s.network);
   if (!node.ok()) return fail(node.error().describe());
   nav::dds::DdsNode& dds = *node.value();
+  // A running station publishes its health from its loop: the patient starts with the first one
+  // (a recorder or a display reading the poses is not a station).
+  auto health = std::make_unique<nav::dds::RingSink<nav::dds::StationHealth, 4>>();
   for (const nav::Status& status : {dds.advertise<nav::dds::ToolPose>(), dds.advertise<nav::dds::UltrasoundFrame>(),
-                                    dds.advertise<nav::dds::GroundTruth>()})
+                                    dds.advertise<nav::dds::GroundTruth>(), dds.subscribe(*health)})
     if (!status.ok()) return fail(status.error().describe());
   if (args->wait_for_station) {
-    std::printf("navdevice sim: waiting up to %.0f s for a station on domain %u ...\n", args->wait_s, s.topics.domain_id);
+    std::printf("navdevice sim: waiting up to %.0f s for a running station (its health) on domain %u ...\n", args->wait_s,
+                s.topics.domain_id);
     std::fflush(stdout);
     nav::MonotonicClock waiting;
     const TimeNs give_up_ns = waiting.now_ns() + static_cast<TimeNs>(args->wait_s * 1e9);
-    while (dds.matched(nav::dds::Topic::tool_pose) == 0 || dds.matched(nav::dds::Topic::ultrasound_frame) == 0) {
+    while (health->size() == 0) {
       if (nav::dds::stop_requested()) return 0;
-      if (waiting.now_ns() > give_up_ns) return fail("no station read its poses and frames within " + std::to_string(args->wait_s) + " s");
+      if (waiting.now_ns() > give_up_ns) return fail("no station ran on this domain within " + std::to_string(args->wait_s) + " s");
       waiting.sleep_until_ns(waiting.now_ns() + 10 * kNsPerMs);
     }
   }

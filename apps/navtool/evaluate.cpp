@@ -56,7 +56,8 @@ nav::station::TimedTip tip_of(const nav::dds::NeedleState& needle) {
 
 /// Receives the scene's predictions, needle states and truth for `seconds` (or until SIGINT/SIGTERM).
 nav::Result<nav::station::EvaluationInput> receive(const nav::station::Scene& scene, double seconds) {
-  auto node = nav::station::make_station_node(scene.topics.domain_id, "navtool_evaluate", nav::station::topic_names(scene.topics));
+  auto node =
+      nav::station::make_station_node(scene.topics.domain_id, "navtool_evaluate", nav::station::topic_names(scene.topics), scene.network);
   if (!node.ok()) return node.error();
   auto predictions = std::make_unique<nav::dds::RingSink<nav::dds::TargetPrediction, 256>>();
   auto needles = std::make_unique<nav::dds::RingSink<nav::dds::NeedleState, 64>>();

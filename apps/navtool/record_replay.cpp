@@ -19,7 +19,7 @@ namespace {
 /// The options shared by record and replay.
 struct DdsToolArgs {
   std::string file;
-  std::string scene_path;  ///< the scene whose domain and topic names to use (a --domain given after it wins)
+  std::string scene_path;  ///< the scene whose domain, topic names and network to use (flags given after it win)
   nav::dds::NetworkConfig network;
   nav::dds::TopicQosOptions qos;
   double duration_s = 10.0;
@@ -35,7 +35,7 @@ bool take_scene(const std::string& path, DdsToolArgs& parsed) {
     return false;
   }
   parsed.scene_path = path;
-  parsed.network.domain_id = scene.value().topics.domain_id;
+  parsed.network = nav::station::station_network(scene.value().topics.domain_id, "", scene.value().network);
   parsed.qos.names = nav::station::topic_names(scene.value().topics);
   return true;
 }

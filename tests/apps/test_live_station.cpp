@@ -32,8 +32,7 @@ bool wait_for_text(const ChildProcess& process, const std::string& text, std::ch
 
 /// The demo scene with every topic renamed from nav/ to site_b/ (and its URDF by absolute path), in a file.
 std::string renamed_demo_scene() {
-  std::string text = edited(demo_text(), "urdf: ../../../calibration/urdf/station.urdf",
-                            "urdf: " + example_scene_path("../../../calibration/urdf/station.urdf"));
+  std::string text = movable_demo_text();
   for (std::size_t at = text.find(": nav/"); at != std::string::npos; at = text.find(": nav/", at)) text.replace(at, 6, ": site_b/");
   const std::string path = temporary_path("site_b.yaml");
   std::ofstream(path) << text;
@@ -173,11 +172,11 @@ TEST(LiveStation, TheSimulatedPatientNamesWhatIsWrong) {
   EXPECT_NE(missing.log().find("navdevice sim: "), std::string::npos) << missing.log();
   EXPECT_NE(missing.log().find("/nonexistent/scene.yaml"), std::string::npos) << missing.log();
 
-  // Nobody reads its poses: it says so and gives up, after its wait.
+  // No station runs on its domain: it says so and gives up, after its wait.
   ChildProcess alone({kBin + "/navdevice", "sim", "--scene", kDemoScene, "--seconds", "1", "--domain", "172", "--wait-s", "0.5"},
                      temporary_path("navdevice_alone.log"));
   EXPECT_EQ(alone.wait(std::chrono::seconds(300)), 1);
-  EXPECT_NE(alone.log().find("no station read its poses and frames within"), std::string::npos) << alone.log();
+  EXPECT_NE(alone.log().find("no station ran on this domain within"), std::string::npos) << alone.log();
 }
 
 TEST(LiveStation, EvaluationWithoutAStationSaysWhatIsMissing) {

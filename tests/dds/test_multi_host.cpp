@@ -1,7 +1,9 @@
 // Several hosts: two network namespaces joined by a veth pair stand for two machines
 // (10.201.0.1 and 10.201.0.2, nothing else but their loopback). navtool replays a recording
 // in one, navview runs headless in the other, each naming the other as its one unicast
-// peer; navview's PNG files show the scene and the frames crossed the veth link. Needs root
+// peer; navview's PNG files show the scene and the frames crossed the veth link. And a live
+// station with its simulated patient on one host is evaluated from the other, each process
+// on the network its scene names. Needs root
 // (skipped otherwise) and iproute2; the namespaces are removed afterwards, even on failure,
 // and are named after the test's pid so parallel or aborted runs do not collide.
 #include <gtest/gtest.h>
@@ -12,6 +14,8 @@
 #include <cerrno>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
+#include <fstream>
 #include <sstream>
 
 #include "child_process.hpp"
@@ -19,6 +23,7 @@
 #include "nav/dds/recording_file.hpp"
 #include "nav/dds/sample_codec.hpp"
 #include "nav/view/png_file.hpp"
+#include "station/scene_text.hpp"
 #include "test_navview_scene.hpp"
 
 namespace nav::dds {
@@ -126,6 +131,21 @@ class TwoHosts {
   std::string failure_;
 };
 
+/// Two hosts for each case, or the case skipped where namespaces cannot be made.
+class DdsMultiHost : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (geteuid() != 0) GTEST_SKIP() << "creating network namespaces needs root; run this test as root (CI does)";
+    const std::string ip = ip_program();
+    if (ip.empty()) GTEST_SKIP() << "iproute2's `ip` is not installed (toolchain/install-deps.sh installs it)";
+    remove_stale_namespaces(ip);
+    hosts_.emplace(ip);
+    ASSERT_TRUE(hosts_->failure().empty()) << "setting up the namespaces failed at: " << hosts_->failure();
+  }
+
+  std::optional<TwoHosts> hosts_;
+};
+
 /// A recording of 100 rounds, 20 ms apart, of the navview test scene (frame, needle,
 /// prediction, surface).
 void write_scene_recording(const std::string& path) {
@@ -152,13 +172,8 @@ void write_scene_recording(const std::string& path) {
   ASSERT_TRUE(writer.value()->close().ok());
 }
 
-TEST(DdsMultiHost, NavviewOnOneHostShowsWhatNavtoolReplaysOnAnother) {
-  if (geteuid() != 0) GTEST_SKIP() << "creating network namespaces needs root; run this test as root (CI does)";
-  const std::string ip = ip_program();
-  if (ip.empty()) GTEST_SKIP() << "iproute2's `ip` is not installed (toolchain/install-deps.sh installs it)";
-  remove_stale_namespaces(ip);
-  const TwoHosts hosts(ip);
-  ASSERT_TRUE(hosts.failure().empty()) << "setting up the namespaces failed at: " << hosts.failure();
+TEST_F(DdsMultiHost, NavviewOnOneHostShowsWhatNavtoolReplaysOnAnother) {
+  const TwoHosts& hosts = *hosts_;
 
   const std::string base = ::testing::TempDir() + "nav_multi_host_" + std::to_string(getpid());
   const std::filesystem::path out_dir = base + "_png";
@@ -197,6 +212,45 @@ TEST(DdsMultiHost, NavviewOnOneHostShowsWhatNavtoolReplaysOnAnother) {
   std::printf("host b received %llu bytes over veth\n", static_cast<unsigned long long>(received));
   EXPECT_GT(received, 50u * 240u * 200u);
   if (!HasFailure()) std::filesystem::remove_all(out_dir);
+}
+
+/// The demo scene on `local_address` with `peer` as its other host (its URDF by absolute path), in a file.
+std::string demo_scene_on(const std::string& local_address, const std::string& peer, const std::string& path) {
+  const std::string text =
+      nav::testing::movable_demo_text() + "network:\n  local_address: " + local_address + "\n  peers: [" + peer + "]\n";
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST_F(DdsMultiHost, AnEvaluationOnOneHostSeesALiveStationAndItsPatientOnAnother) {
+  const TwoHosts& hosts = *hosts_;
+  const std::string base = ::testing::TempDir() + "nav_multi_host_live_" + std::to_string(getpid());
+  const std::string scene_a = demo_scene_on(kAddressA, kAddressB, base + "_a.yaml");
+  const std::string scene_b = demo_scene_on(kAddressB, kAddressA, base + "_b.yaml");
+  const std::string bin = NAV_BIN_DIR;
+  const std::uint64_t received_before = hosts.bytes_received_by_b();
+
+  ChildProcess patient(hosts.in_a({bin + "/navdevice", "sim", "--scene", scene_a, "--seconds", "6", "--domain", "166"}), base + "_patient.log");
+  ASSERT_TRUE(testing::wait_until([&] { return patient.log().find("waiting up to") != std::string::npos || patient.ended(); },
+                                  std::chrono::seconds(300)))
+      << patient.log();
+  ChildProcess evaluation(hosts.in_b({bin + "/navtool", "evaluate", "--scene", scene_b, "--seconds", "14", "--domain", "166"}),
+                          base + "_evaluate.log");
+  ChildProcess station(hosts.in_a({bin + "/navstation", "--scene", scene_a, "--live", "--seconds", "7", "--domain", "166"}),
+                       base + "_station.log");
+  const std::optional<int> station_exit = station.wait(std::chrono::seconds(120));
+  const std::optional<int> patient_exit = patient.wait(std::chrono::seconds(60));
+  const std::optional<int> evaluation_exit = evaluation.wait(std::chrono::seconds(60));
+  std::printf("%s\n%s\n%s", station.log().c_str(), patient.log().c_str(), evaluation.log().c_str());
+  ASSERT_EQ(station_exit, 0);
+  ASSERT_EQ(patient_exit, 0);
+  ASSERT_EQ(evaluation_exit, 0);
+  // The station's predictions and the patient's truth crossed to host b, and compare as on one host.
+  EXPECT_GE(nav::testing::number_after(evaluation.log(), "mm  ("), 300.0);
+  EXPECT_LE(nav::testing::number_after(evaluation.log(), "tumour now "), 1.5);
+  const std::uint64_t received = hosts.bytes_received_by_b() - received_before;
+  std::printf("host b received %llu bytes over veth\n", static_cast<unsigned long long>(received));
+  EXPECT_GT(received, 565u * 12u * 100u);  // at least 100 deformed surfaces of 565 vertices
 }
 
 }  // namespace

@@ -20,6 +20,16 @@ inline const std::string& demo_text() {
   return text;
 }
 
+/// The demo scene's text to be written elsewhere: its URDF by absolute path.
+inline std::string movable_demo_text() {
+  const std::string urdf = "urdf: ../../../calibration/urdf/station.urdf";
+  const std::string text = demo_text();
+  const std::size_t at = text.find(urdf);
+  EXPECT_NE(at, std::string::npos) << "the demo scene has no '" << urdf << "'";
+  if (at == std::string::npos) return text;
+  return text.substr(0, at) + "urdf: " + example_scene_path("../../../calibration/urdf/station.urdf") + text.substr(at + urdf.size());
+}
+
 /// `text` with its first occurrence of `from` replaced by `to` (fails the test if absent).
 inline std::string edited(const std::string& text, const std::string& from, const std::string& to) {
   const std::size_t at = text.find(from);

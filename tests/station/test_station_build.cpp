@@ -3,8 +3,13 @@
 // artifact, and `navstation --scene FILE --check` runs on the example scene.
 #include <gtest/gtest.h>
 
+#include <utility>
+#include <vector>
+
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "nav/mesher/embedded_liver.hpp"
 #include "nav/mesher/liver_shape.hpp"
@@ -90,6 +95,33 @@ TEST(StationBuild, DeclaredLigamentsAreBuiltAndAttachedToTheLiver) {
   // The attachment's nodes carry the stabilising springs in the liver's scene.
   EXPECT_EQ(m.liver.scene.spring_nodes.size(), m.ligaments->attachment.nodes.size());
   EXPECT_GT(m.liver.scene.spring_stiffness_n_m, 0.0);
+}
+
+TEST(StationBuild, TheSceneNetworkIsCheckedBeforeAnyModelIsBuilt) {
+  // Loopback with a peer elsewhere: accepted (a peer is only an address to send discovery to).
+  const std::string peered = demo_text() + "network:\n  local_address: 127.0.0.1\n  peers: [10.9.8.7, 10.9.8.8]\n";
+  const auto built = build_text(peered);
+  ASSERT_TRUE(built.ok()) << built.error().describe();
+  EXPECT_EQ(built.value().models.scene.network.peers, (std::vector<std::string>{"10.9.8.7", "10.9.8.8"}));
+  // An address this host does not hold, a multicast peer, a peer that is no address: refused
+  // with the scene's file, the section's line and the key.
+  const std::pair<std::string, std::string> refused[] = {
+      {"network:\n  local_address: 10.255.255.254\n", "network.local_address"},
+      {"network:\n  peers: [239.1.2.3]\n", "network.peers"},
+      {"network:\n  peers: [station-b]\n", "network.peers"},
+  };
+  for (const auto& [section, field] : refused) {
+    const std::string text = demo_text() + section;
+    const auto failed = build_text(text);
+    ASSERT_FALSE(failed.ok()) << section;
+    EXPECT_EQ(failed.error().file, example_scene_path("demo.yaml"));
+    EXPECT_EQ(failed.error().field, field) << failed.error().describe();
+    EXPECT_EQ(failed.error().line, line_of(text, "network:") + 1);  // the section's first key
+  }
+  // Peers must be a list of addresses.
+  const auto not_a_list = parse_scene(demo_text() + "network:\n  peers: {a: 1}\n", example_scene_path("demo.yaml"));
+  ASSERT_FALSE(not_a_list.ok());
+  EXPECT_NE(not_a_list.error().message.find("a list of the other hosts' IPv4 addresses"), std::string::npos) << not_a_list.error().describe();
 }
 
 TEST(StationBuild, BuilderErrorsNameTheSceneSectionAndLine) {

@@ -326,6 +326,22 @@ TopicSettings read_topics(MapReader r) {
   return t;
 }
 
+NetworkSettings read_network(MapReader r) {
+  NetworkSettings n;
+  n.line = r.line();
+  n.local_address = r.text("local_address", n.local_address.c_str());
+  if (r.optional("peers")) {
+    const YAML::Node peers = r.required("peers");
+    if (!peers.IsSequence()) r.fail_at("peers", "a list of the other hosts' IPv4 addresses, e.g. [10.0.0.2]");
+    for (const YAML::Node& peer : peers) {
+      if (!peer.IsScalar()) r.fail_at("peers", "a list of the other hosts' IPv4 addresses, e.g. [10.0.0.2]");
+      n.peers.push_back(peer.as<std::string>());
+    }
+  }
+  r.finish();
+  return n;
+}
+
 Scene read_scene(const YAML::Node& document, const std::string& path) {
   Scene scene;
   scene.source_path = path;
@@ -340,6 +356,7 @@ Scene read_scene(const YAML::Node& document, const std::string& path) {
   if (root.optional("ligaments")) scene.ligaments = read_ligaments(root.map("ligaments"));
   scene.devices = read_devices(root.map("devices"), path);
   if (root.optional("topics")) scene.topics = read_topics(root.map("topics"));
+  if (root.optional("network")) scene.network = read_network(root.map("network"));
   root.finish();
   return scene;
 }

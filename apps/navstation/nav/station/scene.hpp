@@ -173,6 +173,15 @@ struct TopicSettings {
   std::string ground_truth = "nav/ground_truth";
 };
 
+/// `network:` where the station's DDS participants talk (and its devices' and displays', which
+/// read the same scene): the one local address UDP binds to, and the other hosts' addresses
+/// (unicast discovery). Loopback alone by default; never multicast, never another interface.
+struct NetworkSettings {
+  std::string local_address = "127.0.0.1";
+  std::vector<std::string> peers;
+  int line = 0;  ///< of the section (0 when absent)
+};
+
 /// A whole scene file.
 struct Scene {
   std::string source_path;  ///< the scene file as given
@@ -183,6 +192,7 @@ struct Scene {
   std::optional<LigamentSettings> ligaments;
   DeviceSettings devices;
   TopicSettings topics;
+  NetworkSettings network;
 };
 
 /// Parses scene text; `path` names it in errors and anchors its relative paths.

@@ -9,6 +9,7 @@
 #include "nav/mesher/embedded_liver.hpp"
 #include "nav/reduced/reduced_artifact.hpp"
 #include "nav/reduced/training_loads.hpp"
+#include "nav/station/station_dds.hpp"
 
 namespace nav::station {
 
@@ -189,6 +190,12 @@ Result<BuiltStation> build_station(Scene scene) {
   if (!frames.ok()) return at_section(frames.error(), scene, scene.frames.line, "frames.urdf");
   const Status frames_complete = check_frames(frames.value(), scene);
   if (!frames_complete.ok()) return frames_complete.error();
+  const Status network = dds::check_network(station_network(scene.topics.domain_id, "nav_station", scene.network));
+  if (!network.ok()) {
+    const std::string& field = network.error().field;
+    return Error{network.error().message, scene.source_path, scene.network.line,
+                 field == "local_address" ? "network.local_address" : "network.peers"};
+  }
   BuiltStation built{StationModels{std::move(scene), std::move(frames).value(), {}, {}, {}, {}, {}}, {}};
   StationModels& models = built.models;
   const Scene& s = models.scene;

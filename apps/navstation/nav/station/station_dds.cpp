@@ -56,7 +56,7 @@ void device_thread(WorldPlayer& player, StationChannels& ch, const DdsRunOptions
       // Timed before the creation: the station's reader may discover the writers while they
       // are still being advertised.
       const TimeNs creating_ns = ch.run_time_ns();
-      auto node = make_station_node(link.domain_id, "nav_demo_devices", link.names);
+      auto node = make_station_node(link.domain_id, "nav_demo_devices", link.names, link.network);
       if (node.ok() && node.value()->advertise<dds::ToolPose>().ok() && node.value()->advertise<dds::UltrasoundFrame>().ok()) {
         link.devices = std::move(node).value();
         report.device_back_ns = creating_ns;
@@ -149,27 +149,35 @@ dds::TopicNames topic_names(const TopicSettings& topics) {
   return names;
 }
 
-Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id, const char* participant_name, const dds::TopicNames& names) {
+dds::NetworkConfig station_network(std::uint32_t domain_id, const char* participant_name, const NetworkSettings& settings) {
   dds::NetworkConfig network;  // the defaults: shared memory and UDP on 127.0.0.1, unicast discovery, no multicast
   network.domain_id = domain_id;
   network.participant_name = participant_name;
+  network.local_address = settings.local_address;
+  network.peer_addresses = settings.peers;
   // Participant ids grow with every participant a process creates (the devices' participant
   // comes back after an outage; a test process makes a dozen): probe more than the default 8.
   network.max_participants_per_host = 32;
+  return network;
+}
+
+Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id, const char* participant_name, const dds::TopicNames& names,
+                                                        const NetworkSettings& network) {
   dds::TopicQosOptions qos;
   qos.names = names;
-  return dds::DdsNode::create(network, qos);
+  return dds::DdsNode::create(station_network(domain_id, participant_name, network), qos);
 }
 
 Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t domain_id, const dds::TopicNames& names,
                                                                const dds::ArrivalWindow& arrival, const dds::PoseBounds& pose_bounds,
-                                                               bool with_simulated_devices) {
+                                                               bool with_simulated_devices, const NetworkSettings& network) {
   auto link = std::make_unique<StationDdsLink>();
   link->poses = std::make_unique<dds::PoseInbox>(std::initializer_list<std::uint32_t>{kNeedleToolId, kProbeToolId, kRespiratoryToolId},
                                                  pose_bounds);
   link->domain_id = domain_id;
   link->names = names;
-  auto station = make_station_node(domain_id, "nav_station", names);
+  link->network = network;
+  auto station = make_station_node(domain_id, "nav_station", names, network);
   if (!station.ok()) return station.error();
   link->station = std::move(station).value();
   dds::DdsNode& s = *link->station;
@@ -177,7 +185,7 @@ Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t dom
                                s.advertise<dds::NeedleState>(), s.advertise<dds::StationHealth>(), s.advertise<dds::DeformedSurface>()})
     if (!status.ok()) return status.error();
   if (!with_simulated_devices) return link;  // the devices are other processes: they come and go
-  auto devices = make_station_node(domain_id, "nav_demo_devices", names);
+  auto devices = make_station_node(domain_id, "nav_demo_devices", names, network);
   if (!devices.ok()) return devices.error();
   link->devices = std::move(devices).value();
   dds::DdsNode& d = *link->devices;

@@ -41,10 +41,14 @@ std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs d
 /// The scene's topic names, by DDS topic (what the station's participants create).
 dds::TopicNames topic_names(const TopicSettings& topics);
 
-/// A participant for one side of a run, on `domain_id`, with the project's network rules and
-/// the topics named by `names` (empty entries: the default names).
+/// The network config of a participant on `domain_id` with the scene's `network` (its local
+/// address and peers; the project's rules otherwise: shared memory and UDP, no multicast).
+dds::NetworkConfig station_network(std::uint32_t domain_id, const char* participant_name, const NetworkSettings& network = {});
+
+/// A participant for one side of a run, on `domain_id`, on `network`, with the topics named by
+/// `names` (empty entries: the default names).
 Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id, const char* participant_name,
-                                                        const dds::TopicNames& names = {});
+                                                        const dds::TopicNames& names = {}, const NetworkSettings& network = {});
 
 /// The devices' and the station's participants of a run, created and matched before the
 /// run starts (so that no sample is lost to discovery), with the station's sinks.
@@ -55,6 +59,7 @@ struct StationDdsLink {
   std::unique_ptr<dds::DdsNode> devices;  ///< the in-process simulated devices (none when they are other processes)
   std::uint32_t domain_id = 0;
   dds::TopicNames names{};  ///< the topics' names on the wire (empty entries: the defaults)
+  NetworkSettings network;  ///< the participants' local address and peers
 
   /// Creates the station's participant on `domain_id` with the topics named by `names`: it
   /// subscribes to poses and frames and advertises its outputs, refusing poses and frames
@@ -63,7 +68,7 @@ struct StationDdsLink {
   /// and waits (up to 10 s) for the match; without, the devices are other processes.
   static Result<std::unique_ptr<StationDdsLink>> create(std::uint32_t domain_id, const dds::TopicNames& names = {},
                                                         const dds::ArrivalWindow& arrival = {}, const dds::PoseBounds& pose_bounds = {},
-                                                        bool with_simulated_devices = true);
+                                                        bool with_simulated_devices = true, const NetworkSettings& network = {});
 };
 
 }  // namespace nav::station

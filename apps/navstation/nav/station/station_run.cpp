@@ -176,7 +176,7 @@ Result<StationRun> run_threads(const OperatingLoopModel& loop, const SimulatedWo
   std::unique_ptr<StationDdsLink> link;
   if (options.dds) {
     const DdsRunOptions& o = *options.dds;
-    auto created = StationDdsLink::create(o.domain_id, o.topic_names, o.arrival, o.pose_bounds, world != nullptr);
+    auto created = StationDdsLink::create(o.domain_id, o.topic_names, o.arrival, o.pose_bounds, world != nullptr, o.network);
     if (!created.ok()) return created.error();
     link = std::move(created).value();
     outbox = std::make_unique<dds::StationOutbox>();

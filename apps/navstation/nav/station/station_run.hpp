@@ -68,6 +68,7 @@ struct DisplaySurface;
 struct DdsRunOptions {
   std::uint32_t domain_id = 0;
   dds::TopicNames topic_names{};            ///< the topics' names (empty entries: the defaults)
+  NetworkSettings network;                  ///< the participants' local address and peers
   std::optional<PeerOutage> device_outage;  ///< the devices' participant goes away once
   TimeNs health_period_ns = 100 * kNsPerMs; ///< the station's health is published this often
   const DisplaySurface* surface = nullptr;  ///< published on nav/deformed_surface when given (outlives the run)

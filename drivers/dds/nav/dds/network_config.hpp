@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "nav/core/error.hpp"
+
 namespace nav::dds {
 
 /// The network settings of one DDS participant. The defaults keep everything on this
@@ -28,5 +30,10 @@ struct NetworkConfig {
   std::string xml_profile_file;
   std::string xml_profile_name;
 };
+
+/// Whether `config`'s addresses can be used: each a specific unicast IPv4 address, the local
+/// one on an interface of this host that is up and has a carrier. An Error names the field
+/// (local_address, peer_addresses); a participant is only ever created from a config that passes.
+Status check_network(const NetworkConfig& config);
 
 }  // namespace nav::dds

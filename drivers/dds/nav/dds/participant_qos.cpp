@@ -91,10 +91,7 @@ Status apply_xml_profile(const NetworkConfig& config, fdds::DomainParticipantQos
 
 }  // namespace
 
-Result<fdds::DomainParticipantQos> make_participant_qos(const NetworkConfig& config) {
-  fdds::DomainParticipantQos qos;
-  if (const Status xml = apply_xml_profile(config, qos); !xml) return xml.error();
-
+Status check_network(const NetworkConfig& config) {
   auto local = unicast_locator(config.local_address, "local_address");
   if (!local) return local.error();
   in_addr local_address{};
@@ -102,6 +99,18 @@ Result<fdds::DomainParticipantQos> make_participant_qos(const NetworkConfig& con
   if (const std::string problem = interface_problem(config.local_address, local_address); !problem.empty()) {
     return Error{problem, "", 0, "local_address"};
   }
+  for (const std::string& peer : config.peer_addresses) {
+    auto locator = unicast_locator(peer, "peer_addresses");
+    if (!locator) return locator.error();
+  }
+  return Done{};
+}
+
+Result<fdds::DomainParticipantQos> make_participant_qos(const NetworkConfig& config) {
+  fdds::DomainParticipantQos qos;
+  if (const Status xml = apply_xml_profile(config, qos); !xml) return xml.error();
+  if (const Status usable = check_network(config); !usable) return usable.error();
+  const rtps::Locator_t local = unicast_locator(config.local_address, "local_address").value();
 
   auto& transport = qos.transport();
   transport.use_builtin_transports = false;
@@ -120,14 +129,10 @@ Result<fdds::DomainParticipantQos> make_participant_qos(const NetworkConfig& con
   builtin.discovery_config.discoveryProtocol = eprosima::fastrtps::rtps::DiscoveryProtocol_t::SIMPLE;
   builtin.metatrafficMulticastLocatorList.clear();
   builtin.metatrafficUnicastLocatorList.clear();
-  builtin.metatrafficUnicastLocatorList.push_back(local.value());
+  builtin.metatrafficUnicastLocatorList.push_back(local);
   builtin.initialPeersList.clear();
-  builtin.initialPeersList.push_back(local.value());
-  for (const std::string& peer : config.peer_addresses) {
-    auto locator = unicast_locator(peer, "peer_addresses");
-    if (!locator) return locator.error();
-    builtin.initialPeersList.push_back(locator.value());
-  }
+  builtin.initialPeersList.push_back(local);
+  for (const std::string& peer : config.peer_addresses) builtin.initialPeersList.push_back(unicast_locator(peer, "peer_addresses").value());
   // User data: no multicast; unicast locators come from the transports above (the
   // whitelisted address and, with shared memory, this host's segment).
   qos.wire_protocol().default_multicast_locator_list.clear();
