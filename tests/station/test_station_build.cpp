@@ -17,6 +17,7 @@
 #include "nav/reduced/reduction.hpp"
 #include "nav/reduced/training_loads.hpp"
 #include "nav/station/station_build.hpp"
+#include "nav/station/tumour_observer.hpp"
 #include "scene_text.hpp"
 #include "support/run_command.hpp"
 
@@ -122,6 +123,30 @@ TEST(StationBuild, TheSceneNetworkIsCheckedBeforeAnyModelIsBuilt) {
   const auto not_a_list = parse_scene(demo_text() + "network:\n  peers: {a: 1}\n", example_scene_path("demo.yaml"));
   ASSERT_FALSE(not_a_list.ok());
   EXPECT_NE(not_a_list.error().message.find("a list of the other hosts' IPv4 addresses"), std::string::npos) << not_a_list.error().describe();
+}
+
+TEST(StationBuild, TheProbeCalibrationIsTheUrdfsImageJoint) {
+  auto scene = parse_scene(demo_text(), example_scene_path("demo.yaml"));
+  ASSERT_TRUE(scene.ok()) << scene.error().describe();
+  auto imaging = scene_probe_imaging(scene.value());
+  ASSERT_TRUE(imaging.ok()) << imaging.error().describe();
+  // The demo's probe: the image's x along the marker's y, its depth (y) along the marker's -z,
+  // the marker at the centre of the top edge of 256 pixels of 0.3 mm.
+  const Eigen::Isometry3d& image_to_probe = imaging.value().image_to_probe;
+  EXPECT_LT((image_to_probe.linear().col(0) - Eigen::Vector3d::UnitY()).norm(), 1e-12);
+  EXPECT_LT((image_to_probe.linear().col(1) + Eigen::Vector3d::UnitZ()).norm(), 1e-12);
+  EXPECT_LT((image_to_probe * Eigen::Vector3d(0.5 * 255 * 0.0003, 0.0, 0.0)).norm(), 1e-12);
+  // A URDF without the image's joint: the error names the scene and frames.urdf.
+  const std::string urdf = testing::temporary_path("no_image.urdf");
+  std::ofstream(urdf) << "<robot name=\"r\"><link name=\"tracker\"/><link name=\"probe_marker\"/>"
+                         "<joint name=\"tracker_to_probe_marker\" type=\"floating\"><parent link=\"tracker\"/>"
+                         "<child link=\"probe_marker\"/></joint></robot>\n";
+  scene.value().frames.urdf_path = urdf;
+  auto missing = scene_probe_imaging(scene.value());
+  ASSERT_FALSE(missing.ok());
+  EXPECT_EQ(missing.error().field, "frames.urdf");
+  EXPECT_EQ(missing.error().file, example_scene_path("demo.yaml"));
+  EXPECT_NE(missing.error().message.find("image_plane"), std::string::npos) << missing.error().describe();
 }
 
 TEST(StationBuild, BuilderErrorsNameTheSceneSectionAndLine) {

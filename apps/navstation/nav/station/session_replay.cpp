@@ -88,7 +88,9 @@ Result<SessionReplay> replay_session(const Scene& scene, const std::string& path
   auto loop = make_station_loop(liver.value(), scene, BreathingGeometry{}, StationLoopSettings{});
   if (!loop.ok()) return Error{loop.error().describe(), scene.source_path, scene.liver.line, "liver (reduced loop)"};
   const auto device_to_host_ns = static_cast<TimeNs>(scene.devices.clock.offset_ms * 1e6);
-  auto samples = observed_session(*reader.value(), demo_probe_imaging(), device_to_host_ns, out);
+  auto imaging = scene_probe_imaging(scene);
+  if (!imaging.ok()) return imaging.error();
+  auto samples = observed_session(*reader.value(), imaging.value(), device_to_host_ns, out);
   if (!samples.ok()) return samples.error();
   if (samples.value().empty()) return Error{"the recording holds no tracker poses or ultrasound frames to replay", path, 0, ""};
   auto replay = replay_station(loop.value(), samples.value(), out.duration_ns, true);

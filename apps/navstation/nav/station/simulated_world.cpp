@@ -231,7 +231,9 @@ Result<SimulatedWorld> simulate_world(const StationLiver& liver, const Scene& sc
   const Status truth = scene.needle ? needle_and_tumour_truth(world, liver, scene, breathing, options)
                                     : tumour_truth(world, liver, scene, breathing, options);
   if (!truth.ok()) return truth.error();
-  world.imaging = demo_probe_imaging();
+  auto imaging = scene_probe_imaging(scene);  // the patient's probe is the one the scene calibrated
+  if (!imaging.ok()) return imaging.error();
+  world.imaging = imaging.value();
   world.probe_centre_m = Eigen::Vector3d{liver.tumour_m[0], liver.tumour_m[1], liver.tumour_m[2] + options.probe_height_m};
   world.probe_sweep_rad = options.probe_sweep_rad;
   world.probe_sweep_period_s = options.probe_sweep_period_s;

@@ -135,7 +135,9 @@ Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, con
   s.miss_threshold_ns = 5 * kNsPerMs;
   StationRunOptions run_options = station_run_options(scene, duration_ns, s.miss_threshold_ns, true);
   run_options.dds = dds_run_options(scene, &p.surface);
-  auto run = run_live_station(loop, demo_probe_imaging(), run_options);
+  auto imaging = scene_probe_imaging(scene);
+  if (!imaging.ok()) return imaging.error();
+  auto run = run_live_station(loop, imaging.value(), run_options);
   if (!run.ok()) return run.error();
   s.run = std::move(run).value();
   s.liver = std::move(p.liver);

@@ -3,17 +3,19 @@
 #include <chrono>
 #include <cmath>
 
+#include "nav/calibration/frame_tree.hpp"
+
 namespace nav::station {
 
-ProbeImaging demo_probe_imaging() {
+Result<ProbeImaging> scene_probe_imaging(const Scene& scene) {
+  auto frames = calibration::FrameTree::load(scene.frames.urdf_path);
+  if (!frames.ok()) return Error{frames.error().describe(), scene.source_path, scene.frames.line, "frames.urdf"};
+  auto image_to_probe = frames.value().lookup("probe_marker", "image_plane", 0);
+  if (!image_to_probe.ok())
+    return Error{"no fixed chain from probe_marker to image_plane: " + image_to_probe.error().describe(), scene.source_path, scene.frames.line,
+                 "frames.urdf"};
   ProbeImaging imaging;
-  const ultrasound::BmodeGeometry& g = imaging.geometry;
-  Eigen::Matrix3d rotation;  // columns: the image's x, y (depth) and z axes in the probe frame
-  rotation.col(0) = Eigen::Vector3d::UnitY();
-  rotation.col(1) = -Eigen::Vector3d::UnitZ();
-  rotation.col(2) = rotation.col(0).cross(rotation.col(1));
-  imaging.image_to_probe.linear() = rotation;
-  imaging.image_to_probe.translation() = -0.5 * (g.width_px - 1) * g.spacing_m * Eigen::Vector3d::UnitY();
+  imaging.image_to_probe = image_to_probe.value();
   return imaging;
 }
 

@@ -12,7 +12,9 @@
 #include <Eigen/Geometry>
 
 #include "nav/core/clock.hpp"
+#include "nav/core/error.hpp"
 #include "nav/fusion/rigid_pose.hpp"
+#include "nav/station/scene.hpp"
 #include "nav/ultrasound/bmode_simulator.hpp"
 #include "nav/ultrasound/tumour_tracker.hpp"
 
@@ -24,10 +26,10 @@ struct ProbeImaging {
   Eigen::Isometry3d image_to_probe = Eigen::Isometry3d::Identity();
 };
 
-/// The demo probe: a 256 x 256 image of 0.3 mm pixels whose plane holds the probe marker's
-/// y (lateral) and -z (depth) axes, the marker at the centre of the image's top edge; a sweep
-/// about the marker's x axis fans the image within its own plane.
-ProbeImaging demo_probe_imaging();
+/// The probe of `scene`: its calibration T_probe_image is the URDF's chain from probe_marker to
+/// image_plane (`navtool calib probe` writes it); its grid, the simulated scanner's (a station
+/// reads each frame on the frame's own grid). Errors name the scene file and frames.urdf.
+Result<ProbeImaging> scene_probe_imaging(const Scene& scene);
 
 /// How the observer decides.
 struct TumourObserverOptions {
