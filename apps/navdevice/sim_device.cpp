@@ -114,7 +114,7 @@ int run_sim(const std::vector<std::string>& arguments) {
   // The devices stamp on their clock: this host's monotonic clock less the scene's offset.
   nav::MonotonicClock clock;
   const TimeNs start_ns = clock.now_ns() + kStartDelayNs;
-  nav::station::WorldPlayer player(world.value(), true);
+  nav::station::WorldPlayer player(world.value(), true, s.devices.tracker.tools);
   player.set_world_to_device_ns(start_ns - static_cast<TimeNs>(s.devices.clock.offset_ms * 1e6));
   TimeNs next_status_ns = kNsPerSecond;
   while (!nav::dds::stop_requested()) {

@@ -30,17 +30,21 @@ bool wait_for_text(const ChildProcess& process, const std::string& text, std::ch
   return true;
 }
 
-/// The demo scene with every topic renamed from nav/ to site_b/ (and its URDF by absolute path), in a file.
+/// The demo scene with every topic renamed from nav/ to site_b/ and its tools on ids 11, 12, 13
+/// (its URDF by absolute path), in a file.
 std::string renamed_demo_scene() {
   std::string text = movable_demo_text();
   for (std::size_t at = text.find(": nav/"); at != std::string::npos; at = text.find(": nav/", at)) text.replace(at, 6, ": site_b/");
+  const std::string tracker = "    kind: simulated\n    rate_hz: 60";  // and its tools by ids of its own
+  text = edited(text, tracker, tracker + "\n    tools: {needle: 11, probe: 12, respiratory: 13}");
   const std::string path = temporary_path("site_b.yaml");
   std::ofstream(path) << text;
   return path;
 }
 
 TEST(LiveStation, TheStationOnDdsFromTheSimulatedPatientIsEvaluatedLiveAndFromItsRecording) {
-  // Every process takes the scene's topic names (site_b/...), as a site's own scene names them.
+  // Every process takes the scene's topic names (site_b/...) and tool ids, as a site's own scene
+  // names them: a process on the defaults would see nothing or refuse the poses as unknown tools.
   const std::string scene = renamed_demo_scene();
   const std::string domain = "171";
   const std::string recording = temporary_path("live_station.navrec");

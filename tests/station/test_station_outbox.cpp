@@ -22,6 +22,7 @@ namespace {
 
 constexpr TimeNs kLatencyNs = 50 * kNsPerMs;
 constexpr TimeNs kLoopToHostNs = 7 * kNsPerSecond;  // where run time 0 is on the host's clock
+constexpr OutputStamps kStamps{kLoopToHostNs, kLatencyNs, 5};  // the needle tracked as tool 5
 constexpr std::int64_t kHealthEvery = 100;
 
 OperatingLoopOutputs outputs_at(std::int64_t tick, bool tissue_tick) {
@@ -42,9 +43,9 @@ TEST(StationOutbox, PushOutputsSendsWhatEachTickOwesWithoutAllocating) {
   std::size_t allocations = 0;
   {
     testing::AllocationGuard guard;
-    push_outputs(*outbox, outputs_at(1, false), kLoopToHostNs, kLatencyNs, kHealthEvery, 0, 0);    // needle tick: nothing
-    push_outputs(*outbox, outputs_at(10, true), kLoopToHostNs, kLatencyNs, kHealthEvery, 0, 0);    // liver step
-    push_outputs(*outbox, outputs_at(100, false), kLoopToHostNs, kLatencyNs, kHealthEvery, 3, 42);  // health period
+    push_outputs(*outbox, outputs_at(1, false), kStamps, kHealthEvery, 0, 0);    // needle tick: nothing
+    push_outputs(*outbox, outputs_at(10, true), kStamps, kHealthEvery, 0, 0);    // liver step
+    push_outputs(*outbox, outputs_at(100, false), kStamps, kHealthEvery, 3, 42);  // health period
     allocations = guard.allocations();
   }
   EXPECT_EQ(allocations, 0u);
@@ -60,6 +61,7 @@ TEST(StationOutbox, PushOutputsSendsWhatEachTickOwesWithoutAllocating) {
   dds::NeedleState needle;
   ASSERT_TRUE(outbox->needle.try_pop(needle));
   EXPECT_EQ(needle.point_count, 1u);
+  EXPECT_EQ(needle.tool_id, 5u);  // the scene's needle
   EXPECT_DOUBLE_EQ(needle.shape_points_m[0][1], 0.2);
   EXPECT_FALSE(outbox->needle.try_pop(needle));
   dds::StationHealth health;
@@ -94,7 +96,7 @@ TEST(StationOutbox, WithANeedleModelTheNeedleStateIsItsCentrelineAndTipForce) {
   std::size_t allocations = 0;
   {
     testing::AllocationGuard guard;
-    push_outputs(*outbox, o, kLoopToHostNs, kLatencyNs, kHealthEvery, 0, 0);
+    push_outputs(*outbox, o, kStamps, kHealthEvery, 0, 0);
     allocations = guard.allocations();
   }
   EXPECT_EQ(allocations, 0u);
@@ -110,7 +112,7 @@ TEST(StationOutbox, WithANeedleModelTheNeedleStateIsItsCentrelineAndTipForce) {
 TEST(StationOutbox, TheNeedlesShapeReachesADisplayOverDdsWhichDrawsItWithItsTipForce) {
   auto outbox = std::make_unique<dds::StationOutbox>();
   const OperatingLoopOutputs o = with_bent_needle(outputs_at(10, true));
-  push_outputs(*outbox, o, kLoopToHostNs, kLatencyNs, kHealthEvery, 0, 0);
+  push_outputs(*outbox, o, kStamps, kHealthEvery, 0, 0);
   auto station = make_station_node(156, "nav_test_station").value();
   auto display = make_station_node(156, "nav_test_display").value();
   auto received = std::make_unique<dds::RingSink<dds::NeedleState, 4>>();
@@ -160,7 +162,7 @@ TEST(StationOutbox, TheNeedlesShapeReachesADisplayOverDdsWhichDrawsItWithItsTipF
 
 TEST(StationOutbox, AFullOutboxRefusesAndCounts) {
   auto outbox = std::make_unique<dds::StationOutbox>();
-  for (std::int64_t tick = 0; tick < 100; tick += 10) push_outputs(*outbox, outputs_at(tick, true), kLoopToHostNs, kLatencyNs, kHealthEvery, 0, 0);
+  for (std::int64_t tick = 0; tick < 100; tick += 10) push_outputs(*outbox, outputs_at(tick, true), kStamps, kHealthEvery, 0, 0);
   EXPECT_GT(outbox->dropped(), 0u);  // nobody drained it: the rings refused, the loop went on
 }
 

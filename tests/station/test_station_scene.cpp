@@ -102,6 +102,24 @@ TEST(StationScene, ReducedSceneResolvesItsPathsAgainstItsOwnFolder) {
   EXPECT_EQ(s.topics.surfaces, "nav/deformed_surface");  // the default when `topics:` is absent
 }
 
+TEST(StationScene, TheTrackedToolsTakeTheirIdsFromTheScene) {
+  const std::string from = "    kind: simulated\n    rate_hz: 60";
+  const auto scene = parse_scene(edited(demo_text(), from, from + "\n    tools: {needle: 11, probe: 12, respiratory: 13}"),
+                                 example_scene_path("demo.yaml"));
+  ASSERT_TRUE(scene.ok()) << scene.error().describe();
+  const ToolIds& tools = scene.value().devices.tracker.tools;
+  EXPECT_EQ(tools.needle, 11u);
+  EXPECT_EQ(tools.probe, 12u);
+  EXPECT_EQ(tools.respiratory, 13u);
+  // Without the key: the demo's ids.
+  EXPECT_EQ(parse_scene(demo_text(), example_scene_path("demo.yaml")).value().devices.tracker.tools.probe, 2u);
+  // Two roles on one id: refused, naming the tools' map.
+  const std::string text = edited(demo_text(), from, from + "\n    tools: {needle: 4, probe: 4}");
+  const Error error = error_of(text);
+  EXPECT_EQ(error.field, "devices.tracker.tools") << error.describe();
+  EXPECT_NE(error.message.find("need an id each"), std::string::npos) << error.describe();
+}
+
 TEST(StationScene, UnknownKeysAreNamedWithTheirPath) {
   expect_error("  lock_memory: true", "  lock_memry: true", "station.lock_memry", "unknown key");
   expect_error("    cg_iterations: 3", "    cg_iteration: 3", "liver.model.cg_iteration", "unknown key");

@@ -241,6 +241,16 @@ TrackerSettings read_tracker(MapReader r) {
   t.kind = static_cast<TrackerKind>(r.choice("kind", {"simulated", "ndi", "apriltag"}));
   t.volume_radius_m = r.number("volume_radius_m", Range{0.0, 100.0, true}, t.volume_radius_m);
   t.max_speed_m_per_s = r.number("max_speed_m_per_s", Range{0.0, 100.0, true}, t.max_speed_m_per_s);
+  if (r.optional("tools")) {
+    MapReader tools = r.map("tools");
+    constexpr long long kMaxToolId = (1LL << 31) - 1;
+    t.tools.needle = static_cast<std::uint32_t>(tools.integer("needle", 0, kMaxToolId, t.tools.needle));
+    t.tools.probe = static_cast<std::uint32_t>(tools.integer("probe", 0, kMaxToolId, t.tools.probe));
+    t.tools.respiratory = static_cast<std::uint32_t>(tools.integer("respiratory", 0, kMaxToolId, t.tools.respiratory));
+    if (t.tools.needle == t.tools.probe || t.tools.needle == t.tools.respiratory || t.tools.probe == t.tools.respiratory)
+      tools.fail_at("", "needle, probe and respiratory need an id each");
+    tools.finish();
+  }
   switch (t.kind) {
     case TrackerKind::simulated:
       t.rate_hz = r.number("rate_hz", Range{0.0, 1000.0, true}, t.rate_hz);

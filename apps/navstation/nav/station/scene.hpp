@@ -109,12 +109,20 @@ struct LigamentSettings {
 /// The kinds of tracker a station can read.
 enum class TrackerKind { simulated, ndi, apriltag };
 
+/// `devices.tracker.tools:` which tool id on nav/tool_pose is which tracked tool (each its own).
+struct ToolIds {
+  std::uint32_t needle = 1;       ///< the needle's marker
+  std::uint32_t probe = 2;        ///< the ultrasound probe's marker
+  std::uint32_t respiratory = 3;  ///< the respiratory marker on the patient's skin
+};
+
 /// `devices.tracker:` one of the three kinds with its settings.
 struct TrackerSettings {
   TrackerKind kind = TrackerKind::simulated;
   // every kind: where and how fast a tool can plausibly be (dds::PoseBounds)
   double volume_radius_m = 3.0;     ///< of the tracker's measurement volume, around its origin
   double max_speed_m_per_s = 2.0;   ///< of any tracked tool
+  ToolIds tools;                    ///< every kind: the tools' ids on nav/tool_pose
   // simulated
   double rate_hz = 60.0;
   double latency_ms = 0.0;

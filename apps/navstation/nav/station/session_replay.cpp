@@ -23,8 +23,8 @@ struct Arrival {
 
 /// Reads the recording's poses and frames into loop samples on the recording's own clock
 /// (loop time 0 at the first arrival), each frame observed for its tumour point.
-Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader, const ProbeImaging& imaging, TimeNs device_to_host_ns,
-                                                   SessionReplay& out) {
+Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader, const ProbeImaging& imaging, const ToolIds& tools,
+                                                   TimeNs device_to_host_ns, SessionReplay& out) {
   std::vector<Arrival> arrivals;
   for (std::size_t i = 0; i < reader.record_count(); ++i) {
     auto record = reader.read(i);
@@ -50,7 +50,7 @@ Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader,
     if (record.topic == dds::Topic::tool_pose) {
       const bool taken = dds::decode_sample(record.payload.data(), record.payload.size(), pose) == dds::SampleFault::none &&
                          dds::check_sample(pose) == dds::SampleFault::none;
-      const std::optional<DeviceSample> sample = taken ? device_sample_of(pose, device_to_loop_ns, delivered_ns) : std::nullopt;
+      const std::optional<DeviceSample> sample = taken ? device_sample_of(pose, device_to_loop_ns, delivered_ns, tools) : std::nullopt;
       if (!sample) {
         ++out.records_refused;
         continue;
@@ -90,7 +90,7 @@ Result<SessionReplay> replay_session(const Scene& scene, const std::string& path
   const auto device_to_host_ns = static_cast<TimeNs>(scene.devices.clock.offset_ms * 1e6);
   auto imaging = scene_probe_imaging(scene);
   if (!imaging.ok()) return imaging.error();
-  auto samples = observed_session(*reader.value(), imaging.value(), device_to_host_ns, out);
+  auto samples = observed_session(*reader.value(), imaging.value(), scene.devices.tracker.tools, device_to_host_ns, out);
   if (!samples.ok()) return samples.error();
   if (samples.value().empty()) return Error{"the recording holds no tracker poses or ultrasound frames to replay", path, 0, ""};
   auto replay = replay_station(loop.value(), samples.value(), out.duration_ns, true);

@@ -45,12 +45,18 @@ struct StationDdsLink;
 void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, const ProbeImaging& imaging, StationChannels& ch,
                    StationRun& run, const StationRunOptions& options, StationDdsLink& link);
 
+/// How the real-time thread stamps the outputs it hands to DDS.
+struct OutputStamps {
+  TimeNs loop_to_host_ns = 0;     ///< loop time + this: the host's monotonic clock
+  TimeNs display_latency_ns = 0;  ///< the horizon of the predictions ahead
+  std::uint32_t needle_tool_id = 1;
+};
+
 /// Real-time side, with DDS: pushes the tick's outputs into the outbox (predictions and the
 /// needle at each liver step, health every health_every_ticks ticks), stamped on the host's
-/// clock (loop time + loop_to_host_ns). The needle is the
-/// needle model's centreline with its tip force when the loop steps one, its tip otherwise.
-/// No allocation, never blocks.
-void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& outputs, TimeNs loop_to_host_ns, TimeNs display_latency_ns,
-                  std::int64_t health_every_ticks, std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept;
+/// clock. The needle is the needle model's centreline with its tip force when the loop steps
+/// one, its tip otherwise. No allocation, never blocks.
+void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& outputs, const OutputStamps& stamps, std::int64_t health_every_ticks,
+                  std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept;
 
 }  // namespace nav::station

@@ -117,20 +117,18 @@ void watch_peer(const dds::DdsNode& station, TimeNs now, bool& present, DdsRunRe
 
 }  // namespace
 
-std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns) {
+std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns, const ToolIds& tools) {
   DeviceSample s;
   s.measured_ns = pose.source_time_ns + device_to_loop_ns;
   s.delivered_ns = received_ns;
   const Eigen::Vector3d position{pose.position_m[0], pose.position_m[1], pose.position_m[2]};
-  switch (pose.tool_id) {
-    case kNeedleToolId: s.kind = SampleKind::needle_pose; break;
-    case kProbeToolId: s.kind = SampleKind::probe_pose; break;
-    case kRespiratoryToolId:
-      s.kind = SampleKind::respiratory;
-      s.point_m = position;
-      return s;
-    default: return std::nullopt;
+  if (pose.tool_id == tools.respiratory) {
+    s.kind = SampleKind::respiratory;
+    s.point_m = position;
+    return s;
   }
+  if (pose.tool_id != tools.needle && pose.tool_id != tools.probe) return std::nullopt;
+  s.kind = pose.tool_id == tools.needle ? SampleKind::needle_pose : SampleKind::probe_pose;
   const auto& q = pose.orientation_wxyz;
   s.pose = {position, Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized()};
   return s;
@@ -170,13 +168,14 @@ Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id,
 
 Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t domain_id, const dds::TopicNames& names,
                                                                const dds::ArrivalWindow& arrival, const dds::PoseBounds& pose_bounds,
-                                                               bool with_simulated_devices, const NetworkSettings& network) {
+                                                               bool with_simulated_devices, const NetworkSettings& network,
+                                                               const ToolIds& tools) {
   auto link = std::make_unique<StationDdsLink>();
-  link->poses = std::make_unique<dds::PoseInbox>(std::initializer_list<std::uint32_t>{kNeedleToolId, kProbeToolId, kRespiratoryToolId},
-                                                 pose_bounds);
+  link->poses = std::make_unique<dds::PoseInbox>(std::initializer_list<std::uint32_t>{tools.needle, tools.probe, tools.respiratory}, pose_bounds);
   link->domain_id = domain_id;
   link->names = names;
   link->network = network;
+  link->tools = tools;
   auto station = make_station_node(domain_id, "nav_station", names, network);
   if (!station.ok()) return station.error();
   link->station = std::move(station).value();
@@ -198,8 +197,9 @@ Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t dom
   return link;
 }
 
-void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, TimeNs loop_to_host_ns, TimeNs display_latency_ns,
-                  std::int64_t health_every_ticks, std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept {
+void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, const OutputStamps& stamps, std::int64_t health_every_ticks,
+                  std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept {
+  const TimeNs loop_to_host_ns = stamps.loop_to_host_ns;
   if (o.time_ns == o.tissue_time_ns) {
     dds::TargetPrediction prediction;
     prediction.source_time_ns = o.tissue_time_ns + loop_to_host_ns;
@@ -208,13 +208,13 @@ void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, Tim
     prediction.position_m = vector_of(o.tumour_now_m);
     prediction.covariance_m2 = o.tumour_now_covariance_m2;
     outbox.predictions.try_push(prediction);
-    prediction.horizon_ns = display_latency_ns;
+    prediction.horizon_ns = stamps.display_latency_ns;
     prediction.position_m = vector_of(o.tumour_ahead_m);
     prediction.covariance_m2 = o.tumour_ahead_covariance_m2;
     outbox.predictions.try_push(prediction);
     dds::NeedleState needle;
     needle.source_time_ns = o.time_ns + loop_to_host_ns;
-    needle.tool_id = kNeedleToolId;
+    needle.tool_id = stamps.needle_tool_id;
     const NeedleShapeOutputs& shape = o.needle_shape;
     if (shape.node_count > 0) {  // the loop steps a needle model: its centreline, base to tip, and the tip force
       needle.point_count = static_cast<std::uint32_t>(shape.node_count);
@@ -250,7 +250,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
   }
   DisplaySurfacePublisher surfaces(loop, *options.dds);
   std::optional<WorldPlayer> player;
-  if (world != nullptr) player.emplace(*world, false);
+  if (world != nullptr) player.emplace(*world, false, link.tools);
   ch.wait_for_start();
   const TimeNs device_to_loop_ns = options.dds->arrival.source_clock_offset_ns - ch.start_ns;  // stamps onto the loop's clock
   std::thread devices;
@@ -269,7 +269,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
       const TimeNs received_ns = pose.receive_time_ns - ch.start_ns;
       ++report.poses_received;
       if (player) pose_receipts.push_back({pose.sequence_number, pose.receive_time_ns});
-      const std::optional<DeviceSample> sample = device_sample_of(pose, device_to_loop_ns, received_ns);
+      const std::optional<DeviceSample> sample = device_sample_of(pose, device_to_loop_ns, received_ns, link.tools);
       if (!sample) continue;
       const std::optional<DeviceSample> for_loop = loop_sample(observer, *sample, {});
       if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;

@@ -29,14 +29,10 @@
 
 namespace nav::station {
 
-/// The tool ids of the demo's tracked markers on nav/tool_pose.
-inline constexpr std::uint32_t kNeedleToolId = 1;
-inline constexpr std::uint32_t kProbeToolId = 2;
-inline constexpr std::uint32_t kRespiratoryToolId = 3;
-
 /// A received ToolPose as the loop's sample (measured at its source time +
-/// `device_to_loop_ns`, delivered at `received_ns`), or nothing for an unknown tool.
-std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns);
+/// `device_to_loop_ns`, delivered at `received_ns`), its role by `tools`, or nothing for a tool
+/// of no role.
+std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns, const ToolIds& tools);
 
 /// The scene's topic names, by DDS topic (what the station's participants create).
 dds::TopicNames topic_names(const TopicSettings& topics);
@@ -60,15 +56,18 @@ struct StationDdsLink {
   std::uint32_t domain_id = 0;
   dds::TopicNames names{};  ///< the topics' names on the wire (empty entries: the defaults)
   NetworkSettings network;  ///< the participants' local address and peers
+  ToolIds tools;            ///< the tracked tools' ids
 
   /// Creates the station's participant on `domain_id` with the topics named by `names`: it
   /// subscribes to poses and frames and advertises its outputs, refusing poses and frames
-  /// stamped outside `arrival` and poses outside `pose_bounds` (sample_checks.hpp). With
+  /// stamped outside `arrival`, poses outside `pose_bounds` (sample_checks.hpp) and of tools
+  /// other than `tools`'. With
   /// simulated devices, also their participant in this process, advertising poses and frames,
   /// and waits (up to 10 s) for the match; without, the devices are other processes.
   static Result<std::unique_ptr<StationDdsLink>> create(std::uint32_t domain_id, const dds::TopicNames& names = {},
                                                         const dds::ArrivalWindow& arrival = {}, const dds::PoseBounds& pose_bounds = {},
-                                                        bool with_simulated_devices = true, const NetworkSettings& network = {});
+                                                        bool with_simulated_devices = true, const NetworkSettings& network = {},
+                                                        const ToolIds& tools = {});
 };
 
 }  // namespace nav::station

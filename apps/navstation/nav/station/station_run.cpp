@@ -82,6 +82,7 @@ void realtime_thread(const OperatingLoopModel& loop, OperatingLoopData& data, St
   const double miss_threshold_us = 1e-3 * static_cast<double>(options.miss_threshold_ns);
   const std::int64_t health_every_ticks =
       std::max<std::int64_t>(1, (options.dds ? options.dds->health_period_ns : kNsPerSecond) / loop.options.tick_period_ns);
+  const OutputStamps stamps{ch.start_ns, loop.options.display_latency_ns, options.dds ? options.dds->tools.needle : ToolIds{}.needle};
   std::uint64_t misses = 0;
   TimeNs window_max_ns = 0;
   DeviceSample sample;
@@ -100,7 +101,7 @@ void realtime_thread(const OperatingLoopModel& loop, OperatingLoopData& data, St
     if (ch.outbox != nullptr) {
       if (rec.lateness_us[i] > miss_threshold_us) ++misses;
       window_max_ns = std::max(window_max_ns, step_ns);
-      push_outputs(*ch.outbox, data.outputs, ch.start_ns, loop.options.display_latency_ns, health_every_ticks, misses, window_max_ns);
+      push_outputs(*ch.outbox, data.outputs, stamps, health_every_ticks, misses, window_max_ns);
       if (data.outputs.ticks % health_every_ticks == 0) window_max_ns = 0;
     }
   }
@@ -176,7 +177,7 @@ Result<StationRun> run_threads(const OperatingLoopModel& loop, const SimulatedWo
   std::unique_ptr<StationDdsLink> link;
   if (options.dds) {
     const DdsRunOptions& o = *options.dds;
-    auto created = StationDdsLink::create(o.domain_id, o.topic_names, o.arrival, o.pose_bounds, world != nullptr, o.network);
+    auto created = StationDdsLink::create(o.domain_id, o.topic_names, o.arrival, o.pose_bounds, world != nullptr, o.network, o.tools);
     if (!created.ok()) return created.error();
     link = std::move(created).value();
     outbox = std::make_unique<dds::StationOutbox>();

@@ -69,6 +69,7 @@ struct DdsRunOptions {
   std::uint32_t domain_id = 0;
   dds::TopicNames topic_names{};            ///< the topics' names (empty entries: the defaults)
   NetworkSettings network;                  ///< the participants' local address and peers
+  ToolIds tools;                            ///< the tracked tools' ids on nav/tool_pose
   std::optional<PeerOutage> device_outage;  ///< the devices' participant goes away once
   TimeNs health_period_ns = 100 * kNsPerMs; ///< the station's health is published this often
   const DisplaySurface* surface = nullptr;  ///< published on nav/deformed_surface when given (outlives the run)

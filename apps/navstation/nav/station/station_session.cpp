@@ -52,6 +52,7 @@ DdsRunOptions dds_run_options(const Scene& scene, const DisplaySurface* surface)
   dds.domain_id = scene.topics.domain_id;
   dds.topic_names = topic_names(scene.topics);
   dds.network = scene.network;
+  dds.tools = scene.devices.tracker.tools;
   dds.surface = surface;
   const DeviceClockSettings& clock = scene.devices.clock;
   dds.arrival = {.source_clock_offset_ns = static_cast<TimeNs>(clock.offset_ms * 1e6),

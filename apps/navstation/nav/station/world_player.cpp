@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstring>
 
-#include "nav/station/station_dds.hpp"
 
 namespace nav::station {
 
@@ -18,15 +17,15 @@ dds::Vector3 vector_of(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
 
 }  // namespace
 
-WorldPlayer::WorldPlayer(const SimulatedWorld& world, bool publish_truth)
-    : world_(world), publish_truth_(publish_truth), frame_(std::make_unique<dds::UltrasoundFrame>()),
+WorldPlayer::WorldPlayer(const SimulatedWorld& world, bool publish_truth, const ToolIds& tools)
+    : world_(world), publish_truth_(publish_truth), tools_(tools), frame_(std::make_unique<dds::UltrasoundFrame>()),
       written_ns_(world.samples.size(), -1) {
   const ultrasound::BmodeGeometry& g = world.imaging.geometry;
   frame_->width_px = g.width_px;
   frame_->height_px = g.height_px;
   frame_->pixel_spacing_m = {g.spacing_m, g.spacing_m};
   frame_->depth_m = g.height_px * g.spacing_m;
-  frame_->probe_tool_id = kProbeToolId;
+  frame_->probe_tool_id = tools.probe;
 }
 
 void WorldPlayer::play_until(TimeNs now_ns, dds::DdsNode* node, const MonotonicClock& clock) {
@@ -44,7 +43,7 @@ void WorldPlayer::play_until(TimeNs now_ns, dds::DdsNode* node, const MonotonicC
       written_ns_[next_] = clock.now_ns();
       if (node->write(*frame_)) ++counts_.frames_written;
     } else {
-      const dds::ToolPose pose = tool_pose_of(s, next_, world_to_device_ns_);
+      const dds::ToolPose pose = tool_pose_of(s, next_, world_to_device_ns_, tools_);
       written_ns_[next_] = clock.now_ns();
       if (node->write(pose)) ++counts_.poses_written;
     }
@@ -61,20 +60,20 @@ void WorldPlayer::play_until(TimeNs now_ns, dds::DdsNode* node, const MonotonicC
   }
 }
 
-dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns) {
+dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns, const ToolIds& tools) {
   dds::ToolPose pose;
   pose.sequence_number = sequence_number;
   pose.source_time_ns = sample.measured_ns + world_to_device_ns;
   pose.quality = 1.0f;
   set_name(pose.frame_to, "tracker");
   if (sample.kind == SampleKind::respiratory) {
-    pose.tool_id = kRespiratoryToolId;
+    pose.tool_id = tools.respiratory;
     pose.position_m = vector_of(sample.point_m);
     set_name(pose.frame_from, "respiratory_marker");
     return pose;
   }
   const bool needle = sample.kind == SampleKind::needle_pose;
-  pose.tool_id = needle ? kNeedleToolId : kProbeToolId;
+  pose.tool_id = needle ? tools.needle : tools.probe;
   set_name(pose.frame_from, needle ? "needle_base" : "probe_marker");
   const Eigen::Quaterniond& q = sample.pose.rotation;
   pose.position_m = vector_of(sample.pose.position_m);

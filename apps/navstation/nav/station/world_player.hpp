@@ -27,7 +27,8 @@ struct PlayerCounts {
 /// Plays one world's recording, in order, once.
 class WorldPlayer {
  public:
-  WorldPlayer(const SimulatedWorld& world, bool publish_truth);
+  /// Plays `world` with its tools under the ids `tools`, and its truth when `publish_truth`.
+  WorldPlayer(const SimulatedWorld& world, bool publish_truth, const ToolIds& tools);
 
   /// Sets where world time 0 is on the devices' clock (before the first play_until).
   void set_world_to_device_ns(TimeNs world_to_device_ns) noexcept { world_to_device_ns_ = world_to_device_ns; }
@@ -45,6 +46,7 @@ class WorldPlayer {
  private:
   const SimulatedWorld& world_;
   bool publish_truth_;
+  ToolIds tools_;
   TimeNs world_to_device_ns_ = 0;
   std::size_t next_ = 0;
   TimeNs next_truth_ns_ = 0;
@@ -54,7 +56,7 @@ class WorldPlayer {
 };
 
 /// A recorded tracker sample as the ToolPose the tracker publishes (source time: its
-/// measurement time on the device's clock, world time + `world_to_device_ns`).
-dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns);
+/// measurement time on the device's clock, world time + `world_to_device_ns`; its tool id by `tools`).
+dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns, const ToolIds& tools);
 
 }  // namespace nav::station
