@@ -109,7 +109,12 @@ nav::Result<nav::station::EvaluationInput> read_recording(const std::string& pat
       ++damaged;
       continue;
     }
-    const bool decoded = take_if_of(record.value(), prediction, [&](const auto& p) { input.predictions.push_back(p); }) &&
+    const TimeNs received_ns = record.value().receive_time_ns;
+    const bool decoded = take_if_of(record.value(), prediction,
+                                    [&](auto p) {
+                                      p.receive_time_ns = received_ns;  // when the recorder took it
+                                      input.predictions.push_back(p);
+                                    }) &&
                          take_if_of(record.value(), *needle, [&](const auto& n) { input.needle_tips.push_back(tip_of(n)); }) &&
                          take_if_of(record.value(), truth, [&](const auto& t) { input.truths.push_back(t); });
     damaged += decoded ? 0 : 1;

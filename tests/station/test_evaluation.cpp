@@ -28,7 +28,9 @@ EvaluationInput four_seconds() {
     now.source_time_ns = t;
     now.position_m = tumour_at(t);
     now.position_m[2] += 0.001;
+    now.receive_time_ns = t + 2 * kNsPerMs;  // 2 ms from the station's tick to the reader
     dds::TargetPrediction ahead = now;
+    ahead.receive_time_ns = 0;  // not stamped (e.g. written by hand): not timed
     ahead.horizon_ns = kHorizonNs;
     ahead.position_m = tumour_at(t + kHorizonNs);
     ahead.position_m[1] += 0.002;
@@ -54,6 +56,9 @@ TEST(Evaluation, RmsErrorsAreTheOffsetsAgainstTheInterpolatedTruth) {
   ASSERT_EQ(e.series.size(), 3u);
   EXPECT_NEAR(e.series[0].y.front(), 1.0, 1e-9);  // millimetres
   EXPECT_NEAR(e.series[0].x.front(), 0.005, 1e-12);  // seconds from the first truth
+  EXPECT_EQ(e.tick_to_reader.count, 395);
+  EXPECT_DOUBLE_EQ(e.tick_to_reader.median_us, 2000.0);
+  EXPECT_DOUBLE_EQ(e.tick_to_reader.max_us, 2000.0);
 }
 
 TEST(Evaluation, OutputsBeforeTheSettleTimeOrBeyondTheTruthAreNotCompared) {

@@ -59,6 +59,10 @@ Evaluation evaluate(EvaluationInput input, TimeNs settle_ns) {
       tip{{"needle tip", "#d62728", true, {}, {}}};
   std::sort(input.predictions.begin(), input.predictions.end(),
             [](const dds::TargetPrediction& a, const dds::TargetPrediction& b) { return a.source_time_ns < b.source_time_ns; });
+  std::vector<double> tick_to_reader_us;
+  for (const dds::TargetPrediction& p : input.predictions)
+    if (p.receive_time_ns > 0) tick_to_reader_us.push_back(1e-3 * static_cast<double>(p.receive_time_ns - p.source_time_ns));
+  e.tick_to_reader = latency_statistics(std::move(tick_to_reader_us));
   for (const dds::TargetPrediction& p : input.predictions) {
     const TimeNs at_ns = p.source_time_ns + p.horizon_ns;
     const std::optional<dds::Vector3> truth = p.source_time_ns >= from_ns ? truth_at(truths, at_ns, false) : std::nullopt;
@@ -95,27 +99,31 @@ Evaluation evaluate(EvaluationInput input, TimeNs settle_ns) {
 }
 
 std::string format_evaluation(const Evaluation& e, TimeNs settle_ns) {
-  char text[512];
+  char text[768];
   std::snprintf(text, sizeof(text),
                 "prediction error against the simulated patient's truth (RMS from %.1f s after its first sample):\n"
                 "  tumour now        %8.2f mm  (%lld predictions)\n"
                 "  tumour at +%3.0f ms %7.2f mm  (%lld predictions)\n"
                 "  needle tip        %8.2f mm  (%lld needle states)\n"
-                "  outputs without a truth to compare: %lld\n",
+                "  outputs without a truth to compare: %lld\n"
+                "station tick to this reader: median %.0f us, p99 %.0f us, max %.0f us (%lld predictions)\n",
                 1e-9 * static_cast<double>(settle_ns), 1e3 * e.tumour_now_rms_m, static_cast<long long>(e.tumour_now_count),
                 1e-6 * static_cast<double>(e.horizon_ns), 1e3 * e.tumour_ahead_rms_m, static_cast<long long>(e.tumour_ahead_count),
-                1e3 * e.needle_tip_rms_m, static_cast<long long>(e.needle_tip_count), static_cast<long long>(e.without_truth));
+                1e3 * e.needle_tip_rms_m, static_cast<long long>(e.needle_tip_count), static_cast<long long>(e.without_truth),
+                e.tick_to_reader.median_us, e.tick_to_reader.p99_us, e.tick_to_reader.max_us, static_cast<long long>(e.tick_to_reader.count));
   return text;
 }
 
 std::string evaluation_json(const Evaluation& e) {
-  char text[512];
+  char text[768];
   std::snprintf(text, sizeof(text),
                 "{\n  \"tumour_now_rms_mm\": %.4f, \"tumour_now_count\": %lld,\n  \"tumour_ahead_rms_mm\": %.4f, \"tumour_ahead_count\": %lld,"
-                " \"horizon_ms\": %.1f,\n  \"needle_tip_rms_mm\": %.4f, \"needle_tip_count\": %lld,\n  \"without_truth\": %lld\n}\n",
+                " \"horizon_ms\": %.1f,\n  \"needle_tip_rms_mm\": %.4f, \"needle_tip_count\": %lld,\n  \"without_truth\": %lld,\n"
+                "  \"tick_to_reader_us\": {\"median\": %.1f, \"p99\": %.1f, \"max\": %.1f, \"count\": %lld}\n}\n",
                 1e3 * e.tumour_now_rms_m, static_cast<long long>(e.tumour_now_count), 1e3 * e.tumour_ahead_rms_m,
                 static_cast<long long>(e.tumour_ahead_count), 1e-6 * static_cast<double>(e.horizon_ns), 1e3 * e.needle_tip_rms_m,
-                static_cast<long long>(e.needle_tip_count), static_cast<long long>(e.without_truth));
+                static_cast<long long>(e.needle_tip_count), static_cast<long long>(e.without_truth), e.tick_to_reader.median_us,
+                e.tick_to_reader.p99_us, e.tick_to_reader.max_us, static_cast<long long>(e.tick_to_reader.count));
   return text;
 }
 

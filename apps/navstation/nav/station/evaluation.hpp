@@ -11,6 +11,7 @@
 #include "nav/core/clock.hpp"
 #include "nav/dds/samples.hpp"
 #include "nav/station/error_plot.hpp"
+#include "nav/station/station_run.hpp"
 
 namespace nav::station {
 
@@ -33,6 +34,9 @@ struct Evaluation {
   double tumour_now_rms_m = 0.0, tumour_ahead_rms_m = 0.0, needle_tip_rms_m = 0.0;
   TimeNs horizon_ns = 0;                ///< the predictions ahead's horizon (the newest seen)
   std::int64_t without_truth = 0;       ///< outputs outside the truth's span (or before settle_ns), not compared
+  /// From the station's tick (a prediction's source time) to its arrival here (its receive
+  /// time), both on this host's monotonic clock, over the predictions that carry one.
+  LatencyStatistics tick_to_reader;
   std::vector<PlotSeries> series;       ///< tumour now and ahead, needle tip: error (mm) over time (s from the first truth)
 };
 
