@@ -79,6 +79,7 @@ int run_sim(const std::vector<std::string>& arguments) {
   if (!scene.ok()) return fail(scene.error().describe());
   if (args->domain_id >= 0) scene.value().topics.domain_id = static_cast<std::uint32_t>(args->domain_id);
   const nav::station::Scene& s = scene.value();
+  if (const nav::Status simulated = nav::station::check_simulated_devices(s); !simulated.ok()) return fail(simulated.error().describe());
   std::printf("navdevice sim: simulating %.0f s of the patient of scene '%s' (full-order liver, tracker, B-mode scanner) ...\n",
               args->seconds, s.station.name.c_str());
   std::fflush(stdout);

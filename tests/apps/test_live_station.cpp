@@ -178,6 +178,16 @@ TEST(LiveStation, TheSimulatedPatientNamesWhatIsWrong) {
   EXPECT_NE(missing.log().find("navdevice sim: "), std::string::npos) << missing.log();
   EXPECT_NE(missing.log().find("/nonexistent/scene.yaml"), std::string::npos) << missing.log();
 
+  // A scene of real devices: refused at once, before the world is simulated.
+  const std::string plus_scene = temporary_path("plus_devices.yaml");
+  std::ofstream(plus_scene) << edited(movable_demo_text(), "  ultrasound:\n    kind: simulated\n    rate_hz: 20\n    target_noise_m: 0.001\n    seed: 2",
+                                      "  ultrasound:\n    kind: plus\n    recording: session.mha");
+  ChildProcess real({kBin + "/navdevice", "sim", "--scene", plus_scene}, temporary_path("navdevice_real.log"));
+  EXPECT_EQ(real.wait(std::chrono::seconds(30)), 1);
+  EXPECT_NE(real.log().find("simulated devices only"), std::string::npos) << real.log();
+  EXPECT_NE(real.log().find(plus_scene), std::string::npos) << real.log();
+  EXPECT_EQ(real.log().find("simulating"), std::string::npos) << real.log();
+
   // No station runs on its domain: it says so and gives up, after its wait.
   ChildProcess alone({kBin + "/navdevice", "sim", "--scene", kDemoScene, "--seconds", "1", "--domain", "172", "--wait-s", "0.5"},
                      temporary_path("navdevice_alone.log"));

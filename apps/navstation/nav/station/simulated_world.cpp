@@ -218,10 +218,16 @@ double marker_displacement_m(const WorldOptions& options, TimeNs time_ns) {
   return options.marker_amplitude_m * std::sin(2.0 * std::numbers::pi * seconds(time_ns) / options.breathing_period_s);
 }
 
+Status check_simulated_devices(const Scene& scene) {
+  if (scene.devices.tracker.kind == TrackerKind::simulated && scene.devices.ultrasound.kind == UltrasoundKind::simulated) return Done{};
+  return Error{"the simulated world plays simulated devices only (kind: simulated); this scene's devices are real: run the station live "
+               "(navstation --live) with their device processes",
+               scene.source_path, 0, "devices"};
+}
+
 Result<SimulatedWorld> simulate_world(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
                                       const WorldOptions& options) {
-  if (scene.devices.tracker.kind != TrackerKind::simulated || scene.devices.ultrasound.kind != UltrasoundKind::simulated)
-    return Error{"the simulated world needs simulated devices", scene.source_path, 0, "devices"};
+  if (const Status simulated = check_simulated_devices(scene); !simulated.ok()) return simulated.error();
   SimulatedWorld world;
   world.step_ns = period_ns(scene.station.tissue_rate_hz);
   const Eigen::Vector3d toward = -Eigen::Vector3d{0.0, 1.0, 0.25}.normalized();  // from in front, a little above

@@ -102,6 +102,10 @@ struct SimulatedWorld {
 /// The respiratory marker's true displacement along the tracker's z at time t (from its rest).
 double marker_displacement_m(const WorldOptions& options, TimeNs time_ns);
 
+/// Whether `scene`'s devices are the simulated ones (a tracker and a scanner of kind
+/// `simulated`), which alone a simulated world can play; an Error naming `devices` otherwise.
+Status check_simulated_devices(const Scene& scene);
+
 /// Simulates the world of `scene` on `liver` for options.duration_ns (plus the display
 /// latency, so that every prediction has its truth). Errors name the scene's section.
 Result<SimulatedWorld> simulate_world(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,

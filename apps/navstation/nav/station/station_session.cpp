@@ -93,6 +93,7 @@ Result<StationParts> build_station_parts(const Scene& scene, const BreathingGeom
 }  // namespace
 
 Result<StationSession> run_session(const Scene& scene, const SessionOptions& options, const BeforeRun& before_run) {
+  if (const Status simulated = check_simulated_devices(scene); !simulated.ok()) return simulated.error();  // before anything is built
   StationSession s;
   const BreathingGeometry breathing;
   auto parts = build_station_parts(scene, breathing, before_run);
