@@ -90,12 +90,13 @@ int run_sim(const std::vector<std::string>& arguments) {
   auto world = nav::station::simulate_world(liver.value(), s, nav::station::BreathingGeometry{}, world_options);
   if (!world.ok()) return fail(world.error().describe());
 
+  // A running station publishes its health from its loop: the patient starts with the first one
+  // (a recorder or a display reading the poses is not a station). The sink outlives the
+  // participant whose listener fills it (made first, destroyed last).
+  auto health = std::make_unique<nav::dds::RingSink<nav::dds::StationHealth, 4>>();
   auto node = nav::station::make_station_node(s.topics.domain_id, "navdevice_sim", nav::station::topic_names(s.topics), s.network);
   if (!node.ok()) return fail(node.error().describe());
   nav::dds::DdsNode& dds = *node.value();
-  // A running station publishes its health from its loop: the patient starts with the first one
-  // (a recorder or a display reading the poses is not a station).
-  auto health = std::make_unique<nav::dds::RingSink<nav::dds::StationHealth, 4>>();
   for (const nav::Status& status : {dds.advertise<nav::dds::ToolPose>(), dds.advertise<nav::dds::UltrasoundFrame>(),
                                     dds.advertise<nav::dds::GroundTruth>(), dds.subscribe(*health)})
     if (!status.ok()) return fail(status.error().describe());

@@ -56,12 +56,13 @@ nav::station::TimedTip tip_of(const nav::dds::NeedleState& needle) {
 
 /// Receives the scene's predictions, needle states and truth for `seconds` (or until SIGINT/SIGTERM).
 nav::Result<nav::station::EvaluationInput> receive(const nav::station::Scene& scene, double seconds) {
-  auto node =
-      nav::station::make_station_node(scene.topics.domain_id, "navtool_evaluate", nav::station::topic_names(scene.topics), scene.network);
-  if (!node.ok()) return node.error();
+  // The sinks outlive the participant whose listeners fill them (made first, destroyed last).
   auto predictions = std::make_unique<nav::dds::RingSink<nav::dds::TargetPrediction, 256>>();
   auto needles = std::make_unique<nav::dds::RingSink<nav::dds::NeedleState, 64>>();
   auto truths = std::make_unique<nav::dds::RingSink<nav::dds::GroundTruth, 256>>();
+  auto node =
+      nav::station::make_station_node(scene.topics.domain_id, "navtool_evaluate", nav::station::topic_names(scene.topics), scene.network);
+  if (!node.ok()) return node.error();
   for (const nav::Status& status : {node.value()->subscribe(*predictions), node.value()->subscribe(*needles), node.value()->subscribe(*truths)})
     if (!status.ok()) return status.error();
   nav::dds::install_stop_handlers();
