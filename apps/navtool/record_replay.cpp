@@ -3,6 +3,7 @@
 // --scene, on the scene's domain and topic names.
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -65,30 +66,32 @@ bool parse(const std::vector<std::string>& args, bool recording, DdsToolArgs& pa
 }
 
 int record(const DdsToolArgs& args) {
+  std::unique_ptr<nav::dds::Recorder> recorder;  // declared first, destroyed after the node whose listeners fill it
   auto node = nav::dds::DdsNode::create(args.network, args.qos);
   if (!node) {
     std::fprintf(stderr, "navtool record: %s\n", node.error().describe().c_str());
     return exit_bad_input;
   }
-  auto recorder = nav::dds::Recorder::create(*node.value(), args.file);
-  if (!recorder) {
-    std::fprintf(stderr, "navtool record: %s\n", recorder.error().describe().c_str());
+  auto created = nav::dds::Recorder::create(*node.value(), args.file);
+  if (!created) {
+    std::fprintf(stderr, "navtool record: %s\n", created.error().describe().c_str());
     return exit_failure;
   }
+  recorder = std::move(created).value();
   nav::dds::install_stop_handlers();  // SIGINT/SIGTERM end the recording with its index
   std::size_t records = 0;
   const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(args.duration_s);
   for (bool last_pump = false; !last_pump;) {
     last_pump = nav::dds::stop_requested() || std::chrono::steady_clock::now() >= until;
     if (!last_pump) std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    const auto written = recorder.value()->pump();
+    const auto written = recorder->pump();
     if (!written) {
       std::fprintf(stderr, "navtool record: %s\n", written.error().describe().c_str());
       return exit_failure;
     }
     records += written.value();
   }
-  if (const nav::Status closed = recorder.value()->close(); !closed) {
+  if (const nav::Status closed = recorder->close(); !closed) {
     std::fprintf(stderr, "navtool record: %s\n", closed.error().describe().c_str());
     return exit_failure;
   }

@@ -44,10 +44,11 @@ std::size_t record_pivoting_needle(const std::string& path, const Eigen::Vector3
   dds::NetworkConfig network;
   network.domain_id = 171;
   network.participant_name = "nav_test_calib_recording";
+  auto recorder = Result<std::unique_ptr<dds::Recorder>>(Error{"not created", "", 0, ""});  // outlives the node that fills it
   auto tracker = dds::DdsNode::create(network);
   auto recorder_node = dds::DdsNode::create(network);
   if (!tracker.ok() || !recorder_node.ok()) return 0;
-  auto recorder = dds::Recorder::create(*recorder_node.value(), path);
+  recorder = dds::Recorder::create(*recorder_node.value(), path);
   EXPECT_TRUE(recorder.ok()) << recorder.error().describe();
   if (!recorder.ok() || !tracker.value()->advertise<dds::ToolPose>().ok() ||
       !tracker.value()->wait_for_match(dds::Topic::tool_pose, 1, 10 * kNsPerSecond) ||

@@ -128,10 +128,11 @@ TEST(DdsRecording, RecordedPosesReplayOntoDdsUnchanged) {
   const std::string path = nav::testing::temporary_path("nav_dds_round_trip.navrec");
   std::vector<TimeNs> sent_ns;
   {
+    auto recorder = Result<std::unique_ptr<Recorder>>(Error{"not created", "", 0, ""});  // outlives the node that fills it
     auto tracker = DdsNode::create(local_network(111));
     auto recorder_node = DdsNode::create(local_network(111));
     ASSERT_TRUE(tracker.ok() && recorder_node.ok());
-    auto recorder = Recorder::create(*recorder_node.value(), path);
+    recorder = Recorder::create(*recorder_node.value(), path);
     ASSERT_TRUE(recorder.ok()) << recorder.error().describe();
     ASSERT_TRUE(tracker.value()->advertise<ToolPose>().ok());
     ASSERT_TRUE(tracker.value()->wait_for_match(Topic::tool_pose, 1, 10 * kNsPerSecond));

@@ -21,7 +21,8 @@ inline constexpr std::size_t kRecorderQueueDepth = 16;
 /// and receive times, to a recording. Samples the boundary refuses are not recorded.
 class Recorder {
  public:
-  /// Subscribes `node` (which must outlive the recorder) and creates the file at `path`.
+  /// Subscribes `node` and creates the file at `path`. The node's listeners fill the
+  /// recorder's queues: destroy the node before the recorder.
   static Result<std::unique_ptr<Recorder>> create(DdsNode& node, const std::string& path);
   /// Moves everything received so far into the file; returns the number of records written.
   Result<std::size_t> pump();
