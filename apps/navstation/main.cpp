@@ -33,6 +33,7 @@
 #include "nav/station/station_build.hpp"
 #include "nav/station/station_dds.hpp"
 #include "nav/station/session_replay.hpp"
+#include "nav/station/station_loop.hpp"
 #include "nav/station/station_session.hpp"
 #include "navview_process.hpp"
 
@@ -104,6 +105,10 @@ void print_ladder(const nav::station::LiverModels& liver) {
 
 int check_scene(nav::station::Scene scene) {
   print_plan(scene);
+  if (const nav::Status runnable = nav::station::check_station_loop(scene); !runnable.ok()) {
+    std::fprintf(stderr, "navstation: %s\n", runnable.error().describe().c_str());
+    return kExitError;
+  }
   auto built = nav::station::build_station(std::move(scene));
   if (!built.ok()) {
     std::fprintf(stderr, "navstation: %s\n", built.error().describe().c_str());

@@ -3,7 +3,7 @@
 // tests/station): the demo scene, its liver and reduced loop, and its simulated world.
 #include "nav/station/scene.hpp"
 #include "nav/station/simulated_world.hpp"
-#include "nav/station/station_liver.hpp"
+#include "nav/station/station_loop.hpp"
 #include "nav/station/station_run.hpp"
 #include "scene_text.hpp"
 

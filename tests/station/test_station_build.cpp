@@ -159,13 +159,13 @@ TEST(StationBuild, BuilderErrorsNameTheSceneSectionAndLine) {
   const std::string outside = edited(demo_text(), "  # tumour_m:", "  tumour_m: [0.5, 0.5, 0.5]\n  #");
   const auto tumour = build_text(outside);
   ASSERT_FALSE(tumour.ok());
-  EXPECT_EQ(tumour.error().field, "liver (tumour_m)");
+  EXPECT_EQ(tumour.error().field, "liver.tumour_m");
   EXPECT_EQ(tumour.error().line, line_of(outside, "  mesh: generated"));
   EXPECT_NE(tumour.error().message.find("outside the liver"), std::string::npos);
   const std::string no_mesh = edited(demo_text(), "  mesh: generated ", "  tumour_m: [0, 0, 0]\n  mesh: {source: file, path: none.vtu, unit: cm}");
   const auto mesh = build_text(no_mesh);
   ASSERT_FALSE(mesh.ok());
-  EXPECT_EQ(mesh.error().field, "liver");
+  EXPECT_EQ(mesh.error().field, "liver.mesh");
   EXPECT_NE(mesh.error().message.find("none.vtu"), std::string::npos) << mesh.error().describe();
 }
 
@@ -199,7 +199,7 @@ TEST(StationBuild, ReducedRungLoadsItsArtifactAndRefusesOneOfAnotherMesh) {
   const std::string other_mesh = edited(text, "element_size_m: 0.02", "element_size_m: 0.018");
   const auto refused = build_text(other_mesh);
   ASSERT_FALSE(refused.ok());
-  EXPECT_EQ(refused.error().field, "liver.model");
+  EXPECT_EQ(refused.error().field, "liver.model.artifact");
   EXPECT_NE(refused.error().message.find("another mesh"), std::string::npos) << refused.error().describe();
 }
 

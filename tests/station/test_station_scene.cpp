@@ -94,7 +94,7 @@ TEST(StationScene, ReducedSceneResolvesItsPathsAgainstItsOwnFolder) {
   EXPECT_EQ(s.liver.escalation->rungs[0].artifact_path, (folder / "../../../build/liver_fine_r32.navrb").lexically_normal().string());
   EXPECT_EQ(s.liver.escalation->options.de_escalate_after_steps, 200);
   ASSERT_TRUE(s.liver.tumour_m.has_value());
-  EXPECT_EQ((*s.liver.tumour_m)[1], 0.04);
+  EXPECT_EQ((*s.liver.tumour_m)[1], 0.032);
   EXPECT_FALSE(s.needle.has_value());
   EXPECT_EQ(s.devices.tracker.kind, TrackerKind::ndi);
   EXPECT_EQ(s.devices.tracker.port, 8765);

@@ -9,7 +9,7 @@
 #include "nav/dds/sample_checks.hpp"
 #include "nav/dds/sample_codec.hpp"
 #include "nav/station/station_dds.hpp"
-#include "nav/station/station_liver.hpp"
+#include "nav/station/station_loop.hpp"
 
 namespace nav::station {
 
@@ -79,6 +79,7 @@ Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader,
 }  // namespace
 
 Result<SessionReplay> replay_session(const Scene& scene, const std::string& path) {
+  if (const Status runnable = check_station_loop(scene); !runnable.ok()) return runnable.error();
   auto reader = dds::RecordingReader::open(path);
   if (!reader.ok()) return reader.error();
   SessionReplay out;
@@ -86,7 +87,7 @@ Result<SessionReplay> replay_session(const Scene& scene, const std::string& path
   auto liver = make_station_liver(scene);
   if (!liver.ok()) return liver.error();
   auto loop = make_station_loop(liver.value(), scene, BreathingGeometry{}, StationLoopSettings{});
-  if (!loop.ok()) return Error{loop.error().describe(), scene.source_path, scene.liver.line, "liver (reduced loop)"};
+  if (!loop.ok()) return loop.error();
   const auto device_to_host_ns = static_cast<TimeNs>(scene.devices.clock.offset_ms * 1e6);
   auto imaging = scene_probe_imaging(scene);
   if (!imaging.ok()) return imaging.error();

@@ -11,6 +11,7 @@
 
 #include "nav/needle/coupled_needle_step.hpp"
 #include "nav/needle/tissue_coupling.hpp"
+#include "nav/station/station_loop.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 
 namespace nav::station {

@@ -5,11 +5,10 @@
 #include <stdexcept>
 
 #include "nav/connective/organ_attachment.hpp"
-#include "nav/mesh/load_mesh.hpp"
-#include "nav/mesher/embedded_liver.hpp"
 #include "nav/reduced/reduced_artifact.hpp"
 #include "nav/reduced/training_loads.hpp"
 #include "nav/station/station_dds.hpp"
+#include "nav/station/station_liver.hpp"
 
 namespace nav::station {
 
@@ -31,65 +30,6 @@ Status check_frames(const calibration::FrameTree& tree, const Scene& scene) {
     if (std::find(frames.begin(), frames.end(), name) == frames.end())
       return Error{"the URDF " + scene.frames.urdf_path + " has no frame '" + name + "'", scene.source_path, scene.frames.line,
                    "frames.urdf"};
-  return Done{};
-}
-
-/// The liver mesh, and the tumour and attachments of the generated one.
-Status load_liver(const LiverSettings& settings, LiverModels& liver, std::vector<std::int32_t>& attachments) {
-  if (settings.mesh.source == LiverMeshSource::file) {
-    auto mesh = load_tet_mesh(settings.mesh.path, settings.mesh.unit);
-    if (!mesh.ok()) return mesh.error();
-    liver.mesh = std::move(mesh).value();
-  } else {
-    try {
-      EmbeddedLiver generated = make_embedded_liver(settings.mesh.element_size_m);
-      liver.mesh = std::move(generated.mesh);
-      liver.tumour_m = generated.tumour_centre_m;
-      attachments = std::move(generated.attachment_nodes);
-    } catch (const std::invalid_argument& e) {
-      return Error{e.what(), "", 0, "mesh.element_size_m"};
-    }
-  }
-  if (settings.tumour_m) liver.tumour_m = *settings.tumour_m;
-  const auto inside = locate_in_tets(liver.mesh, liver.tumour_m, "tumour_m");
-  if (!inside.ok()) return Error{"the tumour point lies outside the liver mesh", "", 0, "tumour_m"};
-  return Done{};
-}
-
-/// The liver's supports: the generated liver held at its attachments under gravity (-z,
-/// its frame's inferior direction); a mesh file, and every reduced liver, on the scene that
-/// `navtool reduce` trains on (liver_reduction_scene).
-TissueScene liver_scene(const LiverSettings& settings, const TetMesh& mesh, const std::vector<std::int32_t>& attachments) {
-  TissueScene scene;
-  if (settings.mesh.source == LiverMeshSource::generated && settings.rung == LiverRung::full) {
-    scene.fixed_nodes = attachments;
-    scene.gravity_m_s2 = {0.0, 0.0, -9.81};
-  } else {
-    scene = liver_reduction_scene(mesh);
-  }
-  scene.default_material = settings.material;
-  return scene;
-}
-
-Status build_liver_model(const LiverSettings& settings, LiverModels& liver) {
-  if (settings.rung == LiverRung::full) {
-    auto model = make_tet_fem_model(liver.mesh, liver.scene, settings.full);
-    if (!model.ok()) return model.error();
-    auto data = make_tet_fem_data(model.value());
-    if (!data.ok()) return data.error();
-    liver.full = std::move(model).value();
-    liver.full_data = std::move(data).value();
-    return Done{};
-  }
-  auto basis = load_reduced_basis(settings.reduced_artifact_path, &liver.mesh);
-  if (!basis.ok()) return basis.error();
-  const TissueSolverOptions solver = reduction_solver_options(basis.value().force_kind);
-  auto model = make_reduced_model(liver.mesh, liver.scene, solver, basis.value(), settings.reduced);
-  if (!model.ok()) return model.error();
-  auto data = make_reduced_data(model.value());
-  if (!data.ok()) return data.error();
-  liver.reduced = std::move(model).value();
-  liver.reduced_data = std::move(data).value();
   return Done{};
 }
 
@@ -127,34 +67,6 @@ TissueSolverOptions ladder_solver(ReducedForceKind kind, const ReducedSolverOpti
   return solver;
 }
 
-/// The reduced liver's escalation ladder: liver.model's artifact, then the escalation's, all
-/// of this mesh and of one force kind. Errors are placed at their scene keys.
-Status build_liver_ladder(const Scene& scene, LiverModels& liver) {
-  const LiverSettings& settings = scene.liver;
-  const EscalationSettings& e = *settings.escalation;
-  std::vector<ReducedRungSpec> rungs;
-  auto base = load_reduced_basis(settings.reduced_artifact_path, &liver.mesh);
-  if (!base.ok()) return at_section(base.error(), scene, settings.line, "liver.model.artifact");
-  rungs.push_back({std::move(base).value(), settings.reduced});
-  for (std::size_t i = 0; i < e.rungs.size(); ++i) {
-    const std::string key = "liver.model.escalation.rungs[" + std::to_string(i) + "]";
-    auto basis = load_reduced_basis(e.rungs[i].artifact_path, &liver.mesh);
-    if (!basis.ok()) return at_section(basis.error(), scene, e.rungs[i].line, key);
-    if (basis.value().force_kind != rungs[0].basis.force_kind)
-      return Error{e.rungs[i].artifact_path + ": its force kind differs from liver.model.artifact's (the rungs share one element law)",
-                   scene.source_path, e.rungs[i].line, key};
-    rungs.push_back({std::move(basis).value(), settings.reduced});
-  }
-  const TissueSolverOptions solver = ladder_solver(rungs[0].basis.force_kind, settings.reduced);
-  auto model = make_reduced_ladder_model(liver.mesh, liver.scene, solver, rungs, e.full_order_on_top, e.options);
-  if (!model.ok()) return ladder_error(model.error(), scene);
-  auto data = make_reduced_ladder_data(model.value());
-  if (!data.ok()) return at_section(data.error(), scene, e.line, "liver.model.escalation");
-  liver.ladder = std::move(model).value();
-  liver.ladder_data.emplace(std::move(data).value());
-  return Done{};
-}
-
 Status build_ligaments(const LigamentSettings& settings, const StationSettings& station, StationModels& models) {
   FrameTissueOptions options;
   options.step_s = 1.0 / station.tissue_rate_hz;
@@ -185,6 +97,77 @@ Status build_needle(const NeedleSettings& settings, StationModels& models) {
 
 }  // namespace
 
+Result<std::vector<ReducedRungSpec>> load_reduced_rungs(const Scene& scene, const TetMesh& mesh) {
+  const LiverSettings& settings = scene.liver;
+  std::vector<ReducedRungSpec> rungs;
+  auto base = load_reduced_basis(settings.reduced_artifact_path, &mesh);
+  if (!base.ok()) return at_section(base.error(), scene, settings.line, "liver.model.artifact");
+  rungs.push_back({std::move(base).value(), settings.reduced});
+  if (!settings.escalation) return rungs;
+  const EscalationSettings& e = *settings.escalation;
+  for (std::size_t i = 0; i < e.rungs.size(); ++i) {
+    const std::string key = "liver.model.escalation.rungs[" + std::to_string(i) + "]";
+    auto basis = load_reduced_basis(e.rungs[i].artifact_path, &mesh);
+    if (!basis.ok()) return at_section(basis.error(), scene, e.rungs[i].line, key);
+    if (basis.value().force_kind != rungs[0].basis.force_kind)
+      return Error{e.rungs[i].artifact_path + ": its force kind differs from liver.model.artifact's (the rungs share one element law)",
+                   scene.source_path, e.rungs[i].line, key};
+    rungs.push_back({std::move(basis).value(), settings.reduced});
+  }
+  return rungs;
+}
+
+Result<ReducedModel> make_scene_reduced_model(const Scene& scene, const TetMesh& mesh, const TissueScene& tissue,
+                                              const ReducedRungSpec& rung) {
+  auto model = make_reduced_model(mesh, tissue, reduction_solver_options(rung.basis.force_kind), rung.basis, rung.options);
+  if (!model.ok()) return at_section(model.error(), scene, scene.liver.line, "liver.model");
+  return model;
+}
+
+Result<ReducedLadderModel> make_scene_ladder(const Scene& scene, const TetMesh& mesh, const TissueScene& tissue,
+                                             std::span<const ReducedRungSpec> rungs) {
+  const EscalationSettings& e = *scene.liver.escalation;
+  const TissueSolverOptions solver = ladder_solver(rungs[0].basis.force_kind, scene.liver.reduced);
+  auto model = make_reduced_ladder_model(mesh, tissue, solver, rungs, e.full_order_on_top, e.options);
+  if (!model.ok()) return ladder_error(model.error(), scene);
+  return model;
+}
+
+namespace {
+
+Status build_liver_model(const Scene& scene, LiverModels& liver) {
+  const LiverSettings& settings = scene.liver;
+  if (settings.rung == LiverRung::full) {
+    auto model = make_tet_fem_model(liver.mesh, liver.scene, settings.full);
+    if (!model.ok()) return at_section(model.error(), scene, settings.line, "liver.model");
+    auto data = make_tet_fem_data(model.value());
+    if (!data.ok()) return at_section(data.error(), scene, settings.line, "liver.model");
+    liver.full = std::move(model).value();
+    liver.full_data = std::move(data).value();
+    return Done{};
+  }
+  auto rungs = load_reduced_rungs(scene, liver.mesh);
+  if (!rungs.ok()) return rungs.error();
+  if (settings.escalation) {
+    auto ladder = make_scene_ladder(scene, liver.mesh, liver.scene, rungs.value());
+    if (!ladder.ok()) return ladder.error();
+    auto data = make_reduced_ladder_data(ladder.value());
+    if (!data.ok()) return at_section(data.error(), scene, settings.escalation->line, "liver.model.escalation");
+    liver.ladder = std::move(ladder).value();
+    liver.ladder_data.emplace(std::move(data).value());
+    return Done{};
+  }
+  auto model = make_scene_reduced_model(scene, liver.mesh, liver.scene, rungs.value().front());
+  if (!model.ok()) return model.error();
+  auto data = make_reduced_data(model.value());
+  if (!data.ok()) return at_section(data.error(), scene, settings.line, "liver.model");
+  liver.reduced = std::move(model).value();
+  liver.reduced_data = std::move(data).value();
+  return Done{};
+}
+
+}  // namespace
+
 Result<BuiltStation> build_station(Scene scene) {
   auto frames = calibration::FrameTree::load(scene.frames.urdf_path);
   if (!frames.ok()) return at_section(frames.error(), scene, scene.frames.line, "frames.urdf");
@@ -200,21 +183,18 @@ Result<BuiltStation> build_station(Scene scene) {
   StationModels& models = built.models;
   const Scene& s = models.scene;
 
-  std::vector<std::int32_t> attachments;
-  Status step = load_liver(s.liver, models.liver, attachments);
-  if (!step.ok()) return at_section(step.error(), s, s.liver.line, "liver");
-  models.liver.scene = liver_scene(s.liver, models.liver.mesh, attachments);
+  auto liver = make_station_liver(s);
+  if (!liver.ok()) return liver.error();
+  models.liver.mesh = std::move(liver.value().mesh);
+  models.liver.scene = std::move(liver.value().scene);
+  models.liver.tumour_m = liver.value().tumour_m;
+  Status step = Done{};
   if (s.ligaments) {
     step = build_ligaments(*s.ligaments, s.station, models);
     if (!step.ok()) return at_section(step.error(), s, s.ligaments->line, "ligaments");
   }
-  if (s.liver.rung == LiverRung::reduced && s.liver.escalation) {
-    step = build_liver_ladder(s, models.liver);
-    if (!step.ok()) return step.error();
-  } else {
-    step = build_liver_model(s.liver, models.liver);
-    if (!step.ok()) return at_section(step.error(), s, s.liver.line, "liver.model");
-  }
+  step = build_liver_model(s, models.liver);
+  if (!step.ok()) return step.error();
   if (s.needle) {
     step = build_needle(*s.needle, models);
     if (!step.ok()) return at_section(step.error(), s, s.needle->line, "needle");

@@ -5,6 +5,7 @@
 // allocates and returns errors that name the scene file, the section's line and its key.
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -71,7 +72,22 @@ struct BuiltStation {
 /// from its element counts) and data arenas.
 MemoryFootprint measure_footprint(const StationModels& models);
 
-/// Builds the models `scene` declares.
+/// The reduced rungs `scene` declares, of `mesh`: liver.model.artifact, then the escalation's
+/// rungs (all of one force kind), each with the scene's reduced solver settings. Errors name
+/// the artifact's key and line.
+Result<std::vector<ReducedRungSpec>> load_reduced_rungs(const Scene& scene, const TetMesh& mesh);
+
+/// The reduced model of `rung` on `mesh` and `tissue` (the element law of its force kind).
+Result<ReducedModel> make_scene_reduced_model(const Scene& scene, const TetMesh& mesh, const TissueScene& tissue,
+                                              const ReducedRungSpec& rung);
+
+/// The scene's escalation ladder on `rungs` (load_reduced_rungs), `mesh` and `tissue`; with
+/// full_order_on_top, the full order takes the rungs' law, step, integrator and damping.
+/// Errors are placed at their scene keys.
+Result<ReducedLadderModel> make_scene_ladder(const Scene& scene, const TetMesh& mesh, const TissueScene& tissue,
+                                             std::span<const ReducedRungSpec> rungs);
+
+/// Builds the models `scene` declares, on the station's liver (make_station_liver).
 Result<BuiltStation> build_station(Scene scene);
 
 /// The footprint as an aligned text table with a total.

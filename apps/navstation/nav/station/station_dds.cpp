@@ -18,7 +18,6 @@ constexpr TimeNs kMatchTimeoutNs = 10 * kNsPerSecond;
 constexpr TimeNs kAcknowledgmentTimeoutNs = 1 * kNsPerSecond;
 constexpr TimeNs kPeerWatchPeriodNs = 5 * kNsPerMs;  // how often the I/O thread counts the matched pose writers
 constexpr std::uint32_t kTumourTargetId = 1;
-constexpr std::uint32_t kReducedRung = 1;
 static_assert(kLoopMaxNeedleNodes <= static_cast<int>(dds::kMaxNeedlePoints), "a NeedleState holds every node of the loop's needle");
 
 dds::Vector3 vector_of(const Point3& p) { return {p[0], p[1], p[2]}; }
@@ -204,7 +203,7 @@ void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, con
     dds::TargetPrediction prediction;
     prediction.source_time_ns = o.tissue_time_ns + loop_to_host_ns;
     prediction.target_id = kTumourTargetId;
-    prediction.model_rung = kReducedRung;
+    prediction.model_rung = static_cast<std::uint32_t>(o.liver_rung);
     prediction.position_m = vector_of(o.tumour_now_m);
     prediction.covariance_m2 = o.tumour_now_covariance_m2;
     outbox.predictions.try_push(prediction);

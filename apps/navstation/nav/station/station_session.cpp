@@ -8,6 +8,7 @@
 
 #include "nav/dds/sample_fault.hpp"
 #include "nav/station/station_dds.hpp"
+#include "nav/station/station_loop.hpp"
 
 namespace nav::station {
 
@@ -75,11 +76,12 @@ struct StationParts {
 
 /// Builds the station's parts of `scene`, then calls before_run (if any) with its surface.
 Result<StationParts> build_station_parts(const Scene& scene, const BreathingGeometry& breathing, const BeforeRun& before_run) {
+  if (const Status runnable = check_station_loop(scene); !runnable.ok()) return runnable.error();  // before anything is built
   const auto start = std::chrono::steady_clock::now();
   auto liver = make_station_liver(scene);
   if (!liver.ok()) return liver.error();
   auto loop = make_station_loop(liver.value(), scene, breathing, StationLoopSettings{});
-  if (!loop.ok()) return Error{loop.error().describe(), scene.source_path, scene.liver.line, "liver (reduced loop)"};
+  if (!loop.ok()) return loop.error();
   const double build_s = seconds_since(start);
   auto surface = make_display_surface(liver.value().mesh);
   if (!surface.ok()) return Error{surface.error().describe(), scene.source_path, scene.liver.line, "liver.mesh"};
@@ -101,7 +103,7 @@ Result<StationSession> run_session(const Scene& scene, const SessionOptions& opt
   StationParts& p = parts.value();  // the run publishes p.surface: the liver and the surface move into the session at its end
   const OperatingLoopModel& loop = p.loop;
   s.build_s = p.build_s;
-  s.basis_size = loop.rungs.front().reduced.basis_size();
+  s.liver_model = describe_station_loop(scene, loop);
   const auto start = std::chrono::steady_clock::now();
   auto world = simulate_world(p.liver, scene, breathing, options.world);
   if (!world.ok()) return world.error();
@@ -133,7 +135,7 @@ Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, con
   StationParts& p = parts.value();  // the run publishes p.surface: the liver and the surface move into the session at its end
   const OperatingLoopModel& loop = p.loop;
   s.build_s = p.build_s;
-  s.basis_size = loop.rungs.front().reduced.basis_size();
+  s.liver_model = describe_station_loop(scene, loop);
   s.miss_threshold_ns = 5 * kNsPerMs;
   StationRunOptions run_options = station_run_options(scene, duration_ns, s.miss_threshold_ns, true);
   run_options.dds = dds_run_options(scene, &p.surface);
@@ -202,8 +204,9 @@ std::string run_figures(const Scene& scene, const StationRun& run, const Display
 std::string format_summary(const Scene& scene, const StationSession& s) {
   const StationSettings& st = scene.station;
   std::string out = "station '" + st.name + "': ";
-  out += format("%.0f Hz loop, liver every %.0f ms (%.0f reduced modes), display latency %.0f ms\n", st.loop_rate_hz,
-                1e3 / st.tissue_rate_hz, s.basis_size, 1e-6 * static_cast<double>(s.display_latency_ns));
+  out += format("%.0f Hz loop, liver every %.0f ms, display latency %.0f ms\n", st.loop_rate_hz, 1e3 / st.tissue_rate_hz,
+                1e-6 * static_cast<double>(s.display_latency_ns));
+  out += s.liver_model + "\n";
   out += format("start-up: liver and reduced loop %.1f s, full-order world %.1f s (%.0f tetrahedra, %.0f samples)\n", s.build_s,
                 s.world_s, static_cast<double>(s.liver.mesh.tets.size()), static_cast<double>(s.world.samples.size()));
   out += "real-time setup:";
@@ -260,8 +263,9 @@ std::string format_periods(const std::vector<DegradedPeriod>& periods) {
 std::string format_live_summary(const Scene& scene, const LiveSession& s) {
   const StationSettings& st = scene.station;
   std::string out = "station '" + st.name + "' (live: devices on DDS): ";
-  out += format("%.0f Hz loop, liver every %.0f ms (%.0f reduced modes), display latency %.0f ms\n", st.loop_rate_hz, 1e3 / st.tissue_rate_hz,
-                s.basis_size, st.display_latency_ms);
+  out += format("%.0f Hz loop, liver every %.0f ms, display latency %.0f ms\n", st.loop_rate_hz, 1e3 / st.tissue_rate_hz,
+                st.display_latency_ms);
+  out += s.liver_model + "\n";
   out += format("start-up: liver and reduced loop %.1f s (%.0f tetrahedra)\n", s.build_s, static_cast<double>(s.liver.mesh.tets.size()));
   out += "real-time setup:";
   for (const SetupStep& step : s.run.realtime_setup) out += " " + step.name + ": " + outcome_name(step.outcome) + ";";

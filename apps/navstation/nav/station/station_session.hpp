@@ -43,7 +43,7 @@ struct StationSession {
   TimeNs display_latency_ns = 0;
   TimeNs settle_ns = 0;
   TimeNs miss_threshold_ns = 0;
-  int basis_size = 0;
+  std::string liver_model;                 ///< describe_station_loop: which liver the loop ran
   double build_s = 0.0, world_s = 0.0;     ///< start-up: liver and reduced loop; full-order world
 };
 
@@ -56,7 +56,7 @@ struct LiveSession {
   DisplaySurface surface;
   StationRun run;
   TimeNs miss_threshold_ns = 0;
-  int basis_size = 0;
+  std::string liver_model;  ///< describe_station_loop: which liver the loop ran
   double build_s = 0.0;  ///< start-up: liver and reduced loop
 };
 

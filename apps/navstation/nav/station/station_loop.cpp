@@ -1,0 +1,192 @@
+#include "nav/station/station_loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "nav/reduced/reduction.hpp"
+#include "nav/station/station_build.hpp"
+#include "nav/tissue/tet_fem_model.hpp"
+
+namespace nav::station {
+
+namespace {
+
+constexpr int kTrainingSteps = 24;            // full-order quasi-static steps under diaphragm moves
+constexpr double kTrainingDiaphragmM = 0.012; // their amplitude (beyond the demo's breathing)
+
+/// Displacement snapshots of full-order quasi-static steps under diaphragm moves.
+Result<std::vector<double>> training_snapshots(const StationLiver& liver, int& count) {
+  TissueSolverOptions solver;
+  solver.integrator = Integrator::quasi_static;
+  solver.cg_iterations = 3;
+  auto full = make_tet_fem_model(liver.mesh, liver.scene, solver);
+  if (!full.ok()) return full.error();
+  auto data = make_tet_fem_data(full.value());
+  if (!data.ok()) return data.error();
+  const auto rest = full.value().rest_positions_m();
+  std::vector<double> snapshots;
+  count = 0;
+  for (int i = 0; i < kTrainingSteps; ++i) {
+    TissueInputs inputs;
+    inputs.prescribed_displacement_m = {0.0, 0.0, kTrainingDiaphragmM * std::sin(0.5 * i)};
+    step(full.value(), data.value(), inputs);
+    if (i % 2 == 1) {
+      for (std::size_t k = 0; k < rest.size(); ++k) snapshots.push_back(data.value().positions_m[k] - rest[k]);
+      ++count;
+    }
+  }
+  return snapshots;
+}
+
+/// The reduced basis trained at start-up on the full-order liver (a full-order rung).
+Result<ReducedRungSpec> trained_rung(const StationLiver& liver, const Scene& scene, const StationLoopSettings& settings) {
+  ReductionOptions reduction;
+  reduction.source = ReducedBasisSource::linear_modes;
+  reduction.force_kind = ReducedForceKind::corotational_cubature;
+  reduction.basis_size = settings.basis_size;
+  reduction.max_cubature_samples = settings.max_cubature_samples;
+  TissueSolverOptions solver;
+  solver.integrator = Integrator::quasi_static;
+  auto basis = make_modal_basis(liver.mesh, liver.scene, solver, reduction);
+  if (!basis.ok()) return basis.error();
+  int snapshot_count = 0;
+  auto snapshots = training_snapshots(liver, snapshot_count);
+  if (!snapshots.ok()) return snapshots.error();
+  const Status trained = add_force_reduction(liver.mesh, liver.scene, solver, reduction, snapshots.value(), snapshot_count, basis.value());
+  if (!trained.ok()) return trained.error();
+  ReducedSolverOptions reduced;
+  reduced.step_s = 1.0 / scene.station.tissue_rate_hz;
+  return ReducedRungSpec{std::move(basis).value(), reduced};
+}
+
+OperatingLoopOptions loop_options(const Scene& scene, const BreathingGeometry& breathing, const StationLoopSettings& settings) {
+  const StationSettings& station = scene.station;
+  OperatingLoopOptions o;
+  o.tick_period_ns = static_cast<TimeNs>(std::llround(1e9 / station.loop_rate_hz));
+  o.tissue_every_ticks = static_cast<int>(std::lround(station.loop_rate_hz / station.tissue_rate_hz));
+  o.display_latency_ns = static_cast<TimeNs>(std::llround(station.display_latency_ms * 1e6));
+  const double needle_length_m = scene.needle ? scene.needle->parameters.length_m : 0.15;
+  o.needle_tip_in_marker_m = {0.0, 0.0, -needle_length_m};
+  o.diaphragm_per_marker = breathing.diaphragm_per_marker;
+  o.respiratory_reference_m = breathing.marker_rest_m[2];
+  o.needle.max_extrapolation_ns = settings.needle_max_extrapolation_ns;
+  o.probe.max_extrapolation_ns = settings.needle_max_extrapolation_ns;
+  // The breathing fit's window (8 s) at the tracker's rate, and some.
+  o.breathing.history_capacity = static_cast<std::size_t>(std::ceil(scene.devices.tracker.rate_hz * 8.0)) + 16;
+  return o;
+}
+
+/// The filter on the tumour of rung `k` (0: liver.model.artifact, k: escalation.rungs[k - 1]);
+/// errors at that key. Its correction is sized by the artifact's training envelope.
+Result<ReducedKalmanModel> tumour_filter(const StationLiver& liver, const Scene& scene, std::size_t k, const ReducedBasis& basis,
+                                         const ReducedModel& reduced, const StationLoopSettings& settings) {
+  const auto at_artifact = [&](const std::string& message) {
+    if (k == 0) return Error{message, scene.source_path, scene.liver.line, "liver.model.artifact"};
+    return Error{message, scene.source_path, scene.liver.escalation->rungs[k - 1].line,
+                 "liver.model.escalation.rungs[" + std::to_string(k - 1) + "]"};
+  };
+  if (basis.training_q_bound.empty() && scene.liver.rung == LiverRung::reduced)
+    return at_artifact("the artifact has no training envelope (a basis made without training loads); the station's filter sizes "
+                       "its correction by it: make the artifact with navtool reduce");
+  ReducedKalmanOptions options;
+  options.correction_std = correction_std_from_training(basis, settings.correction_fraction);
+  options.correlation_time_s = settings.correlation_time_s;
+  options.gate_chi_square = settings.gate_chi_square;
+  options.observation_std_m = std::max(scene.devices.ultrasound.target_noise_m, 1e-4);
+  const ObservedPoint points[] = {liver.tumour};
+  auto filter = make_reduced_kalman_model(liver.mesh, basis, reduced, points, options);
+  if (!filter.ok()) return at_artifact(filter.error().describe());
+  return filter;
+}
+
+/// The rungs' filters and the loop on the scene's ladder.
+Result<OperatingLoopModel> ladder_loop(const StationLiver& liver, const Scene& scene, std::span<const ReducedRungSpec> rungs,
+                                       const OperatingLoopOptions& o, const OperatingLoopNeedleOptions* needle,
+                                       const StationLoopSettings& settings) {
+  auto ladder = make_scene_ladder(scene, liver.mesh, liver.scene, rungs);
+  if (!ladder.ok()) return ladder.error();
+  std::vector<ReducedKalmanModel> filters;
+  for (std::size_t k = 0; k < rungs.size(); ++k) {
+    auto filter = tumour_filter(liver, scene, k, rungs[k].basis, ladder.value().reduced_rung(static_cast<int>(k)), settings);
+    if (!filter.ok()) return filter.error();
+    filters.push_back(std::move(filter).value());
+  }
+  return make_operating_loop_model(ladder.value(), std::move(filters), o, needle, &liver.mesh);
+}
+
+}  // namespace
+
+RigidPose needle_base_in_marker() {
+  return {Eigen::Vector3d::Zero(), Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitZ())};
+}
+
+Status check_station_loop(const Scene& scene) {
+  if (scene.liver.escalation && scene.liver.escalation->full_order_on_top)
+    return Error{"a running station's ladder has reduced rungs only (its filter needs reduced coordinates on every rung): "
+                 "set full_order_on_top: false",
+                 scene.source_path, scene.liver.escalation->line, "liver.model.escalation.full_order_on_top"};
+  return Done{};
+}
+
+Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
+                                             const StationLoopSettings& settings) {
+  if (const Status runnable = check_station_loop(scene); !runnable.ok()) return runnable.error();
+  const OperatingLoopOptions o = loop_options(scene, breathing, settings);
+  std::optional<OperatingLoopNeedleOptions> needle;
+  if (scene.needle) {
+    needle.emplace();
+    needle->parameters = scene.needle->parameters;
+    needle->scene = scene.needle->interaction;
+    needle->base_in_marker = needle_base_in_marker();
+    needle->max_point_forces = liver.scene.max_point_forces;
+  }
+  const auto loop_error = [&](const Error& e) {  // the loop's own errors: its needle's, or the liver model's
+    return e.file.empty() ? Error{e.describe(), scene.source_path, needle ? scene.needle->line : scene.liver.line,
+                                  needle ? "needle" : "liver.model"}
+                          : e;
+  };
+  std::vector<ReducedRungSpec> rungs;
+  if (scene.liver.rung == LiverRung::full) {
+    auto trained = trained_rung(liver, scene, settings);
+    if (!trained.ok()) return Error{trained.error().describe(), scene.source_path, scene.liver.line, "liver.model (start-up training)"};
+    rungs.push_back(std::move(trained).value());
+  } else {
+    auto loaded = load_reduced_rungs(scene, liver.mesh);
+    if (!loaded.ok()) return loaded.error();
+    rungs = std::move(loaded).value();
+  }
+  if (scene.liver.escalation) {
+    auto loop = ladder_loop(liver, scene, rungs, o, needle ? &*needle : nullptr, settings);
+    if (!loop.ok()) return loop_error(loop.error());
+    return loop;
+  }
+  auto reduced = make_scene_reduced_model(scene, liver.mesh, liver.scene, rungs.front());
+  if (!reduced.ok()) return reduced.error();
+  auto filter = tumour_filter(liver, scene, 0, rungs.front().basis, reduced.value(), settings);
+  if (!filter.ok()) return filter.error();
+  auto loop = needle ? make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o, *needle, liver.mesh)
+                     : make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o);
+  if (!loop.ok()) return loop_error(loop.error());
+  return loop;
+}
+
+std::string describe_station_loop(const Scene& scene, const OperatingLoopModel& loop) {
+  const auto rung_text = [](const ReducedModel& r) {
+    return "r = " + std::to_string(r.basis_size()) + " (" + std::to_string(r.sample_count()) + " sampled tetrahedra)";
+  };
+  const ReducedModel& base = loop.rungs.front().reduced;
+  if (scene.liver.rung == LiverRung::full)
+    return "liver model: the scene's rung is full order; the loop runs a reduced liver trained on it at start-up, " + rung_text(base) +
+           " (vibration modes, corotational cubature on diaphragm moves)";
+  std::string text = "liver model: reduced " + rung_text(base) + " from " + scene.liver.reduced_artifact_path;
+  for (std::size_t k = 1; k < loop.rungs.size(); ++k)
+    text += "; rung " + std::to_string(k) + ": " + rung_text(loop.rungs[k].reduced) + " from " +
+            scene.liver.escalation->rungs[k - 1].artifact_path;
+  return text;
+}
+
+}  // namespace nav::station
