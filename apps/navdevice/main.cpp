@@ -6,17 +6,25 @@
 //       and a synthetic B-mode scanner (nav/ultrasound_frame), with its truth on
 //       nav/ground_truth (for navtool evaluate; a station never reads it). It waits (up to
 //       --wait-s, default 60) for a running station (its health) unless --no-wait, then plays.
+//   navdevice plus --scene FILE [--recording FILE] [--fast] [--transform NAME=ROLE]... [--domain D] [--no-wait]
+//       a PLUS sequence recording (.mha / .nrrd) played as scanner and tracker: its frames
+//       (nav/ultrasound_frame, their own size and spacing) and its tracked transforms as the
+//       scene's tools (nav/tool_pose), at the recorded intervals or --fast.
 // Each prints a status line a second, stops cleanly on SIGINT and SIGTERM, and exits 0 when
 // done, 1 naming the device when it fails, 2 on a usage error.
 #include <cstdio>
 #include <string>
 #include <vector>
 
+#include "plus_device.hpp"
 #include "sim_device.hpp"
 
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (!args.empty() && args.front() == "sim") return navdevice::run_sim({args.begin() + 1, args.end()});
-  std::fprintf(stderr, "usage: navdevice sim --scene FILE [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n");
+  if (!args.empty() && args.front() == "plus") return navdevice::run_plus({args.begin() + 1, args.end()});
+  std::fprintf(stderr,
+               "usage: navdevice sim --scene FILE [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
+               "       navdevice plus --scene FILE [--recording FILE] [--fast] [--transform NAME=ROLE]... [--domain D] [--no-wait]\n");
   return 2;
 }

@@ -1,6 +1,7 @@
 // The live station: the simulated patient (navdevice sim), the station alone on DDS
 // (navstation --live), the evaluation (navtool evaluate) and a recorder (navtool record), four
-// processes on one domain, as a station engineer runs them.
+// processes on one domain, as a station engineer runs them; and a PLUS recording of PLUS's own
+// data played into the station by navdevice plus.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -39,6 +40,14 @@ std::string renamed_demo_scene() {
   text = edited(text, tracker, tracker + "\n    tools: {needle: 11, probe: 12, respiratory: 13}");
   const std::string path = temporary_path("site_b.yaml");
   std::ofstream(path) << text;
+  return path;
+}
+
+/// The demo scene with its scanner a PLUS recording at `recording`, in a file.
+std::string plus_scene(const std::string& recording) {
+  const std::string path = temporary_path("plus_scene.yaml");
+  std::ofstream(path) << edited(movable_demo_text(), "  ultrasound:\n    kind: simulated\n    rate_hz: 20\n    target_noise_m: 0.001\n    seed: 2",
+                                "  ultrasound:\n    kind: plus\n    recording: " + recording);
   return path;
 }
 
@@ -179,13 +188,11 @@ TEST(LiveStation, TheSimulatedPatientNamesWhatIsWrong) {
   EXPECT_NE(missing.log().find("/nonexistent/scene.yaml"), std::string::npos) << missing.log();
 
   // A scene of real devices: refused at once, before the world is simulated.
-  const std::string plus_scene = temporary_path("plus_devices.yaml");
-  std::ofstream(plus_scene) << edited(movable_demo_text(), "  ultrasound:\n    kind: simulated\n    rate_hz: 20\n    target_noise_m: 0.001\n    seed: 2",
-                                      "  ultrasound:\n    kind: plus\n    recording: session.mha");
-  ChildProcess real({kBin + "/navdevice", "sim", "--scene", plus_scene}, temporary_path("navdevice_real.log"));
+  const std::string real_scene = plus_scene("session.mha");
+  ChildProcess real({kBin + "/navdevice", "sim", "--scene", real_scene}, temporary_path("navdevice_real.log"));
   EXPECT_EQ(real.wait(std::chrono::seconds(30)), 1);
   EXPECT_NE(real.log().find("simulated devices only"), std::string::npos) << real.log();
-  EXPECT_NE(real.log().find(plus_scene), std::string::npos) << real.log();
+  EXPECT_NE(real.log().find(real_scene), std::string::npos) << real.log();
   EXPECT_EQ(real.log().find("simulating"), std::string::npos) << real.log();
 
   // No station runs on its domain: it says so and gives up, after its wait.
@@ -193,6 +200,61 @@ TEST(LiveStation, TheSimulatedPatientNamesWhatIsWrong) {
                      temporary_path("navdevice_alone.log"));
   EXPECT_EQ(alone.wait(std::chrono::seconds(300)), 1);
   EXPECT_NE(alone.log().find("no station ran on this domain within"), std::string::npos) << alone.log();
+}
+
+TEST(LiveStation, APlusRecordingPlaysIntoTheStationFrameByFrame) {
+  const std::string recording = shared_data_path("plus/SpinePhantomFreehand.igs.mha");
+  if (!file_exists(recording)) GTEST_SKIP() << "no " << recording;
+  const std::string scene = plus_scene(recording);
+  const std::string domain = "174";
+  ChildProcess station({kBin + "/navstation", "--scene", scene, "--live", "--seconds", "6", "--domain", domain},
+                       temporary_path("plus_station.log"));
+  ChildProcess player({kBin + "/navdevice", "plus", "--scene", scene, "--domain", domain}, temporary_path("plus_player.log"));
+  ASSERT_TRUE(station.started() && player.started());
+  const std::optional<int> player_exit = player.wait(std::chrono::seconds(120));
+  const std::optional<int> station_exit = station.wait(std::chrono::seconds(120));
+  std::printf("%s\n%s", player.log().c_str(), station.log().c_str());
+  ASSERT_EQ(player_exit, 0);
+  ASSERT_EQ(station_exit, 0);
+  // The recording's 21 frames of 820 x 616, its probe and stylus tracks (tools 2 and 1), at
+  // its own 1.8 s of intervals; every one reaches the station and none is refused.
+  const std::string played = player.log();
+  EXPECT_NE(played.find("21 frames of 820 x 616"), std::string::npos);
+  EXPECT_NE(played.find("ProbeToTracker as tool 2, StylusToTracker as tool 1"), std::string::npos);
+  EXPECT_NE(played.find("21 of 21 frames played"), std::string::npos);
+  EXPECT_GE(number_after(played, "done after "), 1.7);
+  const std::string log = station.log();
+  EXPECT_EQ(number_after(log, "ultrasound: "), 21.0);  // frames taken by the image processing
+  EXPECT_EQ(number_after(log, "samples accepted "), 63.0);  // 42 poses and 21 frames
+  EXPECT_NE(log.find("dropped at the boundary: none"), std::string::npos);
+}
+
+TEST(LiveStation, ThePlusPlayerNamesWhatIsWrong) {
+  ChildProcess usage({kBin + "/navdevice", "plus", "--transform", "ProbeToTracker"}, temporary_path("plus_usage.log"));
+  EXPECT_EQ(usage.wait(std::chrono::seconds(30)), 2);
+  EXPECT_NE(usage.log().find("usage: navdevice plus --scene FILE"), std::string::npos) << usage.log();
+
+  ChildProcess simulated({kBin + "/navdevice", "plus", "--scene", kDemoScene, "--no-wait"}, temporary_path("plus_simulated.log"));
+  EXPECT_EQ(simulated.wait(std::chrono::seconds(30)), 1);
+  EXPECT_NE(simulated.log().find("navdevice plus: " + kDemoScene + ": devices.ultrasound is not a PLUS recording"), std::string::npos)
+      << simulated.log();
+
+  const std::string absent = plus_scene("/nonexistent/session.mha");
+  ChildProcess missing({kBin + "/navdevice", "plus", "--scene", absent, "--no-wait"}, temporary_path("plus_missing.log"));
+  EXPECT_EQ(missing.wait(std::chrono::seconds(30)), 1);
+  EXPECT_NE(missing.log().find("/nonexistent/session.mha"), std::string::npos) << missing.log();
+
+  const std::string recording = shared_data_path("plus/SpinePhantomFreehand.igs.mha");
+  if (!file_exists(recording)) GTEST_SKIP() << "no " << recording;
+  const std::string scene = plus_scene(recording);
+  ChildProcess no_track({kBin + "/navdevice", "plus", "--scene", scene, "--no-wait", "--transform", "NeedleToTracker=needle"},
+                        temporary_path("plus_no_track.log"));
+  EXPECT_EQ(no_track.wait(std::chrono::seconds(30)), 1);
+  EXPECT_NE(no_track.log().find("the recording has no transform 'NeedleToTracker'"), std::string::npos) << no_track.log();
+  ChildProcess no_role({kBin + "/navdevice", "plus", "--scene", scene, "--no-wait", "--transform", "ProbeToTracker=camera"},
+                       temporary_path("plus_no_role.log"));
+  EXPECT_EQ(no_role.wait(std::chrono::seconds(30)), 1);
+  EXPECT_NE(no_role.log().find("unknown role 'camera'"), std::string::npos) << no_role.log();
 }
 
 TEST(LiveStation, EvaluationWithoutAStationSaysWhatIsMissing) {

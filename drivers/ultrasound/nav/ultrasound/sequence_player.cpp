@@ -73,6 +73,7 @@ Result<std::size_t> play_sequence(dds::DdsNode& node, const PlusSequence& sequen
       make_frame_sample(sequence, i, options.probe_tool_id, time_ns, *frame);
       node.write(*frame);
     }
+    if (options.after_frame && !options.after_frame(i + 1)) return i + 1;
   }
   return frames;
 }

@@ -3,6 +3,7 @@
 // each of its valid tracked transforms as a ToolPose, at the recorded timing (against a
 // Clock, so tests can use a simulated one) or as fast as possible.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,9 @@ struct PlayOptions {
   std::vector<ToolTrack> tools{{"ProbeToTracker", 2}};
   std::uint32_t probe_tool_id = 2;  ///< stamped on the frames
   bool as_fast_as_possible = false;
+  /// Called after each frame with the number played so far; false stops the playback there
+  /// (e.g. on SIGINT). Empty: play to the end.
+  std::function<bool(std::size_t)> after_frame;
 };
 
 /// Frame `index` (< frames_read) as a sample stamped `source_time_ns`: pixels, spacing in
@@ -39,7 +43,7 @@ dds::ToolPose make_pose_sample(const Matrix4Mm& matrix_mm, const std::string& tr
 
 /// Publishes the frames read from `sequence` and their valid tool poses on `node` (which has
 /// advertised both topics), with the recorded intervals between frames (time of frame 0 =
-/// clock's now). Returns the number of frames published; an error names a missing track.
+/// clock's now). Returns the number of frames played; an error names a missing track.
 Result<std::size_t> play_sequence(dds::DdsNode& node, const PlusSequence& sequence, const PlayOptions& options,
                                   Clock& clock);
 

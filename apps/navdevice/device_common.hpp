@@ -1,0 +1,58 @@
+#pragma once
+// What every navdevice source shares: the common flags (--scene, --domain, --no-wait,
+// --wait-s), the scene, the participant on the scene's domain, topic names and network (which
+// also reads the station's health), waiting for a running station, and errors that name the
+// device.
+#include <cstddef>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "nav/core/error.hpp"
+#include "nav/dds/dds_node.hpp"
+#include "nav/dds/sample_sink.hpp"
+#include "nav/station/scene.hpp"
+
+namespace navdevice {
+
+constexpr int kExitError = 1;
+constexpr int kExitUsage = 2;
+
+/// The flags every source takes.
+struct DeviceArgs {
+  std::string scene_path;
+  long domain_id = -1;  ///< -1: the scene's
+  bool wait_for_station = true;
+  double wait_s = 60.0;
+};
+
+/// Takes args[i] (and its value, moving i past it) into `out` if it is a common flag; false
+/// if it is not one. Throws std::invalid_argument / std::out_of_range on a bad number.
+bool take_common_flag(const std::vector<std::string>& args, std::size_t& i, DeviceArgs& out);
+
+/// Whether the common flags make sense (a scene given, a domain <= 232 or -1, wait >= 0).
+bool common_flags_valid(const DeviceArgs& args);
+
+/// Prints "navdevice DEVICE: MESSAGE" on stderr; returns kExitError.
+int fail(const char* device, const std::string& message);
+
+/// The scene of `args`, its domain replaced by --domain when given.
+nav::Result<nav::station::Scene> load_device_scene(const DeviceArgs& args);
+
+/// A device's participant and the sink of the station's health it reads (the sink outlives
+/// the participant whose listener fills it).
+struct DeviceNode {
+  std::unique_ptr<nav::dds::RingSink<nav::dds::StationHealth, 4>> health;
+  std::unique_ptr<nav::dds::DdsNode> node;
+};
+
+/// The participant `participant_name` on the scene's domain, topic names and network, reading
+/// the station's health.
+nav::Result<DeviceNode> open_device_node(const nav::station::Scene& scene, const char* participant_name);
+
+/// Waits (unless --no-wait) up to --wait-s for a running station's first health sample (a
+/// recorder or a display is not a station). Returns 0 to go on, -1 if stopped by a signal,
+/// or the exit code of the failure it printed.
+int wait_for_station(const DeviceNode& device, const DeviceArgs& args, const nav::station::Scene& scene, const char* device_name);
+
+}  // namespace navdevice
