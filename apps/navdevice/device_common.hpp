@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "nav/core/clock.hpp"
 #include "nav/core/error.hpp"
 #include "nav/dds/dds_node.hpp"
 #include "nav/dds/sample_sink.hpp"
@@ -32,6 +33,20 @@ bool take_common_flag(const std::vector<std::string>& args, std::size_t& i, Devi
 
 /// Whether the common flags make sense (a scene given, a domain <= 232 or -1, wait >= 0).
 bool common_flags_valid(const DeviceArgs& args);
+
+/// This host's monotonic clock less the scene's device clock offset: the clock a device of
+/// the scene stamps its samples on.
+class DeviceClock final : public nav::Clock {
+ public:
+  explicit DeviceClock(const nav::station::DeviceClockSettings& settings)
+      : offset_ns_(static_cast<nav::TimeNs>(settings.offset_ms * 1e6)) {}
+  nav::TimeNs now_ns() const noexcept override { return host_.now_ns() - offset_ns_; }
+  void sleep_until_ns(nav::TimeNs deadline_ns) noexcept override { host_.sleep_until_ns(deadline_ns + offset_ns_); }
+
+ private:
+  nav::MonotonicClock host_;
+  nav::TimeNs offset_ns_;
+};
 
 /// Prints "navdevice DEVICE: MESSAGE" on stderr; returns kExitError.
 int fail(const char* device, const std::string& message);

@@ -6,6 +6,10 @@
 //       and a synthetic B-mode scanner (nav/ultrasound_frame), with its truth on
 //       nav/ground_truth (for navtool evaluate; a station never reads it). It waits (up to
 //       --wait-s, default 60) for a running station (its health) unless --no-wait, then plays.
+//   navdevice ndi --scene FILE [--serial DEVICE | --tcp HOST:PORT] [--seconds S] [--domain D] [--no-wait]
+//       an NDI tracker (combined API): every port handle enabled, BX polled at the scene's
+//       rate, the poses of the handles the scene maps to tools (devices.tracker.port_handles)
+//       on nav/tool_pose; TSTOP when stopped.
 //   navdevice plus --scene FILE [--recording FILE] [--fast] [--transform NAME=ROLE]... [--domain D] [--no-wait]
 //       a PLUS sequence recording (.mha / .nrrd) played as scanner and tracker: its frames
 //       (nav/ultrasound_frame, their own size and spacing) and its tracked transforms as the
@@ -16,15 +20,18 @@
 #include <string>
 #include <vector>
 
+#include "ndi_device.hpp"
 #include "plus_device.hpp"
 #include "sim_device.hpp"
 
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (!args.empty() && args.front() == "sim") return navdevice::run_sim({args.begin() + 1, args.end()});
+  if (!args.empty() && args.front() == "ndi") return navdevice::run_ndi({args.begin() + 1, args.end()});
   if (!args.empty() && args.front() == "plus") return navdevice::run_plus({args.begin() + 1, args.end()});
   std::fprintf(stderr,
                "usage: navdevice sim --scene FILE [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
+               "       navdevice ndi --scene FILE [--serial DEVICE | --tcp HOST:PORT] [--seconds S] [--domain D] [--no-wait]\n"
                "       navdevice plus --scene FILE [--recording FILE] [--fast] [--transform NAME=ROLE]... [--domain D] [--no-wait]\n");
   return 2;
 }

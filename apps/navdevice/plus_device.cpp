@@ -10,7 +10,6 @@
 #include <utility>
 
 #include "device_common.hpp"
-#include "nav/core/clock.hpp"
 #include "nav/dds/stop_request.hpp"
 #include "nav/ultrasound/plus_sequence.hpp"
 #include "nav/ultrasound/sequence_player.hpp"
@@ -89,19 +88,6 @@ nav::Result<std::vector<nav::ultrasound::ToolTrack>> tool_tracks(const PlusArgs&
   return tracks;
 }
 
-/// This host's monotonic clock less a device clock offset: the clock a device of the scene
-/// stamps on.
-class DeviceClock final : public nav::Clock {
- public:
-  explicit DeviceClock(TimeNs offset_ns) : offset_ns_(offset_ns) {}
-  TimeNs now_ns() const noexcept override { return host_.now_ns() - offset_ns_; }
-  void sleep_until_ns(TimeNs deadline_ns) noexcept override { host_.sleep_until_ns(deadline_ns + offset_ns_); }
-
- private:
-  nav::MonotonicClock host_;
-  TimeNs offset_ns_;
-};
-
 }  // namespace
 
 int run_plus(const std::vector<std::string>& arguments) {
@@ -139,7 +125,7 @@ int run_plus(const std::vector<std::string>& arguments) {
     if (!status.ok()) return fail("plus", status.error().describe());
   if (const int waited = wait_for_station(device.value(), args->device, s, "plus"); waited != 0) return waited < 0 ? 0 : waited;
 
-  DeviceClock clock(static_cast<TimeNs>(s.devices.clock.offset_ms * 1e6));
+  DeviceClock clock(s.devices.clock);
   const TimeNs start_ns = clock.now_ns();
   TimeNs next_status_ns = start_ns + nav::kNsPerSecond;
   nav::ultrasound::PlayOptions options;

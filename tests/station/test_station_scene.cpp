@@ -120,6 +120,27 @@ TEST(StationScene, TheTrackedToolsTakeTheirIdsFromTheScene) {
   EXPECT_NE(error.message.find("need an id each"), std::string::npos) << error.describe();
 }
 
+TEST(StationScene, AnNdiTrackersPortHandlesAreItsToolsAndEachOneIsOwn) {
+  const std::string port = "    port: 8765";
+  const auto parsed = parse_scene(edited(testing::file_text(example_scene_path("liver_reduced.yaml")), port,
+                                         port + "\n    rate_hz: 40\n    port_handles: {needle: 10, probe: 11, respiratory: 12}"),
+                                  example_scene_path("liver_reduced.yaml"));
+  ASSERT_TRUE(parsed.ok()) << parsed.error().describe();
+  const TrackerSettings& t = parsed.value().devices.tracker;
+  EXPECT_EQ(t.port_handles.needle, 10u);
+  EXPECT_EQ(t.port_handles.respiratory, 12u);
+  EXPECT_EQ(t.rate_hz, 40.0);
+  EXPECT_EQ(load_scene(example_scene_path("liver_reduced.yaml")).value().devices.tracker.port_handles.probe, 2u);  // the default
+  const auto twice = parse_scene(edited(testing::file_text(example_scene_path("liver_reduced.yaml")), port, port + "\n    port_handles: {needle: 3}"),
+                                 example_scene_path("liver_reduced.yaml"));
+  ASSERT_FALSE(twice.ok());
+  EXPECT_EQ(twice.error().field, "devices.tracker.port_handles") << twice.error().describe();
+  const auto out_of_range = parse_scene(edited(testing::file_text(example_scene_path("liver_reduced.yaml")), port, port + "\n    port_handles: {probe: 256}"),
+                                        example_scene_path("liver_reduced.yaml"));
+  ASSERT_FALSE(out_of_range.ok());
+  EXPECT_EQ(out_of_range.error().field, "devices.tracker.port_handles.probe") << out_of_range.error().describe();
+}
+
 TEST(StationScene, UnknownKeysAreNamedWithTheirPath) {
   expect_error("  lock_memory: true", "  lock_memry: true", "station.lock_memry", "unknown key");
   expect_error("    cg_iterations: 3", "    cg_iteration: 3", "liver.model.cg_iteration", "unknown key");

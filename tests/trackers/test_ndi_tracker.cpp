@@ -3,13 +3,11 @@
 // states, poses equal to the device's within the formats' resolution, device errors reported.
 #include <gtest/gtest.h>
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
 #include <unistd.h>
 
 #include "nav/trackers/ndi_simulator.hpp"
 #include "nav/trackers/ndi_tracker.hpp"
+#include "loopback_listener.hpp"
 
 namespace nav::trackers::ndi {
 namespace {
@@ -79,18 +77,10 @@ TEST(NdiTracker, InitialisesAndPollsBxOverAPseudoTerminal) {
 }
 
 TEST(NdiTracker, PollsTxOverTcp) {
-  const int listener = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in address{};
-  address.sin_family = AF_INET;
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  socklen_t length = sizeof address;
-  ASSERT_EQ(::bind(listener, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
-  ASSERT_EQ(::listen(listener, 1), 0);
-  ASSERT_EQ(::getsockname(listener, reinterpret_cast<sockaddr*>(&address), &length), 0);
-  auto connection = Connection::open_tcp("127.0.0.1", ntohs(address.sin_port));
+  const testing::LoopbackListener listener;
+  auto connection = Connection::open_tcp("127.0.0.1", listener.port);
   ASSERT_TRUE(connection.ok()) << connection.error().describe();
-  const int accepted = ::accept(listener, nullptr, nullptr);
-  ::close(listener);
+  const int accepted = listener.accept();
   NdiDeviceServer server(accepted, SimulatedNdiDevice(station_tools()));
   auto tracker = NdiTracker::start(std::move(connection).value());
   ASSERT_TRUE(tracker.ok()) << tracker.error().describe();

@@ -236,21 +236,24 @@ LigamentSettings read_ligaments(MapReader r) {
   return l;
 }
 
+/// `{needle: N, probe: N, respiratory: N}`, each in [min, max] and distinct, missing ones from `defaults`.
+ToolIds read_tool_roles(MapReader roles, long long min, long long max, ToolIds defaults) {
+  ToolIds ids;
+  ids.needle = static_cast<std::uint32_t>(roles.integer("needle", min, max, defaults.needle));
+  ids.probe = static_cast<std::uint32_t>(roles.integer("probe", min, max, defaults.probe));
+  ids.respiratory = static_cast<std::uint32_t>(roles.integer("respiratory", min, max, defaults.respiratory));
+  if (ids.needle == ids.probe || ids.needle == ids.respiratory || ids.probe == ids.respiratory)
+    roles.fail_at("", "needle, probe and respiratory need an id each");
+  roles.finish();
+  return ids;
+}
+
 TrackerSettings read_tracker(MapReader r) {
   TrackerSettings t;
   t.kind = static_cast<TrackerKind>(r.choice("kind", {"simulated", "ndi", "apriltag"}));
   t.volume_radius_m = r.number("volume_radius_m", Range{0.0, 100.0, true}, t.volume_radius_m);
   t.max_speed_m_per_s = r.number("max_speed_m_per_s", Range{0.0, 100.0, true}, t.max_speed_m_per_s);
-  if (r.optional("tools")) {
-    MapReader tools = r.map("tools");
-    constexpr long long kMaxToolId = (1LL << 31) - 1;
-    t.tools.needle = static_cast<std::uint32_t>(tools.integer("needle", 0, kMaxToolId, t.tools.needle));
-    t.tools.probe = static_cast<std::uint32_t>(tools.integer("probe", 0, kMaxToolId, t.tools.probe));
-    t.tools.respiratory = static_cast<std::uint32_t>(tools.integer("respiratory", 0, kMaxToolId, t.tools.respiratory));
-    if (t.tools.needle == t.tools.probe || t.tools.needle == t.tools.respiratory || t.tools.probe == t.tools.respiratory)
-      tools.fail_at("", "needle, probe and respiratory need an id each");
-    tools.finish();
-  }
+  if (r.optional("tools")) t.tools = read_tool_roles(r.map("tools"), 0, (1LL << 31) - 1, t.tools);
   switch (t.kind) {
     case TrackerKind::simulated:
       t.rate_hz = r.number("rate_hz", Range{0.0, 1000.0, true}, t.rate_hz);
@@ -268,6 +271,8 @@ TrackerSettings read_tracker(MapReader r) {
         t.host = r.text("host");
         t.port = static_cast<int>(r.integer("port", 1, 65535));
       }
+      t.rate_hz = r.number("rate_hz", Range{0.0, 1000.0, true}, t.rate_hz);
+      if (r.optional("port_handles")) t.port_handles = read_tool_roles(r.map("port_handles"), 1, 255, t.port_handles);
       break;
     case TrackerKind::apriltag:
       t.camera_device = r.text("camera");

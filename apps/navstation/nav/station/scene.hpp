@@ -123,17 +123,18 @@ struct TrackerSettings {
   double volume_radius_m = 3.0;     ///< of the tracker's measurement volume, around its origin
   double max_speed_m_per_s = 2.0;   ///< of any tracked tool
   ToolIds tools;                    ///< every kind: the tools' ids on nav/tool_pose
+  double rate_hz = 60.0;             ///< simulated: its sample rate; ndi: how often it is polled
   // simulated
-  double rate_hz = 60.0;
   double latency_ms = 0.0;
   double position_noise_m = 0.0;
   double rotation_noise_rad = 0.0;
   double dropout_probability = 0.0;
   std::uint64_t seed = 1;
-  // ndi: a serial device, or host and port
+  // ndi: a serial device, or host and port; which port handle is which tool
   std::string serial_device;
   std::string host;
   int port = 0;
+  ToolIds port_handles;
   // apriltag: a camera device and the printed tag size
   std::string camera_device;
   double tag_size_m = 0.0;
