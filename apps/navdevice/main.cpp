@@ -10,6 +10,9 @@
 //       an NDI tracker (combined API): every port handle enabled, BX polled at the scene's
 //       rate, the poses of the handles the scene maps to tools (devices.tracker.port_handles)
 //       on nav/tool_pose; TSTOP when stopped.
+//   navdevice capture --scene FILE [--source INDEX|VIDEO|PATTERN] [--seconds S] [--domain D] [--no-wait]
+//       a frame grabber, video or image sequence (OpenCV capture) as the scanner: frames
+//       clipped to the scene's rectangle at its pixel spacing on nav/ultrasound_frame.
 //   navdevice plus --scene FILE [--recording FILE] [--fast] [--transform NAME=ROLE]... [--domain D] [--no-wait]
 //       a PLUS sequence recording (.mha / .nrrd) played as scanner and tracker: its frames
 //       (nav/ultrasound_frame, their own size and spacing) and its tracked transforms as the
@@ -20,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "capture_device.hpp"
 #include "ndi_device.hpp"
 #include "plus_device.hpp"
 #include "sim_device.hpp"
@@ -27,10 +31,12 @@
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (!args.empty() && args.front() == "sim") return navdevice::run_sim({args.begin() + 1, args.end()});
+  if (!args.empty() && args.front() == "capture") return navdevice::run_capture({args.begin() + 1, args.end()});
   if (!args.empty() && args.front() == "ndi") return navdevice::run_ndi({args.begin() + 1, args.end()});
   if (!args.empty() && args.front() == "plus") return navdevice::run_plus({args.begin() + 1, args.end()});
   std::fprintf(stderr,
                "usage: navdevice sim --scene FILE [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
+               "       navdevice capture --scene FILE [--source INDEX|VIDEO|PATTERN] [--seconds S] [--domain D] [--no-wait]\n"
                "       navdevice ndi --scene FILE [--serial DEVICE | --tcp HOST:PORT] [--seconds S] [--domain D] [--no-wait]\n"
                "       navdevice plus --scene FILE [--recording FILE] [--fast] [--transform NAME=ROLE]... [--domain D] [--no-wait]\n");
   return 2;

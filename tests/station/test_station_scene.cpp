@@ -141,6 +141,25 @@ TEST(StationScene, AnNdiTrackersPortHandlesAreItsToolsAndEachOneIsOwn) {
   EXPECT_EQ(out_of_range.error().field, "devices.tracker.port_handles.probe") << out_of_range.error().describe();
 }
 
+TEST(StationScene, ACaptureSourceReadsItsClipAndSpacing) {
+  const std::string simulated = "  ultrasound:\n    kind: simulated\n    rate_hz: 20\n    target_noise_m: 0.001\n    seed: 2";
+  const std::string capture = "  ultrasound:\n    kind: capture\n    source: frames/%04d.png\n    clip_px: [4, 8, 640, 480]\n"
+                              "    pixel_spacing_mm: [0.1, 0.12]";
+  const auto parsed = parse_scene(edited(demo_text(), simulated, capture), example_scene_path("demo.yaml"));
+  ASSERT_TRUE(parsed.ok()) << parsed.error().describe();
+  const UltrasoundSettings& u = parsed.value().devices.ultrasound;
+  EXPECT_EQ(u.kind, UltrasoundKind::capture);
+  EXPECT_EQ(u.capture_source, (std::filesystem::path(example_scene_path("demo.yaml")).parent_path() / "frames/%04d.png").lexically_normal().string());
+  EXPECT_EQ(u.clip_px[2], 640u);
+  EXPECT_DOUBLE_EQ(u.pixel_spacing_m[1], 0.12e-3);
+  // A device index stays an index; a clip of part pixels and a missing spacing are named.
+  EXPECT_EQ(parse_scene(edited(edited(demo_text(), simulated, capture), "frames/%04d.png", "0"), example_scene_path("demo.yaml"))
+                .value().devices.ultrasound.capture_source, "0");
+  EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, capture), "640", "640.5")).field, "devices.ultrasound.clip_px");
+  EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, capture), "\n    pixel_spacing_mm: [0.1, 0.12]", "")).field,
+            "devices.ultrasound.pixel_spacing_mm");
+}
+
 TEST(StationScene, UnknownKeysAreNamedWithTheirPath) {
   expect_error("  lock_memory: true", "  lock_memry: true", "station.lock_memry", "unknown key");
   expect_error("    cg_iterations: 3", "    cg_iteration: 3", "liver.model.cg_iteration", "unknown key");

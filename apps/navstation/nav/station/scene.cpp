@@ -285,13 +285,27 @@ TrackerSettings read_tracker(MapReader r) {
 
 UltrasoundSettings read_ultrasound(MapReader r, const std::string& scene_path) {
   UltrasoundSettings u;
-  u.kind = static_cast<UltrasoundKind>(r.choice("kind", {"simulated", "plus"}));
+  u.kind = static_cast<UltrasoundKind>(r.choice("kind", {"simulated", "plus", "capture"}));
   if (u.kind == UltrasoundKind::simulated) {
     u.rate_hz = r.number("rate_hz", Range{0.0, 200.0, true}, u.rate_hz);
     u.target_noise_m = r.number("target_noise_m", Range{0.0, 0.1}, u.target_noise_m);
     u.seed = static_cast<std::uint64_t>(r.integer("seed", 0, 1LL << 62, 1));
-  } else {
+  } else if (u.kind == UltrasoundKind::plus) {
     u.recording_path = resolve(scene_path, r.text("recording"));
+  } else {
+    const std::string source = r.text("source");
+    const bool device_index = !source.empty() && source.find_first_not_of("0123456789") == std::string::npos;
+    u.capture_source = device_index ? source : resolve(scene_path, source);
+    u.rate_hz = r.number("rate_hz", Range{0.0, 200.0, true}, u.rate_hz);
+    if (r.optional("clip_px")) {
+      const std::vector<double> clip = r.numbers("clip_px", 4, Range{0.0, 65536.0});
+      for (std::size_t i = 0; i < 4; ++i) {
+        if (clip[i] != std::floor(clip[i])) r.fail_at("clip_px", "expected whole pixels: x, y, width, height");
+        u.clip_px[i] = static_cast<std::uint32_t>(clip[i]);
+      }
+    }
+    const std::vector<double> spacing = r.numbers("pixel_spacing_mm", 2, Range{0.0, 10.0, true});
+    u.pixel_spacing_m = {1e-3 * spacing[0], 1e-3 * spacing[1]};
   }
   r.finish();
   return u;

@@ -4,6 +4,7 @@
 // ligaments, its devices and DDS topics), parsed into plain structs. Paths in the file are
 // relative to the file's own folder. Init-time code: it allocates and never throws; every
 // error names the file, the line and the key path (e.g. `liver.model.rung`).
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -141,15 +142,23 @@ struct TrackerSettings {
 };
 
 /// The kinds of ultrasound source.
-enum class UltrasoundKind { simulated, plus };
+enum class UltrasoundKind { simulated, plus, capture };
 
-/// `devices.ultrasound:` a synthetic B-mode scanner or a PLUS recording played back.
+/// `devices.ultrasound:` a synthetic B-mode scanner, a PLUS recording played back, or a
+/// frame grabber, video or image sequence read through OpenCV's capture.
 struct UltrasoundSettings {
   UltrasoundKind kind = UltrasoundKind::simulated;
-  double rate_hz = 20.0;            ///< simulated
+  double rate_hz = 20.0;            ///< simulated; capture: the pace of a file or sequence (a grabber keeps its own)
   double target_noise_m = 0.0;      ///< simulated: the filter's noise of the tumour point found in the frames
   std::uint64_t seed = 1;           ///< simulated
   std::string recording_path;       ///< plus, resolved against the scene's folder
+  /// capture: a device index ("0": /dev/video0), a video file or an image-sequence pattern
+  /// ("frames/%04d.png", resolved against the scene's folder), the rectangle of the grabbed
+  /// image that holds the ultrasound image (x, y, width, height in pixels; 0 x 0: all) and
+  /// its pixel spacing along a row and a column.
+  std::string capture_source;
+  std::array<std::uint32_t, 4> clip_px{0, 0, 0, 0};
+  std::array<double, 2> pixel_spacing_m{0.3e-3, 0.3e-3};
 };
 
 /// `devices:`
