@@ -40,11 +40,11 @@ TEST(FrameTree, ChainsTrackedAndStaticJointsWithSlerpBetweenSamples) {
   const Transform b = pose(1.0, Eigen::Vector3d::UnitZ(), {0.3, 0.0, 0.0});
   ASSERT_TRUE(tree.add_pose("needle_marker", 1000, a).ok());
   ASSERT_TRUE(tree.add_pose("needle_marker", 3000, b).ok());
-  // Half-way: rotation 0.5 rad about z, translation 0.2 m; the tip is 0.15 m along the marker's z.
+  // Half-way: rotation 0.5 rad about z, translation 0.2 m; the tip is 0.15 m along the marker's -z.
   auto tip = tree.lookup("tracker", "needle_tip", 2000);
   ASSERT_TRUE(tip.ok()) << tip.error().describe();
   EXPECT_NEAR(Eigen::AngleAxisd(tip.value().rotation()).angle(), 0.5, 1e-12);
-  EXPECT_LT((tip.value().translation() - Eigen::Vector3d(0.2, 0.0, 0.15)).norm(), 1e-12);
+  EXPECT_LT((tip.value().translation() - Eigen::Vector3d(0.2, 0.0, -0.15)).norm(), 1e-12);
   // The inverse lookup composes to the identity.
   auto back = tree.lookup("needle_tip", "tracker", 2000);
   ASSERT_TRUE(back.ok());
@@ -61,7 +61,7 @@ TEST(FrameTree, TimesOutsideTheBufferedSpanAreErrors) {
   EXPECT_FALSE(tree.lookup("tracker", "needle_tip", 1500).ok());  // needle never tracked
   auto static_chain = tree.lookup("needle_tip", "needle_marker", 1500);  // no tracked joint between them
   ASSERT_TRUE(static_chain.ok()) << static_chain.error().describe();
-  EXPECT_NEAR(static_chain.value().translation().z(), -0.15, 1e-12);
+  EXPECT_NEAR(static_chain.value().translation().z(), 0.15, 1e-12);  // the marker seen from the tip, 0.15 m up its -z
   EXPECT_FALSE(tree.lookup("tracker", "nowhere", 1500).ok());
   EXPECT_FALSE(tree.add_pose("probe_marker", 2000, Transform::Identity()).ok());  // not increasing
   EXPECT_FALSE(tree.add_pose("needle_tip", 3000, Transform::Identity()).ok());    // fixed joint

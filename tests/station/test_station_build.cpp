@@ -17,6 +17,7 @@
 #include "nav/reduced/reduction.hpp"
 #include "nav/reduced/training_loads.hpp"
 #include "nav/station/station_build.hpp"
+#include "nav/station/station_loop.hpp"
 #include "nav/station/tumour_observer.hpp"
 #include "scene_text.hpp"
 #include "support/run_command.hpp"
@@ -147,6 +148,40 @@ TEST(StationBuild, TheProbeCalibrationIsTheUrdfsImageJoint) {
   EXPECT_EQ(missing.error().field, "frames.urdf");
   EXPECT_EQ(missing.error().file, example_scene_path("demo.yaml"));
   EXPECT_NE(missing.error().message.find("image_plane"), std::string::npos) << missing.error().describe();
+}
+
+/// The station URDF with its needle tip joint's origin `xyz`, in a file of its own.
+std::string urdf_with_tip(const std::string& xyz, const std::string& name) {
+  const std::string path = testing::temporary_path(name);
+  const std::string text = testing::file_text(example_scene_path("../../../calibration/urdf/station.urdf"));
+  const std::string joint = "<child link=\"needle_tip\"/>\n    <origin xyz=\"0 0 -0.15\"";
+  std::ofstream(path) << edited(text, joint, "<child link=\"needle_tip\"/>\n    <origin xyz=\"" + xyz + "\"");
+  return path;
+}
+
+TEST(StationBuild, TheNeedleIsWhereTheUrdfCalibratesIt) {
+  auto scene = parse_scene(demo_text(), example_scene_path("demo.yaml"));
+  ASSERT_TRUE(scene.ok()) << scene.error().describe();
+  // The demo's needle: 0.15 m along the marker's -z, the base at the marker, as the simulated one.
+  const auto demo = scene_needle_calibration(scene.value());
+  ASSERT_TRUE(demo.ok()) << demo.error().describe();
+  EXPECT_LT((demo.value().tip_in_marker_m - Eigen::Vector3d(0.0, 0.0, -0.15)).norm(), 1e-12);
+  EXPECT_LT(demo.value().base_in_marker.rotation.angularDistance(needle_base_in_marker().rotation), 1e-12);
+  EXPECT_LT(demo.value().base_in_marker.position_m.norm(), 1e-12);
+  // A needle calibrated along the marker's x: the base frame's +x follows it.
+  scene.value().frames.urdf_path = urdf_with_tip("0.15 0 0", "needle_along_x.urdf");
+  const auto along_x = scene_needle_calibration(scene.value());
+  ASSERT_TRUE(along_x.ok()) << along_x.error().describe();
+  EXPECT_LT((along_x.value().base_in_marker.rotation * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitX()).norm(), 1e-12);
+  EXPECT_LT((along_x.value().tip_in_marker_m - Eigen::Vector3d(0.15, 0.0, 0.0)).norm(), 1e-12);
+  // A tip 1 cm beyond the scene's needle length: refused at needle.length_m, with both lengths.
+  scene.value().frames.urdf_path = urdf_with_tip("0 0 -0.16", "needle_longer.urdf");
+  const auto longer = scene_needle_calibration(scene.value());
+  ASSERT_FALSE(longer.ok());
+  EXPECT_EQ(longer.error().field, "needle.length_m");
+  EXPECT_EQ(longer.error().line, line_of(demo_text(), "  length_m: 0.15"));  // the needle section's first key
+  EXPECT_NE(longer.error().message.find("160.0 mm"), std::string::npos) << longer.error().describe();
+  EXPECT_NE(longer.error().message.find("150.0 mm"), std::string::npos) << longer.error().describe();
 }
 
 TEST(StationBuild, BuilderErrorsNameTheSceneSectionAndLine) {

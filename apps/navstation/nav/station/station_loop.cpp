@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <utility>
 #include <vector>
 
 #include <Eigen/Geometry>
 
+#include "nav/calibration/frame_tree.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "nav/station/station_build.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
@@ -17,6 +19,7 @@ namespace {
 
 constexpr int kTrainingSteps = 24;            // full-order quasi-static steps under diaphragm moves
 constexpr double kTrainingDiaphragmM = 0.012; // their amplitude (beyond the demo's breathing)
+constexpr double kNeedleLengthToleranceM = 1e-3;  // the URDF's base-to-tip distance against the scene's needle length
 
 /// Displacement snapshots of full-order quasi-static steps under diaphragm moves.
 Result<std::vector<double>> training_snapshots(const StationLiver& liver, int& count) {
@@ -63,14 +66,14 @@ Result<ReducedRungSpec> trained_rung(const StationLiver& liver, const Scene& sce
   return ReducedRungSpec{std::move(basis).value(), reduced};
 }
 
-OperatingLoopOptions loop_options(const Scene& scene, const BreathingGeometry& breathing, const StationLoopSettings& settings) {
+OperatingLoopOptions loop_options(const Scene& scene, const BreathingGeometry& breathing, const NeedleCalibration& needle,
+                                  const StationLoopSettings& settings) {
   const StationSettings& station = scene.station;
   OperatingLoopOptions o;
   o.tick_period_ns = static_cast<TimeNs>(std::llround(1e9 / station.loop_rate_hz));
   o.tissue_every_ticks = static_cast<int>(std::lround(station.loop_rate_hz / station.tissue_rate_hz));
   o.display_latency_ns = static_cast<TimeNs>(std::llround(station.display_latency_ms * 1e6));
-  const double needle_length_m = scene.needle ? scene.needle->parameters.length_m : 0.15;
-  o.needle_tip_in_marker_m = {0.0, 0.0, -needle_length_m};
+  o.needle_tip_in_marker_m = needle.tip_in_marker_m;
   o.diaphragm_per_marker = breathing.diaphragm_per_marker;
   o.respiratory_reference_m = breathing.marker_rest_m[2];
   o.needle.max_extrapolation_ns = settings.needle_max_extrapolation_ns;
@@ -132,16 +135,42 @@ Status check_station_loop(const Scene& scene) {
   return Done{};
 }
 
+Result<NeedleCalibration> scene_needle_calibration(const Scene& scene) {
+  const auto urdf_error = [&](const std::string& message) { return Error{message, scene.source_path, scene.frames.line, "frames.urdf"}; };
+  auto frames = calibration::FrameTree::load(scene.frames.urdf_path);
+  if (!frames.ok()) return urdf_error(frames.error().describe());
+  auto base = frames.value().lookup("needle_marker", "needle_base", 0);
+  auto tip = frames.value().lookup("needle_marker", "needle_tip", 0);
+  if (!base.ok() || !tip.ok())
+    return urdf_error("no fixed chain from needle_marker to needle_base and needle_tip: " + (base.ok() ? tip : base).error().describe());
+  const Eigen::Vector3d base_m = base.value().translation();
+  const Eigen::Vector3d tip_m = tip.value().translation();
+  const double length_m = (tip_m - base_m).norm();
+  if (length_m < 1e-3) return urdf_error("the needle's tip is at its base (needle_base_to_tip: run navtool calib pivot)");
+  if (scene.needle && std::abs(length_m - scene.needle->parameters.length_m) > kNeedleLengthToleranceM) {
+    char text[256];
+    std::snprintf(text, sizeof text, "the URDF's needle is %.1f mm from base to tip (%s), the scene's %.1f mm long", 1e3 * length_m,
+                  scene.frames.urdf_path.c_str(), 1e3 * scene.needle->parameters.length_m);
+    return Error{text, scene.source_path, scene.needle->line, "needle.length_m"};
+  }
+  NeedleCalibration calibration;
+  calibration.base_in_marker = {base_m, Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), tip_m - base_m)};
+  calibration.tip_in_marker_m = tip_m;
+  return calibration;
+}
+
 Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
                                              const StationLoopSettings& settings) {
   if (const Status runnable = check_station_loop(scene); !runnable.ok()) return runnable.error();
-  const OperatingLoopOptions o = loop_options(scene, breathing, settings);
+  auto calibration = scene_needle_calibration(scene);
+  if (!calibration.ok()) return calibration.error();
+  const OperatingLoopOptions o = loop_options(scene, breathing, calibration.value(), settings);
   std::optional<OperatingLoopNeedleOptions> needle;
   if (scene.needle) {
     needle.emplace();
     needle->parameters = scene.needle->parameters;
     needle->scene = scene.needle->interaction;
-    needle->base_in_marker = needle_base_in_marker();
+    needle->base_in_marker = calibration.value().base_in_marker;
     needle->max_point_forces = liver.scene.max_point_forces;
   }
   const auto loop_error = [&](const Error& e) {  // the loop's own errors: its needle's, or the liver model's

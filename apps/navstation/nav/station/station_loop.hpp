@@ -30,16 +30,29 @@ struct StationLoopSettings {
   double gate_chi_square = 16.27;  ///< observations further from the prediction are rejected
 };
 
-/// The needle base (holder) in the needle marker's frame, T_marker_base: the needle points
-/// along the marker's -z from the marker's origin (the tip straight at (0, 0, -length_m)),
-/// and along the base frame's +x, as the needle models lie.
+/// The needle base (holder) in the needle marker's frame of the simulated needle (the demo
+/// URDF's), T_marker_base: the needle points along the marker's -z from the marker's origin
+/// (the tip straight at (0, 0, -length_m)), and along the base frame's +x, as the needle
+/// models lie.
 RigidPose needle_base_in_marker();
 
+/// The tracked needle's calibration in the needle marker's frame.
+struct NeedleCalibration {
+  RigidPose base_in_marker;        ///< T_marker_base: origin at the base, +x along the needle to its tip
+  Eigen::Vector3d tip_in_marker_m = Eigen::Vector3d::Zero();  ///< the straight needle's tip
+};
+
+/// The scene URDF's needle: the fixed chains from needle_marker to needle_base and to
+/// needle_tip (`navtool calib pivot` writes the tip). With `needle:`, the base-to-tip distance
+/// must be its length_m within 1 mm. Errors name frames.urdf or needle.length_m.
+Result<NeedleCalibration> scene_needle_calibration(const Scene& scene);
+
 /// The operating loop on `liver` at the scene's rates and latency, the tracker frame equal to
-/// the model frame, on the scene's liver model (see the file comment). With `needle:` the loop
-/// steps the scene's flexible needle coupled to every rung (at the loop rate, its base at the
-/// needle marker * needle_base_in_marker()); without it, a rigid needle of 0.15 m. Errors
-/// name the scene key (liver.model.artifact, liver.model.escalation..., needle).
+/// the model frame, on the scene's liver model (see the file comment), its needle tip and base
+/// where the URDF calibrates them (scene_needle_calibration). With `needle:` the loop steps the
+/// scene's flexible needle coupled to every rung (at the loop rate, its base at the needle
+/// marker * base_in_marker); without it, a rigid needle. Errors name the scene key
+/// (liver.model.artifact, liver.model.escalation..., needle, frames.urdf).
 Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
                                              const StationLoopSettings& settings);
 
