@@ -23,6 +23,7 @@
 
 #include "bench_args.hpp"
 #include "bench_tradeoff.hpp"
+#include "nav/core/text_file.hpp"
 #include "nav/mesh/geometry.hpp"
 #include "nav/mesher/embedded_liver.hpp"
 #include "nav/reduced/reduced_model.hpp"
@@ -279,12 +280,7 @@ std::string to_json(const Record& r) {
   return text;
 }
 
-bool write_text(const std::string& path, const std::string& text) {
-  std::FILE* file = std::fopen(path.c_str(), "w");
-  if (!file) return false;
-  const bool ok = std::fputs(text.c_str(), file) >= 0;
-  return std::fclose(file) == 0 && ok;
-}
+bool write_text(const std::string& path, const std::string& text) { return nav::write_text_file(path, text).ok(); }
 
 std::vector<Level> levels(bool quick) {
   std::vector<Level> out;

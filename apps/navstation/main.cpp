@@ -22,12 +22,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "nav/core/kernel_isa.hpp"
+#include "nav/core/text_file.hpp"
 #include "nav/station/realtime_thread.hpp"
 #include "nav/station/scene.hpp"
 #include "nav/station/station_build.hpp"
@@ -121,11 +121,9 @@ int check_scene(nav::station::Scene scene) {
 }
 
 bool write_file(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  out.close();
-  if (!out) std::fprintf(stderr, "navstation: cannot write %s\n", path.c_str());
-  return static_cast<bool>(out);
+  const nav::Status written = nav::write_text_file(path, text);
+  if (!written.ok()) std::fprintf(stderr, "navstation: %s\n", written.error().describe().c_str());
+  return written.ok();
 }
 
 /// navview, started beside the station when --images asks (headless, PNG composites into DIR).

@@ -2,13 +2,13 @@
 // truth (navdevice sim), received live on the scene's topics for --seconds or read from a
 // recording of them (navtool record), with the error plot (evaluation.hpp).
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "commands.hpp"
+#include "nav/core/text_file.hpp"
 #include "nav/dds/recording_file.hpp"
 #include "nav/dds/sample_codec.hpp"
 #include "nav/dds/sample_sink.hpp"
@@ -46,7 +46,7 @@ std::optional<EvaluateArgs> parse(const std::vector<std::string>& args) {
     }
   }
   const bool valid = parsed.scene_path.empty() != parsed.recording_path.empty() && parsed.seconds > 0.0 && parsed.settle_s >= 0.0 &&
-                     parsed.domain_id <= 232;
+                     parsed.domain_id >= -1 && parsed.domain_id <= 232;
   return valid ? std::optional<EvaluateArgs>(parsed) : std::nullopt;
 }
 
@@ -126,11 +126,9 @@ nav::Result<nav::station::EvaluationInput> read_recording(const std::string& pat
 }
 
 bool write_text(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  out.close();
-  if (!out) std::fprintf(stderr, "navtool evaluate: cannot write %s\n", path.c_str());
-  return static_cast<bool>(out);
+  const nav::Status written = nav::write_text_file(path, text);
+  if (!written.ok()) std::fprintf(stderr, "navtool evaluate: %s\n", written.error().describe().c_str());
+  return written.ok();
 }
 
 }  // namespace

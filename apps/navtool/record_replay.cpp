@@ -45,8 +45,11 @@ bool parse(const std::vector<std::string>& args, bool recording, DdsToolArgs& pa
   for (std::size_t i = 1; i < args.size(); ++i) {
     const bool has_value = i + 1 < args.size();
     try {
-      if (args[i] == "--domain" && has_value) parsed.network.domain_id = static_cast<std::uint32_t>(std::stoul(args[++i]));
-      else if (args[i] == "--scene" && has_value) {
+      if (args[i] == "--domain" && has_value) {
+        const long domain = std::stol(args[++i]);  // a DDS domain id: 0..232
+        if (domain < 0 || domain > 232) return false;
+        parsed.network.domain_id = static_cast<std::uint32_t>(domain);
+      } else if (args[i] == "--scene" && has_value) {
         if (!take_scene(args[++i], parsed)) return false;
       }
       else if (args[i] == "--local-address" && has_value) parsed.network.local_address = args[++i];

@@ -181,6 +181,14 @@ TEST(LiveStation, TheSimulatedPatientNamesWhatIsWrong) {
   ChildProcess usage({kBin + "/navdevice", "sim"}, temporary_path("navdevice_usage.log"));
   EXPECT_EQ(usage.wait(std::chrono::seconds(30)), 2);
   EXPECT_NE(usage.log().find("usage: navdevice sim --scene FILE"), std::string::npos) << usage.log();
+  // A domain id outside 0..232 (or -1, the scene's) is a usage error, for every tool of a session.
+  for (const std::vector<std::string>& command : {std::vector<std::string>{kBin + "/navdevice", "sim", "--scene", kDemoScene, "--domain", "-3"},
+                                                  {kBin + "/navtool", "evaluate", "--scene", kDemoScene, "--domain", "-3"},
+                                                  {kBin + "/navtool", "record", "--out", temporary_path("x.navrec"), "--domain", "-3"},
+                                                  {kBin + "/navtool", "record", "--out", temporary_path("x.navrec"), "--domain", "233"}}) {
+    ChildProcess refused(command, temporary_path("domain_refused.log"));
+    EXPECT_EQ(refused.wait(std::chrono::seconds(30)), 2) << command[1] << " " << command.back() << "\n" << refused.log();
+  }
 
   ChildProcess missing({kBin + "/navdevice", "sim", "--scene", "/nonexistent/scene.yaml"}, temporary_path("navdevice_missing.log"));
   EXPECT_EQ(missing.wait(std::chrono::seconds(30)), 1);

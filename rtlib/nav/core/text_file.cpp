@@ -1,0 +1,15 @@
+#include "nav/core/text_file.hpp"
+
+#include <fstream>
+
+namespace nav {
+
+Status write_text_file(const std::string& path, std::string_view text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(text.data(), static_cast<std::streamsize>(text.size()));
+  out.close();
+  if (!out) return Error{"cannot write the file", path, 0, ""};
+  return Done{};
+}
+
+}  // namespace nav
