@@ -207,16 +207,33 @@ TEST(DdsHostileSamples, AReaderCountsCraftedPayloadsFromAForeignParticipantAndKe
 
   constexpr int kRounds = 5;
   const std::size_t crafted = send_rounds(foreign, [](TimeNs time_ns) { return make_pose(7, time_ns); }, kRounds);
-  ASSERT_TRUE(wait_until([&] { return poses->size() >= kRounds; }, std::chrono::seconds(5)));
+  // The last valid pose is the last sample written: nothing can replace it before it is taken.
+  std::vector<ToolPose> taken;
+  ASSERT_TRUE(wait_until(
+      [&] {
+        ToolPose pose;
+        while (poses->try_pop(pose)) taken.push_back(pose);
+        return !taken.empty() && taken.back().source_time_ns == kRounds * kNsPerMs;
+      },
+      std::chrono::seconds(5)));
   const BoundaryCounts counts = node.value()->boundary_counts();
   std::printf("crafted payloads written %zu: %s; accepted %llu\n", crafted, drops_by_reason(counts).c_str(),
               static_cast<unsigned long long>(counts.accepted));
-  // Loopback UDP loses nothing at this pace: every crafted payload is counted, every valid
-  // one is taken, and nothing is refused for another reason.
-  EXPECT_EQ(counts.malformed, crafted);
-  EXPECT_EQ(counts.accepted, static_cast<std::uint64_t>(kRounds));
-  EXPECT_EQ(poses->size(), static_cast<std::size_t>(kRounds));
-  EXPECT_EQ(drops_by_reason(counts), "malformed " + std::to_string(crafted));
+  // Nothing crafted got through and nothing was refused for another reason than its payload.
+  // On an idle host every crafted payload is counted and every valid one taken; a listener
+  // slowed by a loaded host may find a sample replaced in its keep-last history before it
+  // takes it (never decoded, never counted), so most, not all.
+  EXPECT_EQ(counts.accepted, taken.size());
+  for (std::size_t i = 0; i < taken.size(); ++i) {
+    EXPECT_EQ(taken[i].tool_id, 7u);
+    EXPECT_EQ(taken[i].source_time_ns % kNsPerMs, 0) << "a valid pose is stamped on a whole millisecond";
+    if (i > 0) {
+      EXPECT_GT(taken[i].source_time_ns, taken[i - 1].source_time_ns);
+    }
+  }
+  EXPECT_GE(counts.malformed, crafted / 2);
+  EXPECT_LE(counts.malformed, crafted);
+  EXPECT_EQ(drops_by_reason(counts), "malformed " + std::to_string(counts.malformed));
 }
 
 TEST(DdsHostileSamples, NavtoolRecordKeepsRecordingThroughCraftedPayloads) {

@@ -5,11 +5,13 @@
 #include <memory>
 #include <vector>
 
+#include "nav/dds/pose_inbox.hpp"
 #include "nav/dds/recording_file.hpp"
-#include "nav/dds/sample_checks.hpp"
+#include "nav/dds/sample_boundary.hpp"
 #include "nav/dds/sample_codec.hpp"
 #include "nav/station/station_dds.hpp"
 #include "nav/station/station_loop.hpp"
+#include "nav/station/station_session.hpp"
 
 namespace nav::station {
 
@@ -23,8 +25,10 @@ struct Arrival {
 
 /// Reads the recording's poses and frames into loop samples on the recording's own clock
 /// (loop time 0 at the first arrival), each frame observed for its tumour point.
-Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader, const ProbeImaging& imaging, const ToolIds& tools,
-                                                   TimeNs device_to_host_ns, SessionReplay& out) {
+Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader, const ProbeImaging& imaging, const DdsRunOptions& boundary,
+                                                   SessionReplay& out) {
+  const ToolIds& tools = boundary.tools;
+  const TimeNs device_to_host_ns = boundary.arrival.source_clock_offset_ns;
   std::vector<Arrival> arrivals;
   for (std::size_t i = 0; i < reader.record_count(); ++i) {
     auto record = reader.read(i);
@@ -43,27 +47,34 @@ Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader,
   TumourObserver observer(imaging);
   auto frame = std::make_unique<dds::UltrasoundFrame>();
   dds::ToolPose pose;
+  // The live station's boundary, with each record's arrival as its arrival.
+  dds::SampleBoundary<dds::ToolPose> pose_boundary(boundary.arrival);
+  dds::SampleBoundary<dds::UltrasoundFrame> frame_boundary(boundary.arrival);
+  dds::PoseInbox inbox({tools.needle, tools.probe, tools.respiratory}, boundary.pose_bounds);
+  dds::BoundaryCounters counters;
+  const auto admitted = [&](dds::SampleFault fault) {
+    counters.count(fault);
+    if (fault != dds::SampleFault::none) ++out.records_refused;
+    return fault == dds::SampleFault::none;
+  };
   for (const Arrival& a : arrivals) {
     const dds::RecordedSample record = reader.read(a.record).value();
     const TimeNs delivered_ns = a.received_ns - origin_ns;
     const TimeNs device_to_loop_ns = device_to_host_ns - origin_ns;
     if (record.topic == dds::Topic::tool_pose) {
-      const bool taken = dds::decode_sample(record.payload.data(), record.payload.size(), pose) == dds::SampleFault::none &&
-                         dds::check_sample(pose) == dds::SampleFault::none;
-      const std::optional<DeviceSample> sample = taken ? device_sample_of(pose, device_to_loop_ns, delivered_ns, tools) : std::nullopt;
-      if (!sample) {
-        ++out.records_refused;
-        continue;
-      }
+      dds::SampleFault fault = dds::decode_sample(record.payload.data(), record.payload.size(), pose);
+      if (fault == dds::SampleFault::none) fault = pose_boundary.admit(pose, a.received_ns);
+      if (fault == dds::SampleFault::none) fault = inbox.offer(pose);
+      if (!admitted(fault)) continue;
+      const std::optional<DeviceSample> sample = device_sample_of(pose, device_to_loop_ns, delivered_ns, tools);
+      if (!sample) continue;  // a tool of no role: the inbox knows only the roles' tools
       ++out.poses;
       if (std::optional<DeviceSample> for_loop = loop_sample(observer, *sample, {})) samples.push_back(*for_loop);
       continue;
     }
-    if (dds::decode_sample(record.payload.data(), record.payload.size(), *frame) != dds::SampleFault::none ||
-        dds::check_sample(*frame) != dds::SampleFault::none) {
-      ++out.records_refused;
-      continue;
-    }
+    dds::SampleFault fault = dds::decode_sample(record.payload.data(), record.payload.size(), *frame);
+    if (fault == dds::SampleFault::none) fault = frame_boundary.admit(*frame, a.received_ns);
+    if (!admitted(fault)) continue;
     ++out.frames;
     DeviceSample sample;
     sample.kind = SampleKind::ultrasound_frame;
@@ -73,6 +84,7 @@ Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader,
     if (std::optional<DeviceSample> for_loop = loop_sample(observer, sample, view)) samples.push_back(*for_loop);
   }
   out.observer = observer.counts();
+  out.boundary = counters.snapshot();
   return samples;
 }
 
@@ -88,10 +100,9 @@ Result<SessionReplay> replay_session(const Scene& scene, const std::string& path
   if (!liver.ok()) return liver.error();
   auto loop = make_station_loop(liver.value(), scene, BreathingGeometry{}, StationLoopSettings{});
   if (!loop.ok()) return loop.error();
-  const auto device_to_host_ns = static_cast<TimeNs>(scene.devices.clock.offset_ms * 1e6);
   auto imaging = scene_probe_imaging(scene);
   if (!imaging.ok()) return imaging.error();
-  auto samples = observed_session(*reader.value(), imaging.value(), scene.devices.tracker.tools, device_to_host_ns, out);
+  auto samples = observed_session(*reader.value(), imaging.value(), dds_run_options(scene, nullptr), out);
   if (!samples.ok()) return samples.error();
   if (samples.value().empty()) return Error{"the recording holds no tracker poses or ultrasound frames to replay", path, 0, ""};
   auto replay = replay_station(loop.value(), samples.value(), out.duration_ns, true);
@@ -106,11 +117,13 @@ std::string format_replay(const Scene& scene, const std::string& path, const Ses
   std::snprintf(text, sizeof(text),
                 "replay of %s through station '%s' on a simulated clock: %.3f s, %zu ticks\n"
                 "  from the recording: %lld poses, %lld frames (%lld tumour points found), %lld records refused%s%s\n"
+                "  refused at the station's boundary: %s\n"
                 "  last tick: tumour now (%.2f, %.2f, %.2f) mm, needle tip (%.2f, %.2f, %.2f) mm\n"
                 "  output hash %016llx\n",
                 path.c_str(), scene.station.name.c_str(), 1e-9 * static_cast<double>(r.duration_ns), r.replay.ticks.size(),
                 static_cast<long long>(r.poses), static_cast<long long>(r.frames), static_cast<long long>(r.observer.observations),
                 static_cast<long long>(r.records_refused), r.damage ? "; damaged: " : "", r.damage ? r.damage->describe().c_str() : "",
+                dds::drops_by_reason(r.boundary).c_str(),
                 1e3 * last.tumour_now_m[0], 1e3 * last.tumour_now_m[1], 1e3 * last.tumour_now_m[2], 1e3 * last.needle_tip_m[0],
                 1e3 * last.needle_tip_m[1], 1e3 * last.needle_tip_m[2], static_cast<unsigned long long>(r.replay.output_hash));
   return text;

@@ -21,6 +21,7 @@
 #include "nav/dds/environment_guard.hpp"
 #include "nav/dds/participant_qos.hpp"
 #include "nav/dds/shared_memory_cleanup.hpp"
+#include "nav/dds/sample_boundary.hpp"
 #include "nav/dds/sample_checks.hpp"
 #include "nav/dds/topic_qos.hpp"
 #include "nav/dds/wire_convert.hpp"
@@ -50,7 +51,7 @@ template <typename Sample>
 class SinkListener final : public fdds::DataReaderListener, public TopicState {
  public:
   SinkListener(SampleSink<Sample>& sink, BoundaryCounters& counters, std::optional<ArrivalWindow> window)
-      : sink_(sink), counters_(counters), window_(window), sample_(std::make_unique<Sample>()) {}
+      : sink_(sink), counters_(counters), boundary_(window), sample_(std::make_unique<Sample>()) {}
 
   void on_data_available(fdds::DataReader* reader) override {
     const std::lock_guard<std::mutex> lock(mutex_);
@@ -64,12 +65,7 @@ class SinkListener final : public fdds::DataReaderListener, public TopicState {
   SampleFault accept() noexcept {
     const TimeNs arrival_ns = clock_.now_ns();
     SampleFault fault = from_wire(wire_, *sample_);
-    if (fault == SampleFault::none) fault = check_sample(*sample_);
-    if (fault == SampleFault::none && window_) fault = window_->check(sample_->source_time_ns, arrival_ns);
-    // Poses are time-ordered per tool by their sink (PoseInbox); other streams here.
-    if constexpr (!std::is_same_v<Sample, ToolPose>) {
-      if (fault == SampleFault::none) fault = order_.advance(sample_->source_time_ns);
-    }
+    if (fault == SampleFault::none) fault = boundary_.admit(*sample_, arrival_ns);
     if (fault != SampleFault::none) return fault;
     sample_->receive_time_ns = arrival_ns;
     return sink_.offer(*sample_);
@@ -77,11 +73,10 @@ class SinkListener final : public fdds::DataReaderListener, public TopicState {
 
   SampleSink<Sample>& sink_;
   BoundaryCounters& counters_;
-  std::optional<ArrivalWindow> window_;
+  SampleBoundary<Sample> boundary_;
   std::mutex mutex_;
   typename WireTraits<Sample>::Wire wire_;
   std::unique_ptr<Sample> sample_;  // on the heap: a frame is 1 MiB
-  StreamOrder order_;
   MonotonicClock clock_;
 };
 
