@@ -26,7 +26,6 @@ constexpr const char* kUsage =
 struct CaptureArgs {
   DeviceArgs device;
   std::string source;
-  double seconds = 0.0;
 };
 
 std::optional<CaptureArgs> parse(const std::vector<std::string>& args) {
@@ -36,17 +35,12 @@ std::optional<CaptureArgs> parse(const std::vector<std::string>& args) {
       if (take_common_flag(args, i, parsed.device)) continue;
       const bool has_value = i + 1 < args.size();
       if (args[i] == "--source" && has_value) parsed.source = args[++i];
-      else if (args[i] == "--seconds" && has_value) parsed.seconds = std::stod(args[++i]);
       else return std::nullopt;
     } catch (const std::exception&) {
       return std::nullopt;
     }
   }
-  return common_flags_valid(parsed.device) && parsed.seconds >= 0.0 ? std::optional<CaptureArgs>(parsed) : std::nullopt;
-}
-
-bool is_device_index(const std::string& source) {
-  return !source.empty() && source.find_first_not_of("0123456789") == std::string::npos;
+  return common_flags_valid(parsed.device) ? std::optional<CaptureArgs>(parsed) : std::nullopt;
 }
 
 }  // namespace
@@ -72,7 +66,7 @@ int run_capture(const std::vector<std::string>& arguments) {
   DeviceClock clock(s.devices.clock);
   auto capture = nav::ultrasound::CaptureSource::open(source, options, clock);
   if (!capture.ok()) return fail("capture", capture.error().describe());
-  const bool paced = !is_device_index(source);
+  const bool paced = !nav::station::is_device_index(source);
   char pace[64] = "at the grabber's rate";
   if (paced) std::snprintf(pace, sizeof pace, "paced at %.4g Hz", u.rate_hz);
   std::printf("navdevice capture: %s: frames at %.3f x %.3f mm per pixel, clipped to %u x %u at (%u, %u)%s; %s\n", source.c_str(),
@@ -89,7 +83,7 @@ int run_capture(const std::vector<std::string>& arguments) {
 
   const auto period_ns = static_cast<TimeNs>(1e9 / u.rate_hz);
   const TimeNs start_ns = clock.now_ns();
-  const TimeNs end_ns = args->seconds > 0.0 ? start_ns + static_cast<TimeNs>(args->seconds * 1e9) : 0;
+  const TimeNs end_ns = args->device.seconds > 0.0 ? start_ns + static_cast<TimeNs>(args->device.seconds * 1e9) : 0;
   TimeNs next_frame_ns = start_ns, next_status_ns = start_ns + nav::kNsPerSecond;
   bool ended = false;
   while (!nav::dds::stop_requested() && (end_ns == 0 || clock.now_ns() < end_ns)) {

@@ -13,13 +13,26 @@ bool take_common_flag(const std::vector<std::string>& args, std::size_t& i, Devi
   if (args[i] == "--scene" && has_value) out.scene_path = args[++i];
   else if (args[i] == "--domain" && has_value) out.domain_id = std::stol(args[++i]);
   else if (args[i] == "--wait-s" && has_value) out.wait_s = std::stod(args[++i]);
+  else if (args[i] == "--seconds" && has_value) out.seconds = std::stod(args[++i]);
   else if (args[i] == "--no-wait") out.wait_for_station = false;
   else return false;
   return true;
 }
 
 bool common_flags_valid(const DeviceArgs& args) {
-  return !args.scene_path.empty() && args.domain_id >= -1 && args.domain_id <= 232 && args.wait_s >= 0.0;
+  return !args.scene_path.empty() && args.domain_id >= -1 && args.domain_id <= 232 && args.wait_s >= 0.0 && args.seconds >= 0.0;
+}
+
+std::optional<DeviceArgs> parse_common_flags(const std::vector<std::string>& args) {
+  DeviceArgs parsed;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    try {
+      if (!take_common_flag(args, i, parsed)) return std::nullopt;
+    } catch (const std::exception&) {
+      return std::nullopt;
+    }
+  }
+  return common_flags_valid(parsed) ? std::optional<DeviceArgs>(parsed) : std::nullopt;
 }
 
 int fail(const char* device, const std::string& message) {

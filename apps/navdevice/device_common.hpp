@@ -5,6 +5,7 @@
 // device.
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,14 +26,19 @@ struct DeviceArgs {
   long domain_id = -1;  ///< -1: the scene's
   bool wait_for_station = true;
   double wait_s = 60.0;
+  double seconds = 0.0;  ///< how long to play; 0: the source's own default (to its end, or until stopped)
 };
 
 /// Takes args[i] (and its value, moving i past it) into `out` if it is a common flag; false
 /// if it is not one. Throws std::invalid_argument / std::out_of_range on a bad number.
 bool take_common_flag(const std::vector<std::string>& args, std::size_t& i, DeviceArgs& out);
 
-/// Whether the common flags make sense (a scene given, a domain <= 232 or -1, wait >= 0).
+/// Whether the common flags make sense (a scene given, a domain in 0..232 or -1, wait and
+/// seconds >= 0).
 bool common_flags_valid(const DeviceArgs& args);
+
+/// The command line of a source that takes the common flags only; nothing on a usage error.
+std::optional<DeviceArgs> parse_common_flags(const std::vector<std::string>& args);
 
 /// This host's monotonic clock less the scene's device clock offset: the clock a device of
 /// the scene stamps its samples on.

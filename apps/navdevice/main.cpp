@@ -10,6 +10,9 @@
 //       an NDI tracker (combined API): every port handle enabled, BX polled at the scene's
 //       rate, the poses of the handles the scene maps to tools (devices.tracker.port_handles)
 //       on nav/tool_pose; TSTOP when stopped.
+//   navdevice apriltag --scene FILE [--seconds S] [--domain D] [--no-wait]
+//       a camera (device, video or image sequence) watching tag36h11 markers: each tool's tag
+//       (devices.tracker.tags) solved with the scene's intrinsics on nav/tool_pose.
 //   navdevice capture --scene FILE [--source INDEX|VIDEO|PATTERN] [--seconds S] [--domain D] [--no-wait]
 //       a frame grabber, video or image sequence (OpenCV capture) as the scanner: frames
 //       clipped to the scene's rectangle at its pixel spacing on nav/ultrasound_frame.
@@ -23,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "apriltag_device.hpp"
 #include "capture_device.hpp"
 #include "ndi_device.hpp"
 #include "plus_device.hpp"
@@ -31,11 +35,13 @@
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (!args.empty() && args.front() == "sim") return navdevice::run_sim({args.begin() + 1, args.end()});
+  if (!args.empty() && args.front() == "apriltag") return navdevice::run_apriltag({args.begin() + 1, args.end()});
   if (!args.empty() && args.front() == "capture") return navdevice::run_capture({args.begin() + 1, args.end()});
   if (!args.empty() && args.front() == "ndi") return navdevice::run_ndi({args.begin() + 1, args.end()});
   if (!args.empty() && args.front() == "plus") return navdevice::run_plus({args.begin() + 1, args.end()});
   std::fprintf(stderr,
                "usage: navdevice sim --scene FILE [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
+               "       navdevice apriltag --scene FILE [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
                "       navdevice capture --scene FILE [--source INDEX|VIDEO|PATTERN] [--seconds S] [--domain D] [--no-wait]\n"
                "       navdevice ndi --scene FILE [--serial DEVICE | --tcp HOST:PORT] [--seconds S] [--domain D] [--no-wait]\n"
                "       navdevice plus --scene FILE [--recording FILE] [--fast] [--transform NAME=ROLE]... [--domain D] [--no-wait]\n");

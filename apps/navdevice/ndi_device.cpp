@@ -29,7 +29,6 @@ struct NdiArgs {
   DeviceArgs device;
   std::string serial, host;
   int port = 0;
-  double seconds = 0.0;  ///< 0: until stopped
 };
 
 std::optional<NdiArgs> parse(const std::vector<std::string>& args) {
@@ -46,8 +45,6 @@ std::optional<NdiArgs> parse(const std::vector<std::string>& args) {
         if (colon == std::string::npos || colon == 0) return std::nullopt;
         parsed.host = address.substr(0, colon);
         parsed.port = std::stoi(address.substr(colon + 1));
-      } else if (args[i] == "--seconds" && has_value) {
-        parsed.seconds = std::stod(args[++i]);
       } else {
         return std::nullopt;
       }
@@ -55,7 +52,7 @@ std::optional<NdiArgs> parse(const std::vector<std::string>& args) {
       return std::nullopt;
     }
   }
-  const bool valid = common_flags_valid(parsed.device) && parsed.seconds >= 0.0 && (parsed.serial.empty() || parsed.host.empty()) &&
+  const bool valid = common_flags_valid(parsed.device) && (parsed.serial.empty() || parsed.host.empty()) &&
                      (parsed.host.empty() || (parsed.port >= 1 && parsed.port <= 65535));
   return valid ? std::optional<NdiArgs>(parsed) : std::nullopt;
 }
@@ -128,7 +125,7 @@ int run_ndi(const std::vector<std::string>& arguments) {
   DeviceClock clock(s.devices.clock);
   const auto period_ns = static_cast<TimeNs>(1e9 / s.devices.tracker.rate_hz);
   const TimeNs start_ns = clock.now_ns();
-  const TimeNs end_ns = args->seconds > 0.0 ? start_ns + static_cast<TimeNs>(args->seconds * 1e9) : 0;
+  const TimeNs end_ns = args->device.seconds > 0.0 ? start_ns + static_cast<TimeNs>(args->device.seconds * 1e9) : 0;
   TimeNs next_poll_ns = start_ns, next_status_ns = start_ns + nav::kNsPerSecond;
   PollCounts counts;
   int exit_code = 0;

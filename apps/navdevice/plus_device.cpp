@@ -21,7 +21,7 @@ using nav::TimeNs;
 
 constexpr const char* kUsage =
     "usage: navdevice plus --scene FILE [--recording FILE.mha|.nrrd] [--fast] [--transform NAME=ROLE]...\n"
-    "                      [--domain D] [--no-wait] [--wait-s S]\n"
+    "                      [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
     "  --recording   default: the scene's devices.ultrasound.recording (kind: plus)\n"
     "  --transform   a recorded transform played as a tool: ROLE needle, probe or respiratory (ids from\n"
     "                devices.tracker.tools); default ProbeToTracker=probe and StylusToTracker=needle,\n"
@@ -139,7 +139,8 @@ int run_plus(const std::vector<std::string>& arguments) {
       std::fflush(stdout);
       next_status_ns += nav::kNsPerSecond;
     }
-    return !nav::dds::stop_requested();
+    const bool in_time = args->device.seconds == 0.0 || clock.now_ns() - start_ns < static_cast<TimeNs>(args->device.seconds * 1e9);
+    return in_time && !nav::dds::stop_requested();
   };
   const auto played = nav::ultrasound::play_sequence(dds, q, options, clock);
   if (!played.ok()) return fail("plus", played.error().describe());

@@ -20,26 +20,8 @@ using nav::kNsPerSecond;
 constexpr TimeNs kPlayPeriodNs = kNsPerMs / 2;
 constexpr TimeNs kStartDelayNs = 20 * kNsPerMs;  // from the station's match to world time 0
 
-/// The command line of navdevice sim.
-struct SimArgs {
-  DeviceArgs device;
-  double seconds = 60.0;
-};
-
-std::optional<SimArgs> parse(const std::vector<std::string>& args) {
-  SimArgs parsed;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    try {
-      if (take_common_flag(args, i, parsed.device)) continue;
-      if (args[i] == "--seconds" && i + 1 < args.size()) parsed.seconds = std::stod(args[++i]);
-      else return std::nullopt;
-    } catch (const std::exception&) {
-      return std::nullopt;
-    }
-  }
-  const bool valid = common_flags_valid(parsed.device) && parsed.seconds > 0.0 && parsed.seconds <= 3600.0;
-  return valid ? std::optional<SimArgs>(parsed) : std::nullopt;
-}
+constexpr double kDefaultSeconds = 60.0;
+constexpr double kMaxSeconds = 3600.0;
 
 void print_status(double seconds, const nav::station::PlayerCounts& c, std::size_t stations) {
   std::printf("navdevice sim: %.0f s, written %lld poses, %lld frames, %lld truths; stations reading: %zu\n", seconds,
@@ -51,13 +33,14 @@ void print_status(double seconds, const nav::station::PlayerCounts& c, std::size
 }  // namespace
 
 int run_sim(const std::vector<std::string>& arguments) {
-  const std::optional<SimArgs> args = parse(arguments);
-  if (!args) {
+  std::optional<DeviceArgs> args = parse_common_flags(arguments);
+  if (args && args->seconds == 0.0) args->seconds = kDefaultSeconds;
+  if (!args || args->seconds > kMaxSeconds) {
     std::fprintf(stderr, "usage: navdevice sim --scene FILE [--seconds S (0, 3600]] [--domain D] [--no-wait] [--wait-s S]\n");
     return kExitUsage;
   }
   nav::dds::install_stop_handlers();
-  auto scene = load_device_scene(args->device);
+  auto scene = load_device_scene(*args);
   if (!scene.ok()) return fail("sim", scene.error().describe());
   const nav::station::Scene& s = scene.value();
   if (const nav::Status simulated = nav::station::check_simulated_devices(s); !simulated.ok()) return fail("sim", simulated.error().describe());
@@ -77,7 +60,7 @@ int run_sim(const std::vector<std::string>& arguments) {
   for (const nav::Status& status : {dds.advertise<nav::dds::ToolPose>(), dds.advertise<nav::dds::UltrasoundFrame>(),
                                     dds.advertise<nav::dds::GroundTruth>()})
     if (!status.ok()) return fail("sim", status.error().describe());
-  if (const int waited = wait_for_station(device.value(), args->device, s, "sim"); waited != 0) return waited < 0 ? 0 : waited;
+  if (const int waited = wait_for_station(device.value(), *args, s, "sim"); waited != 0) return waited < 0 ? 0 : waited;
 
   // The devices stamp on their clock: this host's monotonic clock less the scene's offset.
   nav::MonotonicClock clock;

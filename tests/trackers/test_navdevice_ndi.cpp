@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "dds/child_process.hpp"
+#include "dds/station_stand_in.hpp"
 #include "loopback_listener.hpp"
 #include "nav/dds/dds_node.hpp"
 #include "nav/trackers/ndi_simulator.hpp"
@@ -55,37 +56,30 @@ std::string ndi_scene(const std::string& connection) {
   return path;
 }
 
-/// A reader of nav/tool_pose on `domain`.
-struct PoseReader {
-  std::unique_ptr<dds::RingSink<dds::ToolPose, 1024>> sink = std::make_unique<dds::RingSink<dds::ToolPose, 1024>>();
-  std::unique_ptr<dds::DdsNode> node;
-  explicit PoseReader(std::uint32_t domain) {
-    dds::NetworkConfig network;
-    network.domain_id = domain;
-    network.participant_name = "ndi_test_reader";
-    auto created = dds::DdsNode::create(network);
-    EXPECT_TRUE(created.ok());
-    node = std::move(created).value();
-    EXPECT_TRUE(node->subscribe(*sink).ok());
-  }
-  /// Every pose received, by tool id.
-  std::map<std::uint32_t, std::vector<dds::ToolPose>> drain() {
-    std::map<std::uint32_t, std::vector<dds::ToolPose>> by_tool;
-    dds::ToolPose pose;
-    while (sink->try_pop(pose)) by_tool[pose.tool_id].push_back(pose);
-    return by_tool;
-  }
-};
+/// Every pose `received`, by tool id.
+std::map<std::uint32_t, std::vector<dds::ToolPose>> by_tool(const std::vector<std::unique_ptr<dds::ToolPose>>& received) {
+  std::map<std::uint32_t, std::vector<dds::ToolPose>> poses;
+  for (const auto& pose : received) poses[pose->tool_id].push_back(*pose);
+  return poses;
+}
 
-/// Checks what `reader` received from a 2 s run of navdevice ndi at 60 Hz.
-void expect_mapped_poses(PoseReader& reader, const ChildProcess& device) {
-  const auto by_tool = reader.drain();
+/// Plays the device until it ends, standing in for the station on `domain` (the device waits
+/// for its health), and returns every pose it published.
+std::vector<std::unique_ptr<dds::ToolPose>> run_device(ChildProcess& device, StationStandIn<dds::ToolPose, 1024>& station) {
+  auto received = station.collect([&](const auto&) { return device.ended(); }, std::chrono::seconds(60));
+  EXPECT_EQ(device.wait(std::chrono::seconds(30)), 0) << device.log();
+  return received;
+}
+
+/// Checks the poses a 2 s run of navdevice ndi at 60 Hz published.
+void expect_mapped_poses(const std::vector<std::unique_ptr<dds::ToolPose>>& received, const ChildProcess& device) {
+  const auto poses = by_tool(received);
   std::printf("%s", device.log().c_str());
-  EXPECT_EQ(by_tool.size(), 2u) << "only the mapped tools (11 and 12) are published";
-  ASSERT_TRUE(by_tool.count(11) && by_tool.count(12));
-  const auto& needle = by_tool.at(11);
-  const auto& probe = by_tool.at(12);
-  EXPECT_GE(needle.size(), 60u);  // 2 s at 60 Hz; a reader joins a little late
+  EXPECT_EQ(poses.size(), 2u) << "only the mapped tools (11 and 12) are published";
+  ASSERT_TRUE(poses.count(11) && poses.count(12));
+  const auto& needle = poses.at(11);
+  const auto& probe = poses.at(12);
+  EXPECT_GE(needle.size(), 110u);  // 2 s at 60 Hz
   EXPECT_NEAR(static_cast<double>(probe.size()), 0.75 * static_cast<double>(needle.size()), 0.05 * static_cast<double>(needle.size()));
   EXPECT_STREQ(needle.front().frame_from.data(), "needle_marker");
   EXPECT_STREQ(probe.front().frame_from.data(), "probe_marker");
@@ -106,13 +100,11 @@ TEST(NavdeviceNdi, PublishesTheScenesToolsFromADeviceOnASerialLine) {
   auto pty = trackers::ndi::open_pseudo_terminal();
   ASSERT_TRUE(pty.ok()) << pty.error().describe();
   NdiDeviceServer server(pty.value().master_fd, SimulatedNdiDevice(device_tools()));
-  PoseReader reader(181);
+  StationStandIn<dds::ToolPose, 1024> station(181);
   ChildProcess device({kBin + "/navdevice", "ndi", "--scene", ndi_scene("    serial: " + pty.value().slave_path + "\n"), "--seconds", "2",
-                       "--domain", "181", "--no-wait"},
+                       "--domain", "181"},
                       temporary_path("navdevice_ndi_serial.log"));
-  ASSERT_EQ(device.wait(std::chrono::seconds(60)), 0) << device.log();
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  expect_mapped_poses(reader, device);
+  expect_mapped_poses(run_device(device, station), device);
   EXPECT_GT(server.commands(), 100u);
 }
 
@@ -124,16 +116,14 @@ TEST(NavdeviceNdi, PublishesTheScenesToolsFromADeviceOnTcp) {
     const int accepted = listener.accept();
     if (accepted >= 0) server = std::make_unique<NdiDeviceServer>(accepted, SimulatedNdiDevice(device_tools()));
   });
-  PoseReader reader(182);
+  StationStandIn<dds::ToolPose, 1024> station(182);
   // The scene names another port; the flag names the device.
   ChildProcess device({kBin + "/navdevice", "ndi", "--scene", ndi_scene("    host: 127.0.0.1\n    port: 1\n"), "--tcp", "127.0.0.1:" + port,
-                       "--seconds", "2", "--domain", "182", "--no-wait"},
+                       "--seconds", "2", "--domain", "182"},
                       temporary_path("navdevice_ndi_tcp.log"));
-  const std::optional<int> exit_code = device.wait(std::chrono::seconds(60));
+  const auto received = run_device(device, station);
   accepting.join();
-  ASSERT_EQ(exit_code, 0) << device.log();
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  expect_mapped_poses(reader, device);
+  expect_mapped_poses(received, device);
 }
 
 TEST(NavdeviceNdi, NamesTheDeviceThatIsMissing) {

@@ -6,7 +6,6 @@
 // is refused with the device's name.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -14,11 +13,10 @@
 #include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
-#include <thread>
 #include <vector>
 
 #include "dds/child_process.hpp"
-#include "nav/dds/dds_node.hpp"
+#include "dds/station_stand_in.hpp"
 #include "station/scene_text.hpp"
 #include "support/test_data.hpp"
 
@@ -59,29 +57,10 @@ std::string capture_scene(const std::string& source) {
 
 TEST(NavdeviceCapture, AnImageSequenceReachesTheStationClippedSpacedAndPaced) {
   const std::string scene = capture_scene(write_sequence());
-  dds::NetworkConfig network;
-  network.domain_id = 183;
-  network.participant_name = "capture_test_station";
-  auto created = dds::DdsNode::create(network);
-  ASSERT_TRUE(created.ok());
-  auto frames = std::make_unique<dds::RingSink<dds::UltrasoundFrame, 16>>();
-  std::unique_ptr<dds::DdsNode> station = std::move(created).value();
-  ASSERT_TRUE(station->subscribe(*frames).ok());
-  ASSERT_TRUE(station->advertise<dds::StationHealth>().ok());
+  StationStandIn<dds::UltrasoundFrame, 16> station(183);
   ChildProcess device({kBin + "/navdevice", "capture", "--scene", scene, "--domain", "183"}, temporary_path("navdevice_capture.log"));
   ASSERT_TRUE(device.started());
-  // A running station: its health, until the device has played its sequence.
-  std::vector<std::unique_ptr<dds::UltrasoundFrame>> received;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (received.size() < kFrames && std::chrono::steady_clock::now() < deadline) {
-    station->write(dds::StationHealth{});
-    auto frame = std::make_unique<dds::UltrasoundFrame>();
-    while (frames->try_pop(*frame)) {
-      received.push_back(std::move(frame));
-      frame = std::make_unique<dds::UltrasoundFrame>();
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
+  const std::vector<std::unique_ptr<dds::UltrasoundFrame>> received = station.collect([](const auto& received) { return received.size() >= kFrames; }, std::chrono::seconds(60));
   ASSERT_EQ(device.wait(std::chrono::seconds(30)), 0) << device.log();
   std::printf("%s", device.log().c_str());
   ASSERT_EQ(received.size(), static_cast<std::size_t>(kFrames)) << device.log();

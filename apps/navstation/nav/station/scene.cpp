@@ -20,6 +20,7 @@ using detail::Range;
 constexpr Range kPositive{0.0, 1e12, true};
 constexpr Range kNonNegative{0.0, 1e12};
 constexpr Range kFraction{0.0, 1.0};
+constexpr long long kMaxTag36h11Id = 586;  // the family has 587 codes
 
 /// `path` relative to the scene file's folder (absolute paths are kept).
 std::string resolve(const std::string& scene_path, const std::string& path) {
@@ -248,7 +249,7 @@ ToolIds read_tool_roles(MapReader roles, long long min, long long max, ToolIds d
   return ids;
 }
 
-TrackerSettings read_tracker(MapReader r) {
+TrackerSettings read_tracker(MapReader r, const std::string& scene_path) {
   TrackerSettings t;
   t.kind = static_cast<TrackerKind>(r.choice("kind", {"simulated", "ndi", "apriltag"}));
   t.volume_radius_m = r.number("volume_radius_m", Range{0.0, 100.0, true}, t.volume_radius_m);
@@ -274,10 +275,15 @@ TrackerSettings read_tracker(MapReader r) {
       t.rate_hz = r.number("rate_hz", Range{0.0, 1000.0, true}, t.rate_hz);
       if (r.optional("port_handles")) t.port_handles = read_tool_roles(r.map("port_handles"), 1, 255, t.port_handles);
       break;
-    case TrackerKind::apriltag:
-      t.camera_device = r.text("camera");
+    case TrackerKind::apriltag: {
+      const std::string camera = r.text("camera");
+      t.camera_device = is_device_index(camera) || camera.rfind("/dev/", 0) == 0 ? camera : resolve(scene_path, camera);
       t.tag_size_m = r.number("tag_size_m", Range{0.0, 1.0, true});
+      if (r.optional("intrinsics")) t.camera_intrinsics_path = resolve(scene_path, r.text("intrinsics"));
+      if (r.optional("tags")) t.tag_ids = read_tool_roles(r.map("tags"), 0, kMaxTag36h11Id, t.tag_ids);
+      t.rate_hz = r.number("rate_hz", Range{0.0, 1000.0, true}, t.rate_hz);
       break;
+    }
   }
   r.finish();
   return t;
@@ -294,8 +300,7 @@ UltrasoundSettings read_ultrasound(MapReader r, const std::string& scene_path) {
     u.recording_path = resolve(scene_path, r.text("recording"));
   } else {
     const std::string source = r.text("source");
-    const bool device_index = !source.empty() && source.find_first_not_of("0123456789") == std::string::npos;
-    u.capture_source = device_index ? source : resolve(scene_path, source);
+    u.capture_source = is_device_index(source) ? source : resolve(scene_path, source);
     u.rate_hz = r.number("rate_hz", Range{0.0, 200.0, true}, u.rate_hz);
     if (r.optional("clip_px")) {
       const std::vector<double> clip = r.numbers("clip_px", 4, Range{0.0, 65536.0});
@@ -323,7 +328,7 @@ DeviceClockSettings read_device_clock(MapReader r) {
 
 DeviceSettings read_devices(MapReader r, const std::string& scene_path) {
   DeviceSettings d;
-  d.tracker = read_tracker(r.map("tracker"));
+  d.tracker = read_tracker(r.map("tracker"), scene_path);
   d.ultrasound = read_ultrasound(r.map("ultrasound"), scene_path);
   if (r.optional("clock")) d.clock = read_device_clock(r.map("clock"));
   r.finish();
@@ -391,6 +396,10 @@ Scene read_scene(const YAML::Node& document, const std::string& path) {
 }
 
 }  // namespace
+
+bool is_device_index(const std::string& source) {
+  return !source.empty() && source.find_first_not_of("0123456789") == std::string::npos;
+}
 
 Result<Scene> parse_scene(const std::string& text, const std::string& path) {
   if (text.size() > kMaxSceneBytes)

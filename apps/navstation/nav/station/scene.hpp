@@ -124,7 +124,7 @@ struct TrackerSettings {
   double volume_radius_m = 3.0;     ///< of the tracker's measurement volume, around its origin
   double max_speed_m_per_s = 2.0;   ///< of any tracked tool
   ToolIds tools;                    ///< every kind: the tools' ids on nav/tool_pose
-  double rate_hz = 60.0;             ///< simulated: its sample rate; ndi: how often it is polled
+  double rate_hz = 60.0;             ///< simulated: its sample rate; ndi: how often it is polled; apriltag: a file's pace
   // simulated
   double latency_ms = 0.0;
   double position_noise_m = 0.0;
@@ -136,10 +136,17 @@ struct TrackerSettings {
   std::string host;
   int port = 0;
   ToolIds port_handles;
-  // apriltag: a camera device and the printed tag size
+  // apriltag: the camera (a device index, /dev/videoN, a video or an image-sequence pattern),
+  // the printed tags' edge, the camera's intrinsics (the file navtool calib camera writes;
+  // required to track) and which tag36h11 id is which tool (the tool's frame at its tag)
   std::string camera_device;
   double tag_size_m = 0.0;
+  std::string camera_intrinsics_path;
+  ToolIds tag_ids{0, 1, 2};
 };
+
+/// Whether a capture source names a device by its index ("0" for /dev/video0) rather than a file.
+bool is_device_index(const std::string& source);
 
 /// The kinds of ultrasound source.
 enum class UltrasoundKind { simulated, plus, capture };

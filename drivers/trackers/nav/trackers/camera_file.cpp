@@ -1,0 +1,34 @@
+#include "nav/trackers/camera_file.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace nav::trackers {
+
+Result<CameraIntrinsics> read_camera_intrinsics(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return Error{"cannot read the camera intrinsics (navtool calib camera --out writes them)", path, 0, ""};
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream numbers(line);
+    double v[9];
+    for (double& value : v)
+      if (!(numbers >> value) || !std::isfinite(value))
+        return Error{"expected the nine finite numbers fx_px fy_px cx_px cy_px k1 k2 p1 p2 k3", path, line_number, ""};
+    if (!(v[0] > 0.0) || !(v[1] > 0.0)) return Error{"the focal lengths fx_px and fy_px must be positive", path, line_number, "fx_px"};
+    CameraIntrinsics camera;
+    camera.fx_px = v[0];
+    camera.fy_px = v[1];
+    camera.cx_px = v[2];
+    camera.cy_px = v[3];
+    camera.distortion = {v[4], v[5], v[6], v[7], v[8]};
+    return camera;
+  }
+  return Error{"no intrinsics line (only comments or nothing)", path, line_number, ""};
+}
+
+}  // namespace nav::trackers
