@@ -60,17 +60,19 @@ const MeshFiles& files() {
 }
 
 /// The demo scene (without its needle, whose layers are the generated liver's) on the mesh
-/// file, reduced on the r = 6 artifact, with `escalation` lines under `model:`.
-std::string mesh_file_scene(const std::string& escalation = "") {
+/// file `mesh` with its tumour `t`, reduced on `artifact`, with `escalation` lines under `model:`.
+std::string scene_on(const std::string& mesh, const Point3& t, const std::string& artifact, const std::string& escalation) {
   const std::string demo = testing::movable_demo_text();
-  const Point3& t = files().tumour_m;
-  const std::string liver = "liver:\n  mesh: {source: file, path: " + files().mesh + ", unit: m}\n  model:\n    rung: reduced\n    artifact: " +
-                            files().lower + "\n" + escalation + "  tumour_m: [" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " +
-                            std::to_string(t[2]) + "]\n\n";
+  const std::string liver = "liver:\n  mesh: {source: file, path: " + mesh + ", unit: m}\n  model:\n    rung: reduced\n    artifact: " + artifact +
+                            "\n" + escalation + "  tumour_m: [" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) +
+                            "]\n\n";
   return demo.substr(0, demo.find("liver:\n")) + liver + demo.substr(demo.find("\ndevices:") + 1);
 }
 
-std::string two_rungs(const std::string& options = "") { return "    escalation:\n      rungs: [" + files().upper + "]\n" + options; }
+/// The scene on the mesh file and its r = 6 artifact (made once).
+std::string mesh_file_scene(const std::string& escalation = "") { return scene_on(files().mesh, files().tumour_m, files().lower, escalation); }
+
+std::string two_rungs(const std::string& upper) { return "    escalation:\n      rungs: [" + upper + "]\n"; }
 
 Scene scene_of(const std::string& text) {
   auto scene = parse_scene(text, testing::temporary_path("station_scene_liver.yaml"));
@@ -133,7 +135,7 @@ TEST(StationSceneLiver, RunsAMeshFileOnItsReducedArtifact) {
 }
 
 TEST(StationSceneLiver, RunsTheDeclaredLadder) {
-  const SceneRun run = run_scene(scene_of(mesh_file_scene(two_rungs())));
+  const SceneRun run = run_scene(scene_of(mesh_file_scene(two_rungs(files().upper))));
   EXPECT_EQ(run.rungs, 2);
   EXPECT_NE(run.liver_model.find("rung 1: r = 10 "), std::string::npos) << run.liver_model;
   EXPECT_NE(run.liver_model.find(files().upper), std::string::npos) << run.liver_model;
@@ -142,7 +144,9 @@ TEST(StationSceneLiver, RunsTheDeclaredLadder) {
 }
 
 TEST(StationSceneLiver, ALadderWithTheFullOrderOnTopIsRefusedBeforeAnythingIsBuilt) {
-  const std::string text = mesh_file_scene(two_rungs("      full_order_on_top: true\n"));
+  // Refused before anything is read: the mesh and the artifacts need not exist.
+  const std::string text = scene_on("/nonexistent/liver.vtu", {0.0, 0.0, 0.0}, "/nonexistent/r6.navrb",
+                                    two_rungs("/nonexistent/r10.navrb") + "      full_order_on_top: true\n");
   const Status refused = check_station_loop(scene_of(text));
   ASSERT_FALSE(refused.ok());
   EXPECT_EQ(refused.error().field, "liver.model.escalation.full_order_on_top");
