@@ -160,6 +160,25 @@ TEST(StationScene, ACaptureSourceReadsItsClipAndSpacing) {
             "devices.ultrasound.pixel_spacing_mm");
 }
 
+TEST(StationScene, AnAprilTagTrackerReadsItsCameraIntrinsicsAndTags) {
+  const std::string simulated =
+      "    kind: simulated\n    rate_hz: 60\n    latency_ms: 10\n    position_noise_m: 0.00025\n    rotation_noise_rad: 0.001\n    seed: 1\n";
+  const std::string apriltag = "    kind: apriltag\n    camera: frames/%04d.pgm\n    tag_size_m: 0.03\n    intrinsics: camera.txt\n"
+                               "    tags: {needle: 5, probe: 6, respiratory: 7}\n";
+  const auto parsed = parse_scene(edited(demo_text(), simulated, apriltag), example_scene_path("demo.yaml"));
+  ASSERT_TRUE(parsed.ok()) << parsed.error().describe();
+  const TrackerSettings& t = parsed.value().devices.tracker;
+  const std::filesystem::path folder = std::filesystem::path(example_scene_path("demo.yaml")).parent_path();
+  EXPECT_EQ(t.camera_device, (folder / "frames/%04d.pgm").lexically_normal().string());
+  EXPECT_EQ(t.camera_intrinsics_path, (folder / "camera.txt").lexically_normal().string());
+  EXPECT_EQ(t.tag_ids.probe, 6u);
+  // A device stays a device; a tag id beyond the family's 587 and two tools on one tag are named.
+  EXPECT_EQ(parse_scene(edited(edited(demo_text(), simulated, apriltag), "frames/%04d.pgm", "/dev/video2"), example_scene_path("demo.yaml"))
+                .value().devices.tracker.camera_device, "/dev/video2");
+  EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, apriltag), "probe: 6", "probe: 587")).field, "devices.tracker.tags.probe");
+  EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, apriltag), "probe: 6", "probe: 5")).field, "devices.tracker.tags");
+}
+
 TEST(StationScene, UnknownKeysAreNamedWithTheirPath) {
   expect_error("  lock_memory: true", "  lock_memry: true", "station.lock_memry", "unknown key");
   expect_error("    cg_iterations: 3", "    cg_iteration: 3", "liver.model.cg_iteration", "unknown key");
