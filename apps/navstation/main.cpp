@@ -2,8 +2,10 @@
 //   --scene FILE --check   loads the scene, builds the models it declares, prints their memory
 //                          footprint, the liver's escalation ladder (when declared) and what the
 //                          real-time setup would do here, and exits.
-//   --scene FILE           runs the scene on its simulated world: the real-time loop and the
-//                          I/O thread for --seconds (default 10), then prints the summary.
+//   --scene FILE           runs the scene and its simulated world in this one process: the
+//                          real-time loop and the I/O thread for --seconds (default 10), then
+//                          prints the summary with the errors with and without assimilation
+//                          (a replay of the same recording without ultrasound).
 //   --scene FILE --live    runs the station alone on devices that are other processes on DDS
 //                          (navdevice sim, ...): the real-time loop and the I/O thread for
 //                          --seconds, then prints the summary of timing and what arrived; the
@@ -11,9 +13,11 @@
 //   --scene FILE --replay REC  runs the station on the poses and frames of a recorded session
 //                          (navtool record) on a simulated clock, as fast as it computes, and
 //                          prints the hash of its outputs: the same recording, the same bits.
-//   --demo                 the same on the demo scene (scenes/demo.yaml).
-//                          The simulated devices publish on DDS and the station subscribes
-//                          (the scene's topics.domain_id, or --domain D).
+//   --demo                 the live station on the demo scene (scenes/demo.yaml) with its
+//                          simulated patient (navdevice sim) and its evaluation (navtool
+//                          evaluate) as child processes (their logs in --logs DIR, default a
+//                          temporary folder); stopping navstation stops them. All on DDS (the
+//                          scene's topics.domain_id, or --domain D).
 //   --seconds S, --plot FILE.svg (the error over time), --json FILE (the summary's figures),
 //   --images DIR           runs navview alongside (headless), which writes PNG composites of
 //                          the station's DDS topics (by the scene's topic names) into DIR
@@ -26,6 +30,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "nav/core/kernel_isa.hpp"
 #include "nav/core/text_file.hpp"
 #include "nav/station/realtime_thread.hpp"
@@ -35,14 +41,16 @@
 #include "nav/station/session_replay.hpp"
 #include "nav/station/station_loop.hpp"
 #include "nav/station/station_session.hpp"
-#include "navview_process.hpp"
+#include "demo_children.hpp"
+#include "navview_beside.hpp"
+#include "nav/dds/stop_request.hpp"
 
 namespace {
 
 constexpr const char* kUsage =
     "usage: navstation --scene FILE --check\n"
-    "       navstation (--demo | --scene FILE) [--seconds S] [--domain D] [--plot FILE.svg] [--json FILE]\n"
-    "                                             [--images DIR]\n"
+    "       navstation (--demo [--logs DIR] | --scene FILE) [--seconds S] [--domain D] [--plot FILE.svg] [--json FILE]\n"
+    "                                                        [--images DIR]\n"
     "       navstation --scene FILE --live [--seconds S] [--domain D] [--images DIR]\n"
     "       navstation --scene FILE --replay REC.navrec\n";
 constexpr int kExitError = 1;
@@ -54,7 +62,7 @@ struct Arguments {
   bool check = false, demo = false, live = false;
   double seconds = 10.0;
   long domain_id = -1;  ///< -1: the scene's
-  std::string plot_path, json_path, images_dir, replay_path;
+  std::string plot_path, json_path, images_dir, replay_path, logs_dir;
 };
 
 void print_plan(const nav::station::Scene& scene) {
@@ -126,57 +134,16 @@ bool write_file(const std::string& path, const std::string& text) {
   return written.ok();
 }
 
-/// navview, started beside the station when --images asks (headless, PNG composites into DIR).
-class NavviewBeside {
- public:
-  NavviewBeside(const nav::station::Scene& scene, const Arguments& args) : scene_(scene), args_(args) {}
-
-  /// Starts navview on the station's topics with the liver's surface (a BeforeRun).
-  nav::Status start(const nav::station::DisplaySurface& surface) {
-    if (args_.images_dir.empty()) return nav::Done{};
-    std::error_code error;
-    std::filesystem::create_directories(args_.images_dir, error);
-    const std::string obj = (std::filesystem::path(args_.images_dir) / "liver_surface.obj").string();
-    if (error || !write_file(obj, nav::station::surface_obj(surface))) return nav::Error{"cannot write the liver surface", obj, 0, ""};
-    // navview ends by itself well after the run, should navstation never stop it.
-    const std::string duration_s = std::to_string(static_cast<int>(args_.seconds) + 300);
-    std::vector<std::string> navview_args{"--headless", "--out-dir", args_.images_dir, "--surface-mesh", obj, "--unit", "m", "--period-ms",
-                                          "500", "--duration-s", duration_s, "--domain", std::to_string(scene_.topics.domain_id)};
-    const nav::dds::TopicNames names = nav::station::topic_names(scene_.topics);
-    for (std::size_t t = 0; t < names.size(); ++t)  // navview reads the station's topics by the scene's names
-      navview_args.insert(navview_args.end(), {"--topic", std::string(nav::dds::topic_name(static_cast<nav::dds::Topic>(t))) + "=" + names[t]});
-    auto started = navstation::NavviewProcess::start(navview_args, (std::filesystem::path(args_.images_dir) / "navview.log").string());
-    if (!started.ok()) return started.error();
-    navview_.emplace(std::move(started).value());
-    return nav::Done{};
-  }
-
-  /// Stops navview and reports its images; false when it wrote none.
-  bool stop_and_report() {
-    const int exit_code = navview_ ? navview_->stop() : 0;
-    if (args_.images_dir.empty()) return true;
-    int images = 0;
-    std::error_code error;
-    for (const auto& entry : std::filesystem::directory_iterator(args_.images_dir, error))
-      images += entry.path().extension() == ".png" ? 1 : 0;
-    std::printf("navview: %d images in %s (exit code %d)\n", images, args_.images_dir.c_str(), exit_code);
-    return images > 0;  // navview's own exit code is reported, not the station's failure
-  }
-
- private:
-  const nav::station::Scene& scene_;
-  const Arguments& args_;
-  std::optional<navstation::NavviewProcess> navview_;
-};
-
 int run_live(const nav::station::Scene& scene, const Arguments& args) {
   print_plan(scene);
   std::printf("building the liver and its reduced loop, then running %.1f s on the devices of domain %u ...\n", args.seconds,
               scene.topics.domain_id);
   std::fflush(stdout);
-  NavviewBeside navview(scene, args);
+  nav::dds::install_stop_handlers();  // SIGINT, SIGTERM: the run ends at its next tick and reports
+  navstation::NavviewBeside navview(scene, args.images_dir, args.seconds);
   auto session = nav::station::run_live_session(scene, static_cast<nav::TimeNs>(args.seconds * 1e9),
-                                                [&](const nav::station::DisplaySurface& surface) { return navview.start(surface); });
+                                                [&](const nav::station::DisplaySurface& surface) { return navview.start(surface); },
+                                                &nav::dds::g_stop_requested);
   const bool images = navview.stop_and_report();
   if (!session.ok()) {
     std::fprintf(stderr, "navstation: %s\n", session.error().describe().c_str());
@@ -184,6 +151,24 @@ int run_live(const nav::station::Scene& scene, const Arguments& args) {
   }
   std::printf("%s", nav::station::format_live_summary(scene, session.value()).c_str());
   return images ? 0 : kExitError;
+}
+
+/// The demo: the simulated patient and the evaluation as child processes, the live station here.
+int run_demo(const nav::station::Scene& scene, const Arguments& args) {
+  nav::dds::install_stop_handlers();
+  const std::string logs_dir = args.logs_dir.empty() ? (std::filesystem::temp_directory_path() /
+                                                        ("navstation_demo." + std::to_string(getpid()))).string()
+                                                     : args.logs_dir;
+  auto children = navstation::DemoChildren::start(
+      {NAV_STATION_DEMO_SCENE, args.seconds, scene.topics.domain_id, args.plot_path, args.json_path, logs_dir});
+  if (!children.ok()) {
+    std::fprintf(stderr, "navstation: %s\n", children.error().describe().c_str());
+    return kExitError;
+  }
+  const int station = run_live(scene, args);
+  const bool evaluated = children.value().finish_and_report();
+  if (evaluated && !args.plot_path.empty()) std::printf("error plot: %s\n", args.plot_path.c_str());
+  return station == 0 && evaluated ? 0 : kExitError;
 }
 
 int run_replay(const nav::station::Scene& scene, const Arguments& args) {
@@ -205,7 +190,7 @@ int run_scene(const nav::station::Scene& scene, const Arguments& args) {
   std::fflush(stdout);
   nav::station::SessionOptions options;
   options.world.duration_ns = static_cast<nav::TimeNs>(args.seconds * 1e9);
-  NavviewBeside navview(scene, args);
+  navstation::NavviewBeside navview(scene, args.images_dir, args.seconds);
   const auto start_navview = [&](const nav::station::DisplaySurface& surface) { return navview.start(surface); };
   auto session = nav::station::run_session(scene, options, start_navview);
   const bool images = navview.stop_and_report();
@@ -258,6 +243,8 @@ bool parse(int argc, char** argv, Arguments& args) {
       args.plot_path = argv[++i];
     } else if (arg == "--images" && has_value) {
       args.images_dir = argv[++i];
+    } else if (arg == "--logs" && has_value) {
+      args.logs_dir = argv[++i];
     } else if (arg == "--json" && has_value) {
       args.json_path = argv[++i];
     } else {
@@ -272,6 +259,10 @@ bool parse(int argc, char** argv, Arguments& args) {
   if (!args.replay_path.empty() && (args.demo || args.check || args.live || !args.plot_path.empty() || !args.json_path.empty() ||
                                     !args.images_dir.empty())) {
     std::fprintf(stderr, "navstation: --replay runs a --scene FILE alone on a recording\n");
+    return false;
+  }
+  if (!args.logs_dir.empty() && !args.demo) {
+    std::fprintf(stderr, "navstation: --logs names the folder of the demo's child processes' logs\n");
     return false;
   }
   if (args.live && (args.demo || args.check || !args.plot_path.empty() || !args.json_path.empty())) {
@@ -297,5 +288,6 @@ int main(int argc, char** argv) {
   if (args.check) return check_scene(std::move(scene).value());
   if (args.domain_id >= 0) scene.value().topics.domain_id = static_cast<std::uint32_t>(args.domain_id);
   if (!args.replay_path.empty()) return run_replay(scene.value(), args);
+  if (args.demo) return run_demo(scene.value(), args);
   return args.live ? run_live(scene.value(), args) : run_scene(scene.value(), args);
 }

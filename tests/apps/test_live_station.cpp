@@ -5,10 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 #include <vector>
 #include <string>
 
@@ -175,6 +178,74 @@ TEST(LiveStation, APatientKilledMidRunDegradesTheStationWhichKeepsItsLoopAndReco
   ASSERT_NE(outage, periods.end()) << "no degraded stretch longer than 1 s after the start";
   EXPECT_NE(outage->flags.find("_input"), std::string::npos) << outage->flags;
   EXPECT_LT(outage->to_s, 13.0) << "the station did not recover when the patient came back";
+}
+
+/// Whether process `pid` has ended: no longer in /proc, or a zombie no one has reaped yet.
+bool process_gone(long pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text;
+  if (!std::getline(stat, text)) return true;
+  const std::size_t state = text.rfind(')');
+  return state != std::string::npos && text.size() > state + 2 && text[state + 2] == 'Z';
+}
+
+bool wait_until_gone(long pid, std::chrono::seconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!process_gone(pid)) {
+    if (std::chrono::steady_clock::now() > deadline) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return true;
+}
+
+TEST(LiveStation, TheDemoRunsItsPatientAndItsEvaluationAsChildProcessesAtTheDemosAccuracy) {
+  const std::string logs = temporary_path("demo_children_logs");
+  const std::string svg = temporary_path("demo_children.svg");
+  const std::string images = temporary_path("demo_children_images");
+  std::filesystem::remove_all(images);
+  std::remove(svg.c_str());
+  ChildProcess demo({kBin + "/navstation", "--demo", "--seconds", "5", "--domain", "175", "--logs", logs, "--plot", svg, "--images", images},
+                    temporary_path("demo_children.log"));
+  const std::optional<int> exit_code = demo.wait(std::chrono::seconds(300));
+  const std::string log = demo.log();
+  std::printf("%s", log.c_str());
+  ASSERT_EQ(exit_code, 0);
+  // Its children: the patient and the evaluation, each with its log; navview for the images.
+  EXPECT_NE(file_text(logs + "/patient.log").find("navdevice sim: stopped"), std::string::npos) << file_text(logs + "/patient.log");
+  EXPECT_GE(number_after(log, "samples accepted "), 300.0);
+  EXPECT_NE(log.find("dropped at the boundary: none"), std::string::npos);
+  // The demo's accuracy: the tumour within 1 mm RMS with assimilation, over at least 3 s of outputs.
+  EXPECT_GE(number_after(log, "mm  ("), 250.0);
+  EXPECT_LE(number_after(log, "tumour now "), 1.0);
+  EXPECT_LE(number_after(log, "needle tip "), 15.0);
+  EXPECT_NE(file_text(svg).find("<svg"), std::string::npos);
+  EXPECT_GE(number_after(log, "navview: "), 1.0);  // images
+  for (const char* child : {"navdevice sim (pid ", "navtool evaluate (pid "})
+    EXPECT_TRUE(process_gone(static_cast<long>(number_after(log, child)))) << child;
+}
+
+TEST(LiveStation, StoppingTheDemoStopsItsChildrenAndKillingItEndsThem) {
+  for (const int signal_number : {SIGTERM, SIGKILL}) {
+    const std::string domain = signal_number == SIGTERM ? "176" : "177";
+    ChildProcess demo({kBin + "/navstation", "--demo", "--seconds", "30", "--domain", domain, "--logs", temporary_path("demo_stopped_logs" + domain)},
+                      temporary_path("demo_stopped" + domain + ".log"));
+    ASSERT_TRUE(wait_for_text(demo, "then running 30.0 s", std::chrono::seconds(300))) << demo.log();
+    std::this_thread::sleep_for(std::chrono::seconds(4));  // the station builds its liver (about a second), then runs
+    const std::string started = demo.log();
+    const auto patient = static_cast<long>(number_after(started, "navdevice sim (pid "));
+    const auto evaluation = static_cast<long>(number_after(started, "navtool evaluate (pid "));
+    ASSERT_FALSE(process_gone(patient) || process_gone(evaluation)) << started;
+    demo.signal(signal_number);
+    const std::optional<int> exit_code = demo.wait(std::chrono::seconds(120));
+    std::printf("%s", demo.log().c_str());
+    EXPECT_TRUE(wait_until_gone(patient, std::chrono::seconds(30))) << "signal " << signal_number;
+    EXPECT_TRUE(wait_until_gone(evaluation, std::chrono::seconds(30))) << "signal " << signal_number;
+    if (signal_number == SIGTERM) {  // a stop: the run ends early, with its summary and the evaluation of what it ran
+      EXPECT_EQ(exit_code, 0) << demo.log();
+      EXPECT_LT(number_after(demo.log(), "step time over "), 20000.0);
+      EXPECT_NE(demo.log().find("tumour now "), std::string::npos);
+    }
+  }
 }
 
 TEST(LiveStation, TheSimulatedPatientNamesWhatIsWrong) {

@@ -89,6 +89,7 @@ void realtime_thread(const OperatingLoopModel& loop, OperatingLoopData& data, St
   while (rec.count < capacity) {
     const Tick tick = timer.wait_next_tick();
     if (tick.deadline_ns - ch.start_ns > options.duration_ns) break;
+    if (options.stop != nullptr && options.stop->load(std::memory_order_relaxed)) break;
     const TimeNs begin = ch.clock.now_ns();
     while (ch.samples.try_pop(sample)) push_sample(loop, data, sample, true);
     nav::tick(loop, data, begin - ch.start_ns);

@@ -10,6 +10,7 @@
 // real-time thread and reads the published outputs as a display would. replay_station()
 // feeds a recording to the same loop on a SimulatedClock: deterministic, bitwise repeatable,
 // and the way the figures without assimilation are made (without the tumour points).
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -94,6 +95,7 @@ struct StationRunOptions {
   int io_core = 0;                          ///< the I/O thread's core
   std::optional<DdsRunOptions> dds;         ///< devices on DDS (station_dds.hpp); direct hand-off without
   TumourObserverOptions observer;
+  const std::atomic<bool>* stop = nullptr;  ///< when set and raised (SIGINT, SIGTERM), the run ends at its next tick
 };
 
 

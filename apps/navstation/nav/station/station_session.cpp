@@ -128,7 +128,7 @@ Result<StationSession> run_session(const Scene& scene, const SessionOptions& opt
   return s;
 }
 
-Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, const BeforeRun& before_run) {
+Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, const BeforeRun& before_run, const std::atomic<bool>* stop) {
   LiveSession s;
   auto parts = build_station_parts(scene, BreathingGeometry{}, before_run);
   if (!parts.ok()) return parts.error();
@@ -139,6 +139,7 @@ Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, con
   s.miss_threshold_ns = 5 * kNsPerMs;
   StationRunOptions run_options = station_run_options(scene, duration_ns, s.miss_threshold_ns, true);
   run_options.dds = dds_run_options(scene, &p.surface);
+  run_options.stop = stop;
   auto imaging = scene_probe_imaging(scene);
   if (!imaging.ok()) return imaging.error();
   auto run = run_live_station(loop, imaging.value(), run_options);

@@ -60,10 +60,11 @@ struct LiveSession {
   double build_s = 0.0;  ///< start-up: liver and reduced loop
 };
 
-/// Runs the station of `scene` for `duration_ns` on whatever devices publish on its topics.
-/// It cannot score itself: `navtool evaluate` compares its predictions with a simulated
-/// patient's truth.
-Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, const BeforeRun& before_run = {});
+/// Runs the station of `scene` for `duration_ns` (or until `stop`, when given, is raised) on
+/// whatever devices publish on its topics. It cannot score itself: `navtool evaluate`
+/// compares its predictions with a simulated patient's truth.
+Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, const BeforeRun& before_run = {},
+                                     const std::atomic<bool>* stop = nullptr);
 
 /// The printed summary: setup, prediction errors with and without assimilation, timing.
 std::string format_summary(const Scene& scene, const StationSession& session);
