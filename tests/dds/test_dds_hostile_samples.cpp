@@ -279,7 +279,7 @@ TEST(DdsHostileSamples, NavtoolRecordKeepsRecordingThroughCraftedPayloads) {
 
 TEST(DdsHostileSamples, NavstationRunsThroughCraftedAndFutureStampedSamplesAndCountsThem) {
   const std::string log = nav::testing::temporary_path("hostile_station.log");
-  ChildProcess station({kNavstation, "--demo", "--seconds", "2", "--domain", "192"}, log);
+  ChildProcess station({kNavstation, "--demo", "--seconds", "5", "--domain", "192"}, log);
   ASSERT_TRUE(station.started());
   RawPayloadWriter<ToolPose> foreign_poses(192);
   RawPayloadWriter<UltrasoundFrame> foreign_frames(192);
@@ -320,7 +320,7 @@ TEST(DdsHostileSamples, NavstationRunsThroughCraftedAndFutureStampedSamplesAndCo
   EXPECT_GE(nav::testing::number_after(output, "dropped at the boundary: malformed "), 20.0);
   EXPECT_GE(nav::testing::number_after(output, "time_out_of_window "), 10.0);
   EXPECT_GE(nav::testing::number_after(output, "implausible_pose "), 10.0);
-  // The simulated devices' poses (60 Hz for 3 markers, 2 s) and frames (20 Hz) still arrive
+  // The simulated devices' poses (60 Hz for 3 markers, 5 s, less the time the processes take to find each other) and frames (20 Hz) still arrive
   // and are used: none is refused as older than the future stamps.
   EXPECT_EQ(output.find("time_backwards"), std::string::npos);
   EXPECT_GE(nav::testing::number_after(output, "127.0.0.1): "), 250.0);

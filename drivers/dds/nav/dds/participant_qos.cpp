@@ -106,6 +106,8 @@ Status check_network(const NetworkConfig& config) {
   return Done{};
 }
 
+constexpr std::uint32_t kAnnouncementPeriodNs = 500'000'000;
+
 Result<fdds::DomainParticipantQos> make_participant_qos(const NetworkConfig& config) {
   fdds::DomainParticipantQos qos;
   if (const Status xml = apply_xml_profile(config, qos); !xml) return xml.error();
@@ -127,6 +129,10 @@ Result<fdds::DomainParticipantQos> make_participant_qos(const NetworkConfig& con
 
   auto& builtin = qos.wire_protocol().builtin;
   builtin.discovery_config.discoveryProtocol = eprosima::fastrtps::rtps::DiscoveryProtocol_t::SIMPLE;
+  // A participant that started before another has sent its initial announcements already and
+  // is found at its next periodic one (3 s by default): every 0.5 s here, so that a station,
+  // its devices and its displays find each other within about half a second in any order.
+  builtin.discovery_config.leaseDuration_announcementperiod = eprosima::fastrtps::Duration_t(0, kAnnouncementPeriodNs);
   builtin.metatrafficMulticastLocatorList.clear();
   builtin.metatrafficUnicastLocatorList.clear();
   builtin.metatrafficUnicastLocatorList.push_back(local);
