@@ -28,10 +28,10 @@ constexpr const char* kUsage =
     "  to the end of the stream or until stopped\n";
 
 /// The scene's tools as single-tag bodies (each tool's frame at its tag).
-std::vector<nav::trackers::TagBody> tool_bodies(const nav::station::TrackerSettings& t) {
-  return {{t.tools.needle, {{static_cast<int>(t.tag_ids.needle), Eigen::Isometry3d::Identity()}}},
-          {t.tools.probe, {{static_cast<int>(t.tag_ids.probe), Eigen::Isometry3d::Identity()}}},
-          {t.tools.respiratory, {{static_cast<int>(t.tag_ids.respiratory), Eigen::Isometry3d::Identity()}}}};
+std::vector<nav::trackers::TagBody> tool_bodies(const std::vector<nav::station::ToolRole>& roles) {
+  std::vector<nav::trackers::TagBody> bodies;
+  for (const nav::station::ToolRole& r : roles) bodies.push_back({r.tool_id, {{static_cast<int>(r.device_id), Eigen::Isometry3d::Identity()}}});
+  return bodies;
 }
 
 }  // namespace
@@ -53,23 +53,21 @@ int run_apriltag(const std::vector<std::string>& arguments) {
     return fail("apriltag", s.source_path + ": devices.tracker.intrinsics is required to track tags (navtool calib camera --out FILE)");
   auto camera = nav::trackers::read_camera_intrinsics(t.camera_intrinsics_path);
   if (!camera.ok()) return fail("apriltag", camera.error().describe());
-  auto tracker = nav::trackers::AprilTagTracker::create(camera.value(), t.tag_size_m, tool_bodies(t));
+  const std::vector<nav::station::ToolRole> roles = nav::station::tool_roles(t.tools, t.tag_ids);
+  auto tracker = nav::trackers::AprilTagTracker::create(camera.value(), t.tag_size_m, tool_bodies(roles));
   if (!tracker.ok()) return fail("apriltag", tracker.error().describe());
   DeviceClock clock(s.devices.clock);
   auto capture = nav::ultrasound::CaptureSource::open(t.camera_device, {}, clock);
   if (!capture.ok()) return fail("apriltag", capture.error().describe());
   const bool paced = !nav::station::is_device_index(t.camera_device) && t.camera_device.rfind("/dev/", 0) != 0;
-  std::printf("navdevice apriltag: %s: tags of %.1f mm, tag %u the needle (tool %u), %u the probe (tool %u), %u the respiratory "
-              "marker (tool %u)%s\n",
-              t.camera_device.c_str(), 1e3 * t.tag_size_m, t.tag_ids.needle, t.tools.needle, t.tag_ids.probe, t.tools.probe,
-              t.tag_ids.respiratory, t.tools.respiratory, paced ? "; a file, paced at rate_hz" : "");
+  std::printf("navdevice apriltag: %s: tags of %.1f mm, %s%s\n", t.camera_device.c_str(), 1e3 * t.tag_size_m,
+              describe_roles(roles, "tag").c_str(), paced ? "; a file, paced at rate_hz" : "");
   std::fflush(stdout);
 
   auto device = open_device_node(s, "navdevice_apriltag");
   if (!device.ok()) return fail("apriltag", device.error().describe());
   nav::dds::DdsNode& dds = *device.value().node;
-  auto publisher = nav::trackers::PosePublisher::create(
-      dds, "camera", {{t.tools.needle, "needle_marker"}, {t.tools.probe, "probe_marker"}, {t.tools.respiratory, "respiratory_marker"}});
+  auto publisher = nav::trackers::PosePublisher::create(dds, "camera", tool_frames(roles));
   if (!publisher.ok()) return fail("apriltag", publisher.error().describe());
   if (const int waited = wait_for_station(device.value(), *args, s, "apriltag"); waited != 0) return waited < 0 ? 0 : waited;
 

@@ -35,6 +35,20 @@ std::optional<DeviceArgs> parse_common_flags(const std::vector<std::string>& arg
   return common_flags_valid(parsed) ? std::optional<DeviceArgs>(parsed) : std::nullopt;
 }
 
+std::string describe_roles(const std::vector<nav::station::ToolRole>& roles, const char* device_id_name) {
+  std::string text;
+  for (const nav::station::ToolRole& r : roles)
+    text += (text.empty() ? std::string(device_id_name) + " " : std::string(", ")) + std::to_string(r.device_id) + (text.empty() ? " is" : "") + " the " +
+            r.role + " (tool " + std::to_string(r.tool_id) + ")";
+  return text;
+}
+
+std::map<std::uint32_t, std::string> tool_frames(const std::vector<nav::station::ToolRole>& roles) {
+  std::map<std::uint32_t, std::string> frames;
+  for (const nav::station::ToolRole& r : roles) frames[r.tool_id] = r.frame;
+  return frames;
+}
+
 int fail(const char* device, const std::string& message) {
   std::fprintf(stderr, "navdevice %s: %s\n", device, message.c_str());
   return kExitError;

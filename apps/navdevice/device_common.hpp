@@ -4,6 +4,7 @@
 // also reads the station's health), waiting for a running station, and errors that name the
 // device.
 #include <cstddef>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -53,6 +54,13 @@ class DeviceClock final : public nav::Clock {
   nav::MonotonicClock host_;
   nav::TimeNs offset_ns_;
 };
+
+/// "handle 1 is the needle (tool 1), 2 the probe (tool 2), ...": the roles a device's
+/// ids (`device_id_name`: handle, tag) are mapped to.
+std::string describe_roles(const std::vector<nav::station::ToolRole>& roles, const char* device_id_name);
+
+/// Each role's tool id and frame name (PosePublisher's tool frames).
+std::map<std::uint32_t, std::string> tool_frames(const std::vector<nav::station::ToolRole>& roles);
 
 /// Prints "navdevice DEVICE: MESSAGE" on stderr; returns kExitError.
 int fail(const char* device, const std::string& message);

@@ -1,5 +1,6 @@
 // navdevice ndi: an NDI tracker (Polaris, Aurora, Vega: the combined API over a serial line or
-// TCP) as the station's tracker. It initialises the device and every port handle, polls BX
+// TCP) as the station's tracker. On a serial line it negotiates the scene's rate (baud), loads
+// the passive tools' definitions (rom_files), initialises the device and every port handle, polls BX
 // replies at the scene's rate, and publishes each pose of a port handle the scene maps to a
 // tool (devices.tracker.port_handles) as that tool's sample, stamped with the request's time
 // on the scene's device clock; on SIGINT or SIGTERM it stops tracking (TSTOP) and exits.
@@ -96,26 +97,39 @@ int run_ndi(const std::vector<std::string>& arguments) {
   auto scene = load_device_scene(args->device);
   if (!scene.ok()) return fail("ndi", scene.error().describe());
   const nav::station::Scene& s = scene.value();
+  const nav::station::TrackerSettings& t = s.devices.tracker;
+  // Passive tools: their definitions go into the device, which gives them their port handles.
+  std::vector<nav::station::ToolRole> roles = nav::station::tool_roles(t.tools, t.port_handles);
+  std::vector<std::string> definitions;
+  std::vector<std::size_t> passive_roles;
+  for (std::size_t k = 0; k < roles.size(); ++k) {
+    const auto file = t.rom_files.find(roles[k].role);
+    if (file == t.rom_files.end()) continue;
+    auto definition = nav::trackers::ndi::read_tool_definition(file->second);
+    if (!definition.ok()) return fail("ndi", definition.error().describe());
+    definitions.push_back(std::move(definition).value());
+    passive_roles.push_back(k);
+  }
   std::string where;
   auto connection = connect(*args, s, where);
   if (!connection.ok()) return fail("ndi", connection.error().describe());
-  auto tracker = nav::trackers::ndi::NdiTracker::start(std::move(connection).value());
+  if (!connection.value().path().empty()) {  // a serial line: from 9600 to the scene's rate
+    if (const nav::Status negotiated = nav::trackers::ndi::negotiate_serial(connection.value(), t.baud); !negotiated.ok())
+      return fail("ndi", negotiated.error().describe());  // names the line
+  }
+  auto tracker = nav::trackers::ndi::NdiTracker::start(std::move(connection).value(), definitions);
   if (!tracker.ok()) return fail("ndi", where + ": " + tracker.error().describe());
-  const nav::station::ToolIds& handles = s.devices.tracker.port_handles;
-  const nav::station::ToolIds& tools = s.devices.tracker.tools;
-  const std::map<std::uint32_t, std::uint32_t> tool_of_handle{
-      {handles.needle, tools.needle}, {handles.probe, tools.probe}, {handles.respiratory, tools.respiratory}};
-  std::printf("navdevice ndi: %s: %zu port handles enabled; handle %u is the needle (tool %u), %u the probe (tool %u), %u the "
-              "respiratory marker (tool %u); polling at %.0f Hz\n",
-              where.c_str(), tracker.value().handles().size(), handles.needle, tools.needle, handles.probe, tools.probe,
-              handles.respiratory, tools.respiratory, s.devices.tracker.rate_hz);
+  for (std::size_t i = 0; i < passive_roles.size(); ++i) roles[passive_roles[i]].device_id = tracker.value().passive_handles()[i];
+  std::map<std::uint32_t, std::uint32_t> tool_of_handle;
+  for (const nav::station::ToolRole& r : roles) tool_of_handle[r.device_id] = r.tool_id;
+  std::printf("navdevice ndi: %s: %zu port handles enabled; %s; polling at %.0f Hz\n", where.c_str(), tracker.value().handles().size(),
+              describe_roles(roles, "handle").c_str(), s.devices.tracker.rate_hz);
   std::fflush(stdout);
 
   auto device = open_device_node(s, "navdevice_ndi");
   if (!device.ok()) return fail("ndi", device.error().describe());
   nav::dds::DdsNode& dds = *device.value().node;
-  auto publisher = nav::trackers::PosePublisher::create(
-      dds, "tracker", {{tools.needle, "needle_marker"}, {tools.probe, "probe_marker"}, {tools.respiratory, "respiratory_marker"}});
+  auto publisher = nav::trackers::PosePublisher::create(dds, "tracker", tool_frames(roles));
   if (!publisher.ok()) return fail("ndi", publisher.error().describe());
   if (const int waited = wait_for_station(device.value(), args->device, s, "ndi"); waited != 0) {
     (void)tracker.value().stop();

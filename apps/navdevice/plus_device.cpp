@@ -65,6 +65,7 @@ std::optional<std::uint32_t> role_id(const nav::station::ToolIds& tools, const s
   if (role == "needle") return tools.needle;
   if (role == "probe") return tools.probe;
   if (role == "respiratory") return tools.respiratory;
+  if (role == "reference") return tools.reference;
   return std::nullopt;
 }
 
@@ -78,7 +79,7 @@ nav::Result<std::vector<nav::ultrasound::ToolTrack>> tool_tracks(const PlusArgs&
       defaults ? std::vector<std::pair<std::string, std::string>>{{"ProbeToTracker", "probe"}, {"StylusToTracker", "needle"}} : args.transforms;
   for (const auto& [name, role] : wanted) {
     const std::optional<std::uint32_t> id = role_id(tools, role);
-    if (!id) return nav::Error{"unknown role '" + role + "' (needle, probe or respiratory)", "", 0, "--transform " + name + "=" + role};
+    if (!id) return nav::Error{"unknown role '" + role + "' (needle, probe, respiratory, or reference when the scene declares one)", "", 0, "--transform " + name + "=" + role};
     if (sequence.find_transform(name) == nullptr) {
       if (defaults) continue;
       return nav::Error{"the recording has no transform '" + name + "'", sequence.path, 0, "--transform " + name + "=" + role};

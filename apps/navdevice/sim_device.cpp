@@ -7,6 +7,7 @@
 #include "nav/dds/stop_request.hpp"
 #include "nav/station/simulated_world.hpp"
 #include "nav/station/station_liver.hpp"
+#include "nav/station/tracker_registration.hpp"
 #include "nav/station/world_player.hpp"
 #include "device_common.hpp"
 
@@ -65,7 +66,10 @@ int run_sim(const std::vector<std::string>& arguments) {
   // The devices stamp on their clock: this host's monotonic clock less the scene's offset.
   nav::MonotonicClock clock;
   const TimeNs start_ns = clock.now_ns() + kStartDelayNs;
-  nav::station::WorldPlayer player(world.value(), true, s.devices.tracker.tools);
+  auto model_in_reference = nav::station::scene_model_in_reference(s);
+  if (!model_in_reference.ok()) return fail("sim", model_in_reference.error().describe());
+  const nav::station::TrackerSettings& t = s.devices.tracker;
+  nav::station::WorldPlayer player(world.value(), true, nav::station::simulated_tracker(t.tools, t.reference_in_tracker, model_in_reference.value()));
   player.set_world_to_device_ns(start_ns - static_cast<TimeNs>(s.devices.clock.offset_ms * 1e6));
   TimeNs next_status_ns = kNsPerSecond;
   while (!nav::dds::stop_requested()) {

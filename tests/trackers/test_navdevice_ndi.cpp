@@ -108,6 +108,45 @@ TEST(NavdeviceNdi, PublishesTheScenesToolsFromADeviceOnASerialLine) {
   EXPECT_GT(server.commands(), 100u);
 }
 
+TEST(NavdeviceNdi, NegotiatesTheScenesRateAndLoadsAPassiveToolFromItsRomFile) {
+  // The respiratory marker is a passive tool: its definition file goes into the device, which
+  // gives it a port handle; the device hears only a host at its own rate (9600, then COMM's).
+  std::string rom;
+  for (int i = 0; i < 700; ++i) rom += static_cast<char>((i * 37 + 11) % 256);
+  const std::string rom_path = temporary_path("respiratory.rom");
+  std::ofstream(rom_path, std::ios::binary) << rom;
+  std::vector<SimulatedNdiTool> tools = device_tools();
+  SimulatedNdiTool respiratory;
+  respiratory.definition = rom;
+  respiratory.trajectory.centre_m = {-0.2, 0.1, -0.9};
+  tools.push_back(respiratory);
+  auto pty = trackers::ndi::open_pseudo_terminal();
+  ASSERT_TRUE(pty.ok()) << pty.error().describe();
+  NdiDeviceServer server(pty.value().master_fd, SimulatedNdiDevice(tools), pty.value().slave_path);
+  StationStandIn<dds::ToolPose, 1024> station(183);
+  const std::string connection = "    serial: " + pty.value().slave_path + "\n    baud: 230400\n    rom_files: {respiratory: " + rom_path + "}\n";
+  ChildProcess device({kBin + "/navdevice", "ndi", "--scene", ndi_scene(connection), "--seconds", "2", "--domain", "183"},
+                      temporary_path("navdevice_ndi_passive.log"));
+  const auto poses = by_tool(run_device(device, station));
+  std::printf("%s", device.log().c_str());
+  EXPECT_NE(device.log().find("4 port handles enabled"), std::string::npos);
+  ASSERT_TRUE(poses.count(13)) << "the passive respiratory marker (tool 13)";
+  EXPECT_GE(poses.at(13).size(), 110u);  // 2 s at 60 Hz, every poll heard at 230400
+  for (const dds::ToolPose& p : poses.at(13)) EXPECT_LT(std::hypot(p.position_m[0] + 0.2, p.position_m[1] - 0.1, p.position_m[2] + 0.9), 0.06);
+  EXPECT_EQ(server.garbled_lines(), 0u);
+
+  // A rate no NDI device and host share, and a definition file that is not there: named.
+  ChildProcess bad_rate({kBin + "/navstation", "--scene", ndi_scene("    serial: /dev/ttyUSB0\n    baud: 14400\n"), "--check"},
+                        temporary_path("navdevice_ndi_rate.log"));
+  EXPECT_EQ(bad_rate.wait(std::chrono::seconds(120)), 1);
+  EXPECT_NE(bad_rate.log().find("devices.tracker.baud"), std::string::npos) << bad_rate.log();
+  ChildProcess no_rom({kBin + "/navdevice", "ndi", "--scene", ndi_scene("    serial: " + pty.value().slave_path + "\n    rom_files: {needle: missing.rom}\n"),
+                       "--no-wait"},
+                      temporary_path("navdevice_ndi_no_rom.log"));
+  EXPECT_EQ(no_rom.wait(std::chrono::seconds(30)), 1);
+  EXPECT_NE(no_rom.log().find("missing.rom"), std::string::npos) << no_rom.log();
+}
+
 TEST(NavdeviceNdi, PublishesTheScenesToolsFromADeviceOnTcp) {
   const LoopbackListener listener;
   const std::string port = std::to_string(listener.port);

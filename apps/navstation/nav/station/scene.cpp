@@ -1,5 +1,6 @@
 #include "nav/station/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +9,7 @@
 #include <new>
 #include <utility>
 
+#include "nav/calibration/rigid_transform.hpp"
 #include "nav/station/yaml_reader.hpp"
 
 namespace nav::station {
@@ -237,16 +239,31 @@ LigamentSettings read_ligaments(MapReader r) {
   return l;
 }
 
-/// `{needle: N, probe: N, respiratory: N}`, each in [min, max] and distinct, missing ones from `defaults`.
+/// The serial rates of an NDI device's COMM that a Linux host can set.
+constexpr int kNdiSerialBauds[] = {9600, 19200, 38400, 57600, 115200, 230400, 921600};
+
+/// `{needle: N, probe: N, respiratory: N, reference: N}`, each in [min, max] and distinct,
+/// missing ones from `defaults` (reference: none unless given).
 ToolIds read_tool_roles(MapReader roles, long long min, long long max, ToolIds defaults) {
   ToolIds ids;
   ids.needle = static_cast<std::uint32_t>(roles.integer("needle", min, max, defaults.needle));
   ids.probe = static_cast<std::uint32_t>(roles.integer("probe", min, max, defaults.probe));
   ids.respiratory = static_cast<std::uint32_t>(roles.integer("respiratory", min, max, defaults.respiratory));
-  if (ids.needle == ids.probe || ids.needle == ids.respiratory || ids.probe == ids.respiratory)
-    roles.fail_at("", "needle, probe and respiratory need an id each");
+  if (roles.optional("reference")) ids.reference = static_cast<std::uint32_t>(roles.integer("reference", min, max));
+  const bool shared = ids.needle == ids.probe || ids.needle == ids.respiratory || ids.probe == ids.respiratory ||
+                      (ids.reference && (*ids.reference == ids.needle || *ids.reference == ids.probe || *ids.reference == ids.respiratory));
+  if (shared) roles.fail_at("", "needle, probe, respiratory and reference need an id each");
   roles.finish();
   return ids;
+}
+
+/// `{xyz: [x, y, z], rpy: [roll, pitch, yaw]}`: a rigid pose in metres and URDF angles (radians).
+RigidPose read_pose(MapReader r) {
+  const Point3 xyz = r.point("xyz");
+  const std::vector<double> rpy = r.numbers("rpy", 3, Range{-10.0, 10.0});
+  r.finish();
+  return {Eigen::Vector3d(xyz[0], xyz[1], xyz[2]),
+          Eigen::Quaterniond(calibration::rpy_to_rotation(Eigen::Vector3d(rpy[0], rpy[1], rpy[2]))).normalized()};
 }
 
 TrackerSettings read_tracker(MapReader r, const std::string& scene_path) {
@@ -263,17 +280,30 @@ TrackerSettings read_tracker(MapReader r, const std::string& scene_path) {
       t.rotation_noise_rad = r.number("rotation_noise_rad", Range{0.0, 1.0}, t.rotation_noise_rad);
       t.dropout_probability = r.number("dropout_probability", kFraction, t.dropout_probability);
       t.seed = static_cast<std::uint64_t>(r.integer("seed", 0, 1LL << 62, 1));
+      if (r.optional("reference_in_tracker")) {
+        if (!t.tools.reference) r.fail_at("reference_in_tracker", "places the reference tool: declare it in tools (reference: ID)");
+        t.reference_in_tracker = read_pose(r.map("reference_in_tracker"));
+      }
       break;
     case TrackerKind::ndi:
       if (r.has("serial") == r.has("host")) r.fail_at("", "give either 'serial' (a device) or 'host' and 'port'");
       if (r.has("serial")) {
         t.serial_device = r.text("serial");
+        t.baud = static_cast<int>(r.integer("baud", 9600, 921600, t.baud));
+        if (std::find(std::begin(kNdiSerialBauds), std::end(kNdiSerialBauds), t.baud) == std::end(kNdiSerialBauds))
+          r.fail_at("baud", "an NDI device's rate (COMM) that this host can set: 9600, 19200, 38400, 57600, 115200, 230400 or 921600");
       } else {
         t.host = r.text("host");
         t.port = static_cast<int>(r.integer("port", 1, 65535));
       }
       t.rate_hz = r.number("rate_hz", Range{0.0, 1000.0, true}, t.rate_hz);
       if (r.optional("port_handles")) t.port_handles = read_tool_roles(r.map("port_handles"), 1, 255, t.port_handles);
+      if (r.optional("rom_files")) {
+        MapReader files = r.map("rom_files");
+        for (const char* role : {"needle", "probe", "respiratory", "reference"})
+          if (files.optional(role)) t.rom_files[role] = resolve(scene_path, files.text(role));
+        files.finish();
+      }
       break;
     case TrackerKind::apriltag: {
       const std::string camera = r.text("camera");
@@ -396,6 +426,14 @@ Scene read_scene(const YAML::Node& document, const std::string& path) {
 }
 
 }  // namespace
+
+std::vector<ToolRole> tool_roles(const ToolIds& tools, const ToolIds& device_ids) {
+  std::vector<ToolRole> roles{{"needle", "needle_marker", tools.needle, device_ids.needle},
+                              {"probe", "probe_marker", tools.probe, device_ids.probe},
+                              {"respiratory", "respiratory_marker", tools.respiratory, device_ids.respiratory}};
+  if (tools.reference && device_ids.reference) roles.push_back({"reference", "reference_marker", *tools.reference, *device_ids.reference});
+  return roles;
+}
 
 bool is_device_index(const std::string& source) {
   return !source.empty() && source.find_first_not_of("0123456789") == std::string::npos;

@@ -6,6 +6,7 @@
 // error names the file, the line and the key path (e.g. `liver.model.rung`).
 #include <array>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "nav/connective/organ_ligaments.hpp"
 #include "nav/core/error.hpp"
 #include "nav/core/units.hpp"
+#include "nav/fusion/rigid_pose.hpp"
 #include "nav/needle/needle_parameters.hpp"
 #include "nav/needle/needle_tissue_scene.hpp"
 #include "nav/reduced/reduced_ladder.hpp"
@@ -115,6 +117,9 @@ struct ToolIds {
   std::uint32_t needle = 1;       ///< the needle's marker
   std::uint32_t probe = 2;        ///< the ultrasound probe's marker
   std::uint32_t respiratory = 3;  ///< the respiratory marker on the patient's skin
+  /// The reference marker fixed to the patient, which the URDF's `reference_marker ->
+  /// liver_model` registers the model to; without one the tracker itself is fixed to the patient.
+  std::optional<std::uint32_t> reference;
 };
 
 /// `devices.tracker:` one of the three kinds with its settings.
@@ -131,19 +136,39 @@ struct TrackerSettings {
   double rotation_noise_rad = 0.0;
   double dropout_probability = 0.0;
   std::uint64_t seed = 1;
+  /// simulated: where the tracker sees the reference marker (T_tracker_reference; without a
+  /// reference tool, the model's registration is the URDF's alone)
+  RigidPose reference_in_tracker;
   // ndi: a serial device, or host and port; which port handle is which tool
   std::string serial_device;
   std::string host;
   int port = 0;
   ToolIds port_handles;
+  int baud = 115200;  ///< a serial line's rate after COMM (9600 ... 921600)
+  /// Passive tools by role (needle, probe, respiratory, reference): their .rom definition files,
+  /// loaded into the device (PHRQ, PVWR), which gives their port handles (not port_handles).
+  std::map<std::string, std::string> rom_files;
   // apriltag: the camera (a device index, /dev/videoN, a video or an image-sequence pattern),
   // the printed tags' edge, the camera's intrinsics (the file navtool calib camera writes;
   // required to track) and which tag36h11 id is which tool (the tool's frame at its tag)
   std::string camera_device;
   double tag_size_m = 0.0;
   std::string camera_intrinsics_path;
-  ToolIds tag_ids{0, 1, 2};
+  ToolIds tag_ids{0, 1, 2, std::nullopt};
 };
+
+/// One tracked tool by its role: its name, its frame in the URDF, its id on nav/tool_pose and
+/// the device's own id for it (an NDI port handle, a tag id).
+struct ToolRole {
+  const char* role;
+  const char* frame;
+  std::uint32_t tool_id;
+  std::uint32_t device_id;
+};
+
+/// The roles of `tools` with a device's ids for the same roles: needle, probe, respiratory,
+/// and the reference when both declare one.
+std::vector<ToolRole> tool_roles(const ToolIds& tools, const ToolIds& device_ids);
 
 /// Whether a capture source names a device by its index ("0" for /dev/video0) rather than a file.
 bool is_device_index(const std::string& source);

@@ -50,7 +50,8 @@ Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader,
   // The live station's boundary, with each record's arrival as its arrival.
   dds::SampleBoundary<dds::ToolPose> pose_boundary(boundary.arrival);
   dds::SampleBoundary<dds::UltrasoundFrame> frame_boundary(boundary.arrival);
-  dds::PoseInbox inbox({tools.needle, tools.probe, tools.respiratory}, boundary.pose_bounds);
+  const std::unique_ptr<dds::PoseInbox> inbox = role_inbox(tools, boundary.pose_bounds);
+  TrackerRegistration registration(boundary.model_in_reference, tools.reference);
   dds::BoundaryCounters counters;
   const auto admitted = [&](dds::SampleFault fault) {
     counters.count(fault);
@@ -64,10 +65,10 @@ Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader,
     if (record.topic == dds::Topic::tool_pose) {
       dds::SampleFault fault = dds::decode_sample(record.payload.data(), record.payload.size(), pose);
       if (fault == dds::SampleFault::none) fault = pose_boundary.admit(pose, a.received_ns);
-      if (fault == dds::SampleFault::none) fault = inbox.offer(pose);
+      if (fault == dds::SampleFault::none) fault = inbox->offer(pose);
       if (!admitted(fault)) continue;
-      const std::optional<DeviceSample> sample = device_sample_of(pose, device_to_loop_ns, delivered_ns, tools);
-      if (!sample) continue;  // a tool of no role: the inbox knows only the roles' tools
+      const std::optional<DeviceSample> sample = device_sample_of(pose, device_to_loop_ns, delivered_ns, tools, registration);
+      if (!sample) continue;  // the reference, or a pose before it
       ++out.poses;
       if (std::optional<DeviceSample> for_loop = loop_sample(observer, *sample, {})) samples.push_back(*for_loop);
       continue;
@@ -102,7 +103,9 @@ Result<SessionReplay> replay_session(const Scene& scene, const std::string& path
   if (!loop.ok()) return loop.error();
   auto imaging = scene_probe_imaging(scene);
   if (!imaging.ok()) return imaging.error();
-  auto samples = observed_session(*reader.value(), imaging.value(), dds_run_options(scene, nullptr), out);
+  auto boundary = dds_run_options(scene, nullptr);
+  if (!boundary.ok()) return boundary.error();
+  auto samples = observed_session(*reader.value(), imaging.value(), boundary.value(), out);
   if (!samples.ok()) return samples.error();
   if (samples.value().empty()) return Error{"the recording holds no tracker poses or ultrasound frames to replay", path, 0, ""};
   auto replay = replay_station(loop.value(), samples.value(), out.duration_ns, true);

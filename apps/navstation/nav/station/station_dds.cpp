@@ -116,21 +116,35 @@ void watch_peer(const dds::DdsNode& station, TimeNs now, bool& present, DdsRunRe
 
 }  // namespace
 
-std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns, const ToolIds& tools) {
+std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns, const ToolIds& tools,
+                                             TrackerRegistration& registration) {
+  if (registration.take_reference(pose)) return std::nullopt;
+  const bool respiratory = pose.tool_id == tools.respiratory;
+  if (!respiratory && pose.tool_id != tools.needle && pose.tool_id != tools.probe) return std::nullopt;
+  const std::optional<RigidPose> model_from_tracker = registration.model_from_tracker();
+  if (!model_from_tracker) {
+    ++registration.unregistered_poses;
+    return std::nullopt;
+  }
   DeviceSample s;
   s.measured_ns = pose.source_time_ns + device_to_loop_ns;
   s.delivered_ns = received_ns;
-  const Eigen::Vector3d position{pose.position_m[0], pose.position_m[1], pose.position_m[2]};
-  if (pose.tool_id == tools.respiratory) {
+  const auto& q = pose.orientation_wxyz;
+  const RigidPose in_tracker{{pose.position_m[0], pose.position_m[1], pose.position_m[2]}, Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized()};
+  const RigidPose in_model = compose(*model_from_tracker, in_tracker);
+  if (respiratory) {  // a position only
     s.kind = SampleKind::respiratory;
-    s.point_m = position;
+    s.point_m = in_model.position_m;
     return s;
   }
-  if (pose.tool_id != tools.needle && pose.tool_id != tools.probe) return std::nullopt;
   s.kind = pose.tool_id == tools.needle ? SampleKind::needle_pose : SampleKind::probe_pose;
-  const auto& q = pose.orientation_wxyz;
-  s.pose = {position, Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized()};
+  s.pose = in_model;
   return s;
+}
+
+std::unique_ptr<dds::PoseInbox> role_inbox(const ToolIds& t, const dds::PoseBounds& bounds) {
+  if (t.reference) return std::make_unique<dds::PoseInbox>(std::initializer_list<std::uint32_t>{*t.reference, t.needle, t.probe, t.respiratory}, bounds);
+  return std::make_unique<dds::PoseInbox>(std::initializer_list<std::uint32_t>{t.needle, t.probe, t.respiratory}, bounds);
 }
 
 dds::TopicNames topic_names(const TopicSettings& topics) {
@@ -170,7 +184,7 @@ Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t dom
                                                                bool with_simulated_devices, const NetworkSettings& network,
                                                                const ToolIds& tools) {
   auto link = std::make_unique<StationDdsLink>();
-  link->poses = std::make_unique<dds::PoseInbox>(std::initializer_list<std::uint32_t>{tools.needle, tools.probe, tools.respiratory}, pose_bounds);
+  link->poses = role_inbox(tools, pose_bounds);
   link->domain_id = domain_id;
   link->names = names;
   link->network = network;
@@ -249,7 +263,8 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
   }
   DisplaySurfacePublisher surfaces(loop, *options.dds);
   std::optional<WorldPlayer> player;
-  if (world != nullptr) player.emplace(*world, false, link.tools);
+  if (world != nullptr) player.emplace(*world, false, simulated_tracker(link.tools, options.dds->simulated_reference_in_tracker, options.dds->model_in_reference));
+  TrackerRegistration registration(options.dds->model_in_reference, link.tools.reference);
   ch.wait_for_start();
   const TimeNs device_to_loop_ns = options.dds->arrival.source_clock_offset_ns - ch.start_ns;  // stamps onto the loop's clock
   std::thread devices;
@@ -268,7 +283,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
       const TimeNs received_ns = pose.receive_time_ns - ch.start_ns;
       ++report.poses_received;
       if (player) pose_receipts.push_back({pose.sequence_number, pose.receive_time_ns});
-      const std::optional<DeviceSample> sample = device_sample_of(pose, device_to_loop_ns, received_ns, link.tools);
+      const std::optional<DeviceSample> sample = device_sample_of(pose, device_to_loop_ns, received_ns, link.tools, registration);
       if (!sample) continue;
       const std::optional<DeviceSample> for_loop = loop_sample(observer, *sample, {});
       if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;
@@ -314,6 +329,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
   report.surface_periods_passed_over = surfaces.passed_over();
   report.surface_reconstruction = latency_statistics(surfaces.reconstruction_us());
   report.boundary = link.station->boundary_counts();
+  report.unregistered_poses = registration.unregistered_poses;
   run.dds = report;
 }
 

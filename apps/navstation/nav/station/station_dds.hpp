@@ -26,13 +26,20 @@
 #include "nav/station/scene.hpp"
 #include "nav/station/simulated_world.hpp"
 #include "nav/station/station_run.hpp"
+#include "nav/station/tracker_registration.hpp"
 
 namespace nav::station {
 
-/// A received ToolPose as the loop's sample (measured at its source time +
-/// `device_to_loop_ns`, delivered at `received_ns`), its role by `tools`, or nothing for a tool
-/// of no role.
-std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns, const ToolIds& tools);
+/// A received ToolPose as the loop's sample in the model frame (measured at its source time +
+/// `device_to_loop_ns`, delivered at `received_ns`), its role by `tools`; nothing for a tool of
+/// no role, for the reference tool (which `registration` takes) and for a pose before the
+/// registration has its reference (counted there).
+std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns, const ToolIds& tools,
+                                             TrackerRegistration& registration);
+
+/// The station's pose inbox: the tools of `tools`' roles, the reference first (so that a poll
+/// registers before it converts), within `bounds`.
+std::unique_ptr<dds::PoseInbox> role_inbox(const ToolIds& tools, const dds::PoseBounds& bounds);
 
 /// The scene's topic names, by DDS topic (what the station's participants create).
 dds::TopicNames topic_names(const TopicSettings& topics);

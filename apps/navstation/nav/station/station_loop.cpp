@@ -11,6 +11,7 @@
 #include "nav/calibration/frame_tree.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "nav/station/station_build.hpp"
+#include "nav/station/tracker_registration.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 
 namespace nav::station {
@@ -132,6 +133,7 @@ Status check_station_loop(const Scene& scene) {
     return Error{"a running station's ladder has reduced rungs only (its filter needs reduced coordinates on every rung): "
                  "set full_order_on_top: false",
                  scene.source_path, scene.liver.escalation->line, "liver.model.escalation.full_order_on_top"};
+  if (auto registration = scene_model_in_reference(scene); !registration.ok()) return registration.error();
   return Done{};
 }
 

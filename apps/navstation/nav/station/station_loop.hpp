@@ -58,7 +58,8 @@ Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Sc
 
 /// Whether the station's loop can run the scene's liver model, checked before anything is
 /// built: a ladder with the full order on top cannot (the loop's filter needs reduced
-/// coordinates on every rung); an Error at liver.model.escalation.full_order_on_top.
+/// coordinates on every rung); an Error at liver.model.escalation.full_order_on_top; nor
+/// one whose URDF has no registration (reference_marker -> liver_model), at frames.urdf.
 Status check_station_loop(const Scene& scene);
 
 /// One line that says which liver the loop runs and where it came from, e.g. "liver model:

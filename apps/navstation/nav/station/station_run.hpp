@@ -71,6 +71,8 @@ struct DdsRunOptions {
   dds::TopicNames topic_names{};            ///< the topics' names (empty entries: the defaults)
   NetworkSettings network;                  ///< the participants' local address and peers
   ToolIds tools;                            ///< the tracked tools' ids on nav/tool_pose
+  RigidPose model_in_reference;             ///< the URDF's registration (tracker_registration.hpp)
+  RigidPose simulated_reference_in_tracker; ///< where the in-process simulated tracker sees the reference (world_player.hpp)
   std::optional<PeerOutage> device_outage;  ///< the devices' participant goes away once
   TimeNs health_period_ns = 100 * kNsPerMs; ///< the station's health is published this often
   const DisplaySurface* surface = nullptr;  ///< published on nav/deformed_surface when given (outlives the run)
@@ -118,6 +120,7 @@ struct DdsRunReport {
   std::int64_t surface_periods_passed_over = 0;  ///< periods of liver time the I/O thread read no output in (it lagged)
   LatencyStatistics surface_reconstruction;  ///< the I/O thread's time per surface
   dds::BoundaryCounts boundary;     ///< what the station's participant accepted and refused, by reason
+  std::int64_t unregistered_poses = 0;  ///< poses before the tracked reference's first (not used)
 };
 
 /// What a real-time run measured.

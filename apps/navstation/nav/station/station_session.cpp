@@ -48,8 +48,12 @@ StationRunOptions station_run_options(const Scene& scene, TimeNs duration_ns, Ti
   return run_options;
 }
 
-DdsRunOptions dds_run_options(const Scene& scene, const DisplaySurface* surface) {
+Result<DdsRunOptions> dds_run_options(const Scene& scene, const DisplaySurface* surface) {
+  auto model_in_reference = scene_model_in_reference(scene);
+  if (!model_in_reference.ok()) return model_in_reference.error();
   DdsRunOptions dds;
+  dds.model_in_reference = model_in_reference.value();
+  dds.simulated_reference_in_tracker = scene.devices.tracker.reference_in_tracker;
   dds.domain_id = scene.topics.domain_id;
   dds.topic_names = topic_names(scene.topics);
   dds.network = scene.network;
@@ -111,7 +115,11 @@ Result<StationSession> run_session(const Scene& scene, const SessionOptions& opt
   s.world_s = seconds_since(start);
 
   StationRunOptions run_options = station_run_options(scene, options.world.duration_ns, options.miss_threshold_ns, options.lock_memory);
-  if (options.dds) run_options.dds = dds_run_options(scene, &p.surface);
+  if (options.dds) {
+    auto dds = dds_run_options(scene, &p.surface);
+    if (!dds.ok()) return dds.error();
+    run_options.dds = std::move(dds).value();
+  }
   auto run = run_station(loop, s.world, run_options);
   if (!run.ok()) return run.error();
   s.run = std::move(run).value();
@@ -138,7 +146,9 @@ Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, con
   s.liver_model = describe_station_loop(scene, loop);
   s.miss_threshold_ns = 5 * kNsPerMs;
   StationRunOptions run_options = station_run_options(scene, duration_ns, s.miss_threshold_ns, true);
-  run_options.dds = dds_run_options(scene, &p.surface);
+  auto dds = dds_run_options(scene, &p.surface);
+  if (!dds.ok()) return dds.error();
+  run_options.dds = std::move(dds).value();
   run_options.stop = stop;
   auto imaging = scene_probe_imaging(scene);
   if (!imaging.ok()) return imaging.error();
@@ -196,6 +206,9 @@ std::string run_figures(const Scene& scene, const StationRun& run, const Display
                   d.surface_reconstruction.p99_us);
     out += format("  samples accepted %.0f;", static_cast<double>(d.boundary.accepted));
     out += " dropped at the boundary: " + dds::drops_by_reason(d.boundary) + "\n";
+    if (const std::optional<std::uint32_t> reference = scene.devices.tracker.tools.reference)
+      out += format("  registered to the model through the reference (tool %.0f); poses before its first, not used: %.0f\n",
+                    static_cast<double>(*reference), static_cast<double>(d.unregistered_poses));
   }
   return out;
 }

@@ -93,7 +93,7 @@ std::string session_json(const Scene& scene, const StationSession& session);
 StationRunOptions station_run_options(const Scene& scene, TimeNs duration_ns, TimeNs miss_threshold_ns, bool lock_memory);
 
 /// The DDS options of `scene` (domain, topic names, arrival window, pose bounds), publishing `surface` when given.
-DdsRunOptions dds_run_options(const Scene& scene, const DisplaySurface* surface);
+Result<DdsRunOptions> dds_run_options(const Scene& scene, const DisplaySurface* surface);
 
 /// The tumour's errors over time (now and ahead, with and without assimilation), in millimetres.
 std::vector<PlotSeries> error_series(const StationSession& session);

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cstring>
 
-
 namespace nav::station {
 
 namespace {
@@ -17,15 +16,31 @@ dds::Vector3 vector_of(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
 
 }  // namespace
 
-WorldPlayer::WorldPlayer(const SimulatedWorld& world, bool publish_truth, const ToolIds& tools)
-    : world_(world), publish_truth_(publish_truth), tools_(tools), frame_(std::make_unique<dds::UltrasoundFrame>()),
+/// The reference tool's pose at the stamp of `respiratory` (written with it).
+dds::ToolPose WorldPlayer::reference_pose(const dds::ToolPose& respiratory) const {
+  dds::ToolPose pose = respiratory;
+  pose.tool_id = *tracker_.tools.reference;
+  set_name(pose.frame_from, "reference_marker");
+  const RigidPose& r = tracker_.reference_in_tracker;
+  pose.position_m = vector_of(r.position_m);
+  pose.orientation_wxyz = {r.rotation.w(), r.rotation.x(), r.rotation.y(), r.rotation.z()};
+  return pose;
+}
+
+SimulatedTracker simulated_tracker(const ToolIds& tools, const RigidPose& reference_in_tracker, const RigidPose& model_in_reference) {
+  const RigidPose reference = tools.reference ? reference_in_tracker : RigidPose{};
+  return {tools, compose(reference, model_in_reference), reference};
+}
+
+WorldPlayer::WorldPlayer(const SimulatedWorld& world, bool publish_truth, const SimulatedTracker& tracker)
+    : world_(world), publish_truth_(publish_truth), tracker_(tracker), frame_(std::make_unique<dds::UltrasoundFrame>()),
       written_ns_(world.samples.size(), -1) {
   const ultrasound::BmodeGeometry& g = world.imaging.geometry;
   frame_->width_px = g.width_px;
   frame_->height_px = g.height_px;
   frame_->pixel_spacing_m = {g.spacing_m, g.spacing_m};
   frame_->depth_m = g.height_px * g.spacing_m;
-  frame_->probe_tool_id = tools.probe;
+  frame_->probe_tool_id = tracker.tools.probe;
 }
 
 void WorldPlayer::play_until(TimeNs now_ns, dds::DdsNode* node, const MonotonicClock& clock) {
@@ -43,9 +58,10 @@ void WorldPlayer::play_until(TimeNs now_ns, dds::DdsNode* node, const MonotonicC
       written_ns_[next_] = clock.now_ns();
       if (node->write(*frame_)) ++counts_.frames_written;
     } else {
-      const dds::ToolPose pose = tool_pose_of(s, next_, world_to_device_ns_, tools_);
+      const dds::ToolPose pose = tool_pose_of(s, next_, world_to_device_ns_, tracker_);
       written_ns_[next_] = clock.now_ns();
       if (node->write(pose)) ++counts_.poses_written;
+      if (s.kind == SampleKind::respiratory && tracker_.tools.reference && node->write(reference_pose(pose))) ++counts_.poses_written;
     }
   }
   if (!publish_truth_ || node == nullptr) return;
@@ -60,23 +76,26 @@ void WorldPlayer::play_until(TimeNs now_ns, dds::DdsNode* node, const MonotonicC
   }
 }
 
-dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns, const ToolIds& tools) {
+dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns, const SimulatedTracker& tracker) {
   dds::ToolPose pose;
   pose.sequence_number = sequence_number;
   pose.source_time_ns = sample.measured_ns + world_to_device_ns;
   pose.quality = 1.0f;
   set_name(pose.frame_to, "tracker");
+  const ToolIds& tools = tracker.tools;
   if (sample.kind == SampleKind::respiratory) {
     pose.tool_id = tools.respiratory;
-    pose.position_m = vector_of(sample.point_m);
+    const RigidPose& t = tracker.model_in_tracker;
+    pose.position_m = vector_of(t.rotation * sample.point_m + t.position_m);
     set_name(pose.frame_from, "respiratory_marker");
     return pose;
   }
   const bool needle = sample.kind == SampleKind::needle_pose;
   pose.tool_id = needle ? tools.needle : tools.probe;
   set_name(pose.frame_from, needle ? "needle_base" : "probe_marker");
-  const Eigen::Quaterniond& q = sample.pose.rotation;
-  pose.position_m = vector_of(sample.pose.position_m);
+  const RigidPose in_tracker = compose(tracker.model_in_tracker, sample.pose);
+  const Eigen::Quaterniond& q = in_tracker.rotation;
+  pose.position_m = vector_of(in_tracker.position_m);
   pose.orientation_wxyz = {q.w(), q.x(), q.y(), q.z()};
   return pose;
 }

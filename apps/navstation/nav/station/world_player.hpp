@@ -24,11 +24,24 @@ struct PlayerCounts {
   std::uint64_t samples_lost = 0;  ///< samples due while there was no participant
 };
 
+/// A simulated tracker's tools and where it sees the patient: the world's model-frame poses go
+/// out in the tracker's frame (T_tracker_model applied), and the reference tool, when the scene
+/// tracks one, at its fixed place T_tracker_reference with every respiratory sample.
+struct SimulatedTracker {
+  ToolIds tools;
+  RigidPose model_in_tracker;      ///< T_tracker_model = T_tracker_reference * T_reference_model
+  RigidPose reference_in_tracker;  ///< T_tracker_reference
+};
+
+/// A simulated tracker of `tools` seeing the reference marker at `reference_in_tracker` (when
+/// `tools` has a reference; else at its origin) and the model on it by the URDF's `model_in_reference`.
+SimulatedTracker simulated_tracker(const ToolIds& tools, const RigidPose& reference_in_tracker, const RigidPose& model_in_reference);
+
 /// Plays one world's recording, in order, once.
 class WorldPlayer {
  public:
-  /// Plays `world` with its tools under the ids `tools`, and its truth when `publish_truth`.
-  WorldPlayer(const SimulatedWorld& world, bool publish_truth, const ToolIds& tools);
+  /// Plays `world` as `tracker` sees it, and its truth when `publish_truth`.
+  WorldPlayer(const SimulatedWorld& world, bool publish_truth, const SimulatedTracker& tracker);
 
   /// Sets where world time 0 is on the devices' clock (before the first play_until).
   void set_world_to_device_ns(TimeNs world_to_device_ns) noexcept { world_to_device_ns_ = world_to_device_ns; }
@@ -44,9 +57,11 @@ class WorldPlayer {
   const std::vector<TimeNs>& written_ns() const noexcept { return written_ns_; }
 
  private:
+  dds::ToolPose reference_pose(const dds::ToolPose& respiratory) const;
+
   const SimulatedWorld& world_;
   bool publish_truth_;
-  ToolIds tools_;
+  SimulatedTracker tracker_;
   TimeNs world_to_device_ns_ = 0;
   std::size_t next_ = 0;
   TimeNs next_truth_ns_ = 0;
@@ -55,8 +70,8 @@ class WorldPlayer {
   PlayerCounts counts_;
 };
 
-/// A recorded tracker sample as the ToolPose the tracker publishes (source time: its
-/// measurement time on the device's clock, world time + `world_to_device_ns`; its tool id by `tools`).
-dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns, const ToolIds& tools);
+/// A recorded tracker sample as the ToolPose `tracker` publishes (source time: its measurement
+/// time on the device's clock, world time + `world_to_device_ns`; in the tracker's frame).
+dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns, const SimulatedTracker& tracker);
 
 }  // namespace nav::station

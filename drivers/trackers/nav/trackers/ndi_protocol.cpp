@@ -1,6 +1,8 @@
 #include "nav/trackers/ndi_protocol.hpp"
 
+#include <algorithm>
 #include <charconv>
+#include <iterator>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -302,6 +304,63 @@ Result<std::vector<PortHandle>> decode_phsr(std::string_view body) {
   }
   if (!reader.done()) return bad("PHSR reply has trailing bytes", "PHSR");
   return handles;
+}
+
+namespace {
+
+/// COMM's rate codes: the character at position k is the code of kCommBauds[k].
+constexpr std::string_view kCommCodes = "012345A6";
+constexpr int kCommBauds[] = {9600, 14400, 19200, 38400, 57600, 115200, 230400, 921600};
+constexpr std::string_view kCommFraming = "0000";  // 8 data bits, no parity, 1 stop bit, no handshake
+
+bool hex_value(char c, int& value) {
+  if (c >= '0' && c <= '9') value = c - '0';
+  else if (c >= 'A' && c <= 'F') value = c - 'A' + 10;
+  else if (c >= 'a' && c <= 'f') value = c - 'a' + 10;
+  else return false;
+  return true;
+}
+
+}  // namespace
+
+std::optional<std::string> comm_arguments(int baud) {
+  if (std::find(std::begin(kSerialBauds), std::end(kSerialBauds), baud) == std::end(kSerialBauds)) return std::nullopt;
+  for (std::size_t k = 0; k < kCommCodes.size(); ++k)
+    if (kCommBauds[k] == baud) return std::string(1, kCommCodes[k]) + std::string(kCommFraming);
+  return std::nullopt;
+}
+
+std::optional<int> comm_baud(std::string_view arguments) {
+  if (arguments.size() != 1 + kCommFraming.size() || arguments.substr(1) != kCommFraming) return std::nullopt;
+  const std::size_t k = kCommCodes.find(arguments[0]);
+  if (k == std::string_view::npos) return std::nullopt;
+  return kCommBauds[k];
+}
+
+std::string encode_pvwr(const RomWrite& write) {
+  char head[8];
+  std::snprintf(head, sizeof head, "%02X%04zX", write.handle, write.address);
+  std::string out = head;
+  for (std::size_t i = 0; i < kRomChunkBytes; ++i) {
+    char byte[4];
+    std::snprintf(byte, sizeof byte, "%02X", i < write.bytes.size() ? static_cast<unsigned char>(write.bytes[i]) : 0u);
+    out += byte;
+  }
+  return out;
+}
+
+Result<RomWrite> decode_pvwr(std::string_view arguments) {
+  if (arguments.size() != 6 + 2 * kRomChunkBytes) return Error{"PVWR takes a handle, an address and 64 bytes in hex", "", 0, "PVWR"};
+  int digits[6 + 2 * kRomChunkBytes];
+  for (std::size_t i = 0; i < arguments.size(); ++i)
+    if (!hex_value(arguments[i], digits[i])) return Error{"PVWR: not a hex digit at " + std::to_string(i), "", 0, "PVWR"};
+  RomWrite write;
+  write.handle = static_cast<std::uint8_t>(16 * digits[0] + digits[1]);
+  write.address = static_cast<std::size_t>(((digits[2] * 16 + digits[3]) * 16 + digits[4]) * 16 + digits[5]);
+  if (write.address % kRomChunkBytes != 0 || write.address + kRomChunkBytes > kRomBytes)
+    return Error{"PVWR: address " + std::to_string(write.address) + " is not a chunk of the 1024-byte definition", "", 0, "PVWR"};
+  for (std::size_t i = 0; i < kRomChunkBytes; ++i) write.bytes += static_cast<char>(16 * digits[6 + 2 * i] + digits[7 + 2 * i]);
+  return write;
 }
 
 }  // namespace nav::trackers::ndi

@@ -72,4 +72,31 @@ struct PortHandle {
 std::string encode_phsr(const std::vector<PortHandle>& handles);
 Result<std::vector<PortHandle>> decode_phsr(std::string_view body);
 
+/// The serial rates COMM can ask for that a Linux host can also set (the device's own 14400
+/// and 1228739 have no termios speed).
+inline constexpr int kSerialBauds[] = {9600, 19200, 38400, 57600, 115200, 230400, 921600};
+/// The serial rate of a device after power-on or a serial break.
+inline constexpr int kResetBaud = 9600;
+/// COMM's arguments for `baud` at 8N1 without handshake ("50000" for 115200), or nothing for
+/// a rate not in kSerialBauds.
+std::optional<std::string> comm_arguments(int baud);
+/// The rate COMM's arguments ask for, or nothing (another framing or handshake, a bad code).
+std::optional<int> comm_baud(std::string_view arguments);
+
+/// A passive tool's definition (its .rom file) is written in chunks of 64 bytes into 1024.
+inline constexpr std::size_t kRomBytes = 1024;
+inline constexpr std::size_t kRomChunkBytes = 64;
+/// PHRQ's arguments asking for a port handle for a passive (wireless) tool.
+inline constexpr std::string_view kPassiveToolRequest = "*********1****";
+/// One PVWR: a port handle, a start address and 64 bytes of the tool's definition.
+struct RomWrite {
+  std::uint8_t handle = 0;
+  std::size_t address = 0;
+  std::string bytes;
+};
+/// PVWR's arguments: "hh" handle, "aaaa" address, 128 hex digits (the chunk, zero-padded).
+std::string encode_pvwr(const RomWrite& write);
+/// Decodes PVWR's arguments; an address past the definition or a chunk of another size fails.
+Result<RomWrite> decode_pvwr(std::string_view arguments);
+
 }  // namespace nav::trackers::ndi

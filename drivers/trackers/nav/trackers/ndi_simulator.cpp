@@ -6,10 +6,13 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+
+#include "nav/trackers/ndi_connection.hpp"
 
 namespace nav::trackers::ndi {
 namespace {
@@ -19,6 +22,8 @@ constexpr const char* kInvalidCommand = "ERROR01";
 constexpr const char* kBadCrc = "ERROR04";
 constexpr const char* kBadParameter = "ERROR0D";
 constexpr const char* kNotTracking = "ERROR0C";
+constexpr const char* kNoToolDefinition = "ERROR0E";  // PINIT of a port whose written definition is no tool's
+constexpr std::uint8_t kFirstRequestedHandle = 0x0A;  // handles PHRQ gives out
 
 /// The name, arguments and CRC of a command line "NAME:args<CRC>" or "NAME args".
 struct CommandLine {
@@ -50,9 +55,12 @@ int parse_handle(std::string_view text) {
 
 }  // namespace
 
-SimulatedNdiDevice::SimulatedNdiDevice(std::vector<SimulatedNdiTool> tools, TimeNs frame_period_ns)
-    : frame_period_ns_(frame_period_ns) {
-  for (SimulatedNdiTool& tool : tools) ports_.push_back({tool, false, false});
+SimulatedNdiDevice::SimulatedNdiDevice(std::vector<SimulatedNdiTool> tools, TimeNs frame_period_ns, int baud)
+    : baud_(baud), frame_period_ns_(frame_period_ns) {
+  for (SimulatedNdiTool& tool : tools) {
+    if (tool.definition.empty()) ports_.push_back({tool, false, false, {}});
+    else passive_.push_back(tool);
+  }
 }
 
 HandleRecord SimulatedNdiDevice::record(std::size_t index, std::uint32_t frame) const {
@@ -88,6 +96,30 @@ std::string SimulatedNdiDevice::reply_tracking(std::string_view name, std::strin
   return name == "BX" ? encode_bx(reply) : frame_reply(encode_tx(reply));
 }
 
+std::string SimulatedNdiDevice::reply_port(std::string_view name, std::string_view arguments) {
+  const int handle = parse_handle(arguments);
+  for (Port& port : ports_) {
+    if (port.tool.handle != handle) continue;
+    if (name == "PINIT") {
+      if (!port.written.empty()) {  // a requested port: its definition must be a passive tool's
+        const auto tool = std::find_if(passive_.begin(), passive_.end(), [&](const SimulatedNdiTool& t) {
+          return t.definition + std::string(kRomBytes - std::min(kRomBytes, t.definition.size()), '\0') == port.written;
+        });
+        if (tool == passive_.end()) return frame_reply(kNoToolDefinition);
+        const std::uint8_t assigned = port.tool.handle;
+        port.tool = *tool;
+        port.tool.handle = assigned;
+      }
+      port.initialized = true;
+      return frame_reply(kOkay);
+    }
+    if (!port.initialized || arguments.size() != 3) return frame_reply(kBadParameter);
+    port.enabled = true;
+    return frame_reply(kOkay);
+  }
+  return frame_reply(kBadParameter);
+}
+
 std::string SimulatedNdiDevice::respond(std::string_view line) {
   const CommandLine command = split(line);
   if (!command.crc_ok) return frame_reply(kBadCrc);
@@ -108,16 +140,30 @@ std::string SimulatedNdiDevice::respond(std::string_view line) {
     }
     return frame_reply(encode_phsr(handles));
   }
-  if (command.name == "PINIT" || command.name == "PENA") {
-    const int handle = parse_handle(command.arguments);
+  if (command.name == "PINIT" || command.name == "PENA") return reply_port(command.name, command.arguments);
+  if (command.name == "COMM") {
+    const std::optional<int> baud = comm_baud(command.arguments);
+    if (!baud) return frame_reply(kBadParameter);
+    baud_ = *baud;  // its OKAY goes out at the old rate; the next line must come at the new one
+    return frame_reply(kOkay);
+  }
+  if (command.name == "PHRQ") {
+    if (command.arguments != kPassiveToolRequest) return frame_reply(kBadParameter);
+    std::uint8_t handle = kFirstRequestedHandle;
+    for (const Port& port : ports_) handle = std::max<std::uint8_t>(handle, static_cast<std::uint8_t>(port.tool.handle + 1));
+    SimulatedNdiTool requested;
+    requested.handle = handle;
+    ports_.push_back({requested, false, false, std::string(kRomBytes, '\0')});
+    char reply[8];
+    std::snprintf(reply, sizeof reply, "%02X", handle);
+    return frame_reply(reply);
+  }
+  if (command.name == "PVWR") {
+    const Result<RomWrite> write = decode_pvwr(command.arguments);
+    if (!write) return frame_reply(kBadParameter);
     for (Port& port : ports_) {
-      if (port.tool.handle != handle) continue;
-      if (command.name == "PINIT") {
-        port.initialized = true;
-        return frame_reply(kOkay);
-      }
-      if (!port.initialized || command.arguments.size() != 3) return frame_reply(kBadParameter);
-      port.enabled = true;
+      if (port.tool.handle != write.value().handle || port.written.empty()) continue;
+      port.written.replace(write.value().address, kRomChunkBytes, write.value().bytes);
       return frame_reply(kOkay);
     }
     return frame_reply(kBadParameter);
@@ -134,13 +180,21 @@ std::string SimulatedNdiDevice::respond(std::string_view line) {
   return frame_reply(kInvalidCommand);
 }
 
-NdiDeviceServer::NdiDeviceServer(int fd, SimulatedNdiDevice device)
-    : fd_(fd), device_(std::move(device)), thread_([this] { serve(); }) {}
+NdiDeviceServer::NdiDeviceServer(int fd, SimulatedNdiDevice device, const std::string& serial_path)
+    : fd_(fd), serial_fd_(serial_path.empty() ? -1 : ::open(serial_path.c_str(), O_RDONLY | O_NOCTTY | O_CLOEXEC)),
+      device_(std::move(device)), thread_([this] { serve(); }) {}
 
 NdiDeviceServer::~NdiDeviceServer() {
   stop_.store(true);
   thread_.join();
   ::close(fd_);
+  if (serial_fd_ >= 0) ::close(serial_fd_);
+}
+
+bool NdiDeviceServer::host_at_device_rate() const {
+  termios settings{};
+  if (serial_fd_ < 0 || tcgetattr(serial_fd_, &settings) != 0) return true;  // TCP, or no pty to look at
+  return termios_speed(device_.baud()) == cfgetospeed(&settings);
 }
 
 void NdiDeviceServer::serve() {
@@ -158,6 +212,11 @@ void NdiDeviceServer::serve() {
     for (ssize_t i = 0; i < got; ++i) {
       if (buffer[i] != '\r') {
         line += buffer[i];
+        continue;
+      }
+      if (!host_at_device_rate()) {  // noise at the device's rate: no reply
+        line.clear();
+        garbled_.fetch_add(1);
         continue;
       }
       const std::string reply = device_.respond(line);

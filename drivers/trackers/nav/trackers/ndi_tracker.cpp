@@ -1,9 +1,16 @@
 #include "nav/trackers/ndi_tracker.hpp"
 
+#include <chrono>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <thread>
 
 namespace nav::trackers::ndi {
 namespace {
+
+constexpr TimeNs kInitProbeNs = 200 * kNsPerMs;  // INIT's answer at 9600 when the device is there (ndicapi waits 100 ms)
 
 std::string hex2(std::uint8_t value) {
   char text[4];
@@ -42,10 +49,70 @@ TrackerSample to_sample(const HandleRecord& record, TimeNs measured_time_ns) {
   return sample;
 }
 
-Result<NdiTracker> NdiTracker::start(Connection connection) {
+Status negotiate_serial(Connection& connection, int baud) {
+  const std::optional<std::string> comm = comm_arguments(baud);
+  if (!comm) return Error{"no serial rate " + std::to_string(baud) + " the device and this host share", connection.path(), 0, "COMM"};
+  if (Status reset_rate = connection.set_serial_speed(kResetBaud); !reset_rate) return reset_rate;
+  connection.discard_input();
+  const TimeNs reply_timeout_ns = connection.reply_timeout_ns;
+  connection.reply_timeout_ns = kInitProbeNs;
+  const bool answered = connection.command("INIT", "").ok();
+  connection.reply_timeout_ns = reply_timeout_ns;
+  if (!answered) {  // at another rate, or busy: a break resets it to 9600
+    connection.discard_input();
+    if (Status broke = connection.send_break(); !broke) return broke;
+    Result<std::string> reset = connection.read_reply();
+    if (!reset || reset.value() != "RESET")
+      return Error{"no reply to INIT at 9600 8N1, and no RESET after a serial break" + (reset ? ": the device said " + reset.value() : std::string()) +
+                       " (is the device on, and is this its port?)",
+                   connection.path(), 0, "INIT"};
+    Result<std::string> init = connection.command("INIT", "");
+    if (!init) return init.error();
+  }
+  Result<std::string> switched = connection.command("COMM", *comm);
+  if (!switched) return switched.error();
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the device changes its rate after its reply
+  return connection.set_serial_speed(baud);
+}
+
+Result<std::string> read_tool_definition(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return Error{"cannot open the tool definition", path, 0, ""};
+  std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  if (bytes.empty()) return Error{"the tool definition is empty", path, 0, ""};
+  if (bytes.size() > kRomBytes)
+    return Error{"the tool definition has " + std::to_string(bytes.size()) + " bytes; a device takes at most 1024", path, 0, ""};
+  return bytes;
+}
+
+namespace {
+
+/// A port handle for a passive tool (PHRQ), its definition written into it (PVWR).
+Result<std::uint8_t> load_passive_tool(Connection& connection, const std::string& definition) {
+  Result<std::string> requested = connection.command("PHRQ", kPassiveToolRequest);
+  if (!requested) return requested.error();
+  unsigned handle = 0;
+  if (requested.value().size() < 2 || std::sscanf(requested.value().substr(0, 2).c_str(), "%2X", &handle) != 1)
+    return Error{"PHRQ replied '" + requested.value() + "', not a port handle", "", 0, "PHRQ"};
+  for (std::size_t address = 0; address < definition.size(); address += kRomChunkBytes) {
+    const RomWrite chunk{static_cast<std::uint8_t>(handle), address, definition.substr(address, kRomChunkBytes)};
+    Result<std::string> written = connection.command("PVWR", encode_pvwr(chunk));
+    if (!written) return written.error();
+  }
+  return static_cast<std::uint8_t>(handle);
+}
+
+}  // namespace
+
+Result<NdiTracker> NdiTracker::start(Connection connection, const std::vector<std::string>& definitions) {
   NdiTracker tracker(std::move(connection));
   Result<std::string> init = tracker.connection_.command("INIT", "");
   if (!init) return init.error();
+  for (const std::string& definition : definitions) {
+    Result<std::uint8_t> handle = load_passive_tool(tracker.connection_, definition);
+    if (!handle) return handle.error();
+    tracker.passive_handles_.push_back(handle.value());
+  }
   if (Status initialised = for_listed_handles(tracker.connection_, "02", "PINIT", "", nullptr); !initialised) {
     return initialised.error();
   }

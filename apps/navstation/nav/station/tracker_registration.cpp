@@ -1,0 +1,34 @@
+#include "nav/station/tracker_registration.hpp"
+
+#include "nav/calibration/frame_tree.hpp"
+
+namespace nav::station {
+
+Result<RigidPose> scene_model_in_reference(const Scene& scene) {
+  auto frames = calibration::FrameTree::load(scene.frames.urdf_path);
+  if (!frames.ok()) return Error{frames.error().describe(), scene.source_path, scene.frames.line, "frames.urdf"};
+  auto joint = frames.value().lookup("reference_marker", "liver_model", 0);
+  if (!joint.ok())
+    return Error{"no fixed chain from reference_marker to liver_model (the registration navtool calib register writes): " +
+                     joint.error().describe(),
+                 scene.source_path, scene.frames.line, "frames.urdf"};
+  return RigidPose{joint.value().translation(), Eigen::Quaterniond(joint.value().rotation()).normalized()};
+}
+
+TrackerRegistration::TrackerRegistration(const RigidPose& model_in_reference, std::optional<std::uint32_t> reference_tool)
+    : model_in_reference_(model_in_reference), reference_tool_(reference_tool) {
+  if (!reference_tool_) model_from_tracker_ = inverse(model_in_reference_);  // the reference marker at the tracker's origin
+}
+
+bool TrackerRegistration::take_reference(const dds::ToolPose& pose) noexcept {
+  if (!reference_tool_ || pose.tool_id != *reference_tool_) return false;
+  const auto& q = pose.orientation_wxyz;
+  const RigidPose reference_in_tracker{{pose.position_m[0], pose.position_m[1], pose.position_m[2]},
+                                       Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized()};
+  model_from_tracker_ = inverse(compose(reference_in_tracker, model_in_reference_));
+  return true;
+}
+
+std::optional<RigidPose> TrackerRegistration::model_from_tracker() const noexcept { return model_from_tracker_; }
+
+}  // namespace nav::station
