@@ -4,11 +4,11 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <span>
 #include <vector>
 
 #include "nav/connective/frame_tissue_model.hpp"
+#include "support/bits_hash.hpp"
 
 namespace nav::testing {
 
@@ -60,18 +60,6 @@ inline void move_dof(FrameTissueData& data, std::size_t k, double delta) {
   } else {
     turn_frame(data, frame, delta * Eigen::Vector3d::Unit(static_cast<int>(a - 3)));
   }
-}
-
-/// FNV-1a over the bytes of the given values.
-inline std::uint64_t state_hash(std::initializer_list<std::span<const double>> parts) {
-  std::uint64_t hash = 1469598103934665603ull;
-  for (std::span<const double> values : parts)
-    for (double value : values) {
-      unsigned char bytes[sizeof(double)];
-      std::memcpy(bytes, &value, sizeof(double));
-      for (unsigned char byte : bytes) hash = (hash ^ byte) * 1099511628211ull;
-    }
-  return hash;
 }
 
 }  // namespace nav::testing

@@ -17,7 +17,7 @@ namespace {
 using testing::block_grid;
 using testing::frames_where;
 using testing::scene_of;
-using testing::state_hash;
+using testing::bits_hash;
 
 /// A 2 x 2 x 3 cm ligament hanging from its top face (fixed), its bottom face driven.
 FrameTissueScene ligament(double youngs_modulus_pa) {
@@ -69,7 +69,7 @@ std::uint64_t run(const FrameTissueModel& model, int steps, std::size_t* allocat
   *allocations = guard.allocations();
   EXPECT_TRUE(data.health.healthy()) << data.health.bits();
   EXPECT_EQ(data.steps, steps);
-  return state_hash({data.positions_m, data.orientations_wxyz, data.velocities, data.driven_forces_n});
+  return bits_hash({data.positions_m, data.orientations_wxyz, data.velocities, data.driven_forces_n});
 }
 
 TEST(FrameRuntime, StepsDoNotAllocateAndRepeatBitwise) {
@@ -105,7 +105,7 @@ TEST(FrameRuntime, BadInputsAreRefusedWithTheStateUntouched) {
   const FrameTissueModel model = make_frame_tissue_model(ligament(5e4), dynamic_options(FrameSolver::cg_block_jacobi)).value();
   FrameTissueData data = make_frame_tissue_data(model).value();
   step(model, data, {});
-  const std::uint64_t before = state_hash({data.positions_m, data.orientations_wxyz, data.velocities});
+  const std::uint64_t before = bits_hash({data.positions_m, data.orientations_wxyz, data.velocities});
   std::vector<double> driven = driven_at(model, 3);
   driven[4] = std::numeric_limits<double>::quiet_NaN();
   FrameTissueInputs nan_position;
@@ -127,7 +127,7 @@ TEST(FrameRuntime, BadInputsAreRefusedWithTheStateUntouched) {
     data.health.clear_all();
     step(model, data, *inputs);
     EXPECT_TRUE(data.health.has(HealthFlag::bad_sample));
-    EXPECT_EQ(state_hash({data.positions_m, data.orientations_wxyz, data.velocities}), before);
+    EXPECT_EQ(bits_hash({data.positions_m, data.orientations_wxyz, data.velocities}), before);
   }
   EXPECT_EQ(data.steps, 1);
 }

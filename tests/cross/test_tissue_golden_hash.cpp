@@ -23,7 +23,7 @@
 namespace nav {
 namespace {
 
-using testing::state_hash;
+using testing::bits_hash;
 
 /// Inputs of step i: a ramped traction, a sliding and turning spring frame and a probe moving
 /// in, from arithmetic alone (no libm call).
@@ -51,7 +51,7 @@ std::uint64_t run_hash(const TetMesh& mesh, const TissueScene& scene, const Tiss
   for (int i = 0; i < steps; ++i) step(model.value(), data.value(), ramp_inputs(i, probe_start_m, forces));
   EXPECT_EQ(data.value().steps, steps);
   EXPECT_FALSE(data.value().health.has(HealthFlag::non_finite_state));
-  const std::uint64_t hash = state_hash(data.value().positions_m, data.value().velocities_m_s);
+  const std::uint64_t hash = bits_hash({data.value().positions_m, data.value().velocities_m_s});
   std::printf("state hash after %d steps: 0x%016" PRIx64 "\n", steps, hash);
   return hash;
 }
@@ -74,25 +74,25 @@ const Point3 kBoxProbeStart{0.03, 0.01, 0.03};
 TEST(TissueGoldenHash, BoxCorotationalImplicitLdlt) {
   const testing::BusyBoxScene box;
   const auto options = damped(Integrator::implicit_euler, LinearSolver::ldlt_warped, 0.01);
-  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 40, kBoxProbeStart), 0xbc7374d20fa4adadULL);
+  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 40, kBoxProbeStart), 0xb34c244a974417b3ULL);
 }
 
 TEST(TissueGoldenHash, BoxCorotationalImplicitBlockJacobi) {
   const testing::BusyBoxScene box;
   const auto options = damped(Integrator::implicit_euler, LinearSolver::cg_block_jacobi, 0.01);
-  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 40, kBoxProbeStart), 0x29ccd04313ff5b44ULL);
+  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 40, kBoxProbeStart), 0x567fbeb8f67608d2ULL);
 }
 
 TEST(TissueGoldenHash, BoxCorotationalQuasiStatic) {
   const testing::BusyBoxScene box;
   const auto options = damped(Integrator::quasi_static, LinearSolver::ldlt_warped, 0.01);
-  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 20, kBoxProbeStart), 0x8e44e1bd6ce3211eULL);
+  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 20, kBoxProbeStart), 0x95810654e9c2bd60ULL);
 }
 
 TEST(TissueGoldenHash, BoxCorotationalExplicit) {
   const testing::BusyBoxScene box;
   const auto options = damped(Integrator::explicit_central_difference, LinearSolver::ldlt_warped, 2e-4);
-  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 200, kBoxProbeStart), 0xdbec5ae69d1f9f6fULL);
+  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 200, kBoxProbeStart), 0x8babad7c6feb44f5ULL);
 }
 
 // The embedded liver, meshed here (the mesher is part of the run), held at its attachments
@@ -105,7 +105,7 @@ TEST(TissueGoldenHash, EmbeddedLiverCorotationalImplicit) {
   scene.probe_stiffness_n_m = 500.0;
   const Point3 probe_start{liver.tumour_centre_m[0], liver.tumour_centre_m[1], liver.tumour_centre_m[2] + 0.06};
   const auto options = damped(Integrator::implicit_euler, LinearSolver::ldlt_warped, 0.01);
-  EXPECT_EQ(run_hash(liver.mesh, scene, options, 10, probe_start), 0x16eeb540ba78813aULL);
+  EXPECT_EQ(run_hash(liver.mesh, scene, options, 10, probe_start), 0x670d7f97442944f4ULL);
 }
 
 }  // namespace nav

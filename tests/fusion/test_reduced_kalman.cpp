@@ -24,7 +24,7 @@ namespace nav {
 namespace {
 
 using testing::BeamScene;
-using testing::state_hash;
+using testing::bits_hash;
 
 /// The lowest `r` vibration modes of `beam` (linear force), without a training envelope.
 ReducedBasis modes(const BeamScene& beam, int r, ReducedForceKind kind) {
@@ -184,12 +184,12 @@ TEST(ReducedKalman, GatesOutliersAndRefusesBadSamplesWithTheStateUntouched) {
   auto data = make_reduced_kalman_data(model).value();
   predict(model, data, s.reduced_data);
   const PointEstimate prior = estimate_point(model, data, 0);
-  std::uint64_t before = state_hash(data.correction, data.covariance);
+  std::uint64_t before = bits_hash({data.correction, data.covariance});
   const auto expect_refused = [&](int point, const Point3& z, TimeNs t) {
     data.health.clear_all();
     EXPECT_FALSE(update(model, data, point, z, t));
     EXPECT_TRUE(data.health.has(HealthFlag::bad_sample));
-    EXPECT_EQ(state_hash(data.correction, data.covariance), before);
+    EXPECT_EQ(bits_hash({data.correction, data.covariance}), before);
   };
   const Point3 p = prior.position_m;
   expect_refused(0, {p[0], p[1], p[2] + 0.05}, 10);  // 5 cm off: far outside the gate
@@ -202,8 +202,8 @@ TEST(ReducedKalman, GatesOutliersAndRefusesBadSamplesWithTheStateUntouched) {
   EXPECT_TRUE(update(model, data, 0, {p[0], p[1], p[2] + 0.001}, 10));  // 1 mm off: accepted
   EXPECT_TRUE(data.health.healthy());
   EXPECT_LT(data.last_mahalanobis_squared, model.gate_chi_square);
-  EXPECT_NE(state_hash(data.correction, data.covariance), before);
-  before = state_hash(data.correction, data.covariance);
+  EXPECT_NE(bits_hash({data.correction, data.covariance}), before);
+  before = bits_hash({data.correction, data.covariance});
   expect_refused(0, p, 9);  // the clock went backwards
   EXPECT_EQ(data.accepted_updates, 1);
   // Init-time errors name their field.
@@ -347,7 +347,7 @@ FilterRun run_filter() {
     }
     run.allocations = guard.allocations();
   }
-  run.hash = state_hash(trace, data.covariance);
+  run.hash = bits_hash({trace, data.covariance});
   for (std::size_t i = 0; i < estimates.size(); ++i) {
     Eigen::Vector3d e, o;
     Eigen::Matrix3d cov;

@@ -205,7 +205,7 @@ TEST(NeedleBeam, DynamicStepsAllocateNothingAndRepeatBitwise) {
     EXPECT_EQ(guard.allocations(), 0u);
     EXPECT_TRUE(data.health.healthy());
     EXPECT_EQ(data.steps, 200);
-    hash = testing::needle_hash({data.positions_m, data.rotations_wxyz, data.velocities_m_s, data.angular_velocities_rad_s});
+    hash = testing::bits_hash({data.positions_m, data.rotations_wxyz, data.velocities_m_s, data.angular_velocities_rad_s});
   }
   EXPECT_EQ(hashes[0], hashes[1]);
 }
@@ -217,7 +217,7 @@ TEST(NeedleBeam, NaNPoseAndPoseJumpAreRejectedAndTheLastGoodStateKept) {
   inputs.base.position_m = {0.001, 0.0, 0.0};
   step(model, data, inputs);
   ASSERT_TRUE(data.health.healthy());
-  const std::uint64_t good = testing::needle_hash({data.positions_m, data.rotations_wxyz, data.velocities_m_s});
+  const std::uint64_t good = testing::bits_hash({data.positions_m, data.rotations_wxyz, data.velocities_m_s});
   NeedleInputs nan_pose = inputs;
   nan_pose.base.position_m[1] = std::nan("");
   step(model, data, nan_pose);
@@ -235,7 +235,7 @@ TEST(NeedleBeam, NaNPoseAndPoseJumpAreRejectedAndTheLastGoodStateKept) {
   step(model, data, not_unit);
   EXPECT_EQ(data.report.rejected_poses, 4);
   EXPECT_EQ(data.steps, 1);
-  EXPECT_EQ(testing::needle_hash({data.positions_m, data.rotations_wxyz, data.velocities_m_s}), good);
+  EXPECT_EQ(testing::bits_hash({data.positions_m, data.rotations_wxyz, data.velocities_m_s}), good);
   data.health.clear_all();
   step(model, data, inputs);  // a good pose again is taken
   EXPECT_TRUE(data.health.healthy());

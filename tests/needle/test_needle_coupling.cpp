@@ -113,7 +113,7 @@ TEST(NeedleCoupling, CoupledTicksAllocateNothingAndRepeatBitwise) {
     testing::AllocationGuard guard;
     insert(model, data, 0.01);
     EXPECT_EQ(guard.allocations(), 0u);
-    hash = testing::state_hash(data.tissue.positions_m, data.interaction.needle.positions_m);
+    hash = testing::bits_hash({data.tissue.positions_m, data.interaction.needle.positions_m});
   }
   EXPECT_EQ(hashes[0], hashes[1]);
 }

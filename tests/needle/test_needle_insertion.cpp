@@ -207,7 +207,7 @@ TEST(NeedleInsertion, StepsAllocateNothingAndRepeatBitwise) {
       step(model, data, inputs);
     }
     EXPECT_EQ(guard.allocations(), 0u);
-    hash = testing::needle_hash({data.needle.positions_m, data.needle.rotations_wxyz, data.slot_forces});
+    hash = testing::bits_hash({data.needle.positions_m, data.needle.rotations_wxyz, data.slot_forces});
   }
   EXPECT_EQ(hashes[0], hashes[1]);
 }
@@ -217,12 +217,12 @@ TEST(NeedleInsertion, BadPoseLeavesTheInteractionUntouched) {
   NeedleTissueData data = make_needle_tissue_data(model, {}).value();
   std::vector<Sample> record;
   drive_to(model, data, 0.02, kStepM, record);
-  const std::uint64_t before = testing::needle_hash({data.needle.positions_m, data.slot_forces});
+  const std::uint64_t before = testing::bits_hash({data.needle.positions_m, data.slot_forces});
   NeedleTissueInputs inputs;
   inputs.needle.base.position_m = {0.02 + 0.05, 0.0, 0.0};  // a 5 cm jump
   step(model, data, inputs);
   EXPECT_TRUE(data.health.has(HealthFlag::bad_sample));
-  EXPECT_EQ(testing::needle_hash({data.needle.positions_m, data.slot_forces}), before);
+  EXPECT_EQ(testing::bits_hash({data.needle.positions_m, data.slot_forces}), before);
 }
 
 TEST(NeedleInsertion, SceneOutOfRangeIsRefusedNamingTheField) {

@@ -85,7 +85,7 @@ std::uint64_t solved_hash(const MixedProblem& problem, int sweeps, KernelIsa isa
   std::vector<double> forces = problem.warm_start, gaps(m, 0.0);
   std::vector<detail::SweepRow> work(m);
   residual_m = solve_gauss_seidel(problem.rows, w, stride, sweeps, forces, gaps, GaussSeidelWorkspace{work, &detail::needle_lane_kernels(isa)});
-  return testing::needle_hash({forces, gaps});
+  return testing::bits_hash({forces, gaps});
 }
 
 TEST(NeedleLaneKernels, EveryVariantSolvesMixedProblemsToTheBaselineBits) {
@@ -279,7 +279,7 @@ std::uint64_t liver_run(KernelIsa isa, int& path_points, int& rows) {
   double advanced_m = 0.0;
   const auto tick = [&](const NeedlePose& base) {
     step(model, data, NeedleInputs{base, {}, {}});
-    hash = 31 * hash + testing::needle_hash({data.interaction.needle.positions_m, data.interaction.slot_forces, data.tissue.q});
+    hash = 31 * hash + testing::bits_hash({data.interaction.needle.positions_m, data.interaction.slot_forces, data.tissue.q});
   };
   while (data.interaction.report.active_path_points < 32 && advanced_m < 0.1) tick(f.approach.base_at(advanced_m += 2e-5));
   for (int k = 0; k < 200; ++k) tick(f.approach.wobbled_base(advanced_m, k));

@@ -300,7 +300,7 @@ TEST(NeedleReducedCoupling, CoupledTicksAllocateNothingAndRepeatBitwise) {
     insert(model, data, 0.0, 0.01);
     EXPECT_EQ(guard.allocations(), 0u);
     EXPECT_EQ(data.interaction.report.punctures, 1);
-    hash = testing::state_hash(data.tissue.q, data.interaction.needle.positions_m);
+    hash = testing::bits_hash({data.tissue.q, data.interaction.needle.positions_m});
   }
   EXPECT_EQ(hashes[0], hashes[1]);
 }

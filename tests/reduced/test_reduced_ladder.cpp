@@ -27,7 +27,7 @@ namespace {
 
 using testing::BeamScene;
 using testing::nodes_where;
-using testing::state_hash;
+using testing::bits_hash;
 
 /// The beam, its full-order settings, training snapshots (quasi-static tip-force ramps to the
 /// full load and to 6 times it) and the POD of the first.
@@ -336,7 +336,7 @@ TEST(ReducedLadder, EscalationOffOnlyFlagsAndStaysOnItsRung) {
   EXPECT_GT(data.flagged_steps, 10);
   EXPECT_TRUE(data.health.has(HealthFlag::reduced_out_of_envelope));
   EXPECT_FALSE(data.health.has(HealthFlag::reduced_escalated));
-  EXPECT_EQ(state_hash(data.reduced[0].q, data.reduced[0].q_velocity), state_hash(alone_data.q, alone_data.q_velocity));
+  EXPECT_EQ(bits_hash({data.reduced[0].q, data.reduced[0].q_velocity}), bits_hash({alone_data.q, alone_data.q_velocity}));
 }
 
 TEST(ReducedLadder, FlaggedStepsCountBeforeEscalating) {
@@ -399,7 +399,7 @@ std::uint64_t scripted_run(const ReducedLadderModel& ladder, std::size_t& alloca
     allocations = guard.allocations();
   }
   escalations = data.escalations;
-  return state_hash(u, data.full->velocities_m_s);
+  return bits_hash({u, data.full->velocities_m_s});
 }
 
 TEST(ReducedLadder, EscalationsNeverAllocateAndRepeatBitwise) {

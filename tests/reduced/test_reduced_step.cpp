@@ -20,7 +20,7 @@ namespace {
 using testing::basis_matrix;
 using testing::BeamScene;
 using testing::nodes_where;
-using testing::state_hash;
+using testing::bits_hash;
 
 /// A small beam with every reduced load in use: held at x = 0, springs on y = 0, prescribed
 /// at x = 2 cm when `prescribed`.
@@ -173,7 +173,7 @@ std::uint64_t scripted_run(const ReducedModel& model, int steps, std::size_t& al
   testing::AllocationGuard guard;
   for (int i = 0; i < steps; ++i) step(model, data, inputs_at(i, force));
   allocations = guard.allocations();
-  return state_hash(data.q, data.q_velocity);
+  return bits_hash({data.q, data.q_velocity});
 }
 
 TEST(ReducedStep, StepsNeverAllocateAndRepeatBitwise) {
@@ -240,7 +240,7 @@ TEST(ReducedStep, BadInputsAreRefusedWithTheStateUntouched) {
   auto data = make_reduced_data(model).value();
   TissueInputs good;
   step(model, data, good);
-  const std::uint64_t before = state_hash(data.q, data.q_velocity);
+  const std::uint64_t before = bits_hash({data.q, data.q_velocity});
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const PointForce bad_node{static_cast<std::int32_t>(beam.mesh.nodes_m.size()), {0.0, 0.0, 1.0}};
   const PointForce nan_force{1, {nan, 0.0, 0.0}};
@@ -254,7 +254,7 @@ TEST(ReducedStep, BadInputsAreRefusedWithTheStateUntouched) {
     data.health.clear_all();
     step(model, data, inputs);
     EXPECT_TRUE(data.health.has(HealthFlag::bad_sample));
-    EXPECT_EQ(state_hash(data.q, data.q_velocity), before);
+    EXPECT_EQ(bits_hash({data.q, data.q_velocity}), before);
   }
   EXPECT_EQ(data.steps, 1);
 }

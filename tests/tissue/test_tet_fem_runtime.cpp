@@ -23,7 +23,7 @@ using testing::box_mesh;
 using testing::BusyBoxScene;
 using testing::make_data;
 using testing::nodes_where;
-using testing::state_hash;
+using testing::bits_hash;
 
 /// Inputs of step i of a scripted sequence: load ramp, moving frame, breathing, probe, forces.
 TissueInputs scripted_inputs(int i, std::span<const PointForce> forces) {
@@ -104,13 +104,13 @@ void expect_runtime_contract(const Model& model, std::size_t node_count, std::si
     EXPECT_FALSE(data.value().health.has(HealthFlag::non_finite_state));
     EXPECT_FALSE(data.value().health.has(HealthFlag::unstable_step));
     EXPECT_GT(steps_in_contact, 0);
-    hash = state_hash(data.value().positions_m, data.value().velocities_m_s);
+    hash = bits_hash({data.value().positions_m, data.value().velocities_m_s});
   }
   EXPECT_EQ(hashes[0], hashes[1]);
 
   auto data = make_data(model);
   for (int i = 0; i < 3; ++i) step(model, data.value(), scripted_inputs(i, forces));
-  const std::uint64_t before = state_hash(data.value().positions_m, data.value().velocities_m_s);
+  const std::uint64_t before = bits_hash({data.value().positions_m, data.value().velocities_m_s});
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double inf = std::numeric_limits<double>::infinity();
   const std::vector<PointForce> nan_force{{3, {0.0, nan, 0.0}}};
@@ -133,7 +133,7 @@ void expect_runtime_contract(const Model& model, std::size_t node_count, std::si
     data.value().health.clear_all();
     step(model, data.value(), bad[k]);
     EXPECT_TRUE(data.value().health.has(HealthFlag::bad_sample)) << "bad input " << k;
-    EXPECT_EQ(state_hash(data.value().positions_m, data.value().velocities_m_s), before) << "bad input " << k;
+    EXPECT_EQ(bits_hash({data.value().positions_m, data.value().velocities_m_s}), before) << "bad input " << k;
     EXPECT_EQ(data.value().steps, 3);
   }
   EXPECT_EQ(guard.allocations(), 0u);

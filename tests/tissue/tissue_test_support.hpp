@@ -1,10 +1,9 @@
 #pragma once
 // Shared inputs of the tissue tests: structured box meshes, node and face selections on
-// planes, a hash of a model's state for bitwise repeatability checks, and make_data for
+// planes (the state hash is support/bits_hash.hpp), and make_data for
 // tests written once for every tissue model.
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <span>
 #include <vector>
 
@@ -13,6 +12,7 @@
 #include "nav/mesher/kuhn_lattice.hpp"
 #include "nav/tissue/mass_spring_model.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
+#include "support/bits_hash.hpp"
 
 namespace nav::testing {
 
@@ -66,18 +66,6 @@ inline std::vector<std::array<std::int32_t, 3>> faces_where(const TetMesh& mesh,
     if (on_plane) faces.push_back(nodes);
   }
   return faces;
-}
-
-/// FNV-1a over the bytes of the values: equal hashes mean bitwise-equal states.
-inline std::uint64_t state_hash(std::span<const double> a, std::span<const double> b) {
-  std::uint64_t hash = 1469598103934665603ull;
-  for (std::span<const double> values : {a, b})
-    for (double value : values) {
-      unsigned char bytes[sizeof(double)];
-      std::memcpy(bytes, &value, sizeof(double));
-      for (unsigned char byte : bytes) hash = (hash ^ byte) * 1099511628211ull;
-    }
-  return hash;
 }
 
 /// The data of a model, whichever model it is.

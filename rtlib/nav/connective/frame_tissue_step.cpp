@@ -7,6 +7,7 @@
 #include "nav/connective/banded_cholesky.hpp"
 #include "nav/connective/frame_kernels.hpp"
 #include "nav/connective/frame_tissue_model.hpp"
+#include "nav/core/finite.hpp"
 
 namespace nav {
 namespace {
@@ -238,12 +239,6 @@ void quasi_static(const FrameTables& t, FrameTissueData& data) {
   move_frames(t, data, data.solution, 1.0);
   for (std::size_t k = 0; k < data.velocities.size(); ++k)
     if (t.constrained[k] == 0) data.velocities[k] = data.solution[k] / h;
-}
-
-bool all_finite(std::span<const double> values) {
-  bool finite = true;
-  for (double value : values) finite = finite && std::isfinite(value);
-  return finite;
 }
 
 void restore(FrameTissueData& data, std::size_t n) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "nav/core/finite.hpp"
 #include "nav/needle/rotation_vector.hpp"
 
 namespace nav {
@@ -23,10 +24,6 @@ void set_node_rotation(std::span<double> rotations, int node, const Eigen::Quate
 Eigen::Quaterniond pose_rotation(const NeedlePose& pose) {
   return Eigen::Quaterniond(pose.rotation_wxyz[0], pose.rotation_wxyz[1], pose.rotation_wxyz[2], pose.rotation_wxyz[3])
       .normalized();
-}
-
-bool all_finite(std::span<const double> values) {
-  return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
 }
 
 /// Mass-matrix coefficients (a, b): inertial force = m (a dx - b v_start).

@@ -10,6 +10,7 @@
 #include <optional>
 #include <type_traits>
 
+#include "nav/core/finite.hpp"
 #include "nav/core/fnv_hash.hpp"
 
 namespace nav {
@@ -145,10 +146,6 @@ std::optional<Error> read_section(Reader& in, std::span<const std::uint8_t> byte
   if (auto e = in.need(8, name + " checksum")) return e;
   if (in.u64() != computed) return in.fail(name, "section " + name + " checksum mismatch");
   return std::nullopt;
-}
-
-bool all_finite(const std::vector<double>& values) {
-  return std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
 }
 
 /// Dimensions and values that every basis must satisfy, whatever its mesh.

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "nav/core/finite.hpp"
 #include "nav/reduced/dense_cholesky.hpp"
 #include "nav/reduced/reduced_envelope.hpp"
 #include "nav/reduced/reduced_forces.hpp"
@@ -183,12 +184,6 @@ void check_envelope(const ReducedTables& t, ReducedData& data) {
   data.report.envelope_ratio = ratio;
   data.report.out_of_envelope = ratio > t.options.envelope_factor;
   if (data.report.out_of_envelope) data.health.raise(HealthFlag::reduced_out_of_envelope);
-}
-
-bool all_finite(std::span<const double> values) {
-  bool finite = true;
-  for (double value : values) finite = finite && std::isfinite(value);
-  return finite;
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "nav/core/finite.hpp"
 #include "nav/tissue/explicit_update.hpp"
 #include "nav/tissue/mass_spring_model.hpp"
 #include "nav/tissue/tet_fem_kernels.hpp"
@@ -73,12 +74,6 @@ double project_volume(const MassSpringTables& tables, std::span<double> x, std::
   }
   for (std::size_t i = 0; i < x.size(); ++i) x[i] += lambda * gradient[i];
   return lambda;
-}
-
-bool all_finite(std::span<const double> values) {
-  bool finite = true;
-  for (double value : values) finite = finite && std::isfinite(value);
-  return finite;
 }
 
 }  // namespace

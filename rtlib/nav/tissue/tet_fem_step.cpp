@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "nav/core/finite.hpp"
 #include "nav/tissue/explicit_update.hpp"
 #include "nav/tissue/linear_solve.hpp"
 #include "nav/tissue/tet_fem_kernels.hpp"
@@ -74,12 +75,6 @@ void central_difference(const TetFemTables& tables, TetFemData& data) {
   data.report.solver_iterations = 0;
   data.report.solver_relative_residual = 0.0;
   if (h > tables.stable_step_s) data.health.raise(HealthFlag::unstable_step);
-}
-
-bool all_finite(std::span<const double> values) {
-  bool finite = true;
-  for (double value : values) finite = finite && std::isfinite(value);
-  return finite;
 }
 
 }  // namespace
