@@ -1,7 +1,10 @@
 // navdemo: the liver deformation demo (the first part of the README's demo command).
 // Builds the embedded default liver with its tumour and attachments, solves its static
 // deformation under gravity and under gravity plus an ultrasound probe pressing on the
-// anterior surface above the tumour, prints the figures and writes the result as a .vtu.
+// anterior surface above the tumour with the neo-Hookean model (the reference at these
+// centimetre displacements), and beside it with linear FEM, the cheap rung, whose error against
+// the reference it prints; writes both fields (and the linear error) as a .vtu.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +17,7 @@
 #include "nav/mesh/vtu_writer.hpp"
 #include "nav/mesher/embedded_liver.hpp"
 #include "nav/tissue/linear_elastic_static.hpp"
+#include "nav/tissue/neo_hookean_static.hpp"
 
 namespace {
 
@@ -93,16 +97,41 @@ std::vector<std::pair<std::int32_t, nav::Point3>> probe_forces(const nav::Embedd
 struct CaseFigures {
   double max_displacement_m = 0.0;
   double tumour_displacement_m = 0.0;
-  double max_von_mises_pa = 0.0;
 };
 
-CaseFigures summarise(const nav::TetMesh& mesh, const nav::StaticSolution& solution) {
+CaseFigures summarise(const nav::TetMesh& mesh, const std::vector<nav::Point3>& displacement_m) {
   CaseFigures figures;
-  for (const nav::Point3& u : solution.displacement_m)
-    figures.max_displacement_m = std::max(figures.max_displacement_m, nav::norm(u));
-  for (double s : solution.von_mises_stress_pa) figures.max_von_mises_pa = std::max(figures.max_von_mises_pa, s);
-  figures.tumour_displacement_m = nav::norm(tumour_displacement_m(mesh, solution.displacement_m));
+  for (const nav::Point3& u : displacement_m) figures.max_displacement_m = std::max(figures.max_displacement_m, nav::norm(u));
+  figures.tumour_displacement_m = nav::norm(tumour_displacement_m(mesh, displacement_m));
   return figures;
+}
+
+/// The neo-Hookean equilibrium under `load` (the same materials, supports, gravity and forces),
+/// as displacements from rest.
+nav::Result<std::vector<nav::Point3>> solve_reference(const nav::TetMesh& mesh, const nav::StaticLoadCase& load, int& newton_iterations) {
+  nav::TissueScene scene;
+  scene.default_material = load.default_material;
+  scene.region_materials = load.region_materials;
+  scene.gravity_m_s2 = load.gravity_m_s2;
+  scene.fixed_nodes = load.fixed_nodes;
+  std::vector<nav::PointForce> forces;
+  for (const auto& [node, force_n] : load.nodal_forces_n) forces.push_back({node, force_n});
+  scene.max_point_forces = std::max<std::size_t>(scene.max_point_forces, forces.size());
+  nav::TissueInputs inputs;
+  inputs.point_forces = forces;
+  auto solved = nav::solve_neo_hookean_static(mesh, scene, inputs, {});
+  if (!solved.ok()) return solved.error();
+  newton_iterations = solved.value().newton_iterations;
+  std::vector<nav::Point3> displacement_m(mesh.nodes_m.size());
+  for (std::size_t n = 0; n < displacement_m.size(); ++n)
+    for (int k = 0; k < 3; ++k) displacement_m[n][k] = solved.value().positions_m[3 * n + k] - mesh.nodes_m[n][k];
+  return displacement_m;
+}
+
+nav::VtuField displacement_field(const std::string& name, const std::vector<nav::Point3>& displacement_m) {
+  nav::VtuField field{name, 3, {}};
+  for (const nav::Point3& u : displacement_m) field.values.insert(field.values.end(), u.begin(), u.end());
+  return field;
 }
 
 }  // namespace
@@ -136,27 +165,43 @@ int main(int argc, char** argv) {
   std::vector<nav::VtuField> cell_fields;
   for (const bool with_probe : {false, true}) {
     if (with_probe) load.nodal_forces_n = probe_forces(liver, options.probe_force_n, options.probe_radius_m);
+    const char* name = with_probe ? "gravity + probe" : "gravity";
     start = std::chrono::steady_clock::now();
-    auto solved = nav::solve_linear_static(liver.mesh, load);
-    const double solve_s = seconds_since(start);
-    if (!solved.ok()) {
-      std::fprintf(stderr, "navdemo: %s\n", solved.error().describe().c_str());
+    int newton_iterations = 0;
+    auto reference = solve_reference(liver.mesh, load, newton_iterations);
+    const double reference_s = seconds_since(start);
+    start = std::chrono::steady_clock::now();
+    auto linear = nav::solve_linear_static(liver.mesh, load);
+    const double linear_s = seconds_since(start);
+    if (!reference.ok() || !linear.ok()) {
+      std::fprintf(stderr, "navdemo: %s: %s\n", name, (reference.ok() ? linear.error() : reference.error()).describe().c_str());
       return 1;
     }
-    const CaseFigures figures = summarise(liver.mesh, solved.value());
-    std::printf("%s: linear FEM static solve (%lld dofs) in %.0f ms, residual %.1e\n",
-                with_probe ? "gravity + probe" : "gravity", static_cast<long long>(solved.value().free_dofs),
-                solve_s * 1e3, solved.value().relative_residual);
-    if (with_probe) std::printf("  probe: %.1f N on %zu surface nodes\n", options.probe_force_n, load.nodal_forces_n.size());
-    std::printf("  max displacement %.2f mm, tumour displacement %.2f mm, max von Mises stress %.0f Pa\n",
-                figures.max_displacement_m * 1e3, figures.tumour_displacement_m * 1e3, figures.max_von_mises_pa);
+    if (with_probe) std::printf("probe: %.1f N on %zu surface nodes\n", options.probe_force_n, load.nodal_forces_n.size());
+    const CaseFigures figures = summarise(liver.mesh, reference.value());
+    std::printf("%s: neo-Hookean static solve (%lld dofs, %d Newton iterations) in %.0f ms\n", name,
+                static_cast<long long>(linear.value().free_dofs), newton_iterations, reference_s * 1e3);
+    std::printf("  max displacement %.2f mm, tumour displacement %.2f mm\n", figures.max_displacement_m * 1e3,
+                figures.tumour_displacement_m * 1e3);
+    // The cheap rung beside it: linear FEM, and what it gets wrong at this displacement.
+    const CaseFigures cheap = summarise(liver.mesh, linear.value().displacement_m);
+    std::vector<nav::Point3> error_m(reference.value().size());
+    double max_error_m = 0.0;
+    for (std::size_t n = 0; n < error_m.size(); ++n) {
+      error_m[n] = linear.value().displacement_m[n] - reference.value()[n];
+      max_error_m = std::max(max_error_m, nav::norm(error_m[n]));
+    }
+    const double tumour_error_m = nav::norm(tumour_displacement_m(liver.mesh, error_m));
+    std::printf("  linear FEM in %.0f ms: max displacement %.2f mm, tumour %.2f mm; its error: %.2f mm at worst, %.2f mm at the tumour\n",
+                linear_s * 1e3, cheap.max_displacement_m * 1e3, cheap.tumour_displacement_m * 1e3, max_error_m * 1e3,
+                tumour_error_m * 1e3);
 
     const std::string suffix = with_probe ? "_gravity_probe" : "_gravity";
-    nav::VtuField displacement{"displacement_m" + suffix, 3, {}};
-    for (const nav::Point3& u : solved.value().displacement_m) displacement.values.insert(displacement.values.end(), u.begin(), u.end());
-    point_fields.push_back(std::move(displacement));
-    point_fields.push_back({"von_mises_stress_pa" + suffix, 1, solved.value().nodal_von_mises_stress_pa});
-    cell_fields.push_back({"von_mises_stress_pa" + suffix, 1, solved.value().von_mises_stress_pa});
+    point_fields.push_back(displacement_field("displacement_m" + suffix, reference.value()));
+    point_fields.push_back(displacement_field("linear_displacement_m" + suffix, linear.value().displacement_m));
+    point_fields.push_back(displacement_field("linear_error_m" + suffix, error_m));
+    point_fields.push_back({"linear_von_mises_stress_pa" + suffix, 1, linear.value().nodal_von_mises_stress_pa});
+    cell_fields.push_back({"linear_von_mises_stress_pa" + suffix, 1, linear.value().von_mises_stress_pa});
   }
 
   const nav::Status written = nav::write_vtu(options.out_path, liver.mesh, point_fields, cell_fields);
