@@ -1,9 +1,12 @@
 // navbench tradeoff --quick writes one JSON record per rung with every required field, full-
-// order and reduced rungs side by side, and a log-log SVG with the Pareto front drawn.
+// order and reduced rungs side by side, errors against the neo-Hookean reference within
+// bounds and in the order the models' physics gives, and a log-log SVG whose Pareto front is
+// the records' own.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
@@ -13,6 +16,44 @@ namespace {
 std::size_t count_of(const std::string& text, const std::string& part) {
   std::size_t count = 0;
   for (std::size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + 1)) ++count;
+  return count;
+}
+
+/// One record of the JSON: its model, r, step median and errors.
+struct Record {
+  std::string model;
+  double r = 0.0, step_us = 0.0, error_rms_m = 0.0, error_pct = 0.0, vs_corotational_pct = 0.0;
+};
+
+std::vector<Record> records_of(const std::string& json) {
+  std::vector<Record> records;
+  for (std::size_t at = json.find("{\"mesh\""); at != std::string::npos; at = json.find("{\"mesh\"", at + 1)) {
+    const std::string line = json.substr(at, json.find('}', at) - at);
+    const std::size_t model = line.find("\"model\": \"") + 10;
+    records.push_back({line.substr(model, line.find('"', model) - model), nav::testing::number_after(line, "\"r\": "),
+                       nav::testing::number_after(line, "\"step_us_median\": "), nav::testing::number_after(line, "\"error_rms_m\": "),
+                       nav::testing::number_after(line, "\"error_rms_pct\": "),
+                       nav::testing::number_after(line, "\"error_rms_vs_corotational_pct\": ")});
+  }
+  return records;
+}
+
+const Record* find(const std::vector<Record>& records, const std::string& model, double r) {
+  for (const Record& record : records)
+    if (record.model == model && record.r == r) return &record;
+  return nullptr;
+}
+
+/// The records no other record beats in both step time and error (as the plot draws them).
+std::size_t pareto_count(const std::vector<Record>& records) {
+  std::size_t count = 0;
+  for (const Record& a : records) {
+    bool dominated = false;
+    for (const Record& b : records)
+      dominated = dominated || (&a != &b && b.step_us <= a.step_us && b.error_rms_m <= a.error_rms_m &&
+                                (b.step_us < a.step_us || b.error_rms_m < a.error_rms_m));
+    count += dominated ? 0 : 1;
+  }
   return count;
 }
 
@@ -35,11 +76,35 @@ TEST(NavbenchTradeoff, QuickRunWritesRecordsAndParetoPlot) {
   EXPECT_EQ(records.find("nan"), std::string::npos);
   EXPECT_EQ(records.find("inf"), std::string::npos);
 
+  // The errors (deterministic: the same loads, the same solves), against the neo-Hookean
+  // reference in % of its displacement: corotational is the closest full-order rung and linear
+  // clearly worse at these displacements; a POD basis on corotational forces converges to the
+  // full-order corotational model as r grows; every linear rung keeps the linear model's error.
+  const std::vector<Record> parsed = records_of(records);
+  ASSERT_EQ(parsed.size(), record_count);
+  const Record* corotational = find(parsed, "corotational_full", 0);
+  const Record* linear = find(parsed, "linear_full", 0);
+  const Record* pod4 = find(parsed, "pod_corotational", 4);
+  const Record* pod16 = find(parsed, "pod_corotational", 16);
+  ASSERT_TRUE(corotational && linear && pod4 && pod16) << records;
+  EXPECT_LE(corotational->error_pct, 6.0);
+  EXPECT_GE(linear->error_pct, 1.8 * corotational->error_pct);
+  EXPECT_LE(pod16->vs_corotational_pct, 6.0);
+  EXPECT_LT(pod16->error_rms_m, pod4->error_rms_m);
+  EXPECT_LE(pod4->vs_corotational_pct, 12.0);
+  for (const Record& r : parsed) {
+    EXPECT_GT(r.error_pct, 0.0) << r.model;
+    EXPECT_LE(r.error_pct, 15.0) << r.model << " r " << r.r;
+    if (r.model.find("linear") != std::string::npos) {
+      EXPECT_GE(r.vs_corotational_pct, 10.0) << r.model;
+    }
+  }
+
   const std::string plot = nav::testing::file_text(svg.string());
   EXPECT_EQ(plot.rfind("<svg", 0), 0u);
   EXPECT_NE(plot.find("</svg>"), std::string::npos);
   EXPECT_EQ(count_of(plot, "class=\"pareto\""), 1u);  // one mesh in the quick run: one front
-  EXPECT_NE(plot.find("(Pareto front)"), std::string::npos);
+  EXPECT_EQ(count_of(plot, "(Pareto front)"), pareto_count(parsed));  // the front of the records' own figures
   EXPECT_GE(count_of(plot, "<title>"), record_count);
 }
 

@@ -1,5 +1,6 @@
 // navbench dds runs end to end, child process included, and writes its latency table as
-// JSON with every measurement received. (Figures are printed by navbench, not asserted.)
+// JSON with every measurement received, within generous budgets (a loaded host; the project's
+// own targets, 200 us and 2 ms at p99 across processes, are reported in targets_met).
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -26,6 +27,22 @@ TEST(DdsNavbench, WritesTheLatencyTableAsJson) {
     EXPECT_NE(json.find(name), std::string::npos) << name;
   }
   EXPECT_EQ(json.find("\"received\": 0,"), std::string::npos) << "a measurement received nothing:\n" << json;
+  // The latency measurements (not the throughput ones, which may drop by design): nearly every
+  // sample received, median and p99 within budgets a loaded host keeps.
+  struct Budget {
+    const char* name;
+    double median_us, p99_us;
+  };
+  for (const Budget& b : {Budget{"pose_in_process", 2'000, 20'000}, Budget{"pose_cross_process", 2'000, 20'000},
+                          Budget{"frame_1mib_in_process", 10'000, 100'000}, Budget{"frame_1mib_cross_process", 10'000, 100'000}}) {
+    const std::size_t at = json.find(std::string("\"name\": \"") + b.name + "\"");
+    ASSERT_NE(at, std::string::npos) << b.name;
+    const std::string line = json.substr(at, json.find('\n', at) - at);
+    std::printf("%s\n", line.c_str());
+    EXPECT_GE(nav::testing::number_after(line, "\"received\": "), 0.9 * nav::testing::number_after(line, "\"sent\": ")) << b.name;
+    EXPECT_LE(nav::testing::number_after(line, "\"median_us\": "), b.median_us) << b.name;
+    EXPECT_LE(nav::testing::number_after(line, "\"p99_us\": "), b.p99_us) << b.name;
+  }
 }
 
 TEST(DdsNavbench, RefusesAMissingJsonPath) {
