@@ -2,8 +2,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <optional>
 #include <thread>
 
@@ -78,10 +78,16 @@ Status negotiate_serial(Connection& connection, int baud) {
 Result<std::string> read_tool_definition(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   if (!file) return Error{"cannot open the tool definition", path, 0, ""};
-  std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  std::string bytes(kRomBytes + 1, '\0');  // one byte more than a device takes: never a whole large file
+  file.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  bytes.resize(static_cast<std::size_t>(file.gcount()));
   if (bytes.empty()) return Error{"the tool definition is empty", path, 0, ""};
-  if (bytes.size() > kRomBytes)
-    return Error{"the tool definition has " + std::to_string(bytes.size()) + " bytes; a device takes at most 1024", path, 0, ""};
+  if (bytes.size() > kRomBytes) {
+    std::error_code error;
+    const std::uintmax_t size = std::filesystem::file_size(path, error);
+    return Error{"the tool definition has " + (error ? std::string("more than 1024") : std::to_string(size)) + " bytes; a device takes at most 1024",
+                 path, 0, ""};
+  }
   return bytes;
 }
 
