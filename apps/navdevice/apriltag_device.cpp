@@ -1,13 +1,16 @@
 // navdevice apriltag: a camera (a device, a video or an image sequence, read through OpenCV's
 // capture) watching tag36h11 markers as the station's tracker: each frame's tags are detected
 // and their poses solved with the scene's camera intrinsics (navtool calib camera) and tag
-// size; the tag the scene names for a tool (devices.tracker.tags) is that tool, its pose in
+// size; the tag the scene names for a tool (devices.tracker.tags) is that tool, or the tags of
+// its rigid body (devices.tracker.bodies, solved on all their corners together), its pose in
 // the camera's frame (the tracker's) stamped at the frame's grab on the scene's device clock.
 // A file or a sequence is paced at devices.tracker.rate_hz; a camera at its own rate.
 #include "apriltag_device.hpp"
 
 #include <cstdio>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "device_common.hpp"
 #include "nav/dds/stop_request.hpp"
@@ -27,11 +30,37 @@ constexpr const char* kUsage =
     "  the scene's devices.tracker (kind: apriltag): camera, tag_size_m, intrinsics, tags; --seconds 0 (default):\n"
     "  to the end of the stream or until stopped\n";
 
-/// The scene's tools as single-tag bodies (each tool's frame at its tag).
-std::vector<nav::trackers::TagBody> tool_bodies(const std::vector<nav::station::ToolRole>& roles) {
+/// The scene's tools as rigid bodies: the tags of devices.tracker.bodies at their poses on the
+/// tool, or a tool's one tag of devices.tracker.tags with the tool's frame at the tag.
+std::vector<nav::trackers::TagBody> tool_bodies(const std::vector<nav::station::ToolRole>& roles, const nav::station::TrackerSettings& t) {
   std::vector<nav::trackers::TagBody> bodies;
-  for (const nav::station::ToolRole& r : roles) bodies.push_back({r.tool_id, {{static_cast<int>(r.device_id), Eigen::Isometry3d::Identity()}}});
+  for (const nav::station::ToolRole& r : roles) {
+    nav::trackers::TagBody body{r.tool_id, {}};
+    const auto declared = t.tag_bodies.find(r.role);
+    if (declared == t.tag_bodies.end()) {
+      body.tags.push_back({static_cast<int>(r.device_id), Eigen::Isometry3d::Identity()});
+    } else {
+      for (const nav::station::ToolTag& tag : declared->second) {
+        Eigen::Isometry3d tool_from_tag(tag.tag_in_tool.rotation);
+        tool_from_tag.translation() = tag.tag_in_tool.position_m;
+        body.tags.push_back({tag.id, tool_from_tag});
+      }
+    }
+    bodies.push_back(std::move(body));
+  }
   return bodies;
+}
+
+/// What the start-up line says of the tools: a body's tags, or the tool's one tag.
+std::string describe_bodies(const std::vector<nav::trackers::TagBody>& bodies, const std::vector<nav::station::ToolRole>& roles) {
+  std::string text;
+  for (std::size_t i = 0; i < roles.size(); ++i) {
+    std::string tags;
+    for (const nav::trackers::BodyTag& tag : bodies[i].tags) tags += (tags.empty() ? "" : "+") + std::to_string(tag.id);
+    text += (text.empty() ? "" : ", ") + std::string(bodies[i].tags.size() > 1 ? "tags " : "tag ") + tags + " the " + roles[i].role +
+            " (tool " + std::to_string(roles[i].tool_id) + ")";
+  }
+  return text;
 }
 
 }  // namespace
@@ -54,14 +83,15 @@ int run_apriltag(const std::vector<std::string>& arguments) {
   auto camera = nav::trackers::read_camera_intrinsics(t.camera_intrinsics_path);
   if (!camera.ok()) return fail("apriltag", camera.error().describe());
   const std::vector<nav::station::ToolRole> roles = nav::station::tool_roles(t.tools, t.tag_ids);
-  auto tracker = nav::trackers::AprilTagTracker::create(camera.value(), t.tag_size_m, tool_bodies(roles));
+  const std::vector<nav::trackers::TagBody> bodies = tool_bodies(roles, t);
+  auto tracker = nav::trackers::AprilTagTracker::create(camera.value(), t.tag_size_m, bodies);
   if (!tracker.ok()) return fail("apriltag", tracker.error().describe());
   DeviceClock clock(s.devices.clock);
   auto capture = nav::ultrasound::CaptureSource::open(t.camera_device, {}, clock);
   if (!capture.ok()) return fail("apriltag", capture.error().describe());
   const bool paced = !nav::station::is_device_index(t.camera_device) && t.camera_device.rfind("/dev/", 0) != 0;
   std::printf("navdevice apriltag: %s: tags of %.1f mm, %s%s\n", t.camera_device.c_str(), 1e3 * t.tag_size_m,
-              describe_roles(roles, "tag").c_str(), paced ? "; a file, paced at rate_hz" : "");
+              describe_bodies(bodies, roles).c_str(), paced ? "; a file, paced at rate_hz" : "");
   std::fflush(stdout);
 
   auto device = open_device_node(s, "navdevice_apriltag");

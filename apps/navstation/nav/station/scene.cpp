@@ -266,6 +266,47 @@ RigidPose read_pose(MapReader r) {
           Eigen::Quaterniond(calibration::rpy_to_rotation(Eigen::Vector3d(rpy[0], rpy[1], rpy[2]))).normalized()};
 }
 
+constexpr std::size_t kMaxBodyTags = 8;
+
+/// `bodies: {role: [{id: N, xyz: [...], rpy: [...]}, ...]}`: tools tracked by several tags,
+/// each tag's pose on its tool.
+std::map<std::string, std::vector<ToolTag>> read_tag_bodies(MapReader r, const ToolIds& tools) {
+  std::map<std::string, std::vector<ToolTag>> bodies;
+  for (const char* role : {"needle", "probe", "respiratory", "reference"}) {
+    if (!r.optional(role)) continue;
+    if (std::string(role) == "reference" && !tools.reference) r.fail_at(role, "no reference tool is declared in devices.tracker.tools");
+    const YAML::Node list = r.required(role);
+    if (!list.IsSequence() || list.size() == 0 || list.size() > kMaxBodyTags)
+      r.fail_at(role, "expected a list of 1 to 8 tags, each {id: N, xyz: [x, y, z], rpy: [r, p, y]}");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      MapReader tag(r.file(), list[i], r.path_of(role) + "[" + std::to_string(i) + "]", r.mark());
+      const int id = static_cast<int>(tag.integer("id", 0, kMaxTag36h11Id));
+      bodies[role].push_back({id, read_pose(tag)});
+    }
+  }
+  r.finish();
+  return bodies;
+}
+
+/// Fails unless every tag the tracker's tools use (a body's tags, or a tool's one tag) is on one tool.
+void check_tags_distinct(MapReader& r, const TrackerSettings& t) {
+  std::map<int, std::string> tool_of_tag;
+  for (const ToolRole& role : tool_roles(t.tools, t.tag_ids)) {
+    const auto body = t.tag_bodies.find(role.role);
+    std::vector<int> ids{static_cast<int>(role.device_id)};
+    if (body != t.tag_bodies.end()) {
+      ids.clear();
+      for (const ToolTag& tag : body->second) ids.push_back(tag.id);
+    }
+    for (const int id : ids) {
+      const auto [where, added] = tool_of_tag.emplace(id, role.role);
+      if (!added)
+        r.fail_at(t.tag_bodies.empty() ? "tags" : "bodies",
+                  "tag " + std::to_string(id) + " is on two tools (" + where->second + " and " + role.role + ")");
+    }
+  }
+}
+
 TrackerSettings read_tracker(MapReader r, const std::string& scene_path) {
   TrackerSettings t;
   t.kind = static_cast<TrackerKind>(r.choice("kind", {"simulated", "ndi", "apriltag"}));
@@ -311,6 +352,8 @@ TrackerSettings read_tracker(MapReader r, const std::string& scene_path) {
       t.tag_size_m = r.number("tag_size_m", Range{0.0, 1.0, true});
       if (r.optional("intrinsics")) t.camera_intrinsics_path = resolve(scene_path, r.text("intrinsics"));
       if (r.optional("tags")) t.tag_ids = read_tool_roles(r.map("tags"), 0, kMaxTag36h11Id, t.tag_ids);
+      if (r.optional("bodies")) t.tag_bodies = read_tag_bodies(r.map("bodies"), t.tools);
+      check_tags_distinct(r, t);
       t.rate_hz = r.number("rate_hz", Range{0.0, 1000.0, true}, t.rate_hz);
       break;
     }

@@ -122,6 +122,13 @@ struct ToolIds {
   std::optional<std::uint32_t> reference;
 };
 
+/// One tag of a tool tracked by several AprilTags: its tag36h11 id and where it sits on the
+/// tool (T_tool_tag).
+struct ToolTag {
+  int id = 0;
+  RigidPose tag_in_tool;
+};
+
 /// `devices.tracker:` one of the three kinds with its settings.
 struct TrackerSettings {
   TrackerKind kind = TrackerKind::simulated;
@@ -155,6 +162,9 @@ struct TrackerSettings {
   double tag_size_m = 0.0;
   std::string camera_intrinsics_path;
   ToolIds tag_ids{0, 1, 2, std::nullopt};
+  /// apriltag: the tools tracked by several tags (a rigid body), by role, in place of their one
+  /// tag in tag_ids
+  std::map<std::string, std::vector<ToolTag>> tag_bodies;
 };
 
 /// One tracked tool by its role: its name, its frame in the URDF, its id on nav/tool_pose and
