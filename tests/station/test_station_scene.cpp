@@ -179,6 +179,14 @@ TEST(StationScene, AnAprilTagTrackerReadsItsCameraIntrinsicsAndTags) {
   EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, apriltag), "probe: 6", "probe: 5")).field, "devices.tracker.tags");
 }
 
+TEST(StationScene, TheIoThreadRunsBelowTheLoopsPriority) {
+  EXPECT_EQ(parse_scene(demo_text(), example_scene_path("demo.yaml")).value().station.io_priority, 20);
+  const std::string low = "realtime_priority: 10";
+  EXPECT_EQ(parse_scene(edited(demo_text(), "realtime_priority: 80", low), example_scene_path("demo.yaml")).value().station.io_priority, 9);
+  EXPECT_EQ(parse_scene(edited(demo_text(), "realtime_priority: 80", "io_priority: 0"), example_scene_path("demo.yaml")).value().station.io_priority, 0);
+  EXPECT_EQ(error_of(edited(demo_text(), "realtime_priority: 80", "realtime_priority: 80\n  io_priority: 80")).field, "station.io_priority");
+}
+
 TEST(StationScene, UnknownKeysAreNamedWithTheirPath) {
   expect_error("  lock_memory: true", "  lock_memry: true", "station.lock_memry", "unknown key");
   expect_error("    cg_iterations: 3", "    cg_iteration: 3", "liver.model.cg_iteration", "unknown key");

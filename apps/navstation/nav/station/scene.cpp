@@ -22,6 +22,7 @@ using detail::Range;
 constexpr Range kPositive{0.0, 1e12, true};
 constexpr Range kNonNegative{0.0, 1e12};
 constexpr Range kFraction{0.0, 1.0};
+constexpr int kIoPriority = 20;  // the I/O thread's SCHED_FIFO priority unless the scene says (below the loop's)
 constexpr long long kMaxTag36h11Id = 586;  // the family has 587 codes
 
 /// `path` relative to the scene file's folder (absolute paths are kept).
@@ -55,6 +56,8 @@ StationSettings read_station(MapReader r) {
   if (s.realtime_core == s.io_core) cores.fail_at("io", "must differ from cores.realtime");
   cores.finish();
   s.realtime_priority = static_cast<int>(r.integer("realtime_priority", 1, 99, 80));
+  s.io_priority = static_cast<int>(r.integer("io_priority", 0, 98, std::min(kIoPriority, s.realtime_priority - 1)));
+  if (s.io_priority >= s.realtime_priority) r.fail_at("io_priority", "must be below realtime_priority (the loop preempts the I/O thread)");
   s.lock_memory = r.boolean("lock_memory", true);
   r.finish();
   return s;

@@ -36,6 +36,7 @@ struct StationSettings {
   int realtime_core = 1;               ///< core of the real-time loop
   int io_core = 0;                     ///< core of the I/O thread (DDS, drivers, images)
   int realtime_priority = 80;          ///< SCHED_FIFO priority asked for, 1..99
+  int io_priority = 20;                ///< the I/O thread's SCHED_FIFO priority, below realtime_priority; 0: normal scheduling
   bool lock_memory = true;             ///< mlockall(MCL_CURRENT | MCL_FUTURE) at start
 };
 

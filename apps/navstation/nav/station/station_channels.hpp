@@ -16,7 +16,7 @@
 namespace nav::station {
 
 inline constexpr std::size_t kRingCapacity = 1024;      // samples in flight from the I/O thread
-inline constexpr TimeNs kIoPeriodNs = kNsPerMs / 2;     // the I/O thread's polling period
+inline constexpr TimeNs kIoPeriodNs = kNsPerMs / 10;    // the I/O thread's polling period
 
 /// What the two threads share.
 struct StationChannels {
@@ -35,6 +35,10 @@ struct StationChannels {
     while (!started.load(std::memory_order_acquire)) clock.sleep_until_ns(clock.now_ns() + kIoPeriodNs);
   }
 };
+
+/// Pins the calling I/O thread to its core and asks its SCHED_FIFO priority, when one is set
+/// (above the devices and displays beside it on that core, below the real-time thread).
+void setup_io_thread(const StationRunOptions& options, StationRun& run);
 
 struct StationDdsLink;
 

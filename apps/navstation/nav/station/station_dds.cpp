@@ -251,7 +251,7 @@ void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, con
 
 void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, const ProbeImaging& imaging, StationChannels& ch,
                    StationRun& run, const StationRunOptions& options, StationDdsLink& link) {
-  run.io_pin = pin_to_core(options.io_core);
+  setup_io_thread(options, run);
   TumourObserver observer(imaging, options.observer);
   dds::OutboxPublisher publisher;
   DdsRunReport report;

@@ -112,7 +112,7 @@ void realtime_thread(const OperatingLoopModel& loop, OperatingLoopData& data, St
 
 /// The direct hand-off: the world's recording played in real time.
 void io_thread(const SimulatedWorld& world, StationChannels& ch, StationRun& run, const StationRunOptions& options) {
-  run.io_pin = pin_to_core(options.io_core);
+  setup_io_thread(options, run);
   TumourObserver observer(world.imaging, options.observer);
   ch.wait_for_start();
   std::size_t next = 0;
@@ -137,6 +137,11 @@ void io_thread(const SimulatedWorld& world, StationChannels& ch, StationRun& run
 }
 
 }  // namespace
+
+void setup_io_thread(const StationRunOptions& options, StationRun& run) {
+  run.io_pin = pin_to_core(options.io_core);
+  if (options.io_priority > 0) run.io_fifo = request_fifo(options.io_priority);
+}
 
 StepStatistics step_statistics(std::vector<double> step_us, const std::vector<double>& lateness_us, double miss_threshold_us) {
   StepStatistics s;

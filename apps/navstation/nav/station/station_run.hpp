@@ -95,6 +95,7 @@ struct StationRunOptions {
   TimeNs miss_threshold_ns = 5 * kNsPerMs;  ///< a tick woken later than this after its deadline is a miss
   RealtimePlan realtime;                    ///< the real-time thread's core, priority and memory lock
   int io_core = 0;                          ///< the I/O thread's core
+  int io_priority = 0;                      ///< the I/O thread's SCHED_FIFO priority (0: normal scheduling)
   std::optional<DdsRunOptions> dds;         ///< devices on DDS (station_dds.hpp); direct hand-off without
   TumourObserverOptions observer;
   const std::atomic<bool>* stop = nullptr;  ///< when set and raised (SIGINT, SIGTERM), the run ends at its next tick
@@ -130,6 +131,7 @@ struct StationRun {
   std::vector<TickRecord> ticks;          ///< one per tick run
   std::vector<SetupStep> realtime_setup;  ///< what the real-time thread's setup did
   SetupStep io_pin;                       ///< the I/O thread's pinning
+  SetupStep io_fifo;                      ///< the I/O thread's SCHED_FIFO, when asked
   std::int64_t outputs_read = 0;          ///< new outputs the I/O thread read from the triple buffer
   std::int64_t samples_pushed = 0;        ///< samples the I/O thread handed to the real-time thread
   std::int64_t samples_after_loop = 0;    ///< samples delivered within the run that the I/O thread reached only after the loop had stopped (it lagged: direct hand-off)

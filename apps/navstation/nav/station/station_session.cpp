@@ -14,6 +14,13 @@ namespace nav::station {
 
 namespace {
 
+/// " I/O pin: ...; I/O SCHED_FIFO: ...": how the I/O thread's setup went.
+std::string io_setup_text(const StationRun& run) {
+  std::string text = std::string(" I/O pin: ") + outcome_name(run.io_pin.outcome);
+  if (!run.io_fifo.name.empty()) text += std::string("; I/O SCHED_FIFO: ") + outcome_name(run.io_fifo.outcome);
+  return text + "\n";
+}
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -45,6 +52,7 @@ StationRunOptions station_run_options(const Scene& scene, TimeNs duration_ns, Ti
   run_options.miss_threshold_ns = miss_threshold_ns;
   run_options.realtime = {scene.station.realtime_core, scene.station.realtime_priority, scene.station.lock_memory && lock_memory};
   run_options.io_core = scene.station.io_core;
+  run_options.io_priority = scene.station.io_priority;
   return run_options;
 }
 
@@ -225,7 +233,7 @@ std::string format_summary(const Scene& scene, const StationSession& s) {
                 s.world_s, static_cast<double>(s.liver.mesh.tets.size()), static_cast<double>(s.world.samples.size()));
   out += "real-time setup:";
   for (const SetupStep& step : s.run.realtime_setup) out += " " + step.name + ": " + outcome_name(step.outcome) + ";";
-  out += std::string(" I/O pin: ") + outcome_name(s.run.io_pin.outcome) + "\n";
+  out += io_setup_text(s.run);
   out += format("prediction error against the full-order truth (RMS from %.1f s, %.0f liver steps):\n", 1e-9 * static_cast<double>(s.settle_ns),
                 s.assimilated.steps);
   out += "                         with assimilation   without\n";
@@ -283,7 +291,7 @@ std::string format_live_summary(const Scene& scene, const LiveSession& s) {
   out += format("start-up: liver and reduced loop %.1f s (%.0f tetrahedra)\n", s.build_s, static_cast<double>(s.liver.mesh.tets.size()));
   out += "real-time setup:";
   for (const SetupStep& step : s.run.realtime_setup) out += " " + step.name + ": " + outcome_name(step.outcome) + ";";
-  out += std::string(" I/O pin: ") + outcome_name(s.run.io_pin.outcome) + "\n";
+  out += io_setup_text(s.run);
   out += "outputs degraded:" + format_periods(degraded_periods(s.run.ticks, DegradedWhat::outputs));
   out += "needle input degraded:" + format_periods(degraded_periods(s.run.ticks, DegradedWhat::needle_input));
   return out + run_figures(scene, s.run, s.surface, s.miss_threshold_ns);
