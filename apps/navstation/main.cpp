@@ -18,7 +18,9 @@
 //                          evaluate) as child processes (their logs in --logs DIR, default a
 //                          temporary folder); stopping navstation stops them. All on DDS (the
 //                          scene's topics.domain_id, or --domain D).
-//   --seconds S, --plot FILE.svg (the error over time), --json FILE (the summary's figures),
+//   --seconds S, --plot FILE.svg (the error over time), --json FILE (the summary's figures;
+//                          with --live: start-up, resident memory, ticks and samples;
+//                          with --demo: the evaluation's),
 //   --images DIR           runs navview alongside (headless), which writes PNG composites of
 //                          the station's DDS topics (by the scene's topic names) into DIR
 //                          (with the liver surface DIR/liver_surface.obj).
@@ -150,7 +152,8 @@ int run_live(const nav::station::Scene& scene, const Arguments& args) {
     return kExitError;
   }
   std::printf("%s", nav::station::format_live_summary(scene, session.value()).c_str());
-  return images ? 0 : kExitError;
+  const bool written = args.demo || args.json_path.empty() || write_file(args.json_path, nav::station::live_session_json(scene, session.value()));
+  return images && written ? 0 : kExitError;
 }
 
 /// The demo: the simulated patient and the evaluation as child processes, the live station here.
@@ -265,8 +268,8 @@ bool parse(int argc, char** argv, Arguments& args) {
     std::fprintf(stderr, "navstation: --logs names the folder of the demo's child processes' logs\n");
     return false;
   }
-  if (args.live && (args.demo || args.check || !args.plot_path.empty() || !args.json_path.empty())) {
-    std::fprintf(stderr, "navstation: --live runs a --scene FILE alone (its evaluation is navtool evaluate)\n");
+  if (args.live && (args.demo || args.check || !args.plot_path.empty())) {
+    std::fprintf(stderr, "navstation: --live runs a --scene FILE alone (its evaluation is navtool evaluate; --json FILE: the run's figures)\n");
     return false;
   }
   return true;

@@ -69,7 +69,8 @@ TEST(LiveStation, TheStationOnDdsFromTheSimulatedPatientIsEvaluatedLiveAndFromIt
                         temporary_path("live_record.log"));
   ChildProcess evaluation({kBin + "/navtool", "evaluate", "--scene", scene, "--seconds", "14", "--domain", domain},
                           temporary_path("live_evaluate.log"));
-  ChildProcess station({kBin + "/navstation", "--scene", scene, "--live", "--seconds", "8", "--domain", domain},
+  const std::string figures_path = temporary_path("live_station.json");
+  ChildProcess station({kBin + "/navstation", "--scene", scene, "--live", "--seconds", "8", "--domain", domain, "--json", figures_path},
                        temporary_path("live_station.log"));
   ASSERT_TRUE(recorder.started() && evaluation.started() && station.started());
 
@@ -89,6 +90,15 @@ TEST(LiveStation, TheStationOnDdsFromTheSimulatedPatientIsEvaluatedLiveAndFromIt
   EXPECT_NE(station_log.find("dropped at the boundary: none"), std::string::npos);
   EXPECT_GE(number_after(station_log, "samples accepted "), 500.0);
   EXPECT_GE(number_after(station_log, "B-mode frames, "), 50.0);  // tumour points found
+  // Its figures as JSON: the summary's counts, its start-up and its resident memory.
+  const std::string figures = file_text(figures_path);
+  EXPECT_EQ(number_after(figures, "\"samples_accepted\": "), number_after(station_log, "samples accepted "));
+  EXPECT_EQ(number_after(figures, "\"samples_refused\": "), 0.0);
+  EXPECT_EQ(number_after(figures, "\"ticks\": "), number_after(station_log, "step time over "));
+  EXPECT_GT(number_after(figures, "\"start_up_s\": "), 0.0);
+  const double resident_mib = number_after(figures, "\"after_start_up\": ");
+  EXPECT_GT(resident_mib, 1.0);  // the liver, its loop and a DDS participant
+  EXPECT_LE(resident_mib, number_after(figures, "\"peak\": "));
   // Its predictions against the patient's truth: the demo's accuracy with assimilation
   // (0.8 mm RMS in process), bounded with room for a loaded host.
   const std::string evaluated = evaluation.log();

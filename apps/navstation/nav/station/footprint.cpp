@@ -1,7 +1,11 @@
 // The memory footprint of a built station: what each model reports (ReducedModel's
 // memory_bytes, every data arena's capacity), and estimates from element counts where a
 // model does not report its tables (the full order, the ladder's transfer to it).
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <cstdio>
+#include <fstream>
 #include <string>
 
 #include "nav/station/station_build.hpp"
@@ -112,6 +116,19 @@ std::string format_footprint(const MemoryFootprint& footprint) {
                 static_cast<long long>(footprint.total_bytes()), static_cast<double>(footprint.total_bytes()) / (1024.0 * 1024.0));
   text += line;
   return text;
+}
+
+std::int64_t resident_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  long long pages = 0, resident_pages = 0;
+  if (!(statm >> pages >> resident_pages)) return 0;
+  return static_cast<std::int64_t>(resident_pages) * sysconf(_SC_PAGESIZE);
+}
+
+std::int64_t peak_resident_bytes() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return static_cast<std::int64_t>(usage.ru_maxrss) * 1024;  // kilobytes on Linux
 }
 
 }  // namespace nav::station

@@ -93,4 +93,9 @@ Result<BuiltStation> build_station(Scene scene);
 /// The footprint as an aligned text table with a total.
 std::string format_footprint(const MemoryFootprint& footprint);
 
+/// This process's resident memory now (/proc/self/statm), 0 where it cannot be read.
+std::int64_t resident_bytes();
+/// This process's largest resident memory so far (getrusage's ru_maxrss).
+std::int64_t peak_resident_bytes();
+
 }  // namespace nav::station

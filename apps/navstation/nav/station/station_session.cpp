@@ -7,12 +7,15 @@
 #include <utility>
 
 #include "nav/dds/sample_fault.hpp"
+#include "nav/station/station_build.hpp"
 #include "nav/station/station_dds.hpp"
 #include "nav/station/station_loop.hpp"
 
 namespace nav::station {
 
 namespace {
+
+double mebibytes(std::int64_t bytes) { return static_cast<double>(bytes) / (1024.0 * 1024.0); }
 
 /// " I/O pin: ...; I/O SCHED_FIFO: ...": how the I/O thread's setup went.
 std::string io_setup_text(const StationRun& run) {
@@ -152,6 +155,7 @@ Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, con
   const OperatingLoopModel& loop = p.loop;
   s.build_s = p.build_s;
   s.liver_model = describe_station_loop(scene, loop);
+  s.resident_after_start_up_bytes = resident_bytes();
   s.miss_threshold_ns = 5 * kNsPerMs;
   StationRunOptions run_options = station_run_options(scene, duration_ns, s.miss_threshold_ns, true);
   auto dds = dds_run_options(scene, &p.surface);
@@ -163,6 +167,7 @@ Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, con
   auto run = run_live_station(loop, imaging.value(), run_options);
   if (!run.ok()) return run.error();
   s.run = std::move(run).value();
+  s.peak_resident_bytes = peak_resident_bytes();
   s.liver = std::move(p.liver);
   s.surface = std::move(p.surface);
   return s;
@@ -288,7 +293,8 @@ std::string format_live_summary(const Scene& scene, const LiveSession& s) {
   out += format("%.0f Hz loop, liver every %.0f ms, display latency %.0f ms\n", st.loop_rate_hz, 1e3 / st.tissue_rate_hz,
                 st.display_latency_ms);
   out += s.liver_model + "\n";
-  out += format("start-up: liver and reduced loop %.1f s (%.0f tetrahedra)\n", s.build_s, static_cast<double>(s.liver.mesh.tets.size()));
+  out += format("start-up: liver and reduced loop %.1f s (%.0f tetrahedra); resident memory %.1f MiB after it, %.1f MiB at most\n", s.build_s,
+                static_cast<double>(s.liver.mesh.tets.size()), mebibytes(s.resident_after_start_up_bytes), mebibytes(s.peak_resident_bytes));
   out += "real-time setup:";
   for (const SetupStep& step : s.run.realtime_setup) out += " " + step.name + ": " + outcome_name(step.outcome) + ";";
   out += io_setup_text(s.run);
@@ -297,13 +303,31 @@ std::string format_live_summary(const Scene& scene, const LiveSession& s) {
   return out + run_figures(scene, s.run, s.surface, s.miss_threshold_ns);
 }
 
-std::string session_json(const Scene& scene, const StationSession& s) {
-  const StepStatistics& t = s.run.steps;
-  std::string out = "{\n  \"scene\": \"" + scene.station.name + "\",\n";
-  out += format("  \"ticks\": %.0f, \"step_us\": {\"median\": %.3f, \"p99\": %.3f, \"p999\": %.3f,", static_cast<double>(t.ticks), t.median_us,
-                t.p99_us, t.p999_us);
+namespace {
+
+/// `text` as a JSON string's contents: quotes and backslashes escaped, control characters left out.
+std::string json_text(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) >= 0x20) out += c;
+  }
+  return out;
+}
+
+/// The JSON members of a run's tick figures (each line indented, ending with a comma).
+std::string steps_json(const StepStatistics& t) {
+  std::string out = format("  \"ticks\": %.0f, \"step_us\": {\"median\": %.3f, \"p99\": %.3f, \"p999\": %.3f,", static_cast<double>(t.ticks),
+                           t.median_us, t.p99_us, t.p999_us);
   out += format(" \"max\": %.3f},\n  \"jitter_us\": %.3f, \"max_lateness_us\": %.3f,", t.max_us, t.jitter_us, t.max_lateness_us);
-  out += format(" \"deadline_misses\": %.0f, \"skipped_ticks\": %.0f,\n", static_cast<double>(t.deadline_misses), static_cast<double>(t.skipped_ticks));
+  return out + format(" \"deadline_misses\": %.0f, \"skipped_ticks\": %.0f,\n", static_cast<double>(t.deadline_misses),
+                      static_cast<double>(t.skipped_ticks));
+}
+
+}  // namespace
+
+std::string session_json(const Scene& scene, const StationSession& s) {
+  std::string out = "{\n  \"scene\": \"" + json_text(scene.station.name) + "\",\n" + steps_json(s.run.steps);
   out += format("  \"tumour_now_rms_mm\": {\"assimilated\": %.4f, \"without\": %.4f},\n", 1e3 * s.assimilated.tumour_now_rms_m,
                 1e3 * s.without.tumour_now_rms_m);
   out += format("  \"tumour_ahead_rms_mm\": {\"assimilated\": %.4f, \"without\": %.4f},\n", 1e3 * s.assimilated.tumour_ahead_rms_m,
@@ -316,6 +340,18 @@ std::string session_json(const Scene& scene, const StationSession& s) {
   out += format("  \"needle_tip_rms_mm\": %.4f, \"display_latency_ms\": %.1f\n}\n", 1e3 * s.assimilated.needle_tip_rms_m,
                 1e-6 * static_cast<double>(s.display_latency_ns));
   return out;
+}
+
+std::string live_session_json(const Scene& scene, const LiveSession& s) {
+  std::string out = "{\n  \"scene\": \"" + json_text(scene.station.name) + "\",\n  \"liver_model\": \"" + json_text(s.liver_model) + "\",\n";
+  out += format("  \"start_up_s\": %.3f, \"resident_mib\": {\"after_start_up\": %.2f, \"peak\": %.2f},\n", s.build_s,
+                mebibytes(s.resident_after_start_up_bytes), mebibytes(s.peak_resident_bytes));
+  out += steps_json(s.run.steps);
+  const DdsRunReport d = s.run.dds.value_or(DdsRunReport{});
+  out += format("  \"poses_received\": %.0f, \"frames_received\": %.0f, \"samples_accepted\": %.0f, \"samples_refused\": %.0f,",
+                static_cast<double>(d.poses_received), static_cast<double>(d.frames_received), static_cast<double>(d.boundary.accepted),
+                static_cast<double>(dds::refused_as_invalid(d.boundary)));
+  return out + format(" \"outputs_published\": %.0f\n}\n", static_cast<double>(d.outputs_published));
 }
 
 std::vector<PlotSeries> error_series(const StationSession& s) {

@@ -58,6 +58,8 @@ struct LiveSession {
   TimeNs miss_threshold_ns = 0;
   std::string liver_model;  ///< describe_station_loop: which liver the loop ran
   double build_s = 0.0;  ///< start-up: liver and reduced loop
+  std::int64_t resident_after_start_up_bytes = 0;  ///< the process's resident memory once built
+  std::int64_t peak_resident_bytes = 0;            ///< its largest, at the end of the run
 };
 
 /// Runs the station of `scene` for `duration_ns` (or until `stop`, when given, is raised) on
@@ -68,6 +70,10 @@ Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, con
 
 /// The printed summary: setup, prediction errors with and without assimilation, timing.
 std::string format_summary(const Scene& scene, const StationSession& session);
+
+/// A live run's figures as JSON: the liver model, start-up time, resident memory, tick
+/// statistics and the samples taken (navstation --live --json).
+std::string live_session_json(const Scene& scene, const LiveSession& session);
 
 /// A stretch of ticks whose outputs were degraded, with every health flag raised in it.
 struct DegradedPeriod {
