@@ -29,6 +29,7 @@ EvaluationInput four_seconds() {
     now.position_m = tumour_at(t);
     now.position_m[2] += 0.001;
     now.receive_time_ns = t + 2 * kNsPerMs;  // 2 ms from the station's tick to the reader
+    now.model_rung = t >= kOriginNs + 3 * kNsPerSecond ? 1 : 0;  // the ladder's rung 1 for the last second
     dds::TargetPrediction ahead = now;
     ahead.receive_time_ns = 0;  // not stamped (e.g. written by hand): not timed
     ahead.horizon_ns = kHorizonNs;
@@ -57,6 +58,11 @@ TEST(Evaluation, RmsErrorsAreTheOffsetsAgainstTheInterpolatedTruth) {
   EXPECT_NEAR(e.series[0].y.front(), 1.0, 1e-9);  // millimetres
   EXPECT_NEAR(e.series[0].x.front(), 0.005, 1e-12);  // seconds from the first truth
   EXPECT_EQ(e.tick_to_reader.count, 395);
+  ASSERT_EQ(e.predictions_by_rung.size(), 2u);
+  EXPECT_EQ(e.predictions_by_rung.at(0), 300);
+  EXPECT_EQ(e.predictions_by_rung.at(1), 95);
+  EXPECT_NE(format_evaluation(e, 0).find("by liver rung: 0: 300; 1: 95;"), std::string::npos);
+  EXPECT_NE(evaluation_json(e).find("\"predictions_by_rung\": {\"0\": 300, \"1\": 95}"), std::string::npos);
   EXPECT_DOUBLE_EQ(e.tick_to_reader.median_us, 2000.0);
   EXPECT_DOUBLE_EQ(e.tick_to_reader.max_us, 2000.0);
 }

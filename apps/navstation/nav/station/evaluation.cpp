@@ -63,6 +63,8 @@ Evaluation evaluate(EvaluationInput input, TimeNs settle_ns) {
   for (const dds::TargetPrediction& p : input.predictions)
     if (p.receive_time_ns > 0) tick_to_reader_us.push_back(1e-3 * static_cast<double>(p.receive_time_ns - p.source_time_ns));
   e.tick_to_reader = latency_statistics(std::move(tick_to_reader_us));
+  for (const dds::TargetPrediction& p : input.predictions)
+    if (p.horizon_ns == 0) ++e.predictions_by_rung[p.model_rung];
   for (const dds::TargetPrediction& p : input.predictions) {
     const TimeNs at_ns = p.source_time_ns + p.horizon_ns;
     const std::optional<dds::Vector3> truth = p.source_time_ns >= from_ns ? truth_at(truths, at_ns, false) : std::nullopt;
@@ -111,7 +113,10 @@ std::string format_evaluation(const Evaluation& e, TimeNs settle_ns) {
                 1e-6 * static_cast<double>(e.horizon_ns), 1e3 * e.tumour_ahead_rms_m, static_cast<long long>(e.tumour_ahead_count),
                 1e3 * e.needle_tip_rms_m, static_cast<long long>(e.needle_tip_count), static_cast<long long>(e.without_truth),
                 e.tick_to_reader.median_us, e.tick_to_reader.p99_us, e.tick_to_reader.max_us, static_cast<long long>(e.tick_to_reader.count));
-  return text;
+  std::string out = text;
+  out += "predictions of the tumour by liver rung:";
+  for (const auto& [rung, count] : e.predictions_by_rung) out += " " + std::to_string(rung) + ": " + std::to_string(count) + ";";
+  return out + "\n";
 }
 
 std::string evaluation_json(const Evaluation& e) {
@@ -119,12 +124,16 @@ std::string evaluation_json(const Evaluation& e) {
   std::snprintf(text, sizeof(text),
                 "{\n  \"tumour_now_rms_mm\": %.4f, \"tumour_now_count\": %lld,\n  \"tumour_ahead_rms_mm\": %.4f, \"tumour_ahead_count\": %lld,"
                 " \"horizon_ms\": %.1f,\n  \"needle_tip_rms_mm\": %.4f, \"needle_tip_count\": %lld,\n  \"without_truth\": %lld,\n"
-                "  \"tick_to_reader_us\": {\"median\": %.1f, \"p99\": %.1f, \"max\": %.1f, \"count\": %lld}\n}\n",
+                "  \"tick_to_reader_us\": {\"median\": %.1f, \"p99\": %.1f, \"max\": %.1f, \"count\": %lld},\n",
                 1e3 * e.tumour_now_rms_m, static_cast<long long>(e.tumour_now_count), 1e3 * e.tumour_ahead_rms_m,
                 static_cast<long long>(e.tumour_ahead_count), 1e-6 * static_cast<double>(e.horizon_ns), 1e3 * e.needle_tip_rms_m,
                 static_cast<long long>(e.needle_tip_count), static_cast<long long>(e.without_truth), e.tick_to_reader.median_us,
                 e.tick_to_reader.p99_us, e.tick_to_reader.max_us, static_cast<long long>(e.tick_to_reader.count));
-  return text;
+  std::string out = text;
+  out += "  \"predictions_by_rung\": {";
+  for (const auto& [rung, count] : e.predictions_by_rung)
+    out += (rung == e.predictions_by_rung.begin()->first ? "\"" : ", \"") + std::to_string(rung) + "\": " + std::to_string(count);
+  return out + "}\n}\n";
 }
 
 }  // namespace nav::station

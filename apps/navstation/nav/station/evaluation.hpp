@@ -6,6 +6,7 @@
 // h is compared with the truth at t + h. Report-time code.
 #include <cstdint>
 #include <string>
+#include <map>
 #include <vector>
 
 #include "nav/core/clock.hpp"
@@ -37,6 +38,9 @@ struct Evaluation {
   /// From the station's tick (a prediction's source time) to its arrival here (its receive
   /// time), both on this host's monotonic clock, over the predictions that carry one.
   LatencyStatistics tick_to_reader;
+  /// The predictions of the tumour now by the liver rung that made them (0: the scene's
+  /// reduced rung, 1 ...: the escalation ladder's rungs above it).
+  std::map<std::uint32_t, std::int64_t> predictions_by_rung;
   std::vector<PlotSeries> series;       ///< tumour now and ahead, needle tip: error (mm) over time (s from the first truth)
 };
 
