@@ -89,13 +89,15 @@ TEST(Evaluation, AGapInTheTruthIsNotBridged) {
   EXPECT_NEAR(e.tumour_now_rms_m, 0.001, 1e-12);
 }
 
-TEST(Evaluation, WithoutTruthNothingIsComparedAndTheReportSaysSo) {
+TEST(Evaluation, WithoutTruthNothingIsComparedAndTheReportSaysSoButTheLatencyIsTimed) {
   EvaluationInput input = four_seconds();
   input.truths.clear();
   const Evaluation e = evaluate(input, 0);
   EXPECT_EQ(e.tumour_now_count, 0);
   EXPECT_EQ(e.without_truth, static_cast<std::int64_t>(input.predictions.size() + input.needle_tips.size()));
   EXPECT_NE(format_evaluation(e, 0).find("outputs without a truth to compare: " + std::to_string(e.without_truth)), std::string::npos);
+  EXPECT_EQ(e.tick_to_reader.count, 395);  // the latency to the reader needs no truth
+  EXPECT_EQ(e.predictions_by_rung.at(0) + e.predictions_by_rung.at(1), 395);
 }
 
 }  // namespace

@@ -47,6 +47,13 @@ struct ErrorCurve {
 Evaluation evaluate(EvaluationInput input, TimeNs settle_ns) {
   Evaluation e;
   auto& truths = input.truths;
+  // Timed and counted with or without a truth (a station on real devices has none).
+  std::vector<double> tick_to_reader_us;
+  for (const dds::TargetPrediction& p : input.predictions)
+    if (p.receive_time_ns > 0) tick_to_reader_us.push_back(1e-3 * static_cast<double>(p.receive_time_ns - p.source_time_ns));
+  e.tick_to_reader = latency_statistics(std::move(tick_to_reader_us));
+  for (const dds::TargetPrediction& p : input.predictions)
+    if (p.horizon_ns == 0) ++e.predictions_by_rung[p.model_rung];
   std::sort(truths.begin(), truths.end(), [](const dds::GroundTruth& a, const dds::GroundTruth& b) { return a.source_time_ns < b.source_time_ns; });
   if (truths.empty()) {
     e.without_truth = static_cast<std::int64_t>(input.predictions.size() + input.needle_tips.size());
@@ -59,12 +66,6 @@ Evaluation evaluate(EvaluationInput input, TimeNs settle_ns) {
       tip{{"needle tip", "#d62728", true, {}, {}}};
   std::sort(input.predictions.begin(), input.predictions.end(),
             [](const dds::TargetPrediction& a, const dds::TargetPrediction& b) { return a.source_time_ns < b.source_time_ns; });
-  std::vector<double> tick_to_reader_us;
-  for (const dds::TargetPrediction& p : input.predictions)
-    if (p.receive_time_ns > 0) tick_to_reader_us.push_back(1e-3 * static_cast<double>(p.receive_time_ns - p.source_time_ns));
-  e.tick_to_reader = latency_statistics(std::move(tick_to_reader_us));
-  for (const dds::TargetPrediction& p : input.predictions)
-    if (p.horizon_ns == 0) ++e.predictions_by_rung[p.model_rung];
   for (const dds::TargetPrediction& p : input.predictions) {
     const TimeNs at_ns = p.source_time_ns + p.horizon_ns;
     const std::optional<dds::Vector3> truth = p.source_time_ns >= from_ns ? truth_at(truths, at_ns, false) : std::nullopt;
