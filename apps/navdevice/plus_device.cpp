@@ -109,7 +109,9 @@ int run_plus(const std::vector<std::string>& arguments) {
   }
   auto sequence = nav::ultrasound::read_plus_sequence(recording);
   if (!sequence.ok()) return fail("plus", sequence.error().describe());
-  const nav::ultrasound::PlusSequence& q = sequence.value();
+  nav::ultrasound::PlusSequence& q = sequence.value();
+  const std::optional<std::array<double, 2>>& spacing_m = s.devices.ultrasound.recording_pixel_spacing_m;
+  if (spacing_m && s.devices.ultrasound.kind == nav::station::UltrasoundKind::plus) q.spacing_mm = {1e3 * (*spacing_m)[0], 1e3 * (*spacing_m)[1]};
   auto tracks = tool_tracks(*args, q, s.devices.tracker.tools);
   if (!tracks.ok()) return fail("plus", tracks.error().describe());
   std::printf("navdevice plus: %s: %zu frames of %u x %u at %.3f x %.3f mm, %.1f s recorded; playing", recording.c_str(), q.frames_read,

@@ -17,6 +17,7 @@
 
 #include "dds/child_process.hpp"
 #include "station/scene_text.hpp"
+#include "support/run_command.hpp"
 #include "support/test_data.hpp"
 
 namespace nav::testing {
@@ -346,9 +347,24 @@ TEST(LiveStation, TheSimulatedPatientNamesWhatIsWrong) {
 TEST(LiveStation, APlusRecordingPlaysIntoTheStationFrameByFrame) {
   const std::string recording = shared_data_path("plus/SpinePhantomFreehand.igs.mha");
   if (!file_exists(recording)) GTEST_SKIP() << "no " << recording;
-  const std::string scene = plus_scene(recording);
+  // The probe's calibration from PLUS's own fCal recordings (navtool calib probe): its joint
+  // in the station's URDF, its pixel spacing the scene's (the recording says 1 x 1 mm).
+  const std::string urdf = temporary_path("plus_calibrated.urdf");
+  const CommandRun calibrated = run_command(kBin + "/navtool calib probe --recording " + shared_data_path("plus/fCal_Test_Calibration_3NWires_fCal2.0.igs.mha") +
+                                            " --phantom " + shared_data_path("plus/PlusDeviceSet_fCal_Sim_SpatialCalibration_2.0.xml") + " --urdf " +
+                                            example_scene_path("../../../calibration/urdf/station.urdf") + " --out " + urdf + " 2>&1");
+  ASSERT_EQ(calibrated.exit_code, 0) << calibrated.output;
+  const double spacing_x_mm = number_after(calibrated.output, "pixel spacing ");
+  const double spacing_y_mm = number_after(calibrated.output.substr(calibrated.output.find("pixel spacing ")), " x ");
+  ASSERT_GT(spacing_x_mm, 0.05);
+  std::string text = edited(file_text(plus_scene(recording)), "urdf: " + example_scene_path("../../../calibration/urdf/station.urdf"), "urdf: " + urdf);
+  text = edited(text, "recording: " + recording,
+                "recording: " + recording + "\n    pixel_spacing_mm: [" + std::to_string(spacing_x_mm) + ", " + std::to_string(spacing_y_mm) + "]");
+  const std::string scene = temporary_path("plus_calibrated.yaml");
+  std::ofstream(scene) << text;
   const std::string domain = "174";
-  ChildProcess station({kBin + "/navstation", "--scene", scene, "--live", "--seconds", "6", "--domain", domain},
+  const std::string images = temporary_path("plus_navview");
+  ChildProcess station({kBin + "/navstation", "--scene", scene, "--live", "--seconds", "6", "--domain", domain, "--images", images},
                        temporary_path("plus_station.log"));
   ChildProcess player({kBin + "/navdevice", "plus", "--scene", scene, "--domain", domain}, temporary_path("plus_player.log"));
   ASSERT_TRUE(station.started() && player.started());
@@ -357,10 +373,12 @@ TEST(LiveStation, APlusRecordingPlaysIntoTheStationFrameByFrame) {
   std::printf("%s\n%s", player.log().c_str(), station.log().c_str());
   ASSERT_EQ(player_exit, 0);
   ASSERT_EQ(station_exit, 0);
-  // The recording's 21 frames of 820 x 616, its probe and stylus tracks (tools 2 and 1), at
-  // its own 1.8 s of intervals; every one reaches the station and none is refused.
+  // The recording's 21 frames of 820 x 616 at the calibration's spacing, its probe and stylus
+  // tracks (tools 2 and 1), at its own 1.8 s of intervals; every one reaches the station and
+  // none is refused; navview beside it draws them.
   const std::string played = player.log();
   EXPECT_NE(played.find("21 frames of 820 x 616"), std::string::npos);
+  EXPECT_NEAR(number_after(played, "820 x 616 at "), spacing_x_mm, 1e-3);
   EXPECT_NE(played.find("ProbeToTracker as tool 2, StylusToTracker as tool 1"), std::string::npos);
   EXPECT_NE(played.find("21 of 21 frames played"), std::string::npos);
   EXPECT_GE(number_after(played, "done after "), 1.7);
@@ -368,6 +386,7 @@ TEST(LiveStation, APlusRecordingPlaysIntoTheStationFrameByFrame) {
   EXPECT_EQ(number_after(log, "ultrasound: "), 21.0);  // frames taken by the image processing
   EXPECT_EQ(number_after(log, "samples accepted "), 63.0);  // 42 poses and 21 frames
   EXPECT_NE(log.find("dropped at the boundary: none"), std::string::npos);
+  EXPECT_GE(number_after(log, "navview: "), 1.0);  // images written
 }
 
 TEST(LiveStation, ThePlusPlayerNamesWhatIsWrong) {

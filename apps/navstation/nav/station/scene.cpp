@@ -374,6 +374,10 @@ UltrasoundSettings read_ultrasound(MapReader r, const std::string& scene_path) {
     u.seed = static_cast<std::uint64_t>(r.integer("seed", 0, 1LL << 62, 1));
   } else if (u.kind == UltrasoundKind::plus) {
     u.recording_path = resolve(scene_path, r.text("recording"));
+    if (r.optional("pixel_spacing_mm")) {
+      const std::vector<double> spacing = r.numbers("pixel_spacing_mm", 2, Range{0.0, 10.0, true});
+      u.recording_pixel_spacing_m = std::array<double, 2>{1e-3 * spacing[0], 1e-3 * spacing[1]};
+    }
   } else {
     const std::string source = r.text("source");
     u.capture_source = is_device_index(source) ? source : resolve(scene_path, source);

@@ -195,6 +195,10 @@ struct UltrasoundSettings {
   double target_noise_m = 0.0;      ///< simulated: the filter's noise of the tumour point found in the frames
   std::uint64_t seed = 1;           ///< simulated
   std::string recording_path;       ///< plus, resolved against the scene's folder
+  /// plus: the image's pixel spacing when the recording's is not it (a PLUS recording of a
+  /// tracked probe says 1 x 1 and keeps the spacing in its probe calibration: the spacing
+  /// navtool calib probe prints); without it, the recording's own
+  std::optional<std::array<double, 2>> recording_pixel_spacing_m;
   /// capture: a device index ("0": /dev/video0), a video file or an image-sequence pattern
   /// ("frames/%04d.png", resolved against the scene's folder), the rectangle of the grabbed
   /// image that holds the ultrasound image (x, y, width, height in pixels; 0 x 0: all) and
