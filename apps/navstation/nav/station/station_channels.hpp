@@ -43,9 +43,10 @@ void setup_io_thread(const StationRunOptions& options, StationRun& run);
 struct StationDdsLink;
 
 /// The I/O thread on DDS: the station's participant takes the devices' poses and frames, finds
-/// the tumour in the frames (through `imaging`'s probe calibration, each frame on its own grid),
-/// feeds the ring and publishes the outbox; with a `world`, the in-process devices' participant
-/// plays its recording (station_dds.cpp), without, the devices are other processes.
+/// the tumour in the frames (through `imaging`'s probe calibration, each frame on its own grid)
+/// and feeds the ring; an output thread beside it publishes the outbox and the surface; with a
+/// `world`, the in-process devices' participant plays its recording (station_dds.cpp),
+/// without, the devices are other processes.
 void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, const ProbeImaging& imaging, StationChannels& ch,
                    StationRun& run, const StationRunOptions& options, StationDdsLink& link);
 

@@ -107,6 +107,31 @@ class DisplaySurfacePublisher {
 };
 
 /// Watches whether the station still has a pose writer matched, and records the changes.
+/// The station's outputs on DDS, on a thread of their own beside the I/O thread (its core, one
+/// SCHED_FIFO priority above it where the loop's allows): the outbox (predictions, needle
+/// states, health) as soon as the loop pushes it and the deformed surface, so that a frame
+/// being searched for the tumour on the I/O thread never holds a prediction back.
+void output_thread(StationChannels& ch, const StationRunOptions& options, StationDdsLink& link, DisplaySurfacePublisher& surfaces,
+                   StationRun& run, DdsRunReport& report) {
+  pin_to_core(options.io_core);
+  if (options.io_priority > 0) request_fifo(options.io_priority + 1 < options.realtime.priority ? options.io_priority + 1 : options.io_priority);
+  dds::OutboxPublisher publisher;
+  const auto publish = [&] {
+    report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station, ch.clock.now_ns()));
+    if (!ch.outputs.update()) return;
+    ++run.outputs_read;
+    surfaces.publish(ch.outputs.read(), ch.start_ns, *link.station);
+  };
+  ch.wait_for_start();
+  while (!ch.realtime_done.load(std::memory_order_acquire)) {
+    publish();
+    ch.clock.sleep_until_ns(ch.clock.now_ns() + kIoPeriodNs);
+  }
+  publish();  // the loop's last outputs
+  link.station->wait_for_acknowledgments(kAcknowledgmentTimeoutNs);  // they reach the displays before the run closes
+  report.outbox_dropped = ch.outbox->dropped();
+}
+
 void watch_peer(const dds::DdsNode& station, TimeNs now, bool& present, DdsRunReport& report) {
   const bool matched = station.matched(dds::Topic::tool_pose) > 0;
   if (present && !matched && report.peer_lost_seen_ns < 0) report.peer_lost_seen_ns = now;
@@ -253,7 +278,6 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
                    StationRun& run, const StationRunOptions& options, StationDdsLink& link) {
   setup_io_thread(options, run);
   TumourObserver observer(imaging, options.observer);
-  dds::OutboxPublisher publisher;
   DdsRunReport report;
   auto frame = std::make_unique<dds::UltrasoundFrame>();
   std::vector<Receipt> pose_receipts, frame_receipts;
@@ -269,13 +293,10 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
   const TimeNs device_to_loop_ns = options.dds->arrival.source_clock_offset_ns - ch.start_ns;  // stamps onto the loop's clock
   std::thread devices;
   if (player) devices = std::thread(device_thread, std::ref(*player), std::ref(ch), std::cref(*options.dds), std::ref(link), std::ref(report));
+  DdsRunReport published;  // the output thread's part of the report
+  std::thread outputs(output_thread, std::ref(ch), std::cref(options), std::ref(link), std::ref(surfaces), std::ref(run), std::ref(published));
   bool peer_present = link.devices != nullptr;
   TimeNs next_watch_ns = 0;
-  const auto read_outputs = [&] {
-    if (!ch.outputs.update()) return;
-    ++run.outputs_read;
-    surfaces.publish(ch.outputs.read(), ch.start_ns, *link.station);
-  };
   while (!ch.realtime_done.load(std::memory_order_acquire)) {
     for (std::size_t slot = 0; slot < link.poses->tool_count(); ++slot) {
       if (!link.poses->update(slot)) continue;
@@ -300,8 +321,6 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
       const std::optional<DeviceSample> for_loop = loop_sample(observer, sample, view);
       if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;
     }
-    report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station, ch.clock.now_ns()));
-    read_outputs();
     const TimeNs now = ch.run_time_ns();
     if (now >= next_watch_ns) {
       watch_peer(*link.station, now, peer_present, report);
@@ -310,10 +329,9 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
     ch.clock.sleep_until_ns(ch.clock.now_ns() + kIoPeriodNs);
   }
   if (devices.joinable()) devices.join();
-  read_outputs();  // the loop's last outputs
-  report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station, ch.clock.now_ns()));
-  link.station->wait_for_acknowledgments(kAcknowledgmentTimeoutNs);  // the last outputs reach the displays before the run closes
-  report.outbox_dropped = ch.outbox->dropped();
+  outputs.join();
+  report.outputs_published = published.outputs_published;
+  report.outbox_dropped = published.outbox_dropped;
   if (player) {
     const PlayerCounts& played = player->counts();
     report.poses_written = played.poses_written;
