@@ -344,6 +344,43 @@ TEST(LiveStation, TheSimulatedPatientNamesWhatIsWrong) {
   EXPECT_NE(alone.log().find("no station ran on this domain within"), std::string::npos) << alone.log();
 }
 
+TEST(LiveStation, TheShippedRealLiverSceneRunsItsLadderOnItsArtifactsFromThePlusRecording) {
+  // scenes/liver_reduced.yaml as shipped: liverFine from ../shared/data, its two artifacts made
+  // as its header says (where it reads them: build/), PLUS's SpinePhantom as its scanner (and,
+  // with no NDI device here, the recording's probe and stylus as its tools).
+  const std::string liver_dir = shared_data_path("liver");
+  const std::string recording = shared_data_path("plus/SpinePhantomFreehand.igs.mha");
+  if (!file_exists(liver_dir + "/liverFine.vtu") || !file_exists(recording)) GTEST_SKIP() << "no " << liver_dir << " or " << recording;
+  const std::string scene = example_scene_path("liver_reduced.yaml");
+  const std::string lower = example_scene_path("../../../build/liver_fine.navrb");
+  const std::string upper = example_scene_path("../../../build/liver_fine_r32.navrb");
+  const CommandRun reduced = run_command(kBin + "/navtool reduce --liver-dir " + liver_dir + " --method pod --r 20 --force corotational --out " + lower + " 2>&1");
+  ASSERT_EQ(reduced.exit_code, 0) << reduced.output;
+  const CommandRun extended = run_command(kBin + "/navtool reduce --liver-dir " + liver_dir + " --extend " + lower +
+                                          " --r 32 --load-scale 3 --samples 160 --out " + upper + " 2>&1");
+  ASSERT_EQ(extended.exit_code, 0) << extended.output;
+  const CommandRun checked = run_command(kBin + "/navstation --scene " + scene + " --check 2>&1");
+  ASSERT_EQ(checked.exit_code, 0) << checked.output;
+  const std::string domain = "175";
+  ChildProcess station({kBin + "/navstation", "--scene", scene, "--live", "--seconds", "4", "--domain", domain},
+                       temporary_path("shipped_liver_station.log"));
+  ChildProcess player({kBin + "/navdevice", "plus", "--scene", scene, "--domain", domain}, temporary_path("shipped_liver_player.log"));
+  ASSERT_TRUE(station.started() && player.started());
+  const std::optional<int> player_exit = player.wait(std::chrono::seconds(120));
+  const std::optional<int> station_exit = station.wait(std::chrono::seconds(120));
+  std::printf("%s\n%s", player.log().c_str(), station.log().c_str());
+  ASSERT_EQ(player_exit, 0);
+  ASSERT_EQ(station_exit, 0);
+  const std::string log = station.log();
+  EXPECT_NE(log.find("liver model: reduced r = 20"), std::string::npos);
+  EXPECT_NE(log.find("rung 1: r = 32"), std::string::npos);
+  EXPECT_NE(log.find("(22019 tetrahedra)"), std::string::npos);
+  EXPECT_EQ(number_after(log, "ultrasound: "), 21.0);
+  EXPECT_EQ(number_after(log, "samples accepted "), 63.0);  // 42 poses and 21 frames
+  EXPECT_NE(log.find("dropped at the boundary: none"), std::string::npos);
+  EXPECT_GE(number_after(log, "step time over "), 1000.0);  // ticks: the loop ran on
+}
+
 TEST(LiveStation, APlusRecordingPlaysIntoTheStationFrameByFrame) {
   const std::string recording = shared_data_path("plus/SpinePhantomFreehand.igs.mha");
   if (!file_exists(recording)) GTEST_SKIP() << "no " << recording;
