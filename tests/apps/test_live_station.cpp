@@ -344,6 +344,25 @@ TEST(LiveStation, TheSimulatedPatientNamesWhatIsWrong) {
   EXPECT_NE(alone.log().find("no station ran on this domain within"), std::string::npos) << alone.log();
 }
 
+/// The logs of a live station (with `station_flags`) beside `navdevice plus` on `scene`.
+struct PlusRunLogs {
+  std::string station, player;
+};
+
+PlusRunLogs run_station_on_plus(const std::string& scene, const std::string& domain, const std::string& name, std::vector<std::string> station_flags) {
+  std::vector<std::string> command{kBin + "/navstation", "--scene", scene, "--live", "--domain", domain};
+  command.insert(command.end(), station_flags.begin(), station_flags.end());
+  ChildProcess station(command, temporary_path(name + "_station.log"));
+  ChildProcess player({kBin + "/navdevice", "plus", "--scene", scene, "--domain", domain}, temporary_path(name + "_player.log"));
+  EXPECT_TRUE(station.started() && player.started());
+  const std::optional<int> player_exit = player.wait(std::chrono::seconds(120));
+  const std::optional<int> station_exit = station.wait(std::chrono::seconds(120));
+  std::printf("%s\n%s", player.log().c_str(), station.log().c_str());
+  EXPECT_EQ(player_exit, 0);
+  EXPECT_EQ(station_exit, 0);
+  return {station.log(), player.log()};
+}
+
 TEST(LiveStation, TheShippedRealLiverSceneRunsItsLadderOnItsArtifactsFromThePlusRecording) {
   // scenes/liver_reduced.yaml as shipped: liverFine from ../shared/data, its two artifacts made
   // as its header says (where it reads them: build/), PLUS's SpinePhantom as its scanner (and,
@@ -361,17 +380,7 @@ TEST(LiveStation, TheShippedRealLiverSceneRunsItsLadderOnItsArtifactsFromThePlus
   ASSERT_EQ(extended.exit_code, 0) << extended.output;
   const CommandRun checked = run_command(kBin + "/navstation --scene " + scene + " --check 2>&1");
   ASSERT_EQ(checked.exit_code, 0) << checked.output;
-  const std::string domain = "175";
-  ChildProcess station({kBin + "/navstation", "--scene", scene, "--live", "--seconds", "4", "--domain", domain},
-                       temporary_path("shipped_liver_station.log"));
-  ChildProcess player({kBin + "/navdevice", "plus", "--scene", scene, "--domain", domain}, temporary_path("shipped_liver_player.log"));
-  ASSERT_TRUE(station.started() && player.started());
-  const std::optional<int> player_exit = player.wait(std::chrono::seconds(120));
-  const std::optional<int> station_exit = station.wait(std::chrono::seconds(120));
-  std::printf("%s\n%s", player.log().c_str(), station.log().c_str());
-  ASSERT_EQ(player_exit, 0);
-  ASSERT_EQ(station_exit, 0);
-  const std::string log = station.log();
+  const std::string log = run_station_on_plus(scene, "175", "shipped_liver", {"--seconds", "4"}).station;
   EXPECT_NE(log.find("liver model: reduced r = 20"), std::string::npos);
   EXPECT_NE(log.find("rung 1: r = 32"), std::string::npos);
   EXPECT_NE(log.find("(22019 tetrahedra)"), std::string::npos);
@@ -399,27 +408,17 @@ TEST(LiveStation, APlusRecordingPlaysIntoTheStationFrameByFrame) {
                 "recording: " + recording + "\n    pixel_spacing_mm: [" + std::to_string(spacing_x_mm) + ", " + std::to_string(spacing_y_mm) + "]");
   const std::string scene = temporary_path("plus_calibrated.yaml");
   std::ofstream(scene) << text;
-  const std::string domain = "174";
-  const std::string images = temporary_path("plus_navview");
-  ChildProcess station({kBin + "/navstation", "--scene", scene, "--live", "--seconds", "6", "--domain", domain, "--images", images},
-                       temporary_path("plus_station.log"));
-  ChildProcess player({kBin + "/navdevice", "plus", "--scene", scene, "--domain", domain}, temporary_path("plus_player.log"));
-  ASSERT_TRUE(station.started() && player.started());
-  const std::optional<int> player_exit = player.wait(std::chrono::seconds(120));
-  const std::optional<int> station_exit = station.wait(std::chrono::seconds(120));
-  std::printf("%s\n%s", player.log().c_str(), station.log().c_str());
-  ASSERT_EQ(player_exit, 0);
-  ASSERT_EQ(station_exit, 0);
+  const PlusRunLogs logs = run_station_on_plus(scene, "174", "plus", {"--seconds", "6", "--images", temporary_path("plus_navview")});
   // The recording's 21 frames of 820 x 616 at the calibration's spacing, its probe and stylus
   // tracks (tools 2 and 1), at its own 1.8 s of intervals; every one reaches the station and
   // none is refused; navview beside it draws them.
-  const std::string played = player.log();
+  const std::string& played = logs.player;
   EXPECT_NE(played.find("21 frames of 820 x 616"), std::string::npos);
   EXPECT_NEAR(number_after(played, "820 x 616 at "), spacing_x_mm, 1e-3);
   EXPECT_NE(played.find("ProbeToTracker as tool 2, StylusToTracker as tool 1"), std::string::npos);
   EXPECT_NE(played.find("21 of 21 frames played"), std::string::npos);
   EXPECT_GE(number_after(played, "done after "), 1.7);
-  const std::string log = station.log();
+  const std::string& log = logs.station;
   EXPECT_EQ(number_after(log, "ultrasound: "), 21.0);  // frames taken by the image processing
   EXPECT_EQ(number_after(log, "samples accepted "), 63.0);  // 42 poses and 21 frames
   EXPECT_NE(log.find("dropped at the boundary: none"), std::string::npos);
