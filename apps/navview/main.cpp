@@ -1,6 +1,7 @@
 // navview: the station's display. Subscribes to ultrasound frames, the needle, target
-// predictions and the deformed surface, and draws their newest values as one composite
-// (nav/view/composite.hpp), into numbered PNG files (headless) or a window.
+// predictions, the deformed surface and the station's health, and draws their newest values
+// as one composite (nav/view/composite.hpp; the health as a band: mode, raised flags, samples
+// dropped), into numbered PNG files (headless) or a window.
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -8,6 +9,7 @@
 
 #include "image_output.hpp"
 #include "nav/dds/dds_node.hpp"
+#include "nav/dds/sample_fault.hpp"
 #include "nav/dds/stop_request.hpp"
 #include "nav/mesh/load_mesh.hpp"
 #include "navview_args.hpp"
@@ -24,10 +26,11 @@ struct Subscriptions {
   std::unique_ptr<LatestSink<nav::dds::TargetPrediction>> prediction =
       std::make_unique<LatestSink<nav::dds::TargetPrediction>>();
   std::unique_ptr<LatestSink<nav::dds::DeformedSurface>> surface = std::make_unique<LatestSink<nav::dds::DeformedSurface>>();
+  std::unique_ptr<LatestSink<nav::dds::StationHealth>> health = std::make_unique<LatestSink<nav::dds::StationHealth>>();
 
   nav::Status subscribe(nav::dds::DdsNode& node) {
     for (nav::Status status : {node.subscribe(*frame), node.subscribe(*needle), node.subscribe(*prediction),
-                               node.subscribe(*surface)}) {
+                               node.subscribe(*surface), node.subscribe(*health)}) {
       if (!status) return status;
     }
     return nav::Done{};
@@ -35,12 +38,18 @@ struct Subscriptions {
 
   /// Takes what arrived since the last call; true when anything did.
   bool update() {
-    const bool fresh[] = {frame->update(), needle->update(), prediction->update(), surface->update()};
-    return fresh[0] || fresh[1] || fresh[2] || fresh[3];
+    const bool fresh[] = {frame->update(), needle->update(), prediction->update(), surface->update(), health->update()};
+    return fresh[0] || fresh[1] || fresh[2] || fresh[3] || fresh[4];
   }
 
   nav::view::DisplayInputs inputs() const {
     return {frame->latest(), needle->latest(), prediction->latest(), surface->latest()};
+  }
+
+  /// The station's newest health, with its boundary's drops in words (no health: no status).
+  nav::view::StationStatus status() const {
+    const nav::dds::StationHealth* newest = health->latest();
+    return {newest, newest != nullptr ? nav::dds::drops_by_reason(newest->boundary) : std::string()};
   }
 };
 
@@ -77,7 +86,8 @@ int run(const NavviewArgs& args) {
     output.value()->poll_events();
     if (args.duration_ns > 0 && clock.now_ns() - start_ns >= args.duration_ns) break;
     if (!subscriptions.update()) continue;
-    if (const nav::Status shown_ok = output.value()->show(composer.render(subscriptions.inputs())); !shown_ok) {
+    const nav::view::StationStatus status = subscriptions.status();
+    if (const nav::Status shown_ok = output.value()->show(composer.render(subscriptions.inputs(), &status)); !shown_ok) {
       return fail("output", shown_ok.error());
     }
     if (args.count > 0 && ++shown >= args.count) break;

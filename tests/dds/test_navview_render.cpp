@@ -13,6 +13,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "nav/core/health.hpp"
 #include "nav/view/composite.hpp"
 #include "nav/view/frame_overlay.hpp"
 #include "nav/view/palette.hpp"
@@ -135,6 +136,26 @@ TEST(NavviewRender, NearerTriangleHidesTheFartherWhateverTheirOrder) {
     EXPECT_TRUE(near_colour(at(panel, 99.5, 99.5), tilted, 2)) << "the tilted triangle is in front";
     EXPECT_TRUE(near_colour(at(panel, 99.5 + 40, 99.5), palette::kSurface, 2)) << "the square beside it";
   }
+}
+
+TEST(NavviewRender, TheStationsHealthIsABandGreenOnlyWhileItRunsHealthy) {
+  Composer composer(scene_options(), scene_triangles());
+  const auto band_colour = [](const cv::Mat& image) { return image.at<cv::Vec3b>(image.rows - 2, 1); };
+  dds::StationHealth health;
+  health.mode = dds::StationMode::running;
+  StationStatus status{&health, "none"};
+  EXPECT_TRUE(near_colour(band_colour(composer.render({}, &status)), palette::kStatusHealthy, 0));
+  health.flags = static_cast<std::uint32_t>(HealthFlag::bad_sample);  // running, but a refused sample held
+  status.drops = "malformed 3";
+  EXPECT_TRUE(near_colour(band_colour(composer.render({}, &status)), palette::kStatusDegraded, 0));
+  health.mode = dds::StationMode::degraded;
+  health.flags = static_cast<std::uint32_t>(HealthFlag::stale_input);
+  const cv::Mat& degraded = composer.render({}, &status);
+  EXPECT_TRUE(near_colour(band_colour(degraded), palette::kStatusDegraded, 0));
+  int text_pixels = 0;  // the band says it in white
+  for (int x = 0; x < degraded.cols; ++x) text_pixels += near_colour(degraded.at<cv::Vec3b>(degraded.rows - 11, x), palette::kText, 60) ? 1 : 0;
+  EXPECT_GT(text_pixels, 20);
+  EXPECT_EQ(band_colour(composer.render({})), cv::Vec3b(0, 0, 0));  // no health yet: no band
 }
 
 TEST(NavviewRender, WithoutAnyInputThePanelsAreBlank) {

@@ -1,4 +1,5 @@
 #include "nav/core/health.hpp"
+#include "nav/core/health_names.hpp"
 
 namespace nav {
 
@@ -20,6 +21,13 @@ const char* health_flag_name(HealthFlag flag) noexcept {
     case HealthFlag::reduced_escalated: return "reduced_escalated";
   }
   return "unknown";
+}
+
+std::string health_flag_names(std::uint32_t bits) {
+  std::string names;
+  for (std::uint32_t bit = 1; bit != 0; bit <<= 1)
+    if ((bits & bit) != 0) names += std::string(names.empty() ? "" : " ") + health_flag_name(static_cast<HealthFlag>(bit));
+  return names;
 }
 
 }  // namespace nav

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "nav/core/health_names.hpp"
 #include "nav/dds/sample_fault.hpp"
 #include "nav/station/station_build.hpp"
 #include "nav/station/station_dds.hpp"
@@ -276,10 +277,7 @@ std::string format_periods(const std::vector<DegradedPeriod>& periods) {
   for (std::size_t i = 0; i < std::min(periods.size(), kPeriodsShown); ++i) {
     const DegradedPeriod& p = periods[i];
     out += format(" %.3f-%.3f s (", 1e-9 * static_cast<double>(p.from_ns), 1e-9 * static_cast<double>(p.to_ns));
-    std::string names;
-    for (std::uint32_t bit = 1; bit != 0; bit <<= 1)
-      if ((p.flags & bit) != 0) names += std::string(names.empty() ? "" : " ") + health_flag_name(static_cast<HealthFlag>(bit));
-    out += names + ")" + (i + 1 < periods.size() ? "," : "");
+    out += health_flag_names(p.flags) + ")" + (i + 1 < periods.size() ? "," : "");
   }
   if (periods.size() > kPeriodsShown) out += format(" and %.0f more", static_cast<double>(periods.size() - kPeriodsShown));
   return out + (periods.empty() ? " never\n" : "\n");

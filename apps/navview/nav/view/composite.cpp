@@ -5,6 +5,7 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "nav/core/health_names.hpp"
 #include "nav/view/frame_overlay.hpp"
 #include "nav/view/palette.hpp"
 
@@ -47,12 +48,36 @@ void caption_surface_panel(cv::Mat& panel, const DisplayInputs& inputs) {
   caption(panel, text);
 }
 
+constexpr int kStatusBandPx = 22;
+
+const char* mode_name(dds::StationMode mode) {
+  switch (mode) {
+    case dds::StationMode::starting: return "starting";
+    case dds::StationMode::running: return "running";
+    case dds::StationMode::degraded: return "DEGRADED";
+    case dds::StationMode::stopped: return "stopped";
+  }
+  return "in an unknown mode";
+}
+
+/// "station running | healthy | dropped at the boundary: none" across the canvas's bottom.
+void draw_status_band(cv::Mat& canvas, const StationStatus& status) {
+  const dds::StationHealth& health = *status.health;
+  const bool healthy = health.mode == dds::StationMode::running && health.flags == 0;
+  cv::Mat band = canvas(cv::Rect(0, canvas.rows - kStatusBandPx, canvas.cols, kStatusBandPx));
+  band.setTo(healthy ? palette::kStatusHealthy : palette::kStatusDegraded);
+  const std::string flags = health_flag_names(health.flags);
+  const std::string text = std::string("station ") + mode_name(health.mode) + " | " + (flags.empty() ? "healthy" : flags) +
+                           " | dropped at the boundary: " + status.drops;
+  cv::putText(band, text, cv::Point(6, kStatusBandPx - 7), cv::FONT_HERSHEY_SIMPLEX, kCaptionScale, palette::kText, 1, cv::LINE_AA);
+}
+
 }  // namespace
 
 Composer::Composer(const CompositeOptions& options, SurfaceTriangles surface_triangles)
     : options_(options), surface_triangles_(std::move(surface_triangles)) {}
 
-const cv::Mat& Composer::render(const DisplayInputs& inputs) {
+const cv::Mat& Composer::render(const DisplayInputs& inputs, const StationStatus* status) {
   const int height = options_.panel_height_px;
   const int frame_width =
       inputs.frame != nullptr ? FramePanelMapping::for_frame(*inputs.frame, height).panel_width_px(*inputs.frame) : height;
@@ -78,6 +103,7 @@ const cv::Mat& Composer::render(const DisplayInputs& inputs) {
     caption_frame_panel(frame_panel, inputs);
     caption_surface_panel(surface_panel, inputs);
   }
+  if (status != nullptr && status->health != nullptr) draw_status_band(canvas_, *status);
   return canvas_;
 }
 

@@ -2,6 +2,8 @@
 // navview's picture: the ultrasound panel (frame, needle, target, uncertainty) on the left
 // and the 3-D panel (deformed surface, needle, target) on the right, each with a caption.
 // Pure drawing from plain samples: no DDS, no window, so tests can check its pixels.
+#include <string>
+
 #include <opencv2/core/mat.hpp>
 
 #include "nav/dds/samples.hpp"
@@ -15,6 +17,13 @@ struct DisplayInputs {
   const dds::NeedleState* needle = nullptr;
   const dds::TargetPrediction* prediction = nullptr;
   const dds::DeformedSurface* surface = nullptr;
+};
+
+/// The station's health as the display shows it: its newest health sample and the samples its
+/// boundary dropped, in words (dds::drops_by_reason).
+struct StationStatus {
+  const dds::StationHealth* health = nullptr;
+  std::string drops;
 };
 
 /// The composite's size and the 3-D panel's viewing angles.
@@ -33,8 +42,9 @@ class Composer {
 
   /// The composite of `inputs` (valid until the next call). Its width is the frame panel's
   /// (the frame scaled to panel_height_px, or a square while no frame arrived) plus the
-  /// 3-D panel's.
-  const cv::Mat& render(const DisplayInputs& inputs);
+  /// 3-D panel's. With a `status`, a band across its bottom gives the station's mode, raised
+  /// flags and dropped samples: green while it runs healthy, red otherwise.
+  const cv::Mat& render(const DisplayInputs& inputs, const StationStatus* status = nullptr);
 
  private:
   CompositeOptions options_;

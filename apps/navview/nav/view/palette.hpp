@@ -12,5 +12,7 @@ inline const cv::Scalar kForce{255, 0, 255};               // magenta: the force
 inline const cv::Scalar kSurface{150, 170, 230};           // flesh, lit head-on
 inline const cv::Scalar kSurfaceBackground{40, 25, 20};    // dark blue-gray
 inline const cv::Scalar kText{255, 255, 255};
+inline const cv::Scalar kStatusHealthy{40, 110, 40};      // dark green: the station runs healthy
+inline const cv::Scalar kStatusDegraded{30, 30, 170};     // dark red: degraded, a flag raised or stopped
 
 }  // namespace nav::view::palette
