@@ -106,7 +106,6 @@ class DisplaySurfacePublisher {
   MonotonicClock clock_;
 };
 
-/// Watches whether the station still has a pose writer matched, and records the changes.
 /// The station's outputs on DDS, on a thread of their own beside the I/O thread (its core, one
 /// SCHED_FIFO priority above it where the loop's allows): the outbox (predictions, needle
 /// states, health) as soon as the loop pushes it and the deformed surface, so that a frame
@@ -132,6 +131,7 @@ void output_thread(StationChannels& ch, const StationRunOptions& options, Statio
   report.outbox_dropped = ch.outbox->dropped();
 }
 
+/// Watches whether the station still has a pose writer matched, and records the changes.
 void watch_peer(const dds::DdsNode& station, TimeNs now, bool& present, DdsRunReport& report) {
   const bool matched = station.matched(dds::Topic::tool_pose) > 0;
   if (present && !matched && report.peer_lost_seen_ns < 0) report.peer_lost_seen_ns = now;
