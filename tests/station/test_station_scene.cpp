@@ -177,6 +177,17 @@ TEST(StationScene, AnAprilTagTrackerReadsItsCameraIntrinsicsAndTags) {
                 .value().devices.tracker.camera_device, "/dev/video2");
   EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, apriltag), "probe: 6", "probe: 587")).field, "devices.tracker.tags.probe");
   EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, apriltag), "probe: 6", "probe: 5")).field, "devices.tracker.tags");
+  // A reference marker on a body of two tags is one of the tracker's tools, by its body alone.
+  const std::string with_reference = edited(demo_text(), simulated,
+                                            apriltag + "    tools: {reference: 9}\n"
+                                                       "    bodies: {reference: [{id: 20, xyz: [0, 0, 0], rpy: [0, 0, 0]}, {id: 21, xyz: [0.05, 0, 0], rpy: [0, 0, 0]}]}\n");
+  const auto referenced = parse_scene(with_reference, example_scene_path("demo.yaml"));
+  ASSERT_TRUE(referenced.ok()) << referenced.error().describe();
+  const TrackerSettings& r = referenced.value().devices.tracker;
+  const std::vector<ToolRole> roles = tool_roles(r.tools, r.tag_ids);
+  ASSERT_EQ(roles.size(), 4u);
+  EXPECT_STREQ(roles[3].role, "reference");
+  EXPECT_EQ(r.tag_bodies.at("reference").size(), 2u);
 }
 
 TEST(StationScene, TheIoThreadRunsBelowTheLoopsPriority) {

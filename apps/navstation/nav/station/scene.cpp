@@ -356,6 +356,8 @@ TrackerSettings read_tracker(MapReader r, const std::string& scene_path) {
       if (r.optional("intrinsics")) t.camera_intrinsics_path = resolve(scene_path, r.text("intrinsics"));
       if (r.optional("tags")) t.tag_ids = read_tool_roles(r.map("tags"), 0, kMaxTag36h11Id, t.tag_ids);
       if (r.optional("bodies")) t.tag_bodies = read_tag_bodies(r.map("bodies"), t.tools);
+      // A reference on a body needs no tag of its own in tags to be one of the tracked tools.
+      if (t.tag_bodies.count("reference") != 0 && !t.tag_ids.reference) t.tag_ids.reference = t.tag_bodies.at("reference").front().id;
       check_tags_distinct(r, t);
       t.rate_hz = r.number("rate_hz", Range{0.0, 1000.0, true}, t.rate_hz);
       break;
