@@ -190,6 +190,14 @@ TEST(StationScene, AnAprilTagTrackerReadsItsCameraIntrinsicsAndTags) {
   EXPECT_EQ(r.tag_bodies.at("reference").size(), 2u);
 }
 
+TEST(StationScene, ARefusalsFlagIsHeldForTheScenesDeclaredTime) {
+  EXPECT_EQ(parse_scene(demo_text(), example_scene_path("demo.yaml")).value().devices.clock.bad_sample_hold_ms, 2000.0);
+  const std::string clock = "clock: {offset_ms: 0, max_ahead_ms: 50, max_behind_ms: 1000";
+  EXPECT_EQ(parse_scene(edited(demo_text(), clock, clock + ", bad_sample_hold_ms: 500"), example_scene_path("demo.yaml"))
+                .value().devices.clock.bad_sample_hold_ms, 500.0);
+  EXPECT_EQ(error_of(edited(demo_text(), clock, clock + ", bad_sample_hold_ms: 0")).field, "devices.clock.bad_sample_hold_ms");
+}
+
 TEST(StationScene, TheIoThreadRunsBelowTheLoopsPriority) {
   EXPECT_EQ(parse_scene(demo_text(), example_scene_path("demo.yaml")).value().station.io_priority, 20);
   const std::string low = "realtime_priority: 10";

@@ -404,6 +404,7 @@ DeviceClockSettings read_device_clock(MapReader r) {
   c.offset_ms = r.number("offset_ms", Range{-1e3 * kDayMs, 1e3 * kDayMs}, c.offset_ms);
   c.max_ahead_ms = r.number("max_ahead_ms", Range{0.0, 10'000.0}, c.max_ahead_ms);
   c.max_behind_ms = r.number("max_behind_ms", Range{0.0, 60'000.0, true}, c.max_behind_ms);
+  c.bad_sample_hold_ms = r.number("bad_sample_hold_ms", Range{0.0, 600'000.0, true}, c.bad_sample_hold_ms);
   r.finish();
   return c;
 }

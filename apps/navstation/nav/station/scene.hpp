@@ -215,6 +215,7 @@ struct DeviceClockSettings {
   double offset_ms = 0.0;         ///< added to a device's stamp to put it on this host's monotonic clock
   double max_ahead_ms = 50.0;     ///< a stamp this much later than its arrival is refused
   double max_behind_ms = 1000.0;  ///< a stamp this much earlier than its arrival is refused
+  double bad_sample_hold_ms = 2000.0;  ///< a refused sample keeps bad_sample raised on the station's health this long
 };
 
 struct DeviceSettings {

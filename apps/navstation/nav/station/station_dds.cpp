@@ -114,7 +114,7 @@ void output_thread(StationChannels& ch, const StationRunOptions& options, Statio
                    StationRun& run, DdsRunReport& report) {
   pin_to_core(options.io_core);
   if (options.io_priority > 0) request_fifo(options.io_priority + 1 < options.realtime.priority ? options.io_priority + 1 : options.io_priority);
-  dds::OutboxPublisher publisher;
+  dds::OutboxPublisher publisher(options.dds->bad_sample_hold_ns);
   const auto publish = [&] {
     report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station, ch.clock.now_ns()));
     if (!ch.outputs.update()) return;

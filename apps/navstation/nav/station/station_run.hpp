@@ -81,6 +81,7 @@ struct DdsRunOptions {
   /// arrival a pose or frame may be stamped (the simulated devices stamp accordingly).
   dds::ArrivalWindow arrival;
   dds::PoseBounds pose_bounds;  ///< where and how fast the tracked tools can be
+  TimeNs bad_sample_hold_ns = 2 * kNsPerSecond;  ///< a sample refused at the boundary keeps bad_sample raised on the health this long
 };
 
 /// Latency statistics in microseconds.

@@ -75,6 +75,7 @@ Result<DdsRunOptions> dds_run_options(const Scene& scene, const DisplaySurface* 
   dds.arrival = {.source_clock_offset_ns = static_cast<TimeNs>(clock.offset_ms * 1e6),
                  .max_ahead_ns = static_cast<TimeNs>(clock.max_ahead_ms * 1e6),
                  .max_behind_ns = static_cast<TimeNs>(clock.max_behind_ms * 1e6)};
+  dds.bad_sample_hold_ns = static_cast<TimeNs>(clock.bad_sample_hold_ms * 1e6);
   dds.pose_bounds.volume_radius_m = scene.devices.tracker.volume_radius_m;
   dds.pose_bounds.max_speed_m_per_s = scene.devices.tracker.max_speed_m_per_s;
   return dds;
