@@ -269,7 +269,10 @@ TEST(LiveStation, TheDemoRunsItsPatientAndItsEvaluationAsChildProcessesAtTheDemo
   std::printf("%s", log.c_str());
   ASSERT_EQ(exit_code, 0);
   // Its children: the patient and the evaluation, each with its log; navview for the images.
-  EXPECT_NE(file_text(logs + "/patient.log").find("navdevice sim: stopped"), std::string::npos) << file_text(logs + "/patient.log");
+  // The patient is stopped with the demo, or has ended its own seconds first (a slow host).
+  const std::string patient = file_text(logs + "/patient.log");
+  EXPECT_TRUE(patient.find("navdevice sim: stopped") != std::string::npos || patient.find("navdevice sim: done after") != std::string::npos)
+      << patient;
   EXPECT_GE(number_after(log, "samples accepted "), 300.0);
   EXPECT_NE(log.find("dropped at the boundary: none"), std::string::npos);
   // The demo's accuracy: the tumour within 1 mm RMS with assimilation, over at least 1.5 s of
