@@ -190,6 +190,17 @@ TEST(StationScene, AnAprilTagTrackerReadsItsCameraIntrinsicsAndTags) {
   EXPECT_EQ(r.tag_bodies.at("reference").size(), 2u);
 }
 
+TEST(StationScene, APlusRecordingsPixelSpacingIsReadAndChecked) {
+  const std::string simulated = "  ultrasound:\n    kind: simulated\n    rate_hz: 20\n    target_noise_m: 0.001\n    seed: 2";
+  const std::string plus = "  ultrasound:\n    kind: plus\n    recording: session.mha\n    pixel_spacing_mm: ";
+  const auto parsed = parse_scene(edited(demo_text(), simulated, plus + "[0.08, 0.07]"), example_scene_path("demo.yaml"));
+  ASSERT_TRUE(parsed.ok()) << parsed.error().describe();
+  ASSERT_TRUE(parsed.value().devices.ultrasound.recording_pixel_spacing_m.has_value());
+  EXPECT_DOUBLE_EQ((*parsed.value().devices.ultrasound.recording_pixel_spacing_m)[1], 0.07e-3);
+  for (const char* bad : {"[0, 0.07]", "[0.08]", "[0.08, nan]", "fine"})
+    EXPECT_EQ(error_of(edited(demo_text(), simulated, plus + bad)).field.rfind("devices.ultrasound.pixel_spacing_mm", 0), 0u) << bad;  // [i] for one entry
+}
+
 TEST(StationScene, ARefusalsFlagIsHeldForTheScenesDeclaredTime) {
   EXPECT_EQ(parse_scene(demo_text(), example_scene_path("demo.yaml")).value().devices.clock.bad_sample_hold_ms, 2000.0);
   const std::string clock = "clock: {offset_ms: 0, max_ahead_ms: 50, max_behind_ms: 1000";
