@@ -17,6 +17,7 @@ station_packages=(
   libapriltag-dev liburdfdom-dev
   libyaml-cpp-dev libsuitesparse-dev zlib1g-dev
   libx11-dev iproute2
+  openssl  # navtool security init makes its test CA and identities with the openssl program
 )
 cross_packages=(g++-aarch64-linux-gnu qemu-user)
 fuzz_packages=(clang-14 libclang-rt-14-dev)

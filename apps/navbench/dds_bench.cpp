@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <fstream>
 #include <thread>
+#include <tuple>
 
 #include "latency_stats.hpp"
 
@@ -80,9 +81,7 @@ LatencyReport measure(const Measurement& measurement) {
   LatencyReport report;
   report.name = measurement.name;
   report.sent = measurement.plan.samples;
-  nav::dds::NetworkConfig network;
-  network.domain_id = measurement.plan.domain_id;
-  network.participant_name = "navbench";
+  const nav::dds::NetworkConfig network = bench_network(measurement.plan, "navbench", false);
   nav::dds::TopicQosOptions qos;
   qos.data_sharing = measurement.plan.data_sharing;
   auto reader = nav::dds::DdsNode::create(network, qos);
@@ -95,7 +94,7 @@ LatencyReport measure(const Measurement& measurement) {
   if (measurement.cross_process) {
     published = run_peer_process(measurement.plan);
   } else {
-    auto writer = nav::dds::DdsNode::create(network, qos);
+    auto writer = nav::dds::DdsNode::create(bench_network(measurement.plan, "navbench_writer", true), qos);
     published = writer && publish_stream(*writer.value(), measurement.plan);
   }
   if (!published) std::fprintf(stderr, "navbench dds: %s: the publisher failed\n", measurement.name.c_str());
@@ -116,6 +115,7 @@ struct BenchArgs {
   std::uint32_t domain_id = 140;
   std::uint64_t pose_samples = 5000;
   std::uint64_t frame_samples = 300;
+  std::string security_dir;  // with it, the secured paths beside the unsecured ones
 };
 
 bool parse_args(const std::vector<std::string>& args, BenchArgs& parsed) {
@@ -126,6 +126,7 @@ bool parse_args(const std::vector<std::string>& args, BenchArgs& parsed) {
       else if (args[i] == "--domain") parsed.domain_id = static_cast<std::uint32_t>(std::stoul(value));
       else if (args[i] == "--pose-samples") parsed.pose_samples = std::stoull(value);
       else if (args[i] == "--frame-samples") parsed.frame_samples = std::stoull(value);
+      else if (args[i] == "--security") parsed.security_dir = value;
       else return false;
     } catch (const std::exception&) {
       return false;
@@ -134,15 +135,17 @@ bool parse_args(const std::vector<std::string>& args, BenchArgs& parsed) {
   return args.size() % 2 == 0 && parsed.pose_samples > 0 && parsed.frame_samples > 0;
 }
 
-/// The measurements: poses at 2 kHz, frames at 100 Hz (latency) and unpaced (throughput).
+/// The measurements: poses at 2 kHz, frames at 100 Hz (latency) and unpaced (throughput);
+/// with a security folder, the secured pose and frame paths next to unsecured ones without
+/// data sharing (a secured participant sends through the transports too), twice, interleaved.
 std::vector<Measurement> measurements(const BenchArgs& args) {
-  const auto plan = [&](Stream stream, bool data_sharing, TimeNs period_ns) {
+  const auto plan = [&](Stream stream, bool data_sharing, TimeNs period_ns, const std::string& security_dir = "") {
     return PublishPlan{stream, args.domain_id, stream == Stream::pose ? args.pose_samples : args.frame_samples,
-                       period_ns, data_sharing};
+                       period_ns, data_sharing, security_dir};
   };
   constexpr TimeNs kPosePeriodNs = 500'000;
   constexpr TimeNs kFramePeriodNs = 10 * nav::kNsPerMs;
-  return {
+  std::vector<Measurement> list{
       {"pose_in_process", plan(Stream::pose, true, kPosePeriodNs), false},
       {"pose_cross_process", plan(Stream::pose, true, kPosePeriodNs), true},
       {"pose_cross_process_no_data_sharing", plan(Stream::pose, false, kPosePeriodNs), true},
@@ -152,6 +155,41 @@ std::vector<Measurement> measurements(const BenchArgs& args) {
       {"frame_1mib_throughput_cross_process", plan(Stream::frame, true, 0), true},
       {"frame_1mib_throughput_cross_process_no_data_sharing", plan(Stream::frame, false, 0), true},
   };
+  if (args.security_dir.empty()) return list;
+  for (const char* round : {"", "_again"}) {
+    for (const auto& [stream, period_ns, name] : {std::tuple{Stream::pose, kPosePeriodNs, "pose"}, {Stream::frame, kFramePeriodNs, "frame_1mib"}}) {
+      list.push_back({std::string(name) + "_cross_process_unsecured" + round, plan(stream, false, period_ns), true});
+      list.push_back({std::string(name) + "_cross_process_secured" + round, plan(stream, false, period_ns, args.security_dir), true});
+    }
+  }
+  return list;
+}
+
+/// The report named `name`, or null.
+const LatencyReport* report_named(const std::vector<LatencyReport>& reports, const std::string& name) {
+  for (const LatencyReport& report : reports)
+    if (report.name == name) return &report;
+  return nullptr;
+}
+
+/// "secured / unsecured" latency ratios of each stream and round, as JSON members (and printed).
+std::string security_cost_json(const std::vector<LatencyReport>& reports) {
+  std::string json;
+  for (const char* name : {"pose", "frame_1mib"}) {
+    for (const char* round : {"", "_again"}) {
+      const LatencyReport* plain = report_named(reports, std::string(name) + "_cross_process_unsecured" + round);
+      const LatencyReport* secured = report_named(reports, std::string(name) + "_cross_process_secured" + round);
+      if (plain == nullptr || secured == nullptr || plain->received == 0 || secured->received == 0) continue;
+      const double p50 = secured->median_us / plain->median_us, p99 = secured->p99_us / plain->p99_us;
+      std::printf("security cost, %s%s: median %.1f / %.1f us = %.2fx, p99 %.1f / %.1f us = %.2fx\n", name, round, secured->median_us,
+                  plain->median_us, p50, secured->p99_us, plain->p99_us, p99);
+      char member[160];
+      std::snprintf(member, sizeof member, "%s\"%s%s\": {\"median_ratio\": %.3f, \"p99_ratio\": %.3f}", json.empty() ? "" : ", ", name, round,
+                    p50, p99);
+      json += member;
+    }
+  }
+  return "{" + json + "}";
 }
 
 /// The p99 of the named report, or -1 when it is missing or received nothing.
@@ -167,7 +205,7 @@ double p99_of(const std::vector<LatencyReport>& reports, const std::string& name
 int run_dds_bench(const std::vector<std::string>& args) {
   BenchArgs parsed;
   if (!parse_args(args, parsed) || parsed.json_file.empty()) {
-    std::fputs("usage: navbench dds --json FILE [--domain D] [--pose-samples N] [--frame-samples N]\n", stderr);
+    std::fputs("usage: navbench dds --json FILE [--domain D] [--pose-samples N] [--frame-samples N] [--security DIR]\n", stderr);
     return 2;
   }
   std::vector<LatencyReport> reports;
@@ -196,7 +234,9 @@ int run_dds_bench(const std::vector<std::string>& args) {
   json << "  ],\n  \"targets\": {\"pose_cross_process_p99_us\": " << kPoseTargetP99Us
        << ", \"frame_1mib_cross_process_p99_us\": " << kFrameTargetP99Us << "},\n"
        << "  \"targets_met\": {\"pose_cross_process\": " << (pose_met ? "true" : "false")
-       << ", \"frame_1mib_cross_process\": " << (frame_met ? "true" : "false") << "}\n}\n";
+       << ", \"frame_1mib_cross_process\": " << (frame_met ? "true" : "false") << "}";
+  if (!parsed.security_dir.empty()) json << ",\n  \"security_cost\": " << security_cost_json(reports);
+  json << "\n}\n";
   if (!json) {
     std::fprintf(stderr, "navbench dds: cannot write %s\n", parsed.json_file.c_str());
     return 1;

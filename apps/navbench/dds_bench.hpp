@@ -21,7 +21,11 @@ struct PublishPlan {
   std::uint64_t samples = 0;
   nav::TimeNs period_ns = 0;
   bool data_sharing = true;
+  std::string security_dir;  ///< a `navtool security init` folder: the reader joins as station, the writer as devices (empty: off)
 };
+
+/// The participant a measurement's `role` ("station" reads, "devices" writes) joins with.
+nav::dds::NetworkConfig bench_network(const PublishPlan& plan, const char* participant_name, bool writer);
 
 /// Advertises the plan's topic on `node`, waits for a reader, then sends the samples,
 /// each stamped with its send time. Returns false when no reader showed up.
@@ -31,9 +35,9 @@ bool publish_stream(nav::dds::DdsNode& node, const PublishPlan& plan);
 std::vector<std::string> to_peer_arguments(const PublishPlan& plan);
 bool from_peer_arguments(const std::vector<std::string>& args, PublishPlan& plan);
 
-/// navbench dds --json FILE [--domain D] [--pose-samples N] [--frame-samples N]
+/// navbench dds --json FILE [--domain D] [--pose-samples N] [--frame-samples N] [--security DIR]
 int run_dds_bench(const std::vector<std::string>& args);
-/// navbench dds-peer STREAM DOMAIN SAMPLES PERIOD_NS DATA_SHARING: the publishing process.
+/// navbench dds-peer STREAM DOMAIN SAMPLES PERIOD_NS DATA_SHARING SECURITY_DIR|-: the publishing process.
 int run_dds_peer(const std::vector<std::string>& args);
 
 }  // namespace navbench

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "dds_bench.hpp"
+#include "nav/station/security_roles.hpp"
 
 namespace navbench {
 namespace {
@@ -61,13 +62,24 @@ bool publish_stream(DdsNode& node, const PublishPlan& plan) {
   return true;
 }
 
+nav::dds::NetworkConfig bench_network(const PublishPlan& plan, const char* participant_name, bool writer) {
+  nav::dds::NetworkConfig network;
+  network.domain_id = plan.domain_id;
+  network.participant_name = participant_name;
+  if (!plan.security_dir.empty())
+    network.security = nav::station::security_files(nav::station::security_folder(plan.security_dir),
+                                                    writer ? nav::station::Role::devices : nav::station::Role::station);
+  return network;
+}
+
 std::vector<std::string> to_peer_arguments(const PublishPlan& plan) {
   return {plan.stream == Stream::pose ? "pose" : "frame", std::to_string(plan.domain_id), std::to_string(plan.samples),
-          std::to_string(plan.period_ns), plan.data_sharing ? "1" : "0"};
+          std::to_string(plan.period_ns), plan.data_sharing ? "1" : "0", plan.security_dir.empty() ? "-" : plan.security_dir};
 }
 
 bool from_peer_arguments(const std::vector<std::string>& args, PublishPlan& plan) {
-  if (args.size() != 5 || (args[0] != "pose" && args[0] != "frame")) return false;
+  if (args.size() != 6 || (args[0] != "pose" && args[0] != "frame")) return false;
+  plan.security_dir = args[5] == "-" ? "" : args[5];
   try {
     plan.stream = args[0] == "pose" ? Stream::pose : Stream::frame;
     plan.domain_id = static_cast<std::uint32_t>(std::stoul(args[1]));
@@ -86,9 +98,7 @@ int run_dds_peer(const std::vector<std::string>& args) {
     std::fputs("navbench dds-peer: malformed arguments (internal command of navbench dds)\n", stderr);
     return 2;
   }
-  nav::dds::NetworkConfig network;
-  network.domain_id = plan.domain_id;
-  network.participant_name = "navbench_peer";
+  const nav::dds::NetworkConfig network = bench_network(plan, "navbench_peer", true);
   nav::dds::TopicQosOptions qos;
   qos.data_sharing = plan.data_sharing;
   auto node = DdsNode::create(network, qos);

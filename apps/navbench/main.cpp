@@ -13,7 +13,7 @@ namespace {
 
 constexpr const char* kUsage =
     "usage:\n"
-    "  navbench dds --json FILE [--domain D] [--pose-samples N] [--frame-samples N]\n"
+    "  navbench dds --json FILE [--domain D] [--pose-samples N] [--frame-samples N] [--security DIR]\n"
     "  navbench full --json FILE [--quick]\n"
     "  navbench needle --json FILE [--quick]\n"
     "  navbench connective --json FILE [--quick]\n"

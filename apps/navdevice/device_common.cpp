@@ -65,7 +65,7 @@ nav::Result<DeviceNode> open_device_node(const nav::station::Scene& scene, const
   DeviceNode device;
   device.health = std::make_unique<nav::dds::RingSink<nav::dds::StationHealth, 4>>();
   auto node = nav::station::make_station_node(scene.topics.domain_id, participant_name, nav::station::topic_names(scene.topics),
-                                              scene.network);
+                                              scene.network, nav::station::Role::devices);
   if (!node.ok()) return node.error();
   device.node = std::move(node).value();
   if (const nav::Status read = device.node->subscribe(*device.health); !read.ok()) return read.error();

@@ -19,10 +19,8 @@ nav::Status NavviewBeside::start(const nav::station::DisplaySurface& surface) {
   // navview ends by itself well after the run, should navstation never stop it.
   const std::string duration_s = std::to_string(static_cast<int>(seconds_) + 300);
   std::vector<std::string> args{"--headless", "--out-dir", images_dir_, "--surface-mesh", obj, "--unit", "m", "--period-ms",
-                                "500", "--duration-s", duration_s, "--domain", std::to_string(scene_.topics.domain_id)};
-  const nav::dds::TopicNames names = nav::station::topic_names(scene_.topics);
-  for (std::size_t t = 0; t < names.size(); ++t)  // navview reads the station's topics by the scene's names
-    args.insert(args.end(), {"--topic", std::string(nav::dds::topic_name(static_cast<nav::dds::Topic>(t))) + "=" + names[t]});
+                                "500", "--duration-s", duration_s, "--scene", scene_.source_path,  // its topics, network, security
+                                "--domain", std::to_string(scene_.topics.domain_id)};                   // the station's (--domain wins)
   auto started = ChildProcess::start("navview", args, (std::filesystem::path(images_dir_) / "navview.log").string());
   if (!started.ok()) return started.error();
   navview_.emplace(std::move(started).value());

@@ -28,6 +28,10 @@ int evaluate(const std::vector<std::string>& args);
 /// instead of --method (the next rung of a ladder): see reduce.cpp.
 int reduce(const std::vector<std::string>& args);
 
+/// navtool security init DIR [--scene FILE] [--days N]: a test CA, the governance and every
+/// role's identity and permissions for a scene's `security:` section (security_init.cpp).
+int security_init(const std::vector<std::string>& args);
+
 /// navtool calib pivot --poses FILE.csv [--tool NAME] [--urdf FILE [--out FILE] [--joint J]]
 int calib_pivot(const std::vector<std::string>& args);
 

@@ -61,7 +61,8 @@ nav::Result<nav::station::EvaluationInput> receive(const nav::station::Scene& sc
   auto needles = std::make_unique<nav::dds::RingSink<nav::dds::NeedleState, 64>>();
   auto truths = std::make_unique<nav::dds::RingSink<nav::dds::GroundTruth, 256>>();
   auto node =
-      nav::station::make_station_node(scene.topics.domain_id, "navtool_evaluate", nav::station::topic_names(scene.topics), scene.network);
+      nav::station::make_station_node(scene.topics.domain_id, "navtool_evaluate", nav::station::topic_names(scene.topics), scene.network,
+                                      nav::station::Role::tool);
   if (!node.ok()) return node.error();
   for (const nav::Status& status : {node.value()->subscribe(*predictions), node.value()->subscribe(*needles), node.value()->subscribe(*truths)})
     if (!status.ok()) return status.error();

@@ -25,7 +25,8 @@ constexpr const char* kUsage =
     "  navtool calib camera --images DIR --tag-size S_M --pitch P_M --cols C --rows R --out FILE [--k3 0|1]\n"
     "  navtool calib probe --recording F.mha --phantom DEVICESET.xml [--validation F.mha] [--probe T] [--reference T]\n"
     "                      [--min-frames N] [--urdf FILE [--out FILE] [--joint J]]\n"
-    "  navtool calib temporal --video F.mha --tracker F.mha [--probe T] [--reference T] [--max-lag-s S] [--out FILE]\n";
+    "  navtool calib temporal --video F.mha --tracker F.mha [--probe T] [--reference T] [--max-lag-s S] [--out FILE]\n"
+    "  navtool security init DIR [--scene FILE] [--days N]   (a test CA and the identities of a secured station)\n";
 
 }  // namespace
 
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
   if (!args.empty() && args[0] == "reduce") return navtool::reduce({args.begin() + 1, args.end()});
   if (!args.empty() && (args[0] == "record" || args[0] == "replay")) return navtool::record_replay(args);
   if (!args.empty() && args[0] == "evaluate") return navtool::evaluate(args);
+  if (args.size() >= 2 && args[0] == "security" && args[1] == "init") return navtool::security_init({args.begin() + 2, args.end()});
   if (args.size() >= 2 && args[0] == "calib") {
     const std::vector<std::string> calib_args(args.begin() + 2, args.end());
     if (args[1] == "pivot") return navtool::calib_pivot(calib_args);

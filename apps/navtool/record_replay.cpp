@@ -30,14 +30,14 @@ struct DdsToolArgs {
 
 /// Takes the domain and topic names of the scene at `path`; false (after printing why) when it does not load.
 bool take_scene(const std::string& path, DdsToolArgs& parsed) {
-  auto scene = nav::station::load_scene(path);
+  auto scene = nav::station::scene_dds(path, nav::station::Role::tool);
   if (!scene.ok()) {
     std::fprintf(stderr, "navtool: %s\n", scene.error().describe().c_str());
     return false;
   }
   parsed.scene_path = path;
-  parsed.network = nav::station::station_network(scene.value().topics.domain_id, "", scene.value().network);
-  parsed.qos.names = nav::station::topic_names(scene.value().topics);
+  parsed.network = scene.value().network;
+  parsed.qos.names = scene.value().names;
   return true;
 }
 

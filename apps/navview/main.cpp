@@ -12,6 +12,7 @@
 #include "nav/dds/sample_fault.hpp"
 #include "nav/dds/stop_request.hpp"
 #include "nav/mesh/load_mesh.hpp"
+#include "nav/station/station_dds.hpp"
 #include "navview_args.hpp"
 
 namespace navview {
@@ -69,7 +70,16 @@ int run(const NavviewArgs& args) {
   if (!output) return fail("output", output.error());
   nav::dds::TopicQosOptions qos;
   qos.names = args.topic_names;
-  auto node = nav::dds::DdsNode::create(args.network, qos);
+  nav::dds::NetworkConfig network = args.network;
+  if (!args.scene_path.empty()) {
+    auto scene = nav::station::scene_dds(args.scene_path, nav::station::Role::display);
+    if (!scene) return fail("scene", scene.error());
+    network = scene.value().network;
+    network.participant_name = args.network.participant_name;
+    if (args.domain_given) network.domain_id = args.network.domain_id;
+    qos.names = scene.value().names;
+  }
+  auto node = nav::dds::DdsNode::create(network, qos);
   if (!node) return fail("DDS", node.error());
   Subscriptions subscriptions;
   if (const nav::Status subscribed = subscriptions.subscribe(*node.value()); !subscribed) return fail("DDS", subscribed.error());

@@ -42,7 +42,11 @@ bool parse_args(const std::vector<std::string>& args, bool display_available, Na
       else if (flag == "--panel-height") parsed.composite.panel_height_px = std::stoi(value);
       else if (flag == "--azimuth-deg") parsed.composite.view_azimuth_deg = std::stod(value);
       else if (flag == "--elevation-deg") parsed.composite.view_elevation_deg = std::stod(value);
-      else if (flag == "--domain") parsed.network.domain_id = static_cast<std::uint32_t>(std::stoul(value));
+      else if (flag == "--scene") parsed.scene_path = value;
+      else if (flag == "--domain") {
+        parsed.network.domain_id = static_cast<std::uint32_t>(std::stoul(value));
+        parsed.domain_given = true;
+      }
       else if (flag == "--local-address") parsed.network.local_address = value;
       else if (flag == "--peer") parsed.network.peer_addresses.push_back(value);
       else if (flag == "--topic") {
@@ -64,7 +68,11 @@ bool parse_args(const std::vector<std::string>& args, bool display_available, Na
   parsed.period_ns = static_cast<nav::TimeNs>(std::llround(*period_ms * 1e6));
   parsed.duration_ns = static_cast<nav::TimeNs>(std::llround(duration_s * 1e9));
   parsed.network.participant_name = "navview";
-  return true;
+  // A scene says the network and the topics (a --domain beside it wins, as for navstation);
+  // another network flag beside it would be silently overridden.
+  const bool network_flags = parsed.network.local_address != nav::dds::NetworkConfig().local_address ||
+                             !parsed.network.peer_addresses.empty() || parsed.topic_names != nav::dds::TopicNames{};
+  return parsed.scene_path.empty() || !network_flags;
 }
 
 }  // namespace navview

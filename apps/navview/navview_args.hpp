@@ -24,14 +24,16 @@ struct NavviewArgs {
   std::string surface_mesh;              // .obj with the surface's triangles (empty: draw vertices)
   nav::LengthUnit surface_mesh_unit = nav::LengthUnit::metre;
   nav::dds::TopicNames topic_names{};    // --topic DEFAULT=NAME renames a topic (empty: its default name)
+  std::string scene_path;                // --scene: the scene's domain, topics, network and security (as a display)
+  bool domain_given = false;             // --domain: wins over the scene's
 };
 
 inline constexpr const char* kUsage =
     "usage: navview [--headless] [--out-dir DIR] [--period-ms MS] [--count N] [--duration-s S]\n"
     "               [--surface-mesh FILE.obj [--unit mm|cm|m]] [--panel-height PX]\n"
     "               [--azimuth-deg A] [--elevation-deg E]\n"
-    "               [--domain D] [--local-address A] [--peer A]...\n"
-    "               [--topic DEFAULT=NAME]...   (e.g. --topic nav/needle_state=or2/needle_state)\n";
+    "               [--domain D] [--scene FILE | [--local-address A] [--peer A]...\n"
+    "                [--topic DEFAULT=NAME]...]   (e.g. --topic nav/needle_state=or2/needle_state)\n";
 
 /// Parses navview's arguments (without the program name); false on anything malformed.
 /// `display_available` is whether $DISPLAY is set (it picks the default output).

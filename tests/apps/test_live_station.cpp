@@ -153,25 +153,41 @@ std::string registered_scene() {
   return path;
 }
 
-TEST(LiveStation, TheStationRegistersTheTrackerToTheModelThroughItsReferenceAndTheUrdf) {
-  const std::string scene = registered_scene();
-  const std::string domain = "178";
+/// What a 6 s live run of the patient, the station and an evaluation printed.
+struct LiveRun {
+  std::string station_log, evaluation_log;
+};
+
+/// Runs the patient (navdevice sim), then the station (--live, 6 s, with `station_args`) and
+/// an evaluation on `scene` and `domain`, logs named by `label`; fails the test when the station
+/// or the evaluation does not end well.
+LiveRun run_patient_station_evaluation(const std::string& scene, const std::string& domain, const std::string& label,
+                                       const std::vector<std::string>& station_args = {}) {
   ChildProcess patient({kBin + "/navdevice", "sim", "--scene", scene, "--seconds", "6", "--domain", domain},
-                       temporary_path("registered_patient.log"));
-  ASSERT_TRUE(wait_for_text(patient, "waiting up to", std::chrono::seconds(300))) << patient.log();
+                       temporary_path(label + "_patient.log"));
+  EXPECT_TRUE(wait_for_text(patient, "waiting up to", std::chrono::seconds(300))) << patient.log();
   // The evaluation listens until the station and the patient are done (it scores on SIGTERM).
   ChildProcess evaluation({kBin + "/navtool", "evaluate", "--scene", scene, "--seconds", "600", "--domain", domain},
-                          temporary_path("registered_evaluate.log"));
-  ChildProcess station({kBin + "/navstation", "--scene", scene, "--live", "--seconds", "6", "--domain", domain},
-                       temporary_path("registered_station.log"));
+                          temporary_path(label + "_evaluate.log"));
+  std::vector<std::string> station_command{kBin + "/navstation", "--scene", scene, "--live", "--seconds", "6", "--domain", domain};
+  station_command.insert(station_command.end(), station_args.begin(), station_args.end());
+  ChildProcess station(station_command, temporary_path(label + "_station.log"));
   const std::optional<int> station_exit = station.wait(std::chrono::seconds(300));
   patient.wait(std::chrono::seconds(60));
   evaluation.signal(SIGTERM);
   const std::optional<int> evaluation_exit = evaluation.wait(std::chrono::seconds(60));
-  const std::string log = station.log(), evaluated = evaluation.log();
-  std::printf("%s\n%s\n%s", patient.log().c_str(), log.c_str(), evaluated.c_str());
-  ASSERT_EQ(station_exit, 0);
-  ASSERT_EQ(evaluation_exit, 0);
+  LiveRun run{station.log(), evaluation.log()};
+  std::printf("%s\n%s\n%s", patient.log().c_str(), run.station_log.c_str(), run.evaluation_log.c_str());
+  EXPECT_EQ(station_exit, 0);
+  EXPECT_EQ(evaluation_exit, 0);
+  return run;
+}
+
+TEST(LiveStation, TheStationRegistersTheTrackerToTheModelThroughItsReferenceAndTheUrdf) {
+  const LiveRun run = run_patient_station_evaluation(registered_scene(), "178", "registered");
+  ASSERT_FALSE(::testing::Test::HasFailure());
+  const std::string& log = run.station_log;
+  const std::string& evaluated = run.evaluation_log;
   // The poses arrive in the tracker's frame, a metre from the model's, and none is refused.
   EXPECT_NE(log.find("dropped at the boundary: none"), std::string::npos);
   EXPECT_NE(log.find("registered to the model through the reference (tool 4)"), std::string::npos);
@@ -181,6 +197,27 @@ TEST(LiveStation, TheStationRegistersTheTrackerToTheModelThroughItsReferenceAndT
   EXPECT_GE(number_after(evaluated, "mm  ("), 250.0);
   EXPECT_LE(number_after(evaluated, "tumour now "), 1.5);
   EXPECT_LE(number_after(evaluated, "needle tip "), 15.0);
+}
+
+TEST(LiveStation, ASecuredSceneRunsItsStationDevicesDisplayAndEvaluationEachOnItsOwnIdentity) {
+  // The files of `navtool security init`, named in the scene by {role}: the patient joins as
+  // devices, the station as station, navview (beside it, --images) as display, the evaluation as tool.
+  const std::string keys = temporary_path("live_keys");
+  const auto made = run_command(kBin + "/navtool security init " + keys + " 2>&1");
+  ASSERT_EQ(made.exit_code, 0) << made.output;
+  const std::string scene = temporary_path("secured.yaml");
+  const std::string section = made.output.substr(made.output.find("  security:\n") + 2);  // as navtool prints it
+  std::ofstream(scene) << movable_demo_text() << section;
+  const LiveRun run = run_patient_station_evaluation(scene, "179", "secured", {"--images", temporary_path("secured_navview")});
+  ASSERT_FALSE(::testing::Test::HasFailure());
+  const std::string& log = run.station_log;
+  const std::string& evaluated = run.evaluation_log;
+  EXPECT_NE(log.find("dropped at the boundary: none"), std::string::npos);
+  EXPECT_GE(number_after(log, "samples accepted "), 500.0);
+  EXPECT_GE(number_after(log, "B-mode frames, "), 50.0);
+  EXPECT_GE(number_after(log, "navview: "), 1.0);  // images of the display's own identity
+  EXPECT_GE(number_after(evaluated, "mm  ("), 250.0);
+  EXPECT_LE(number_after(evaluated, "tumour now "), 1.5);
 }
 
 /// The periods navstation --live printed after `label` ("0.000-0.412 s (flags), ..."): from, to (s) and flags.

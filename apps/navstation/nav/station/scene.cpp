@@ -459,6 +459,16 @@ NetworkSettings read_network(MapReader r) {
   return n;
 }
 
+SecuritySettings read_security(MapReader r, const std::string& scene_path) {
+  SecuritySettings s;
+  s.line = r.line();
+  for (auto [key, path] : {std::pair{"ca", &s.ca}, {"certificate", &s.certificate}, {"private_key", &s.private_key},
+                           {"governance", &s.governance}, {"permissions", &s.permissions}})
+    *path = resolve(scene_path, r.text(key));
+  r.finish();
+  return s;
+}
+
 Scene read_scene(const YAML::Node& document, const std::string& path) {
   Scene scene;
   scene.source_path = path;
@@ -474,6 +484,7 @@ Scene read_scene(const YAML::Node& document, const std::string& path) {
   scene.devices = read_devices(root.map("devices"), path);
   if (root.optional("topics")) scene.topics = read_topics(root.map("topics"));
   if (root.optional("network")) scene.network = read_network(root.map("network"));
+  if (root.optional("security")) scene.network.security = read_security(root.map("security"), path);
   root.finish();
   return scene;
 }

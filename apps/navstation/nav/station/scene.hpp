@@ -239,13 +239,27 @@ struct TopicSettings {
   std::string ground_truth = "nav/ground_truth";
 };
 
+/// `security:` DDS Security for every participant of the scene (absent: off). A path may hold
+/// `{role}`, which each process replaces with its own role (station, devices, display, tool):
+/// one scene serves the station, its devices and its displays, each with its own identity and
+/// permissions (`navtool security init` makes them). Relative paths are from the scene's folder.
+struct SecuritySettings {
+  std::string ca;           ///< the CA of identities and permissions
+  std::string certificate;  ///< a participant's identity
+  std::string private_key;  ///< its key
+  std::string governance;   ///< the domain's rules, signed by the CA
+  std::string permissions;  ///< what a participant may read and write, signed by the CA
+  int line = 0;             ///< of the section (0 when absent)
+};
+
 /// `network:` where the station's DDS participants talk (and its devices' and displays', which
 /// read the same scene): the one local address UDP binds to, and the other hosts' addresses
 /// (unicast discovery). Loopback alone by default; never multicast, never another interface.
 struct NetworkSettings {
   std::string local_address = "127.0.0.1";
   std::vector<std::string> peers;
-  int line = 0;  ///< of the section (0 when absent)
+  int line = 0;               ///< of the section (0 when absent)
+  SecuritySettings security;  ///< the scene's `security:` section
 };
 
 /// A whole scene file.

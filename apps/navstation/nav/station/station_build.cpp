@@ -7,6 +7,7 @@
 #include "nav/connective/organ_attachment.hpp"
 #include "nav/reduced/reduced_artifact.hpp"
 #include "nav/reduced/training_loads.hpp"
+#include "nav/station/security_roles.hpp"
 #include "nav/station/station_dds.hpp"
 #include "nav/station/station_liver.hpp"
 
@@ -178,6 +179,12 @@ Result<BuiltStation> build_station(Scene scene) {
     const std::string& field = network.error().field;
     return Error{network.error().message, scene.source_path, scene.network.line,
                  field == "local_address" ? "network.local_address" : "network.peers"};
+  }
+  // The station's own identity only: each host holds the keys of the roles it runs.
+  const Status secured = dds::check_security(security_files(scene.network.security, Role::station));
+  if (!secured.ok()) {
+    const Error& e = secured.error();
+    return Error{e.message + (e.file.empty() ? "" : ": " + e.file) + " (the station's files)", scene.source_path, scene.network.security.line, e.field};
   }
   BuiltStation built{StationModels{std::move(scene), std::move(frames).value(), {}, {}, {}, {}, {}}, {}};
   StationModels& models = built.models;

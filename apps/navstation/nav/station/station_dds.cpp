@@ -55,7 +55,7 @@ void device_thread(WorldPlayer& player, StationChannels& ch, const DdsRunOptions
       // Timed before the creation: the station's reader may discover the writers while they
       // are still being advertised.
       const TimeNs creating_ns = ch.run_time_ns();
-      auto node = make_station_node(link.domain_id, "nav_demo_devices", link.names, link.network);
+      auto node = make_station_node(link.domain_id, "nav_demo_devices", link.names, link.network, Role::devices);
       if (node.ok() && node.value()->advertise<dds::ToolPose>().ok() && node.value()->advertise<dds::UltrasoundFrame>().ok()) {
         link.devices = std::move(node).value();
         report.device_back_ns = creating_ns;
@@ -185,23 +185,30 @@ dds::TopicNames topic_names(const TopicSettings& topics) {
   return names;
 }
 
-dds::NetworkConfig station_network(std::uint32_t domain_id, const char* participant_name, const NetworkSettings& settings) {
+dds::NetworkConfig station_network(std::uint32_t domain_id, const char* participant_name, const NetworkSettings& settings, Role role) {
   dds::NetworkConfig network;  // the defaults: shared memory and UDP on 127.0.0.1, unicast discovery, no multicast
   network.domain_id = domain_id;
   network.participant_name = participant_name;
   network.local_address = settings.local_address;
   network.peer_addresses = settings.peers;
+  network.security = security_files(settings.security, role);
   // Participant ids grow with every participant a process creates (the devices' participant
   // comes back after an outage; a test process makes a dozen): probe more than the default 8.
   network.max_participants_per_host = 32;
   return network;
 }
 
+Result<SceneDds> scene_dds(const std::string& scene_path, Role role) {
+  auto scene = load_scene(scene_path);
+  if (!scene.ok()) return scene.error();
+  return SceneDds{station_network(scene.value().topics.domain_id, "", scene.value().network, role), topic_names(scene.value().topics)};
+}
+
 Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id, const char* participant_name, const dds::TopicNames& names,
-                                                        const NetworkSettings& network) {
+                                                        const NetworkSettings& network, Role role) {
   dds::TopicQosOptions qos;
   qos.names = names;
-  return dds::DdsNode::create(station_network(domain_id, participant_name, network), qos);
+  return dds::DdsNode::create(station_network(domain_id, participant_name, network, role), qos);
 }
 
 Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t domain_id, const dds::TopicNames& names,
@@ -222,7 +229,7 @@ Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t dom
                                s.advertise<dds::NeedleState>(), s.advertise<dds::StationHealth>(), s.advertise<dds::DeformedSurface>()})
     if (!status.ok()) return status.error();
   if (!with_simulated_devices) return link;  // the devices are other processes: they come and go
-  auto devices = make_station_node(domain_id, "nav_demo_devices", names, network);
+  auto devices = make_station_node(domain_id, "nav_demo_devices", names, network, Role::devices);
   if (!devices.ok()) return devices.error();
   link->devices = std::move(devices).value();
   dds::DdsNode& d = *link->devices;

@@ -24,6 +24,7 @@
 #include "nav/dds/station_outbox.hpp"
 #include "nav/dds/topics.hpp"
 #include "nav/station/scene.hpp"
+#include "nav/station/security_roles.hpp"
 #include "nav/station/simulated_world.hpp"
 #include "nav/station/station_run.hpp"
 #include "nav/station/tracker_registration.hpp"
@@ -44,14 +45,27 @@ std::unique_ptr<dds::PoseInbox> role_inbox(const ToolIds& tools, const dds::Pose
 /// The scene's topic names, by DDS topic (what the station's participants create).
 dds::TopicNames topic_names(const TopicSettings& topics);
 
-/// The network config of a participant on `domain_id` with the scene's `network` (its local
-/// address and peers; the project's rules otherwise: shared memory and UDP, no multicast).
-dds::NetworkConfig station_network(std::uint32_t domain_id, const char* participant_name, const NetworkSettings& network = {});
+/// The network config of a participant of `role` on `domain_id` with the scene's `network` (its
+/// local address, peers and security; the project's rules otherwise: shared memory and UDP, no
+/// multicast).
+dds::NetworkConfig station_network(std::uint32_t domain_id, const char* participant_name, const NetworkSettings& network = {},
+                                   Role role = Role::station);
 
-/// A participant for one side of a run, on `domain_id`, on `network`, with the topics named by
-/// `names` (empty entries: the default names).
+/// What a process beside the station needs to join a scene's DDS as `role`: the network (domain,
+/// local address, peers, security) and the topics' names.
+struct SceneDds {
+  dds::NetworkConfig network;
+  dds::TopicNames names{};
+};
+
+/// The DDS side of the scene at `scene_path` for a participant of `role`, or why it does not load.
+Result<SceneDds> scene_dds(const std::string& scene_path, Role role);
+
+/// A participant of `role` for one side of a run, on `domain_id`, on `network`, with the topics
+/// named by `names` (empty entries: the default names).
 Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id, const char* participant_name,
-                                                        const dds::TopicNames& names = {}, const NetworkSettings& network = {});
+                                                        const dds::TopicNames& names = {}, const NetworkSettings& network = {},
+                                                        Role role = Role::station);
 
 /// The devices' and the station's participants of a run, created and matched before the
 /// run starts (so that no sample is lost to discovery), with the station's sinks.

@@ -125,6 +125,9 @@ Result<std::unique_ptr<DdsNode>> DdsNode::create(const NetworkConfig& network, c
   if (network.shared_memory) remove_dead_shared_memory();
   auto impl = std::make_unique<Impl>();
   impl->qos = qos;
+  // Data sharing hands samples over in shared buffers, outside the RTPS messages that DDS
+  // Security authenticates and encrypts: a secured participant sends everything through them.
+  if (network.security.enabled()) impl->qos.data_sharing = false;
   impl->participant = fdds::DomainParticipantFactory::get_instance()->create_participant(
       static_cast<fdds::DomainId_t>(network.domain_id), participant_qos.value());
   if (impl->participant == nullptr) {

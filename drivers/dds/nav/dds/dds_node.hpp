@@ -24,7 +24,7 @@ class DdsNode {
  public:
   /// Joins the domain with `network`, or says why it cannot (bad address, missing profile,
   /// DDS refusal, an environment override: environment_guard.hpp). Creates no writer or
-  /// reader yet. With shared memory, first removes the
+  /// reader yet. With DDS Security, data sharing is off. With shared memory, first removes the
   /// segments that dead participants left behind (shared_memory_cleanup.hpp).
   static Result<std::unique_ptr<DdsNode>> create(const NetworkConfig& network, const TopicQosOptions& qos = {});
   ~DdsNode();

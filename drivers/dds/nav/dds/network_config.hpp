@@ -10,6 +10,20 @@
 
 namespace nav::dds {
 
+/// The DDS Security files of one participant: PEM certificates and key, and the governance
+/// and permissions documents signed (S/MIME) by the CA. All empty: security is off. With
+/// them, the participant authenticates others (PKI-DH), enforces who may read and write which
+/// topic (Access-Permissions) and encrypts what the governance says (AES-GCM-GMAC).
+struct SecurityFiles {
+  std::string ca;           ///< the CA of identities and of permissions
+  std::string certificate;  ///< this participant's identity, signed by the CA
+  std::string private_key;  ///< its key (unencrypted PEM)
+  std::string governance;   ///< the domain's rules, signed by the CA
+  std::string permissions;  ///< what this participant may read and write, signed by the CA
+
+  bool enabled() const { return !(ca.empty() && certificate.empty() && private_key.empty() && governance.empty() && permissions.empty()); }
+};
+
 /// The network settings of one DDS participant. The defaults keep everything on this
 /// machine: shared memory plus UDP on 127.0.0.1, unicast discovery, no multicast.
 struct NetworkConfig {
@@ -29,11 +43,17 @@ struct NetworkConfig {
   /// above always override it.
   std::string xml_profile_file;
   std::string xml_profile_name;
+  /// DDS Security (off unless set); a set with a file missing is an error, never a fallback.
+  SecurityFiles security;
 };
 
 /// Whether `config`'s addresses can be used: each a specific unicast IPv4 address, the local
 /// one on an interface of this host that is up and has a carrier. An Error names the field
 /// (local_address, peer_addresses); a participant is only ever created from a config that passes.
 Status check_network(const NetworkConfig& config);
+
+/// Whether `security` is off or complete: with any file given, all five must be, and each must
+/// exist. An Error names the file and its scene key (security.ca, security.certificate, ...).
+Status check_security(const SecurityFiles& security);
 
 }  // namespace nav::dds

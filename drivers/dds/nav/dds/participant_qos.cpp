@@ -89,6 +89,28 @@ Status apply_xml_profile(const NetworkConfig& config, fdds::DomainParticipantQos
   return Done{};
 }
 
+/// Adds the DDS Security plugins and the files of `security` (checked) to `qos`.
+Status apply_security(const SecurityFiles& security, fdds::DomainParticipantQos& qos) {
+  if (const Status complete = check_security(security); !complete) return complete;
+  if (!security.enabled()) return Done{};
+  const auto uri = [](const std::string& path) {
+    std::error_code ignored;
+    return "file://" + std::filesystem::absolute(path, ignored).string();
+  };
+  auto& properties = qos.properties().properties();
+  const auto set = [&properties](const std::string& name, const std::string& value) { properties.emplace_back(name, value); };
+  set("dds.sec.auth.plugin", "builtin.PKI-DH");
+  set("dds.sec.auth.builtin.PKI-DH.identity_ca", uri(security.ca));
+  set("dds.sec.auth.builtin.PKI-DH.identity_certificate", uri(security.certificate));
+  set("dds.sec.auth.builtin.PKI-DH.private_key", uri(security.private_key));
+  set("dds.sec.access.plugin", "builtin.Access-Permissions");
+  set("dds.sec.access.builtin.Access-Permissions.permissions_ca", uri(security.ca));
+  set("dds.sec.access.builtin.Access-Permissions.governance", uri(security.governance));
+  set("dds.sec.access.builtin.Access-Permissions.permissions", uri(security.permissions));
+  set("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+  return Done{};
+}
+
 }  // namespace
 
 Status check_network(const NetworkConfig& config) {
@@ -106,12 +128,32 @@ Status check_network(const NetworkConfig& config) {
   return Done{};
 }
 
+Status check_security(const SecurityFiles& security) {
+  if (!security.enabled()) return Done{};
+  struct File {
+    const std::string& path;
+    const char* key;
+  };
+  const File files[] = {{security.ca, "security.ca"},
+                        {security.certificate, "security.certificate"},
+                        {security.private_key, "security.private_key"},
+                        {security.governance, "security.governance"},
+                        {security.permissions, "security.permissions"}};
+  for (const File& file : files) {
+    std::error_code ignored;
+    if (file.path.empty()) return Error{"DDS Security needs all five files; this one is not given", "", 0, file.key};
+    if (!std::filesystem::is_regular_file(file.path, ignored)) return Error{"DDS Security file not found", file.path, 0, file.key};
+  }
+  return Done{};
+}
+
 constexpr std::uint32_t kAnnouncementPeriodNs = 500'000'000;
 
 Result<fdds::DomainParticipantQos> make_participant_qos(const NetworkConfig& config) {
   fdds::DomainParticipantQos qos;
   if (const Status xml = apply_xml_profile(config, qos); !xml) return xml.error();
   if (const Status usable = check_network(config); !usable) return usable.error();
+  if (const Status secured = apply_security(config.security, qos); !secured) return secured.error();
   const rtps::Locator_t local = unicast_locator(config.local_address, "local_address").value();
 
   auto& transport = qos.transport();
