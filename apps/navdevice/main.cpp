@@ -20,6 +20,9 @@
 //       a PLUS sequence recording (.mha / .nrrd) played as scanner and tracker: its frames
 //       (nav/ultrasound_frame, their own size and spacing) and its tracked transforms as the
 //       scene's tools (nav/tool_pose), at the recorded intervals or --fast.
+//   navdevice load --scene FILE [--factor F] [--seconds S] [--domain D]
+//       a load on the station's host for soak runs: poses and frames at F (4) times the scene's
+//       rates on topics of its own, read back and filtered, on the scene's I/O core.
 // Each prints a status line a second, stops cleanly on SIGINT and SIGTERM, and exits 0 when
 // done, 1 naming the device when it fails, 2 on a usage error.
 #include <cstdio>
@@ -28,6 +31,7 @@
 
 #include "apriltag_device.hpp"
 #include "capture_device.hpp"
+#include "load_device.hpp"
 #include "ndi_device.hpp"
 #include "plus_device.hpp"
 #include "sim_device.hpp"
@@ -39,11 +43,13 @@ int main(int argc, char** argv) {
   if (!args.empty() && args.front() == "capture") return navdevice::run_capture({args.begin() + 1, args.end()});
   if (!args.empty() && args.front() == "ndi") return navdevice::run_ndi({args.begin() + 1, args.end()});
   if (!args.empty() && args.front() == "plus") return navdevice::run_plus({args.begin() + 1, args.end()});
+  if (!args.empty() && args.front() == "load") return navdevice::run_load({args.begin() + 1, args.end()});
   std::fprintf(stderr,
                "usage: navdevice sim --scene FILE [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
                "       navdevice apriltag --scene FILE [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
                "       navdevice capture --scene FILE [--source INDEX|VIDEO|PATTERN] [--seconds S] [--domain D] [--no-wait]\n"
                "       navdevice ndi --scene FILE [--serial DEVICE | --tcp HOST:PORT] [--seconds S] [--domain D] [--no-wait]\n"
-               "       navdevice plus --scene FILE [--recording FILE] [--fast] [--transform NAME=ROLE]... [--domain D] [--no-wait]\n");
+               "       navdevice plus --scene FILE [--recording FILE] [--fast] [--transform NAME=ROLE]... [--domain D] [--no-wait]\n"
+               "       navdevice load --scene FILE [--factor F] [--seconds S] [--domain D]\n");
   return 2;
 }

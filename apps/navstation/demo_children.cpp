@@ -69,16 +69,35 @@ nav::Result<DemoChildren> DemoChildren::start(const DemoPlan& plan) {
   if (!evaluation.ok()) return evaluation.error();
   std::printf("navtool evaluate (pid %d): the predictions against the patient's truth; log %s\n", evaluation.value().pid(),
               evaluation.value().log_path().c_str());
+  std::optional<ChildProcess> load;
+  if (plan.load_factor > 0.0) {
+    auto started = ChildProcess::start("navdevice", {"load", "--scene", plan.scene_path, "--factor", seconds_text(plan.load_factor), "--domain", domain},
+                                       (logs / "load.log").string());
+    if (!started.ok()) return started.error();
+    std::printf("navdevice load (pid %d): %.3g x the scene's device rates on the I/O core; log %s\n", started.value().pid(),
+                plan.load_factor, started.value().log_path().c_str());
+    load.emplace(std::move(started).value());
+  }
   std::fflush(stdout);
-  return DemoChildren(std::move(patient).value(), std::move(evaluation).value());
+  return DemoChildren(std::move(patient).value(), std::move(evaluation).value(), std::move(load));
 }
 
 bool DemoChildren::finish_and_report() {
+  const int load_exit = load_ ? load_->stop(kPatientEndS) : 0;
+  if (load_) {
+    const std::string log = load_->log();
+    const std::size_t last = log.rfind("navdevice load:");
+    std::printf("%s", last == std::string::npos ? "navdevice load: printed nothing\n" : log.substr(last).c_str());
+  }
   const int patient_exit = patient_.stop(kPatientEndS);  // its world outlasts the run
   const int evaluation_exit = evaluation_.stop(kEvaluationEndS);
   std::printf("\nthe evaluation (navtool evaluate):\n%s", evaluation_.log().c_str());
   if (patient_exit != 0) {
     std::fprintf(stderr, "navstation: %s\n", failed(patient_, "failed (exit code " + std::to_string(patient_exit) + ")").describe().c_str());
+    return false;
+  }
+  if (load_exit != 0) {
+    std::fprintf(stderr, "navstation: %s\n", failed(*load_, "failed (exit code " + std::to_string(load_exit) + ")").describe().c_str());
     return false;
   }
   if (evaluation_exit != 0) {

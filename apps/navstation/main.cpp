@@ -18,6 +18,9 @@
 //                          evaluate) as child processes (their logs in --logs DIR, default a
 //                          temporary folder); stopping navstation stops them. All on DDS (the
 //                          scene's topics.domain_id, or --domain D).
+//   --load F               (--demo) a load on the host as well (navdevice load: F times the
+//                          scene's device rates on topics of its own, on the I/O core): a soak
+//                          run, e.g. --demo --seconds 3600 --load 4
 //   --seconds S, --plot FILE.svg (the error over time), --json FILE (the summary's figures;
 //                          with --live: start-up, resident memory, ticks and samples;
 //                          with --demo: the evaluation's),
@@ -51,7 +54,7 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: navstation --scene FILE --check\n"
-    "       navstation (--demo [--logs DIR] | --scene FILE) [--seconds S] [--domain D] [--plot FILE.svg] [--json FILE]\n"
+    "       navstation (--demo [--logs DIR] [--load F] | --scene FILE) [--seconds S] [--domain D] [--plot FILE.svg] [--json FILE]\n"
     "                                                        [--images DIR]\n"
     "       navstation --scene FILE --live [--seconds S] [--domain D] [--images DIR]\n"
     "       navstation --scene FILE --replay REC.navrec\n";
@@ -63,6 +66,7 @@ struct Arguments {
   std::string scene_path;
   bool check = false, demo = false, live = false;
   double seconds = 10.0;
+  double load_factor = 0.0;  ///< --load F (--demo): a load generator at F x the scene's rates
   long domain_id = -1;  ///< -1: the scene's
   std::string plot_path, json_path, images_dir, replay_path, logs_dir;
 };
@@ -163,7 +167,7 @@ int run_demo(const nav::station::Scene& scene, const Arguments& args) {
                                                         ("navstation_demo." + std::to_string(getpid()))).string()
                                                      : args.logs_dir;
   auto children = navstation::DemoChildren::start(
-      {NAV_STATION_DEMO_SCENE, args.seconds, scene.topics.domain_id, args.plot_path, args.json_path, logs_dir});
+      {NAV_STATION_DEMO_SCENE, args.seconds, scene.topics.domain_id, args.plot_path, args.json_path, logs_dir, args.load_factor});
   if (!children.ok()) {
     std::fprintf(stderr, "navstation: %s\n", children.error().describe().c_str());
     return kExitError;
@@ -231,8 +235,15 @@ bool parse(int argc, char** argv, Arguments& args) {
     } else if (arg == "--seconds" && has_value) {
       char* end = nullptr;
       args.seconds = std::strtod(argv[++i], &end);
-      if (*end != '\0' || !(args.seconds > 0.0 && args.seconds <= 600.0)) {
-        std::fprintf(stderr, "navstation: --seconds takes a duration in (0, 600]\n");
+      if (*end != '\0' || !(args.seconds > 0.0 && args.seconds <= 3600.0)) {
+        std::fprintf(stderr, "navstation: --seconds takes a duration in (0, 3600]\n");
+        return false;
+      }
+    } else if (arg == "--load" && has_value) {
+      char* end = nullptr;
+      args.load_factor = std::strtod(argv[++i], &end);
+      if (*end != '\0' || !(args.load_factor > 0.0 && args.load_factor <= 100.0)) {
+        std::fprintf(stderr, "navstation: --load takes a factor of the scene's device rates in (0, 100]\n");
         return false;
       }
     } else if (arg == "--domain" && has_value) {
@@ -262,6 +273,14 @@ bool parse(int argc, char** argv, Arguments& args) {
   if (!args.replay_path.empty() && (args.demo || args.check || args.live || !args.plot_path.empty() || !args.json_path.empty() ||
                                     !args.images_dir.empty())) {
     std::fprintf(stderr, "navstation: --replay runs a --scene FILE alone on a recording\n");
+    return false;
+  }
+  if (!args.demo && !args.live && args.replay_path.empty() && args.seconds > 600.0) {
+    std::fprintf(stderr, "navstation: a scene's world runs in this process for at most 600 s (--live or --demo: 3600)\n");
+    return false;
+  }
+  if (args.load_factor > 0.0 && !args.demo) {
+    std::fprintf(stderr, "navstation: --load runs the demo under load (--demo --load F)\n");
     return false;
   }
   if (!args.logs_dir.empty() && !args.demo) {

@@ -323,6 +323,37 @@ TEST(LiveStation, TheDemoRunsItsPatientAndItsEvaluationAsChildProcessesAtTheDemo
     EXPECT_TRUE(process_gone(static_cast<long>(number_after(log, child)))) << child;
 }
 
+TEST(LiveStation, TheDemoUnderLoadKeepsItsDeadlinesItsMemoryAndItsSamples) {
+  // A short soak: the demo for 20 s with a load on the I/O core (navdevice load: frames filtered
+  // and poses and frames on DDS at 4 x the demo's device rates), judged with generous budgets
+  // (a shared host) and every figure printed.
+  ChildProcess demo({kBin + "/navstation", "--demo", "--seconds", "20", "--load", "4", "--domain", "170", "--logs", temporary_path("soak_logs")},
+                    temporary_path("soak.log"));
+  const std::optional<int> exit_code = demo.wait(std::chrono::seconds(600));
+  const std::string log = demo.log();
+  std::printf("%s", log.c_str());
+  ASSERT_EQ(exit_code, 0);
+  // The load ran beside the station: every second 4 x 60 tracker samples and 4 x 20 frames.
+  const std::size_t load_end = log.find("navdevice load: done after");
+  ASSERT_NE(load_end, std::string::npos);
+  const std::string read_back = log.substr(log.find("read back ", load_end));  // "read back P poses, F frames"
+  EXPECT_GE(number_after(read_back, "read back "), 4 * 3 * 60 * 15.0) << "poses read back";
+  EXPECT_GE(number_after(read_back, " poses, "), 4 * 20 * 15.0) << "frames filtered";
+  // The loop ticked through it and kept its deadlines (a 5 ms miss needs a host stall).
+  EXPECT_GE(number_after(log, "step time over ") + number_after(log, "skipped ticks: "), 20000.0);
+  EXPECT_LE(number_after(log, "deadline misses (> 5 ms late): "), 20.0);
+  EXPECT_LE(number_after(log, "(> 1 ms late: "), 400.0);
+  // No memory grows with time: the resident memory at the run's end is its start's, within 16 MiB.
+  EXPECT_LE(number_after(log, "MiB when the loop started, ") - number_after(log, "resident memory of the run: "), 16.0);
+  // The samples reached the station: DDS lost almost none on the way, the boundary refused none.
+  ASSERT_NE(log.find("never delivered): "), std::string::npos);
+  const std::string lost = log.substr(log.find("never delivered): "));
+  EXPECT_LE(number_after(lost, "never delivered): "), 50.0) << "poses lost";
+  EXPECT_LE(number_after(lost, "poses, "), 10.0) << "frames lost";
+  EXPECT_GE(number_after(log, "samples accepted "), 3000.0);
+  EXPECT_NE(log.find("dropped at the boundary: none"), std::string::npos);
+}
+
 TEST(LiveStation, StoppingTheDemoStopsItsChildrenAndKillingItEndsThem) {
   for (const int signal_number : {SIGTERM, SIGKILL}) {
     const std::string domain = signal_number == SIGTERM ? "176" : "177";

@@ -7,6 +7,7 @@
 
 #include "nav/core/health.hpp"
 #include "nav/station/display_surface.hpp"
+#include "nav/station/station_build.hpp"
 #include "nav/station/station_channels.hpp"
 #include "nav/station/world_player.hpp"
 
@@ -297,6 +298,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
   if (world != nullptr) player.emplace(*world, false, simulated_tracker(link.tools, options.dds->simulated_reference_in_tracker, options.dds->model_in_reference));
   TrackerRegistration registration(options.dds->model_in_reference, link.tools.reference);
   ch.wait_for_start();
+  run.resident_at_start_bytes = resident_bytes();  // every buffer is in, locked with the loop's memory
   const TimeNs device_to_loop_ns = options.dds->arrival.source_clock_offset_ns - ch.start_ns;  // stamps onto the loop's clock
   std::thread devices;
   if (player) devices = std::thread(device_thread, std::ref(*player), std::ref(ch), std::cref(*options.dds), std::ref(link), std::ref(report));
@@ -354,6 +356,8 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
   report.surface_periods_passed_over = surfaces.passed_over();
   report.surface_reconstruction = latency_statistics(surfaces.reconstruction_us());
   report.boundary = link.station->boundary_counts();
+  report.poses_lost = link.station->samples_lost(dds::Topic::tool_pose);
+  report.frames_lost = link.station->samples_lost(dds::Topic::ultrasound_frame);
   report.unregistered_poses = registration.unregistered_poses;
   run.dds = report;
 }

@@ -151,6 +151,7 @@ StepStatistics step_statistics(std::vector<double> step_us, const std::vector<do
   s.median_us = step.median_us;
   s.p99_us = step.p99_us;
   s.p999_us = step.p999_us;
+  s.p9999_us = step.p9999_us;
   s.max_us = step.max_us;
   double sum = 0.0, sum2 = 0.0;
   for (std::size_t i = 0; i < lateness_us.size(); ++i) {
@@ -159,9 +160,13 @@ StepStatistics step_statistics(std::vector<double> step_us, const std::vector<do
     sum2 += late * late;
     if (late > s.max_lateness_us) s.max_lateness_us = late, s.latest_tick = static_cast<std::int64_t>(i);
     if (late > miss_threshold_us) ++s.deadline_misses;
+    if (late > 1000.0) ++s.late_over_1ms;
   }
   const double n = static_cast<double>(lateness_us.size());
   s.jitter_us = std::sqrt(std::max(0.0, sum2 / n - (sum / n) * (sum / n)));
+  const LatencyStatistics lateness = latency_statistics(lateness_us);
+  s.lateness_p99_us = lateness.p99_us;
+  s.lateness_p9999_us = lateness.p9999_us;
   return s;
 }
 
@@ -264,6 +269,7 @@ LatencyStatistics latency_statistics(std::vector<double> latency_us) {
   s.median_us = percentile(latency_us, 0.5);
   s.p99_us = percentile(latency_us, 0.99);
   s.p999_us = percentile(latency_us, 0.999);
+  s.p9999_us = percentile(latency_us, 0.9999);
   s.max_us = latency_us.back();
   return s;
 }

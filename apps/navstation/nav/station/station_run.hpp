@@ -45,11 +45,13 @@ struct TickRecord {
 /// Step time and timing statistics of a real-time run.
 struct StepStatistics {
   std::int64_t ticks = 0;
-  double median_us = 0.0, p99_us = 0.0, p999_us = 0.0, max_us = 0.0;  ///< of the step (drain, tick, publish)
+  double median_us = 0.0, p99_us = 0.0, p999_us = 0.0, p9999_us = 0.0, max_us = 0.0;  ///< of the step (drain, tick, publish)
   double jitter_us = 0.0;          ///< standard deviation of the ticks' lateness
+  double lateness_p99_us = 0.0, lateness_p9999_us = 0.0;  ///< of the ticks' wake-ups after their deadlines
   double max_lateness_us = 0.0;    ///< worst wake-up after a deadline (skipped periods included)
   std::int64_t latest_tick = 0;    ///< the tick (count from the run's start) that woke that late
   std::int64_t deadline_misses = 0;  ///< ticks later than the miss threshold
+  std::int64_t late_over_1ms = 0;    ///< ticks more than 1 ms late (a whole period at 1 kHz)
   std::int64_t skipped_ticks = 0;    ///< deadlines passed over because the loop was late
 };
 
@@ -87,7 +89,7 @@ struct DdsRunOptions {
 /// Latency statistics in microseconds.
 struct LatencyStatistics {
   std::int64_t count = 0;
-  double median_us = 0.0, p99_us = 0.0, p999_us = 0.0, max_us = 0.0;
+  double median_us = 0.0, p99_us = 0.0, p999_us = 0.0, p9999_us = 0.0, max_us = 0.0;
 };
 
 /// How a real-time run is set up.
@@ -111,6 +113,7 @@ struct DdsRunReport {
   std::int64_t poses_accepted = 0;   ///< by the station's pose inbox (checked, in time order)
   std::int64_t poses_received = 0;   ///< taken by the I/O thread: the newest of each tool per poll
   std::int64_t frames_received = 0;
+  std::uint64_t poses_lost = 0, frames_lost = 0;  ///< sent to the station and never delivered (DDS's sample-lost status)
   std::int64_t outputs_published = 0;  ///< predictions, needle states and health samples written
   std::uint64_t outbox_dropped = 0;
   TimeNs device_gone_ns = -1;       ///< when the devices' participant began to be destroyed (run time; -1: never)
@@ -133,6 +136,7 @@ struct StationRun {
   std::vector<SetupStep> realtime_setup;  ///< what the real-time thread's setup did
   SetupStep io_pin;                       ///< the I/O thread's pinning
   SetupStep io_fifo;                      ///< the I/O thread's SCHED_FIFO, when asked
+  std::int64_t resident_at_start_bytes = 0;  ///< the process's resident memory once the loop started (its buffers locked; live runs)
   std::int64_t outputs_read = 0;          ///< new outputs the I/O thread read from the triple buffer
   std::int64_t samples_pushed = 0;        ///< samples the I/O thread handed to the real-time thread
   std::int64_t samples_after_loop = 0;    ///< samples delivered within the run that the I/O thread reached only after the loop had stopped (it lagged: direct hand-off)

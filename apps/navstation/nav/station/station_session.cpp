@@ -29,9 +29,9 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-std::string format(const char* pattern, double a = 0.0, double b = 0.0, double c = 0.0, double d = 0.0) {
+std::string format(const char* pattern, double a = 0.0, double b = 0.0, double c = 0.0, double d = 0.0, double e = 0.0) {
   char text[256];
-  std::snprintf(text, sizeof(text), pattern, a, b, c, d);
+  std::snprintf(text, sizeof(text), pattern, a, b, c, d, e);
   return text;
 }
 
@@ -169,6 +169,7 @@ Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, con
   auto run = run_live_station(loop, imaging.value(), run_options);
   if (!run.ok()) return run.error();
   s.run = std::move(run).value();
+  s.resident_at_end_bytes = resident_bytes();
   s.peak_resident_bytes = peak_resident_bytes();
   s.liver = std::move(p.liver);
   s.surface = std::move(p.surface);
@@ -195,11 +196,12 @@ std::string run_figures(const Scene& scene, const StationRun& run, const Display
   std::string out;
   out += format("step time over %.0f ticks: median %.1f us, p99 %.1f us, p99.9 %.1f us", static_cast<double>(t.ticks), t.median_us, t.p99_us,
                 t.p999_us);
-  out += format(", max %.1f us\n", t.max_us);
-  out += format("tick lateness: jitter (std) %.1f us, max %.1f us (tick %.0f)\n", t.jitter_us, t.max_lateness_us,
-                static_cast<double>(t.latest_tick));
-  out += format("deadline misses (> %.0f ms late): %.0f, skipped ticks: %.0f\n", 1e-6 * static_cast<double>(miss_threshold_ns),
-                static_cast<double>(t.deadline_misses), static_cast<double>(t.skipped_ticks));
+  out += format(", p99.99 %.1f us, max %.1f us\n", t.p9999_us, t.max_us);
+  out += format("tick lateness: jitter (std) %.1f us, p99 %.1f us, p99.99 %.1f us, max %.1f us (tick %.0f)\n", t.jitter_us, t.lateness_p99_us,
+                t.lateness_p9999_us, t.max_lateness_us, static_cast<double>(t.latest_tick));
+  out += format("deadline misses (> %.0f ms late): %.0f (> 1 ms late: %.0f), skipped ticks: %.0f\n",
+                1e-6 * static_cast<double>(miss_threshold_ns), static_cast<double>(t.deadline_misses), static_cast<double>(t.late_over_1ms),
+                static_cast<double>(t.skipped_ticks));
   out += format("I/O thread: %.0f samples pushed, %.0f outputs read\n", static_cast<double>(run.samples_pushed),
                 static_cast<double>(run.outputs_read));
   const ObserverCounts& u = run.observer;
@@ -219,6 +221,8 @@ std::string run_figures(const Scene& scene, const StationRun& run, const Display
     out += format("  deformed surface (%.0f vertices): %.0f published; reconstruction on the I/O thread median %.0f us, p99 %.0f us\n",
                   static_cast<double>(surface.nodes.size()), static_cast<double>(d.surfaces_published), d.surface_reconstruction.median_us,
                   d.surface_reconstruction.p99_us);
+    out += format("  lost on the way (sent, never delivered): %.0f poses, %.0f frames\n", static_cast<double>(d.poses_lost),
+                  static_cast<double>(d.frames_lost));
     out += format("  samples accepted %.0f;", static_cast<double>(d.boundary.accepted));
     out += " dropped at the boundary: " + dds::drops_by_reason(d.boundary) + "\n";
     if (const std::optional<std::uint32_t> reference = scene.devices.tracker.tools.reference)
@@ -294,6 +298,8 @@ std::string format_live_summary(const Scene& scene, const LiveSession& s) {
   out += s.liver_model + "\n";
   out += format("start-up: liver and reduced loop %.1f s (%.0f tetrahedra); resident memory %.1f MiB after it, %.1f MiB at most\n", s.build_s,
                 static_cast<double>(s.liver.mesh.tets.size()), mebibytes(s.resident_after_start_up_bytes), mebibytes(s.peak_resident_bytes));
+  out += format("resident memory of the run: %.1f MiB when the loop started, %.1f MiB at its end\n", mebibytes(s.run.resident_at_start_bytes),
+                mebibytes(s.resident_at_end_bytes));
   out += "real-time setup:";
   for (const SetupStep& step : s.run.realtime_setup) out += " " + step.name + ": " + outcome_name(step.outcome) + ";";
   out += io_setup_text(s.run);
@@ -316,9 +322,11 @@ std::string json_text(const std::string& text) {
 
 /// The JSON members of a run's tick figures (each line indented, ending with a comma).
 std::string steps_json(const StepStatistics& t) {
-  std::string out = format("  \"ticks\": %.0f, \"step_us\": {\"median\": %.3f, \"p99\": %.3f, \"p999\": %.3f,", static_cast<double>(t.ticks),
-                           t.median_us, t.p99_us, t.p999_us);
-  out += format(" \"max\": %.3f},\n  \"jitter_us\": %.3f, \"max_lateness_us\": %.3f,", t.max_us, t.jitter_us, t.max_lateness_us);
+  std::string out = format("  \"ticks\": %.0f, \"step_us\": {\"median\": %.3f, \"p99\": %.3f, \"p999\": %.3f, \"p9999\": %.3f,",
+                           static_cast<double>(t.ticks), t.median_us, t.p99_us, t.p999_us, t.p9999_us);
+  out += format(" \"max\": %.3f},\n  \"jitter_us\": %.3f, \"lateness_us\": {\"p99\": %.3f, \"p9999\": %.3f, \"max\": %.3f},\n", t.max_us,
+                t.jitter_us, t.lateness_p99_us, t.lateness_p9999_us, t.max_lateness_us);
+  out += format("  \"max_lateness_us\": %.3f, \"late_over_1ms\": %.0f,", t.max_lateness_us, static_cast<double>(t.late_over_1ms));
   return out + format(" \"deadline_misses\": %.0f, \"skipped_ticks\": %.0f,\n", static_cast<double>(t.deadline_misses),
                       static_cast<double>(t.skipped_ticks));
 }
@@ -343,13 +351,15 @@ std::string session_json(const Scene& scene, const StationSession& s) {
 
 std::string live_session_json(const Scene& scene, const LiveSession& s) {
   std::string out = "{\n  \"scene\": \"" + json_text(scene.station.name) + "\",\n  \"liver_model\": \"" + json_text(s.liver_model) + "\",\n";
-  out += format("  \"start_up_s\": %.3f, \"resident_mib\": {\"after_start_up\": %.2f, \"peak\": %.2f},\n", s.build_s,
+  out += format("  \"start_up_s\": %.3f, \"resident_mib\": {\"after_start_up\": %.2f, \"peak\": %.2f,", s.build_s,
                 mebibytes(s.resident_after_start_up_bytes), mebibytes(s.peak_resident_bytes));
+  out += format(" \"at_loop_start\": %.2f, \"at_end\": %.2f},\n", mebibytes(s.run.resident_at_start_bytes), mebibytes(s.resident_at_end_bytes));
   out += steps_json(s.run.steps);
   const DdsRunReport d = s.run.dds.value_or(DdsRunReport{});
   out += format("  \"poses_received\": %.0f, \"frames_received\": %.0f, \"samples_accepted\": %.0f, \"samples_refused\": %.0f,",
                 static_cast<double>(d.poses_received), static_cast<double>(d.frames_received), static_cast<double>(d.boundary.accepted),
                 static_cast<double>(dds::refused_as_invalid(d.boundary)));
+  out += format(" \"poses_lost\": %.0f, \"frames_lost\": %.0f,", static_cast<double>(d.poses_lost), static_cast<double>(d.frames_lost));
   return out + format(" \"outputs_published\": %.0f\n}\n", static_cast<double>(d.outputs_published));
 }
 

@@ -59,6 +59,7 @@ struct LiveSession {
   std::string liver_model;  ///< describe_station_loop: which liver the loop ran
   double build_s = 0.0;  ///< start-up: liver and reduced loop
   std::int64_t resident_after_start_up_bytes = 0;  ///< the process's resident memory once built
+  std::int64_t resident_at_end_bytes = 0;          ///< at the end of the run (its growth: a leak)
   std::int64_t peak_resident_bytes = 0;            ///< its largest, at the end of the run
 };
 

@@ -220,6 +220,14 @@ bool DdsNode::wait_for_acknowledgments(TimeNs timeout_ns) const {
 
 BoundaryCounts DdsNode::boundary_counts() const noexcept { return impl_->counters.snapshot(); }
 
+std::uint64_t DdsNode::samples_lost(Topic topic) const {
+  fdds::DataReader* reader = impl_->readers[index_of(topic)];
+  if (reader == nullptr) return 0;
+  fdds::SampleLostStatus status;
+  reader->get_sample_lost_status(status);
+  return static_cast<std::uint64_t>(status.total_count);
+}
+
 #define NAV_DDS_NODE_SAMPLE(Sample)                    \
   template Status DdsNode::advertise<Sample>();        \
   template bool DdsNode::write<Sample>(const Sample&); \
