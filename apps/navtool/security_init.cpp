@@ -130,6 +130,11 @@ int fail(const std::string& what, const std::string& log) {
   return exit_failure;
 }
 
+int fail(const nav::Error& error) {
+  std::fprintf(stderr, "navtool security init: %s\n", error.describe().c_str());
+  return exit_failure;
+}
+
 }  // namespace
 
 int security_init(const std::vector<std::string>& args) {
@@ -181,7 +186,7 @@ int security_init(const std::vector<std::string>& args) {
                log))
     return fail("the CA's certificate", log);
   if (const nav::Status written = nav::write_text_file((dir / "governance.xml").string(), governance_xml()); !written)
-    return fail(written.error().describe(), log);
+    return fail(written.error());
   if (!sign(dir, dir / "governance.xml", dir / "governance.p7s", log)) return fail("signing the governance", log);
 
   for (const Role role : nav::station::kRoles) {
@@ -197,7 +202,7 @@ int security_init(const std::vector<std::string>& args) {
       return fail("the " + name + " certificate", log);
     fs::remove(request, error);
     if (const nav::Status written = nav::write_text_file((folder / "permissions.xml").string(), permissions_xml(role, names, valid_until)); !written)
-      return fail(written.error().describe(), log);
+      return fail(written.error());
     if (!sign(dir, folder / "permissions.xml", folder / "permissions.p7s", log)) return fail("signing the " + name + " permissions", log);
   }
   fs::remove(log, error);

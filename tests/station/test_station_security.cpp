@@ -7,6 +7,7 @@
 #include <atomic>
 #include <filesystem>
 #include <memory>
+#include <vector>
 
 #include "nav/dds/dds_node.hpp"
 #include "nav/station/security_roles.hpp"
@@ -145,6 +146,25 @@ TEST(StationSecurity, AnIdentityPresentingAnotherRolesPermissionsCannotJoin) {
   borrowed.security.permissions = borrowed.security.permissions.replace(borrowed.security.permissions.find("{role}"), 6, "tool");
   EXPECT_FALSE(make_station_node(kDomain + 1, "borrowed_permissions", {}, borrowed, Role::display).ok());
   EXPECT_TRUE(make_station_node(kDomain + 1, "own_permissions", {}, secured(initialised_folder("security_keys")), Role::display).ok());
+}
+
+TEST(StationSecurity, SecurityInitRefusesWhatItCannotUse) {
+  const std::string navtool = testing::executable_path("navtool") + " security init ";
+  // No folder, a bad or out-of-range --days, an unknown flag: usage errors, nothing made.
+  for (const std::string& args : std::vector<std::string>{"", "--days 30", testing::temporary_path("k1") + " --days zero",
+                                 testing::temporary_path("k2") + " --days 0", testing::temporary_path("k3") + " --bits 4096"}) {
+    const auto run = testing::run_command(navtool + args + " 2>&1");
+    EXPECT_EQ(run.exit_code, 2) << args << ": " << run.output;
+    EXPECT_NE(run.output.find("usage: navtool security init DIR"), std::string::npos) << run.output;
+  }
+  EXPECT_FALSE(std::filesystem::exists(testing::temporary_path("k2")));
+  // A scene that does not load is named; a folder that cannot be made is named.
+  const auto bad_scene = testing::run_command(navtool + testing::temporary_path("k4") + " --scene /no/such/scene.yaml 2>&1");
+  EXPECT_EQ(bad_scene.exit_code, 2);
+  EXPECT_NE(bad_scene.output.find("/no/such/scene.yaml"), std::string::npos) << bad_scene.output;
+  const auto bad_folder = testing::run_command(navtool + "/proc/no_keys_here 2>&1");
+  EXPECT_EQ(bad_folder.exit_code, 1);
+  EXPECT_NE(bad_folder.output.find("/proc/no_keys_here"), std::string::npos) << bad_folder.output;
 }
 
 TEST(StationSecurity, AMissingFileIsNamedByItsSceneKeyAndNoUnsecuredParticipantIsMade) {
