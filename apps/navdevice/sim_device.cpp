@@ -1,5 +1,6 @@
 #include "sim_device.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <optional>
 
@@ -22,7 +23,10 @@ constexpr TimeNs kPlayPeriodNs = kNsPerMs / 2;
 constexpr TimeNs kStartDelayNs = 20 * kNsPerMs;  // from the station's match to world time 0
 
 constexpr double kDefaultSeconds = 60.0;
-constexpr double kMaxSeconds = 3600.0;
+constexpr double kMaxSeconds = 4 * 3600.0;
+/// A longer run simulates this much of the patient (the needle has stopped by then and the
+/// world is periodic) and repeats its last period: a soak's patient costs what a minute's does.
+constexpr double kRecordedSeconds = 60.0;
 
 void print_status(double seconds, const nav::station::PlayerCounts& c, std::size_t stations) {
   std::printf("navdevice sim: %.0f s, written %lld poses, %lld frames, %lld truths; stations reading: %zu\n", seconds,
@@ -37,7 +41,7 @@ int run_sim(const std::vector<std::string>& arguments) {
   std::optional<DeviceArgs> args = parse_common_flags(arguments);
   if (args && args->seconds == 0.0) args->seconds = kDefaultSeconds;
   if (!args || args->seconds > kMaxSeconds) {
-    std::fprintf(stderr, "usage: navdevice sim --scene FILE [--seconds S (0, 3600]] [--domain D] [--no-wait] [--wait-s S]\n");
+    std::fprintf(stderr, "usage: navdevice sim --scene FILE [--seconds S (0, 14400]] [--domain D] [--no-wait] [--wait-s S]\n");
     return kExitUsage;
   }
   nav::dds::install_stop_handlers();
@@ -45,13 +49,17 @@ int run_sim(const std::vector<std::string>& arguments) {
   if (!scene.ok()) return fail("sim", scene.error().describe());
   const nav::station::Scene& s = scene.value();
   if (const nav::Status simulated = nav::station::check_simulated_devices(s); !simulated.ok()) return fail("sim", simulated.error().describe());
-  std::printf("navdevice sim: simulating %.0f s of the patient of scene '%s' (full-order liver, tracker, B-mode scanner) ...\n",
-              args->seconds, s.station.name.c_str());
+  const double recorded_s = std::min(args->seconds, kRecordedSeconds);
+  nav::station::WorldOptions world_options;
+  world_options.duration_ns = static_cast<TimeNs>(recorded_s * 1e9);
+  const TimeNs period_ns = nav::station::world_period_ns(world_options);
+  std::printf("navdevice sim: simulating %.0f s of the patient of scene '%s' (full-order liver, tracker, B-mode scanner)", recorded_s,
+              s.station.name.c_str());
+  if (args->seconds > recorded_s) std::printf("; its last %.0f s repeat to %.0f s", 1e-9 * static_cast<double>(period_ns), args->seconds);
+  std::printf(" ...\n");
   std::fflush(stdout);
   auto liver = nav::station::make_station_liver(s);
   if (!liver.ok()) return fail("sim", liver.error().describe());
-  nav::station::WorldOptions world_options;
-  world_options.duration_ns = static_cast<TimeNs>(args->seconds * 1e9);
   auto world = nav::station::simulate_world(liver.value(), s, nav::station::BreathingGeometry{}, world_options);
   if (!world.ok()) return fail("sim", world.error().describe());
 
@@ -71,10 +79,12 @@ int run_sim(const std::vector<std::string>& arguments) {
   const nav::station::TrackerSettings& t = s.devices.tracker;
   nav::station::WorldPlayer player(world.value(), true, nav::station::simulated_tracker(t.tools, t.reference_in_tracker, model_in_reference.value()));
   player.set_world_to_device_ns(start_ns - static_cast<TimeNs>(s.devices.clock.offset_ms * 1e6));
+  if (args->seconds > recorded_s) player.repeat_last(period_ns);
+  const auto run_ns = static_cast<TimeNs>(args->seconds * 1e9);
   TimeNs next_status_ns = kNsPerSecond;
   while (!nav::dds::stop_requested()) {
     const TimeNs now_ns = clock.now_ns() - start_ns;
-    if (now_ns > world_options.duration_ns) break;
+    if (now_ns > run_ns) break;
     player.play_until(now_ns, &dds, clock);
     if (now_ns >= next_status_ns) {
       print_status(1e-9 * static_cast<double>(next_status_ns), player.counts(), dds.matched(nav::dds::Topic::tool_pose));

@@ -23,7 +23,7 @@
 //                          run, e.g. --demo --seconds 3600 --load 4
 //   --seconds S, --plot FILE.svg (the error over time), --json FILE (the summary's figures;
 //                          with --live: start-up, resident memory, ticks and samples;
-//                          with --demo: the evaluation's),
+//                          with --demo: {"station": those, "evaluation": navtool evaluate's}),
 //   --images DIR           runs navview alongside (headless), which writes PNG composites of
 //                          the station's DDS topics (by the scene's topic names) into DIR
 //                          (with the liver surface DIR/liver_surface.obj).
@@ -31,6 +31,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <optional>
 #include <string>
 #include <vector>
@@ -140,7 +142,18 @@ bool write_file(const std::string& path, const std::string& text) {
   return written.ok();
 }
 
-int run_live(const nav::station::Scene& scene, const Arguments& args) {
+/// The whole text of `path`, or nothing (the reason printed).
+std::optional<std::string> read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    std::fprintf(stderr, "navstation: %s: cannot be read\n", path.c_str());
+    return std::nullopt;
+  }
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// Runs the live station; its figures go to --json, or to `figures_json` when given (the demo's).
+int run_live(const nav::station::Scene& scene, const Arguments& args, std::string* figures_json = nullptr) {
   print_plan(scene);
   std::printf("building the liver and its reduced loop, then running %.1f s on the devices of domain %u ...\n", args.seconds,
               scene.topics.domain_id);
@@ -156,7 +169,9 @@ int run_live(const nav::station::Scene& scene, const Arguments& args) {
     return kExitError;
   }
   std::printf("%s", nav::station::format_live_summary(scene, session.value()).c_str());
-  const bool written = args.demo || args.json_path.empty() || write_file(args.json_path, nav::station::live_session_json(scene, session.value()));
+  if (figures_json != nullptr) *figures_json = nav::station::live_session_json(scene, session.value());
+  const bool written = figures_json != nullptr || args.json_path.empty() ||
+                       write_file(args.json_path, nav::station::live_session_json(scene, session.value()));
   return images && written ? 0 : kExitError;
 }
 
@@ -166,16 +181,23 @@ int run_demo(const nav::station::Scene& scene, const Arguments& args) {
   const std::string logs_dir = args.logs_dir.empty() ? (std::filesystem::temp_directory_path() /
                                                         ("navstation_demo." + std::to_string(getpid()))).string()
                                                      : args.logs_dir;
+  const std::string evaluation_json = args.json_path.empty() ? "" : (std::filesystem::path(logs_dir) / "evaluation.json").string();
   auto children = navstation::DemoChildren::start(
-      {NAV_STATION_DEMO_SCENE, args.seconds, scene.topics.domain_id, args.plot_path, args.json_path, logs_dir, args.load_factor});
+      {NAV_STATION_DEMO_SCENE, args.seconds, scene.topics.domain_id, args.plot_path, evaluation_json, logs_dir, args.load_factor});
   if (!children.ok()) {
     std::fprintf(stderr, "navstation: %s\n", children.error().describe().c_str());
     return kExitError;
   }
-  const int station = run_live(scene, args);
+  std::string station_json;
+  const int station = run_live(scene, args, &station_json);
   const bool evaluated = children.value().finish_and_report();
   if (evaluated && !args.plot_path.empty()) std::printf("error plot: %s\n", args.plot_path.c_str());
-  return station == 0 && evaluated ? 0 : kExitError;
+  bool written = true;
+  if (!args.json_path.empty() && station == 0 && evaluated) {
+    const std::optional<std::string> evaluation = read_file(evaluation_json);
+    written = evaluation && write_file(args.json_path, "{\"station\": " + station_json + ",\n\"evaluation\": " + *evaluation + "}\n");
+  }
+  return station == 0 && evaluated && written ? 0 : kExitError;
 }
 
 int run_replay(const nav::station::Scene& scene, const Arguments& args) {

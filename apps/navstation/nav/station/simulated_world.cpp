@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <numeric>
 #include <numbers>
 #include <random>
 #include <span>
@@ -51,6 +53,24 @@ Point3 tumour_of(const StationLiver& liver, std::span<const double> positions_m)
   return p;
 }
 
+/// The patient's liver has run away when its tumour is not finite or this far from its rest.
+constexpr double kRunawayDisplacementM = 0.1;
+
+/// The true tumour `tumour` of tissue step i, appended, or an Error naming the liver's model
+/// when the patient's simulation ran away there (never a world that publishes it as truth).
+Status record_tumour(SimulatedWorld& world, const StationLiver& liver, const Scene& scene, const Point3& tumour, std::size_t i) {
+  double moved_m2 = 0.0;
+  for (std::size_t c = 0; c < 3; ++c) moved_m2 += (tumour[c] - liver.tumour_m[c]) * (tumour[c] - liver.tumour_m[c]);
+  if (!(std::sqrt(moved_m2) <= kRunawayDisplacementM)) {
+    char message[160];
+    std::snprintf(message, sizeof message, "the simulated patient's liver ran away at %.2f s: its tumour is %.4g mm from rest",
+                  seconds(static_cast<TimeNs>(i) * world.step_ns), 1e3 * std::sqrt(moved_m2));
+    return Error{message, scene.source_path, scene.liver.line, "liver.model"};
+  }
+  world.tumour_truth_m.push_back(tumour);
+  return Done{};
+}
+
 std::size_t truth_steps(const Scene& scene, const WorldOptions& options, TimeNs step_ns) {
   const TimeNs latency_ns = static_cast<TimeNs>(std::llround(scene.station.display_latency_ms * 1e6));
   return static_cast<std::size_t>((options.duration_ns + latency_ns) / step_ns + 2);
@@ -68,7 +88,7 @@ Status tumour_truth(SimulatedWorld& world, const StationLiver& liver, const Scen
   world.tumour_truth_m.reserve(steps);
   for (std::size_t i = 0; i < steps; ++i) {
     step(patient.value(), data.value(), diaphragm_inputs(breathing, options, world.step_ns, i));
-    world.tumour_truth_m.push_back(tumour_of(liver, data.value().positions_m));
+    if (Status kept = record_tumour(world, liver, scene, tumour_of(liver, data.value().positions_m), i); !kept.ok()) return kept;
   }
   return Done{};
 }
@@ -104,7 +124,7 @@ Status needle_and_tumour_truth(SimulatedWorld& world, const StationLiver& liver,
       step_needle(model.value(), d, inputs);
       if (k == 0) {
         step_tissue(model.value(), d, diaphragm_inputs(breathing, options, world.step_ns, i));
-        world.tumour_truth_m.push_back(tumour_of(liver, d.tissue.positions_m));
+        if (Status kept = record_tumour(world, liver, scene, tumour_of(liver, d.tissue.positions_m), i); !kept.ok()) return kept;
       }
       const std::span<const double> nodes = d.interaction.needle.positions_m;
       world.needle_tip_truth_m.push_back({nodes[3 * tip_node], nodes[3 * tip_node + 1], nodes[3 * tip_node + 2]});
@@ -198,7 +218,7 @@ Point3 SimulatedWorld::tumour_at(TimeNs time_ns) const {
 }
 
 Eigen::Vector3d SimulatedWorld::needle_tip_at(TimeNs time_ns) const {
-  if (needle_tip_truth_m.empty()) return needle_start_m + seconds(time_ns) * needle_velocity_m_s;
+  if (needle_tip_truth_m.empty()) return needle_start_m + seconds(std::min(time_ns, needle_stop_ns)) * needle_velocity_m_s;
   const TimeNs clamped = std::clamp<TimeNs>(time_ns, 0, static_cast<TimeNs>(needle_tip_truth_m.size() - 1) * needle_step_ns);
   const Point3& p = needle_tip_truth_m[static_cast<std::size_t>(clamped / needle_step_ns)];
   return {p[0], p[1], p[2]};
@@ -206,13 +226,18 @@ Eigen::Vector3d SimulatedWorld::needle_tip_at(TimeNs time_ns) const {
 
 RigidPose SimulatedWorld::needle_marker_at(TimeNs time_ns) const {
   const Eigen::Quaterniond rotation = Eigen::Quaterniond::FromTwoVectors(-Eigen::Vector3d::UnitZ(), needle_velocity_m_s.normalized());
-  const Eigen::Vector3d tip = needle_start_m + seconds(time_ns) * needle_velocity_m_s;
+  const Eigen::Vector3d tip = needle_start_m + seconds(std::min(time_ns, needle_stop_ns)) * needle_velocity_m_s;
   return {tip - rotation * Eigen::Vector3d{0.0, 0.0, -needle_length_m}, rotation};
 }
 
 RigidPose SimulatedWorld::probe_at(TimeNs time_ns) const {
   const double sweep_rad = probe_sweep_rad * std::sin(2.0 * std::numbers::pi * seconds(time_ns) / probe_sweep_period_s);
   return {probe_centre_m, Eigen::Quaterniond(Eigen::AngleAxisd(sweep_rad, Eigen::Vector3d::UnitX()))};
+}
+
+TimeNs world_period_ns(const WorldOptions& options) {
+  const auto ms = [](double s) { return std::max<std::int64_t>(1, std::llround(1e3 * s)); };
+  return std::lcm(ms(options.breathing_period_s), ms(options.probe_sweep_period_s)) * kNsPerMs;
 }
 
 double marker_displacement_m(const WorldOptions& options, TimeNs time_ns) {
@@ -231,9 +256,11 @@ Result<SimulatedWorld> simulate_world(const StationLiver& liver, const Scene& sc
   if (const Status simulated = check_simulated_devices(scene); !simulated.ok()) return simulated.error();
   SimulatedWorld world;
   world.step_ns = period_ns(scene.station.tissue_rate_hz);
+  world.duration_ns = options.duration_ns;
   const Eigen::Vector3d toward = -Eigen::Vector3d{0.0, 1.0, 0.25}.normalized();  // from in front, a little above
   world.needle_start_m = Eigen::Vector3d{liver.tumour_m[0], liver.tumour_m[1], liver.tumour_m[2]} - options.needle_start_distance_m * toward;
   world.needle_velocity_m_s = options.needle_speed_m_s * toward;
+  world.needle_stop_ns = static_cast<TimeNs>(std::llround(1e9 * options.needle_travel_m / options.needle_speed_m_s));
   world.needle_length_m = scene.needle ? scene.needle->parameters.length_m : 0.15;
   const Status truth = scene.needle ? needle_and_tumour_truth(world, liver, scene, breathing, options)
                                     : tumour_truth(world, liver, scene, breathing, options);

@@ -38,9 +38,12 @@ struct WorldOptions {
   TimeNs diaphragm_lag_ns = 200 * kNsPerMs;
   /// The needle holder's straight tip starts this far from the tumour, outside the liver (the
   /// needle comes from in front, a little above, along -(0, 1, 0.25): the generated liver's
-  /// surface is 78.5 mm from the tumour on that path, below the diaphragm region), and moves toward it.
+  /// surface is 78.5 mm from the tumour on that path, below the diaphragm region), moves toward
+  /// it and stops when it has travelled needle_travel_m (by default at the tumour's rest
+  /// position, where a biopsy or an ablation holds it).
   double needle_start_distance_m = 0.083;
   double needle_speed_m_s = 0.005;
+  double needle_travel_m = 0.083;
   double probe_sweep_rad = 0.3;             ///< the probe's sweep amplitude about the model x axis
   double probe_sweep_period_s = 3.0;
   double probe_height_m = 0.045;            ///< the probe marker above the tumour at rest (the image's depth to it)
@@ -72,11 +75,13 @@ struct UltrasoundImage {
 /// The simulated world: the truth at every tissue step and the devices' recording.
 struct SimulatedWorld {
   TimeNs step_ns = 10 * kNsPerMs;          ///< the tissue step
+  TimeNs duration_ns = 0;                  ///< the devices' samples cover [0, duration_ns]
   std::vector<Point3> tumour_truth_m;      ///< the true tumour at i * step_ns (full-order model)
   /// The needle holder's motion: where the straight needle's tip would be (the marker's
   /// tip point) at time 0, and its velocity; the marker at the needle's base, length_m back.
   Eigen::Vector3d needle_start_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d needle_velocity_m_s = Eigen::Vector3d::Zero();
+  TimeNs needle_stop_ns = 0;               ///< when the holder stops (its tip at start + travel)
   double needle_length_m = 0.15;
   /// With the scene's needle: its true (bent) tip at k * needle_step_ns, from the needle
   /// coupled to the full-order liver; empty without a needle (the tip is then the straight one).
@@ -98,6 +103,10 @@ struct SimulatedWorld {
   /// The true probe marker pose (T_model_probe) at any time.
   RigidPose probe_at(TimeNs time_ns) const;
 };
+
+/// The world's period once the needle has stopped: the shortest time holding whole breaths and
+/// whole probe sweeps (12 s for 4 s breaths and 3 s sweeps, periods taken to the millisecond).
+TimeNs world_period_ns(const WorldOptions& options);
 
 /// The respiratory marker's true displacement along the tracker's z at time t (from its rest).
 double marker_displacement_m(const WorldOptions& options, TimeNs time_ns);

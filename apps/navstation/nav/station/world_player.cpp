@@ -43,35 +43,78 @@ WorldPlayer::WorldPlayer(const SimulatedWorld& world, bool publish_truth, const 
   frame_->probe_tool_id = tracker.tools.probe;
 }
 
+void WorldPlayer::repeat_last(TimeNs period_ns) {
+  repeat_period_ns_ = period_ns;
+  cycle_.clear();
+  for (std::size_t i = 0; i < world_.samples.size(); ++i) {
+    const TimeNs measured_ns = world_.samples[i].measured_ns;
+    if (measured_ns >= world_.duration_ns - period_ns && measured_ns < world_.duration_ns) cycle_.push_back(i);
+  }
+}
+
+const DeviceSample* WorldPlayer::next_sample(TimeNs& later_ns) {
+  later_ns = 0;
+  if (repeats_ == 0) {
+    // A repeating world leaves its samples at the end itself to the first repeat.
+    while (next_ < world_.samples.size() && repeat_period_ns_ > 0 && world_.samples[next_].measured_ns >= world_.duration_ns) ++next_;
+    if (next_ < world_.samples.size()) return &world_.samples[next_];
+    if (repeat_period_ns_ == 0 || cycle_.empty()) return nullptr;
+    repeats_ = 1;
+    next_ = 0;
+  }
+  if (next_ == cycle_.size()) {
+    ++repeats_;
+    next_ = 0;
+  }
+  later_ns = repeats_ * repeat_period_ns_;
+  return &world_.samples[cycle_[next_]];
+}
+
+void WorldPlayer::write(const DeviceSample& s, TimeNs later_ns, dds::DdsNode& node, const MonotonicClock& clock) {
+  const std::uint64_t sequence = sequence_++;
+  TimeNs* written = sequence < written_ns_.size() && repeat_period_ns_ == 0 ? &written_ns_[sequence] : nullptr;
+  const TimeNs to_device_ns = world_to_device_ns_ + later_ns;
+  if (s.kind == SampleKind::ultrasound_frame) {
+    const std::vector<std::uint8_t>& pixels = world_.frames[static_cast<std::size_t>(s.frame_index)].pixels;
+    std::copy(pixels.begin(), pixels.end(), frame_->pixels.begin());
+    frame_->sequence_number = sequence;
+    frame_->source_time_ns = s.measured_ns + to_device_ns;
+    if (written) *written = clock.now_ns();
+    if (node.write(*frame_)) ++counts_.frames_written;
+    return;
+  }
+  const dds::ToolPose pose = tool_pose_of(s, sequence, to_device_ns, tracker_);
+  if (written) *written = clock.now_ns();
+  if (node.write(pose)) ++counts_.poses_written;
+  if (s.kind == SampleKind::respiratory && tracker_.tools.reference && node.write(reference_pose(pose))) ++counts_.poses_written;
+}
+
+TimeNs WorldPlayer::recording_time_ns(TimeNs time_ns) const noexcept {
+  if (repeat_period_ns_ == 0 || time_ns < world_.duration_ns) return time_ns;
+  return world_.duration_ns - repeat_period_ns_ + (time_ns - world_.duration_ns) % repeat_period_ns_;
+}
+
 void WorldPlayer::play_until(TimeNs now_ns, dds::DdsNode* node, const MonotonicClock& clock) {
-  for (; next_ < world_.samples.size() && world_.samples[next_].delivered_ns <= now_ns; ++next_) {
-    const DeviceSample& s = world_.samples[next_];
+  TimeNs later_ns = 0;
+  for (const DeviceSample* s = next_sample(later_ns); s != nullptr && s->delivered_ns + later_ns <= now_ns; s = next_sample(later_ns)) {
     if (node == nullptr) {
+      ++sequence_;
       ++counts_.samples_lost;
-      continue;
-    }
-    if (s.kind == SampleKind::ultrasound_frame) {
-      const std::vector<std::uint8_t>& pixels = world_.frames[static_cast<std::size_t>(s.frame_index)].pixels;
-      std::copy(pixels.begin(), pixels.end(), frame_->pixels.begin());
-      frame_->sequence_number = next_;
-      frame_->source_time_ns = s.measured_ns + world_to_device_ns_;
-      written_ns_[next_] = clock.now_ns();
-      if (node->write(*frame_)) ++counts_.frames_written;
     } else {
-      const dds::ToolPose pose = tool_pose_of(s, next_, world_to_device_ns_, tracker_);
-      written_ns_[next_] = clock.now_ns();
-      if (node->write(pose)) ++counts_.poses_written;
-      if (s.kind == SampleKind::respiratory && tracker_.tools.reference && node->write(reference_pose(pose))) ++counts_.poses_written;
+      write(*s, later_ns, *node, clock);
     }
+    ++next_;
   }
   if (!publish_truth_ || node == nullptr) return;
-  const TimeNs world_end_ns = static_cast<TimeNs>(world_.tumour_truth_m.size() - 1) * world_.step_ns;
-  for (; next_truth_ns_ <= std::min(now_ns, world_end_ns); next_truth_ns_ += world_.step_ns) {
+  const TimeNs recorded_end_ns = static_cast<TimeNs>(world_.tumour_truth_m.size() - 1) * world_.step_ns;
+  const TimeNs truth_end_ns = repeat_period_ns_ > 0 ? now_ns : std::min(now_ns, recorded_end_ns);
+  for (; next_truth_ns_ <= truth_end_ns; next_truth_ns_ += world_.step_ns) {
     dds::GroundTruth truth;
     truth.source_time_ns = next_truth_ns_ + world_to_device_ns_;
-    const Point3 tumour = world_.tumour_at(next_truth_ns_);
+    const TimeNs recorded_ns = recording_time_ns(next_truth_ns_);
+    const Point3 tumour = world_.tumour_at(recorded_ns);
     truth.tumour_m = {tumour[0], tumour[1], tumour[2]};
-    truth.needle_tip_m = vector_of(world_.needle_tip_at(next_truth_ns_));
+    truth.needle_tip_m = vector_of(world_.needle_tip_at(recorded_ns));
     if (node->write(truth)) ++counts_.truths_written;
   }
 }

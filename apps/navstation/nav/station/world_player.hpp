@@ -37,7 +37,7 @@ struct SimulatedTracker {
 /// `tools` has a reference; else at its origin) and the model on it by the URDF's `model_in_reference`.
 SimulatedTracker simulated_tracker(const ToolIds& tools, const RigidPose& reference_in_tracker, const RigidPose& model_in_reference);
 
-/// Plays one world's recording, in order, once.
+/// Plays one world's recording, in order: once, or on and on by repeating its last period.
 class WorldPlayer {
  public:
   /// Plays `world` as `tracker` sees it, and its truth when `publish_truth`.
@@ -46,24 +46,40 @@ class WorldPlayer {
   /// Sets where world time 0 is on the devices' clock (before the first play_until).
   void set_world_to_device_ns(TimeNs world_to_device_ns) noexcept { world_to_device_ns_ = world_to_device_ns; }
 
+  /// Plays on past the recording's end for ever by repeating its last `period_ns` (the samples
+  /// measured in [duration - period, duration)), each repeat later by period_ns, with sequence
+  /// numbers going on. Seamless for a world whose needle has stopped, with world_period_ns.
+  void repeat_last(TimeNs period_ns);
+
   /// Writes on `node` what is due by world time `now_ns`; with no node (the devices are gone)
   /// the samples due are lost and counted. `clock` times each write (written_ns()).
   void play_until(TimeNs now_ns, dds::DdsNode* node, const MonotonicClock& clock);
 
-  /// Every recorded sample has been played (the truth may go on to the world's end).
-  bool finished() const noexcept { return next_ >= world_.samples.size(); }
+  /// Every recorded sample has been played (the truth may go on to the world's end); never
+  /// when repeating.
+  bool finished() const noexcept { return repeat_period_ns_ == 0 && next_ >= world_.samples.size(); }
   const PlayerCounts& counts() const noexcept { return counts_; }
-  /// When each sample was written (clock time, by sequence number = recording index; -1: never).
+  /// When each sample of the recording's first pass was written (clock time, by sequence
+  /// number = recording index when not repeating; -1: never).
   const std::vector<TimeNs>& written_ns() const noexcept { return written_ns_; }
 
  private:
   dds::ToolPose reference_pose(const dds::ToolPose& respiratory) const;
+  /// The next sample to play and how much later than recorded it plays; null when none is left.
+  const DeviceSample* next_sample(TimeNs& later_ns);
+  void write(const DeviceSample& s, TimeNs later_ns, dds::DdsNode& node, const MonotonicClock& clock);
+  /// The recording's time of world time `time_ns` (itself, or its place in the repeated period).
+  TimeNs recording_time_ns(TimeNs time_ns) const noexcept;
 
   const SimulatedWorld& world_;
   bool publish_truth_;
   SimulatedTracker tracker_;
   TimeNs world_to_device_ns_ = 0;
-  std::size_t next_ = 0;
+  std::size_t next_ = 0;             ///< in the recording (first pass) or in cycle_ (repeats)
+  TimeNs repeat_period_ns_ = 0;
+  std::vector<std::size_t> cycle_;  ///< the repeated samples, in delivery order
+  std::int64_t repeats_ = 0;        ///< 0: the first pass; k: the k-th repeat of the cycle
+  std::uint64_t sequence_ = 0;
   TimeNs next_truth_ns_ = 0;
   std::unique_ptr<dds::UltrasoundFrame> frame_;
   std::vector<TimeNs> written_ns_;
