@@ -320,6 +320,15 @@ TEST(DdsHostileSamples, NavstationRunsThroughCraftedAndFutureStampedSamplesAndCo
   EXPECT_GE(nav::testing::number_after(output, "dropped at the boundary: malformed "), 20.0);
   EXPECT_GE(nav::testing::number_after(output, "time_out_of_window "), 10.0);
   EXPECT_GE(nav::testing::number_after(output, "implausible_pose "), 10.0);
+  // Each refusal that names its input is that input's: the future and far needle poses (tool 1)
+  // the needle's, the future and crafted frames the ultrasound's; the probe had none.
+  const std::size_t by_input = output.find("refused by input: ");
+  ASSERT_NE(by_input, std::string::npos);
+  const std::string inputs = output.substr(by_input, output.find('\n', by_input) - by_input);
+  EXPECT_GE(nav::testing::number_after(inputs, "needle "), 20.0) << inputs;
+  EXPECT_EQ(nav::testing::number_after(inputs, "probe "), 0.0) << inputs;
+  EXPECT_EQ(nav::testing::number_after(inputs, "respiratory "), 0.0) << inputs;
+  EXPECT_GE(nav::testing::number_after(inputs, "ultrasound "), 20.0) << inputs;
   // The simulated devices' poses (60 Hz for 3 markers, 5 s, less the time the processes take to find each other) and frames (20 Hz) still arrive
   // and are used: none is refused as older than the future stamps.
   EXPECT_EQ(output.find("time_backwards"), std::string::npos);

@@ -167,7 +167,8 @@ TEST(DdsPubSub, BadSamplesAreDroppedCountedAndPublishedInHealth) {
   EXPECT_FALSE(frames->try_pop(*popped));
 
   // The counts leave in the station's health, with bad_sample raised for as long as its hold
-  // after the last refusal seen.
+  // after the last refusal seen: on the station, and on each input that had one (tool 1 as the
+  // needle, the frames as the ultrasound; the probe had none).
   auto display = DdsNode::create(local_network(104));
   ASSERT_TRUE(display.ok());
   auto health = std::make_unique<RingSink<StationHealth, 4>>();
@@ -178,18 +179,45 @@ TEST(DdsPubSub, BadSamplesAreDroppedCountedAndPublishedInHealth) {
   ASSERT_TRUE(display.value()->wait_for_match(Topic::station_health, 1, kMatchTimeoutNs));
   ASSERT_TRUE(outbox->health.try_push(make_health(time_ns)));
   constexpr TimeNs kPublishedAtNs = 100 * kNsPerSecond;
-  publisher.publish(*outbox, station, kPublishedAtNs);
+  constexpr auto bad_sample = static_cast<std::uint32_t>(HealthFlag::bad_sample);
+  const auto needle = static_cast<std::size_t>(StationInput::needle), probe = static_cast<std::size_t>(StationInput::probe),
+             ultrasound = static_cast<std::size_t>(StationInput::ultrasound);
+  const PerInput<std::uint64_t> refused{inbox.refused(0), 0, 0, refused_as_invalid(station.boundary_counts(Topic::ultrasound_frame))};
+  publisher.publish(*outbox, station, kPublishedAtNs, refused);
   StationHealth received;
   ASSERT_TRUE(wait_until([&] { return health->try_pop(received); }));
-  EXPECT_TRUE(received.flags & static_cast<std::uint32_t>(HealthFlag::bad_sample));
+  EXPECT_TRUE(received.flags & bad_sample);
+  EXPECT_TRUE(received.input_flags[needle] & bad_sample);
+  EXPECT_TRUE(received.input_flags[ultrasound] & bad_sample);
+  EXPECT_EQ(received.input_flags[probe], 0u);
+  EXPECT_EQ(received.input_refused, refused);
   StationHealth later;
   for (const TimeNs after_ns : {kBadSampleHoldNs - 1, kBadSampleHoldNs}) {
     ASSERT_TRUE(outbox->health.try_push(make_health(time_ns)));
-    publisher.publish(*outbox, station, kPublishedAtNs + after_ns);
+    publisher.publish(*outbox, station, kPublishedAtNs + after_ns, refused);
     ASSERT_TRUE(wait_until([&] { return health->try_pop(later); }));
-    EXPECT_EQ((later.flags & static_cast<std::uint32_t>(HealthFlag::bad_sample)) != 0, after_ns < kBadSampleHoldNs) << after_ns;
+    const bool held = after_ns < kBadSampleHoldNs;
+    EXPECT_EQ((later.flags & bad_sample) != 0, held) << after_ns;
+    EXPECT_EQ((later.input_flags[needle] & bad_sample) != 0, held) << after_ns;
+    EXPECT_EQ((later.input_flags[ultrasound] & bad_sample) != 0, held) << after_ns;
   }
+  // One more refusal of the needle alone raises its flag again, not the ultrasound's.
+  PerInput<std::uint64_t> one_more = refused;
+  ++one_more[needle];
+  ASSERT_TRUE(outbox->health.try_push(make_health(time_ns)));
+  publisher.publish(*outbox, station, kPublishedAtNs + 2 * kBadSampleHoldNs, one_more);
+  ASSERT_TRUE(wait_until([&] { return health->try_pop(later); }));
+  EXPECT_TRUE(later.input_flags[needle] & bad_sample);
+  EXPECT_EQ(later.input_flags[ultrasound] & bad_sample, 0u);
+
+  // Each refusal is also its input's: tool 1's poses refused at the boundary (NaN, tilted) and
+  // by the inbox (backwards) count for its slot, tool 9's for none; the frame for the frames' reader.
   const BoundaryCounts counts = station.boundary_counts();
+  EXPECT_EQ(inbox.refused(0), counts.non_finite + counts.non_unit_quaternion + counts.time_backwards);
+  EXPECT_EQ(station.boundary_counts(Topic::tool_pose).unknown_tool, counts.unknown_tool);
+  EXPECT_EQ(station.boundary_counts(Topic::tool_pose).wrong_size, 0u);
+  EXPECT_EQ(station.boundary_counts(Topic::ultrasound_frame).wrong_size, counts.wrong_size);
+  EXPECT_EQ(station.boundary_counts(Topic::ultrasound_frame).accepted + station.boundary_counts(Topic::tool_pose).accepted, counts.accepted);
   EXPECT_GE(received.boundary.non_finite, 1u);
   EXPECT_GE(received.boundary.non_unit_quaternion, 1u);
   EXPECT_GE(received.boundary.unknown_tool, 1u);

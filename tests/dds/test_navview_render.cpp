@@ -158,6 +158,32 @@ TEST(NavviewRender, TheStationsHealthIsABandGreenOnlyWhileItRunsHealthy) {
   EXPECT_EQ(band_colour(composer.render({})), cv::Vec3b(0, 0, 0));  // no health yet: no band
 }
 
+TEST(NavviewRender, AnInputInTroubleTurnsTheBandAndIsNamedOnIt) {
+  CompositeOptions wide = scene_options();  // a band long enough for every word
+  wide.panel_height_px = 600;
+  Composer composer(wide, scene_triangles());
+  const auto band_colour = [](const cv::Mat& image) { return image.at<cv::Vec3b>(image.rows - 2, 1); };
+  const auto text_pixels = [](const cv::Mat& image) {  // white pixels in the band
+    int count = 0;
+    for (int y = image.rows - 20; y < image.rows; ++y)
+      for (int x = 0; x < image.cols; ++x) count += near_colour(image.at<cv::Vec3b>(y, x), palette::kText, 60) ? 1 : 0;
+    return count;
+  };
+  dds::StationHealth health;
+  health.mode = dds::StationMode::running;
+  StationStatus status{&health, "none"};
+  const auto needle = static_cast<std::size_t>(dds::StationInput::needle);
+  health.input_flags[needle] = static_cast<std::uint32_t>(HealthFlag::bad_sample);  // the input alone
+  EXPECT_TRUE(near_colour(band_colour(composer.render({}, &status)), palette::kStatusDegraded, 0));
+  // The same red band with and without the input named: its name and flags are the extra text.
+  health.flags = static_cast<std::uint32_t>(HealthFlag::bad_sample);
+  const int named_text = text_pixels(composer.render({}, &status));
+  health.input_flags[needle] = 0;
+  const int unnamed_text = text_pixels(composer.render({}, &status));
+  std::printf("band text: %d white pixels, %d with \" | needle: bad_sample\"\n", unnamed_text, named_text);
+  EXPECT_GT(named_text, unnamed_text + 100);  // about 20 characters more
+}
+
 TEST(NavviewRender, WithoutAnyInputThePanelsAreBlank) {
   Composer composer(scene_options(), scene_triangles());
   const cv::Mat& image = composer.render({});

@@ -5,9 +5,13 @@
 // each repeated pose, frame stamp and truth is the recording's one period earlier.
 #include <gtest/gtest.h>
 
+#include <array>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <memory>
+#include <thread>
 #include <vector>
 
 #include "demo_station.hpp"
@@ -32,16 +36,23 @@ WorldOptions short_world() {
   return options;
 }
 
-/// Every frame's stamp and sequence number, without its pixels.
+/// Every frame's stamp and sequence number, without its pixels (written by the listener,
+/// read by the test once count() stops growing).
 class FrameStamps final : public dds::SampleSink<dds::UltrasoundFrame> {
  public:
-  FrameStamps() { stamps.reserve(1024); }
   dds::SampleFault offer(const dds::UltrasoundFrame& frame) noexcept override {
-    if (stamps.size() == stamps.capacity()) return dds::SampleFault::buffer_full;
-    stamps.push_back({frame.source_time_ns, frame.sequence_number});
+    const std::size_t n = count_.load(std::memory_order_relaxed);
+    if (n == stamps_.size()) return dds::SampleFault::buffer_full;
+    stamps_[n] = {frame.source_time_ns, frame.sequence_number};
+    count_.store(n + 1, std::memory_order_release);
     return dds::SampleFault::none;
   }
-  std::vector<std::pair<TimeNs, std::uint64_t>> stamps;  // written by the one listener thread
+  std::size_t count() const noexcept { return count_.load(std::memory_order_acquire); }
+  const std::pair<TimeNs, std::uint64_t>& operator[](std::size_t i) const noexcept { return stamps_[i]; }
+
+ private:
+  std::array<std::pair<TimeNs, std::uint64_t>, 1024> stamps_{};
+  std::atomic<std::size_t> count_{0};
 };
 
 TEST(SimulatedWorld, TheNeedleStopsAfterItsTravelAndThePeriodHoldsWholeBreathsAndSweeps) {
@@ -93,7 +104,11 @@ TEST(WorldPlayer, PlaysOnPastItsRecordingByRepeatingItsLastPeriod) {
     clock.sleep_until_ns(clock.now_ns() + kNsPerMs);
   }
   EXPECT_FALSE(player.finished());
-  ASSERT_TRUE(out.wait_for_acknowledgments(5 * kNsPerSecond));
+  ASSERT_TRUE(out.wait_for_acknowledgments(5 * kNsPerSecond));  // the truths (reliable)
+  for (std::size_t seen = 0; seen != frames->count() + poses->size();) {  // the best-effort poses and frames
+    seen = frames->count() + poses->size();
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
 
   // Poses: per tool, in time and sequence order; each past the recording is the one a period before.
   std::map<std::uint32_t, std::map<TimeNs, dds::ToolPose>> by_tool;
@@ -130,14 +145,15 @@ TEST(WorldPlayer, PlaysOnPastItsRecordingByRepeatingItsLastPeriod) {
   EXPECT_NEAR(static_cast<double>(repeated), expected_poses / 2.0, 0.02 * expected_poses);
 
   // Frames: in time and sequence order at the scanner's rate over the whole played time.
-  ASSERT_FALSE(frames->stamps.empty());
-  for (std::size_t i = 1; i < frames->stamps.size(); ++i) {
-    EXPECT_GT(frames->stamps[i].first, frames->stamps[i - 1].first);
-    EXPECT_GT(frames->stamps[i].second, frames->stamps[i - 1].second);
+  const FrameStamps& f = *frames;
+  ASSERT_GT(f.count(), 0u);
+  for (std::size_t i = 1; i < f.count(); ++i) {
+    EXPECT_GT(f[i].first, f[i - 1].first);
+    EXPECT_GT(f[i].second, f[i - 1].second);
   }
   const double expected_frames = scene.devices.ultrasound.rate_hz * 1e-9 * static_cast<double>(kPlayed);
-  EXPECT_NEAR(static_cast<double>(frames->stamps.size()), expected_frames, 2.0);
-  EXPECT_GT(frames->stamps.back().first, kPlayed - kNsPerSecond);
+  EXPECT_NEAR(static_cast<double>(f.count()), expected_frames, 2.0);
+  EXPECT_GT(f[f.count() - 1].first, kPlayed - kNsPerSecond);
 
   // Truths: one per tissue step to the end of play; past the recording, a period before's.
   std::map<TimeNs, dds::GroundTruth> truth;

@@ -107,6 +107,18 @@ class DisplaySurfacePublisher {
   MonotonicClock clock_;
 };
 
+/// Each input's samples refused so far: the needle's, probe's and respiratory marker's poses
+/// (by the inbox, whatever refused them) and the ultrasound's frames (by their reader).
+dds::PerInput<std::uint64_t> input_refusals(const StationDdsLink& link) {
+  const dds::PoseInbox& poses = *link.poses;
+  const auto of_tool = [&poses](std::uint32_t tool_id) {
+    const int slot = poses.slot_of(tool_id);
+    return slot < 0 ? std::uint64_t{0} : poses.refused(static_cast<std::size_t>(slot));
+  };
+  return {of_tool(link.tools.needle), of_tool(link.tools.probe), of_tool(link.tools.respiratory),
+          dds::refused_as_invalid(link.station->boundary_counts(dds::Topic::ultrasound_frame))};
+}
+
 /// The station's outputs on DDS, on a thread of their own beside the I/O thread (its core, one
 /// SCHED_FIFO priority above it where the loop's allows): the outbox (predictions, needle
 /// states, health) as soon as the loop pushes it and the deformed surface, so that a frame
@@ -117,7 +129,7 @@ void output_thread(StationChannels& ch, const StationRunOptions& options, Statio
   if (options.io_priority > 0) request_fifo(options.io_priority + 1 < options.realtime.priority ? options.io_priority + 1 : options.io_priority);
   dds::OutboxPublisher publisher(options.dds->bad_sample_hold_ns);
   const auto publish = [&] {
-    report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station, ch.clock.now_ns()));
+    report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station, ch.clock.now_ns(), input_refusals(link)));
     if (!ch.outputs.update()) return;
     ++run.outputs_read;
     surfaces.publish(ch.outputs.read(), ch.start_ns, *link.station);
@@ -277,6 +289,7 @@ void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, con
   health.source_time_ns = o.time_ns + loop_to_host_ns;
   health.mode = o.degraded ? dds::StationMode::degraded : dds::StationMode::running;
   health.flags = health_flag_bits(o);
+  health.input_flags = {o.needle.flags.bits(), o.probe.flags.bits(), o.respiratory.flags.bits(), o.ultrasound.flags.bits()};
   health.step_time_max_ns = step_max_ns;
   health.deadline_misses = deadline_misses;
   outbox.health.try_push(health);
@@ -356,6 +369,7 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
   report.surface_periods_passed_over = surfaces.passed_over();
   report.surface_reconstruction = latency_statistics(surfaces.reconstruction_us());
   report.boundary = link.station->boundary_counts();
+  report.input_refused = input_refusals(link);
   report.poses_lost = link.station->samples_lost(dds::Topic::tool_pose);
   report.frames_lost = link.station->samples_lost(dds::Topic::ultrasound_frame);
   report.unregistered_poses = registration.unregistered_poses;

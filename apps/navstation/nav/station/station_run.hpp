@@ -125,6 +125,7 @@ struct DdsRunReport {
   std::int64_t surface_periods_passed_over = 0;  ///< periods of liver time the I/O thread read no output in (it lagged)
   LatencyStatistics surface_reconstruction;  ///< the I/O thread's time per surface
   dds::BoundaryCounts boundary;     ///< what the station's participant accepted and refused, by reason
+  dds::PerInput<std::uint64_t> input_refused{};  ///< of those refused, each input's (the rest: not a configured tool's)
   std::int64_t unregistered_poses = 0;  ///< poses before the tracked reference's first (not used)
 };
 

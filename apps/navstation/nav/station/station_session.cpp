@@ -225,6 +225,7 @@ std::string run_figures(const Scene& scene, const StationRun& run, const Display
                   static_cast<double>(d.frames_lost));
     out += format("  samples accepted %.0f;", static_cast<double>(d.boundary.accepted));
     out += " dropped at the boundary: " + dds::drops_by_reason(d.boundary) + "\n";
+    if (dds::refused_as_invalid(d.boundary) > 0) out += "  refused by input: " + dds::refusals_by_input(d.input_refused) + "\n";
     if (const std::optional<std::uint32_t> reference = scene.devices.tracker.tools.reference)
       out += format("  registered to the model through the reference (tool %.0f); poses before its first, not used: %.0f\n",
                     static_cast<double>(*reference), static_cast<double>(d.unregistered_poses));
@@ -360,6 +361,10 @@ std::string live_session_json(const Scene& scene, const LiveSession& s) {
                 static_cast<double>(d.poses_received), static_cast<double>(d.frames_received), static_cast<double>(d.boundary.accepted),
                 static_cast<double>(dds::refused_as_invalid(d.boundary)));
   out += format(" \"poses_lost\": %.0f, \"frames_lost\": %.0f,", static_cast<double>(d.poses_lost), static_cast<double>(d.frames_lost));
+  out += "\n  \"refused_by_input\": {";
+  for (std::size_t i = 0; i < dds::kStationInputCount; ++i)
+    out += std::string(i == 0 ? "\"" : ", \"") + dds::station_input_name(static_cast<dds::StationInput>(i)) + "\": " + std::to_string(d.input_refused[i]);
+  out += "},";
   return out + format(" \"outputs_published\": %.0f\n}\n", static_cast<double>(d.outputs_published));
 }
 

@@ -6,6 +6,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "nav/core/health_names.hpp"
+#include "nav/dds/sample_fault.hpp"
 #include "nav/view/frame_overlay.hpp"
 #include "nav/view/palette.hpp"
 
@@ -60,15 +61,20 @@ const char* mode_name(dds::StationMode mode) {
   return "in an unknown mode";
 }
 
-/// "station running | healthy | dropped at the boundary: none" across the canvas's bottom.
+/// "station running | healthy | dropped at the boundary: none" across the canvas's bottom, with
+/// each input in trouble ("needle: bad_sample stale_input") after the station's flags.
 void draw_status_band(cv::Mat& canvas, const StationStatus& status) {
   const dds::StationHealth& health = *status.health;
-  const bool healthy = health.mode == dds::StationMode::running && health.flags == 0;
+  bool healthy = health.mode == dds::StationMode::running && health.flags == 0;
+  for (const std::uint32_t flags : health.input_flags) healthy = healthy && flags == 0;
   cv::Mat band = canvas(cv::Rect(0, canvas.rows - kStatusBandPx, canvas.cols, kStatusBandPx));
   band.setTo(healthy ? palette::kStatusHealthy : palette::kStatusDegraded);
   const std::string flags = health_flag_names(health.flags);
-  const std::string text = std::string("station ") + mode_name(health.mode) + " | " + (flags.empty() ? "healthy" : flags) +
-                           " | dropped at the boundary: " + status.drops;
+  std::string text = std::string("station ") + mode_name(health.mode) + " | " + (flags.empty() ? "healthy" : flags);
+  for (std::size_t i = 0; i < dds::kStationInputCount; ++i)  // the inputs in trouble, each with its own flags
+    if (health.input_flags[i] != 0)
+      text += std::string(" | ") + dds::station_input_name(static_cast<dds::StationInput>(i)) + ": " + health_flag_names(health.input_flags[i]);
+  text += " | dropped at the boundary: " + status.drops;
   cv::putText(band, text, cv::Point(6, kStatusBandPx - 7), cv::FONT_HERSHEY_SIMPLEX, kCaptionScale, palette::kText, 1, cv::LINE_AA);
 }
 

@@ -65,8 +65,12 @@ class SinkListener final : public fdds::DataReaderListener, public TopicState {
   SampleFault accept() noexcept {
     const TimeNs arrival_ns = clock_.now_ns();
     SampleFault fault = from_wire(wire_, *sample_);
-    if (fault == SampleFault::none) fault = boundary_.admit(*sample_, arrival_ns);
     if (fault != SampleFault::none) return fault;
+    fault = boundary_.admit(*sample_, arrival_ns);
+    if (fault != SampleFault::none) {
+      sink_.on_refused(*sample_, fault);
+      return fault;
+    }
     sample_->receive_time_ns = arrival_ns;
     return sink_.offer(*sample_);
   }
@@ -85,7 +89,8 @@ class SinkListener final : public fdds::DataReaderListener, public TopicState {
 /// The participant, its entities and the listeners' state.
 struct DdsNode::Impl {
   TopicQosOptions qos;
-  BoundaryCounters counters;
+  BoundaryCounters counters;  ///< over every topic
+  std::array<std::unique_ptr<BoundaryCounters>, kTopicCount> topic_counters{};  ///< each counting into counters
   std::array<std::unique_ptr<TopicState>, kTopicCount> write_scratch{};
   std::array<std::unique_ptr<TopicState>, kTopicCount> listeners{};
   fdds::DomainParticipant* participant = nullptr;
@@ -104,9 +109,10 @@ struct DdsNode::Impl {
 
   template <typename Sample>
   bool create_topic() {
-    fdds::TypeSupport type(new CheckedPubSubType<Sample>(counters));
-    if (type.register_type(participant) != ReturnCode_t::RETCODE_OK) return false;
     constexpr Topic topic = WireTraits<Sample>::topic;
+    topic_counters[index_of(topic)] = std::make_unique<BoundaryCounters>(counters);
+    fdds::TypeSupport type(new CheckedPubSubType<Sample>(*topic_counters[index_of(topic)]));
+    if (type.register_type(participant) != ReturnCode_t::RETCODE_OK) return false;
     topics[index_of(topic)] = participant->create_topic(topic_name(topic, qos.names), type.get_type_name(), fdds::TopicQos());
     return topics[index_of(topic)] != nullptr;
   }
@@ -170,7 +176,7 @@ template <typename Sample>
 Status DdsNode::subscribe(SampleSink<Sample>& sink, std::optional<ArrivalWindow> window) {
   constexpr std::size_t i = index_of(WireTraits<Sample>::topic);
   if (impl_->readers[i] != nullptr) return Error{"topic already subscribed", "", 0, topic_name(WireTraits<Sample>::topic)};
-  auto listener = std::make_unique<SinkListener<Sample>>(sink, impl_->counters, window);
+  auto listener = std::make_unique<SinkListener<Sample>>(sink, *impl_->topic_counters[i], window);
   impl_->readers[i] = impl_->subscriber->create_datareader(
       impl_->topics[i], reader_qos(WireTraits<Sample>::topic, impl_->qos), listener.get());
   if (impl_->readers[i] == nullptr) return Error{"Fast DDS refused the reader", "", 0, topic_name(WireTraits<Sample>::topic)};
@@ -219,6 +225,11 @@ bool DdsNode::wait_for_acknowledgments(TimeNs timeout_ns) const {
 }
 
 BoundaryCounts DdsNode::boundary_counts() const noexcept { return impl_->counters.snapshot(); }
+
+BoundaryCounts DdsNode::boundary_counts(Topic topic) const noexcept {
+  const std::unique_ptr<BoundaryCounters>& counters = impl_->topic_counters[index_of(topic)];
+  return counters ? counters->snapshot() : BoundaryCounts{};
+}
 
 std::uint64_t DdsNode::samples_lost(Topic topic) const {
   fdds::DataReader* reader = impl_->readers[index_of(topic)];

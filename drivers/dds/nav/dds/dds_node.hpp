@@ -58,6 +58,8 @@ class DdsNode {
 
   /// Samples accepted and dropped by this node's readers, by reason.
   BoundaryCounts boundary_counts() const noexcept;
+  /// Those of the reader of `topic` alone.
+  BoundaryCounts boundary_counts(Topic topic) const noexcept;
   /// Samples of `topic` that DDS saw sent to this node's reader and never delivered (gaps in
   /// a writer's sequence: lost on the way or overwritten in a full history); 0 unsubscribed.
   std::uint64_t samples_lost(Topic topic) const;

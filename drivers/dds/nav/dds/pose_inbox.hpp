@@ -18,13 +18,15 @@ inline constexpr std::size_t kMaxTools = 8;
 
 /// Per-tool latest-pose hand-off. offer() runs on one I/O thread (the pose listener);
 /// update()/latest() run on the real-time thread. Poses of tools not configured are refused,
-/// and so are poses outside `bounds` (PoseBounds) and poses older than the tool's previous one.
+/// and so are poses outside `bounds` (PoseBounds) and poses older than the tool's previous one;
+/// every refused pose of a configured tool, here or at the boundary before, counts for its tool.
 class PoseInbox final : public SampleSink<ToolPose> {
  public:
   /// The tools to accept, by id (at most kMaxTools; extra ids are ignored).
   explicit PoseInbox(std::initializer_list<std::uint32_t> tool_ids, const PoseBounds& bounds = {}) noexcept;
 
   SampleFault offer(const ToolPose& pose) noexcept override;
+  void on_refused(const ToolPose& pose, SampleFault fault) noexcept override;
 
   /// The slot of `tool_id`, or -1 when the tool is not configured.
   int slot_of(std::uint32_t tool_id) const noexcept;
@@ -38,6 +40,8 @@ class PoseInbox final : public SampleSink<ToolPose> {
   /// Poses accepted by offer() so far, every tool together (any thread): with the poses
   /// taken by update(), it tells how many a newer pose replaced before they were taken.
   std::uint64_t accepted() const noexcept { return accepted_.load(std::memory_order_relaxed); }
+  /// Poses of the tool in `slot` refused so far (any thread).
+  std::uint64_t refused(std::size_t slot) const noexcept { return refused_[slot].load(std::memory_order_relaxed); }
 
  private:
   /// One tool's id, its hand-off and, writer side, the time order of its stream and its last
@@ -53,6 +57,9 @@ class PoseInbox final : public SampleSink<ToolPose> {
   std::array<Tool, kMaxTools> tools_{};
   std::size_t tool_count_ = 0;
   std::atomic<std::uint64_t> accepted_{0};
+  std::array<std::atomic<std::uint64_t>, kMaxTools> refused_{};
+  /// Counts a refusal for `slot` and returns its fault.
+  SampleFault refuse(int slot, SampleFault fault) noexcept;
 };
 
 }  // namespace nav::dds

@@ -21,6 +21,16 @@ const char* sample_fault_name(SampleFault fault) noexcept {
   return "unknown";
 }
 
+const char* station_input_name(StationInput input) noexcept {
+  switch (input) {
+    case StationInput::needle: return "needle";
+    case StationInput::probe: return "probe";
+    case StationInput::respiratory: return "respiratory";
+    case StationInput::ultrasound: return "ultrasound";
+  }
+  return "unknown";
+}
+
 namespace {
 
 /// Every drop count of `counts` with its cause, in the order summaries list them.
@@ -43,6 +53,13 @@ std::uint64_t refused_as_invalid(const BoundaryCounts& counts) noexcept {
   for (const auto& [fault, count] : drops_of(counts))
     if (fault != SampleFault::buffer_full) refused += count;
   return refused;
+}
+
+std::string refusals_by_input(const PerInput<std::uint64_t>& refused) {
+  std::string text;
+  for (std::size_t i = 0; i < kStationInputCount; ++i)
+    text += std::string(i == 0 ? "" : ", ") + station_input_name(static_cast<StationInput>(i)) + " " + std::to_string(refused[i]);
+  return text;
 }
 
 std::string drops_by_reason(const BoundaryCounts& counts) {

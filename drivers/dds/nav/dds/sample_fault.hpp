@@ -28,6 +28,12 @@ enum class SampleFault : std::uint8_t {
 /// The fault's name in snake case, for logs.
 const char* sample_fault_name(SampleFault fault) noexcept;
 
+/// The input's name in snake case, for logs and displays ("needle", "respiratory", ...).
+const char* station_input_name(StationInput input) noexcept;
+
+/// Each input's refusals for a summary: "needle 3, probe 0, respiratory 0, ultrasound 1".
+std::string refusals_by_input(const PerInput<std::uint64_t>& refused);
+
 /// The samples `counts` refused as invalid: every reason but a full hand-off buffer.
 std::uint64_t refused_as_invalid(const BoundaryCounts& counts) noexcept;
 
@@ -38,9 +44,14 @@ std::string drops_by_reason(const BoundaryCounts& counts);
 /// Counts of accepted and dropped samples. Any thread may count; any thread may read.
 class BoundaryCounters {
  public:
+  BoundaryCounters() = default;
+  /// Counters of one topic that also count into `total` (their node's, over its topics).
+  explicit BoundaryCounters(BoundaryCounters& total) noexcept : total_(&total) {}
+
   /// Counts one sample with its verdict. Lock-free, no allocation.
   void count(SampleFault fault) noexcept {
     counts_[static_cast<std::size_t>(fault)].fetch_add(1, std::memory_order_relaxed);
+    if (total_ != nullptr) total_->count(fault);
   }
   /// The counts at the time of the call.
   BoundaryCounts snapshot() const noexcept;
@@ -48,6 +59,7 @@ class BoundaryCounters {
  private:
   static constexpr std::size_t kFaultKinds = static_cast<std::size_t>(SampleFault::buffer_full) + 1;
   std::array<std::atomic<std::uint64_t>, kFaultKinds> counts_{};
+  BoundaryCounters* total_ = nullptr;
 };
 
 }  // namespace nav::dds

@@ -17,6 +17,9 @@ class SampleSink {
   virtual ~SampleSink() = default;
   /// Takes a copy of `sample`: none when stored, otherwise the reason it was not.
   virtual SampleFault offer(const Sample& sample) noexcept = 0;
+  /// Told of a decoded sample its boundary refused before offering it (for the sink's own
+  /// accounting, e.g. per tool); never blocks, never allocates.
+  virtual void on_refused(const Sample& /*sample*/, SampleFault /*fault*/) noexcept {}
 };
 
 /// A sink that queues every sample for one consumer thread (frames for the core, outputs

@@ -105,6 +105,15 @@ struct BoundaryCounts {
   std::uint64_t buffer_full = 0;
 };
 
+/// The station's inputs, each with its own health: the tracked needle, probe and respiratory
+/// marker (tool poses) and the ultrasound (frames).
+enum class StationInput : std::uint32_t { needle = 0, probe = 1, respiratory = 2, ultrasound = 3 };
+inline constexpr std::size_t kStationInputCount = 4;
+
+/// One count or flag set per StationInput, in its order.
+template <typename Value>
+using PerInput = std::array<Value, kStationInputCount>;
+
 /// What the station is doing, as published in its health.
 enum class StationMode : std::uint32_t { starting = 0, running = 1, degraded = 2, stopped = 3 };
 
@@ -118,6 +127,8 @@ struct StationHealth {
   TimeNs step_time_max_ns = 0;
   std::uint64_t deadline_misses = 0;
   BoundaryCounts boundary{};
+  PerInput<std::uint32_t> input_flags{};   // HealthFlags bits of each input (bad_sample: refused within the hold)
+  PerInput<std::uint64_t> input_refused{};  // each input's samples refused at the boundary so far
 };
 
 }  // namespace nav::dds

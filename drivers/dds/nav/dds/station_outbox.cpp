@@ -21,7 +21,17 @@ std::size_t drain(Ring& ring, Sample& item, DdsNode& node, Prepare prepare) {
 OutboxPublisher::OutboxPublisher(TimeNs bad_sample_hold_ns)
     : surface_(std::make_unique<DeformedSurface>()), bad_sample_hold_ns_(bad_sample_hold_ns) {}
 
-std::size_t OutboxPublisher::publish(StationOutbox& outbox, DdsNode& node, TimeNs now_ns) {
+bool OutboxPublisher::RefusalHold::raised(std::uint64_t count, TimeNs now_ns, TimeNs hold_ns) noexcept {
+  if (count > seen) {
+    seen = count;
+    grew_ns = now_ns;
+    grew_ever = true;
+  }
+  return grew_ever && now_ns - grew_ns < hold_ns;
+}
+
+std::size_t OutboxPublisher::publish(StationOutbox& outbox, DdsNode& node, TimeNs now_ns, const PerInput<std::uint64_t>& input_refused) {
+  constexpr auto bad_sample = static_cast<std::uint32_t>(HealthFlag::bad_sample);
   const auto as_is = [](const auto&) {};
   NeedleState needle;
   TargetPrediction prediction;
@@ -32,13 +42,10 @@ std::size_t OutboxPublisher::publish(StationOutbox& outbox, DdsNode& node, TimeN
   written += drain(outbox.health, health, node, [&](StationHealth& sample) {
     sample.boundary = node.boundary_counts();
     if (outbox.dropped() > 0) sample.flags |= static_cast<std::uint32_t>(HealthFlag::buffer_overrun);
-    const std::uint64_t refused = refused_as_invalid(sample.boundary);
-    if (refused > refused_seen_) {
-      refused_seen_ = refused;
-      last_refusal_seen_ns_ = now_ns;
-      refused_any_ = true;
-    }
-    if (refused_any_ && now_ns - last_refusal_seen_ns_ < bad_sample_hold_ns_) sample.flags |= static_cast<std::uint32_t>(HealthFlag::bad_sample);
+    if (station_.raised(refused_as_invalid(sample.boundary), now_ns, bad_sample_hold_ns_)) sample.flags |= bad_sample;
+    sample.input_refused = input_refused;
+    for (std::size_t i = 0; i < kStationInputCount; ++i)
+      if (inputs_[i].raised(input_refused[i], now_ns, bad_sample_hold_ns_)) sample.input_flags[i] |= bad_sample;
   });
   return written;
 }

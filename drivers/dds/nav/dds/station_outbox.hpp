@@ -30,22 +30,31 @@ struct StationOutbox {
 inline constexpr TimeNs kBadSampleHoldNs = 2 * kNsPerSecond;
 
 /// Drains a StationOutbox into a DdsNode (I/O thread). Health samples leave with the node's
-/// boundary counts filled in, HealthFlag::buffer_overrun raised if the outbox dropped, and
-/// HealthFlag::bad_sample raised while the node refused an input sample (any cause but a
-/// full hand-off buffer) within the last `bad_sample_hold_ns`.
+/// boundary counts and each input's refusals filled in, HealthFlag::buffer_overrun raised if
+/// the outbox dropped, and HealthFlag::bad_sample raised while the node refused an input
+/// sample (any cause but a full hand-off buffer) within the last `bad_sample_hold_ns`: on the
+/// station's flags for any refusal, and on an input's flags for that input's.
 class OutboxPublisher {
  public:
   explicit OutboxPublisher(TimeNs bad_sample_hold_ns = kBadSampleHoldNs);
-  /// Publishes everything waiting in `outbox` at `now_ns` (monotonic); returns the number of
-  /// samples written.
-  std::size_t publish(StationOutbox& outbox, DdsNode& node, TimeNs now_ns);
+  /// Publishes everything waiting in `outbox` at `now_ns` (monotonic), with `input_refused`
+  /// (each input's samples refused so far); returns the number of samples written.
+  std::size_t publish(StationOutbox& outbox, DdsNode& node, TimeNs now_ns, const PerInput<std::uint64_t>& input_refused = {});
 
  private:
+  /// When a count of refusals last grew, to hold bad_sample up after it.
+  struct RefusalHold {
+    std::uint64_t seen = 0;
+    TimeNs grew_ns = 0;
+    bool grew_ever = false;
+    /// Takes the count at `now_ns`; whether it grew within the last `hold_ns`.
+    bool raised(std::uint64_t count, TimeNs now_ns, TimeNs hold_ns) noexcept;
+  };
+
   std::unique_ptr<DeformedSurface> surface_;  // the largest output, popped into here
   TimeNs bad_sample_hold_ns_;
-  std::uint64_t refused_seen_ = 0;  ///< invalid samples the node had refused at the last health sample
-  TimeNs last_refusal_seen_ns_ = 0;
-  bool refused_any_ = false;
+  RefusalHold station_;        ///< every sample the node refused as invalid
+  PerInput<RefusalHold> inputs_{};
 };
 
 }  // namespace nav::dds

@@ -174,6 +174,10 @@ void to_wire(const StationHealth& sample, nav_msgs::StationHealth& wire) {
   wire.dropped_unknown_tool(sample.boundary.unknown_tool);
   wire.dropped_implausible_pose(sample.boundary.implausible_pose);
   wire.dropped_buffer_full(sample.boundary.buffer_full);
+  for (std::size_t i = 0; i < kStationInputCount; ++i) {
+    wire.input_flags()[i] = sample.input_flags[i];
+    wire.input_refused()[i] = sample.input_refused[i];
+  }
 }
 
 SampleFault from_wire(const nav_msgs::StationHealth& wire, StationHealth& sample) noexcept {
@@ -194,6 +198,10 @@ SampleFault from_wire(const nav_msgs::StationHealth& wire, StationHealth& sample
   sample.boundary.unknown_tool = wire.dropped_unknown_tool();
   sample.boundary.implausible_pose = wire.dropped_implausible_pose();
   sample.boundary.buffer_full = wire.dropped_buffer_full();
+  for (std::size_t i = 0; i < kStationInputCount; ++i) {
+    sample.input_flags[i] = wire.input_flags()[i];
+    sample.input_refused[i] = wire.input_refused()[i];
+  }
   return SampleFault::none;
 }
 
