@@ -440,7 +440,8 @@ TEST(LiveStation, TheShippedRealLiverSceneRunsItsLadderOnItsArtifactsFromThePlus
   // with no NDI device here, the recording's probe and stylus as its tools).
   const std::string liver_dir = shared_data_path("liver");
   const std::string recording = shared_data_path("plus/SpinePhantomFreehand.igs.mha");
-  if (!file_exists(liver_dir + "/liverFine.vtu") || !file_exists(recording)) GTEST_SKIP() << "no " << liver_dir << " or " << recording;
+  NAV_REQUIRE_SHARED_DATA(liver_dir + "/liverFine.vtu");
+  NAV_REQUIRE_SHARED_DATA(recording);
   const std::string scene = example_scene_path("liver_reduced.yaml");
   const std::string lower = example_scene_path("../../../build/liver_fine.navrb");
   const std::string upper = example_scene_path("../../../build/liver_fine_r32.navrb");
@@ -463,7 +464,7 @@ TEST(LiveStation, TheShippedRealLiverSceneRunsItsLadderOnItsArtifactsFromThePlus
 
 TEST(LiveStation, APlusRecordingPlaysIntoTheStationFrameByFrame) {
   const std::string recording = shared_data_path("plus/SpinePhantomFreehand.igs.mha");
-  if (!file_exists(recording)) GTEST_SKIP() << "no " << recording;
+  NAV_REQUIRE_SHARED_DATA(recording);
   // The probe's calibration from PLUS's own fCal recordings (navtool calib probe): its joint
   // in the station's URDF, its pixel spacing the scene's (the recording says 1 x 1 mm).
   const std::string urdf = temporary_path("plus_calibrated.urdf");
@@ -512,7 +513,7 @@ TEST(LiveStation, ThePlusPlayerNamesWhatIsWrong) {
   EXPECT_NE(missing.log().find("/nonexistent/session.mha"), std::string::npos) << missing.log();
 
   const std::string recording = shared_data_path("plus/SpinePhantomFreehand.igs.mha");
-  if (!file_exists(recording)) GTEST_SKIP() << "no " << recording;
+  NAV_REQUIRE_SHARED_DATA(recording);
   const std::string scene = plus_scene(recording);
   ChildProcess no_track({kBin + "/navdevice", "plus", "--scene", scene, "--no-wait", "--transform", "NeedleToTracker=needle"},
                         temporary_path("plus_no_track.log"));

@@ -59,7 +59,7 @@ std::size_t pareto_count(const std::vector<Record>& records) {
 
 TEST(NavbenchTradeoff, QuickRunWritesRecordsAndParetoPlot) {
   const std::string liver = nav::testing::shared_data_path("liver/liver-smoothUV.obj");
-  if (!nav::testing::file_exists(liver)) GTEST_SKIP() << "shared data missing: " << liver;
+  NAV_REQUIRE_SHARED_DATA(liver);
   const std::filesystem::path json = nav::testing::temporary_path("navbench_tradeoff_quick.json");
   const std::filesystem::path svg = nav::testing::temporary_path("navbench_tradeoff_quick.svg");
   const auto run = nav::testing::run_command(nav::testing::executable_path("navbench") + " tradeoff --quick --json " +

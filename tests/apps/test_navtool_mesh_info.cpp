@@ -19,7 +19,7 @@ ProcessRun navtool(const std::string& arguments, const std::string& streams = "2
 std::string liver_vtu() { return nav::testing::shared_data_path("liver/liverFine.vtu"); }
 
 TEST(NavtoolMeshInfo, LiverAsJsonHasItsCountsAndAClosedBoundary) {
-  if (!nav::testing::file_exists(liver_vtu())) GTEST_SKIP() << "shared data missing: " << liver_vtu();
+  NAV_REQUIRE_SHARED_DATA(liver_vtu());
   const ProcessRun run = navtool("mesh info " + liver_vtu() + " --unit cm --json");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   for (const std::string& expected :

@@ -45,7 +45,7 @@ std::vector<double> json_array(const std::string& text, const std::string& key) 
 
 #define LIVER_OR_SKIP(dir)                                                                                      \
   const std::string dir = nav::testing::shared_data_path("liver");                                             \
-  if (!nav::testing::file_exists(dir + "/liver-smoothUV.obj")) GTEST_SKIP() << "shared data missing: " << dir
+  NAV_REQUIRE_SHARED_DATA(dir + "/liver-smoothUV.obj")
 
 TEST(NavtoolReduce, PodArtifactReportsEnergyAndCubatureAndLoadsForItsMeshOnly) {
   LIVER_OR_SKIP(dir);

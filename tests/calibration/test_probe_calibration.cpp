@@ -139,7 +139,8 @@ TEST(NWireCalibration, RealFcalRecordingValidatedOnTheIndependentSet) {
   const std::string xml = plus_path("PlusDeviceSet_fCal_Sim_SpatialCalibration_2.0.xml");
   const std::string calibration_file = plus_path("fCal_Test_Calibration_3NWires_fCal2.0.igs.mha");
   const std::string validation_file = plus_path("fCal_Test_Validation_3NWires_fCal2.0.igs.mha");
-  if (!nav::testing::file_exists(calibration_file) || !nav::testing::file_exists(validation_file)) GTEST_SKIP();
+  NAV_REQUIRE_SHARED_DATA(calibration_file);
+  NAV_REQUIRE_SHARED_DATA(validation_file);
   const auto phantom = load_nwire_phantom(xml);
   ASSERT_TRUE(phantom.ok()) << phantom.error().describe();
   const auto recording = ultrasound::read_plus_sequence(calibration_file);

@@ -44,7 +44,8 @@ TEST(NavtoolCalibProbe, RealFcalRecordingWritesTheImageJoint) {
   const std::string xml = shared_data_path("plus/PlusDeviceSet_fCal_Sim_SpatialCalibration_2.0.xml");
   const std::string recording = shared_data_path("plus/fCal_Test_Calibration_3NWires_fCal2.0.igs.mha");
   const std::string validation = shared_data_path("plus/fCal_Test_Validation_3NWires_fCal2.0.igs.mha");
-  if (!nav::testing::file_exists(recording) || !nav::testing::file_exists(validation)) GTEST_SKIP();
+  NAV_REQUIRE_SHARED_DATA(recording);
+  NAV_REQUIRE_SHARED_DATA(validation);
   const std::string out = temporary_path("calib_probe_station.urdf");
   const auto run = run_command(executable_path("navtool") + " calib probe --recording " + recording + " --phantom " + xml +
                                " --validation " + validation + " --urdf " + kStationUrdf + " --out " + out + " 2>&1");
@@ -63,7 +64,7 @@ TEST(NavtoolCalibProbe, RealFcalRecordingWritesTheImageJoint) {
 
 TEST(NavtoolCalibProbe, PhantomNotFoundAndMissingTrackAreErrors) {
   const std::string xml = shared_data_path("plus/PlusDeviceSet_fCal_Sim_SpatialCalibration_2.0.xml");
-  if (!nav::testing::file_exists(xml)) GTEST_SKIP();
+  NAV_REQUIRE_SHARED_DATA(xml);
   const std::string blank = blank_recording(12, true);
   const auto not_found = run_command(executable_path("navtool") + " calib probe --recording " + blank + " --phantom " + xml + " 2>&1");
   EXPECT_EQ(not_found.exit_code, 2);

@@ -86,7 +86,7 @@ TEST(PointRegistration, CollinearPointsAreRefused) {
 
 TEST(SurfaceIcp, RegistersTheLiverSurfaceFromNoisyPoints) {
   const std::string path = nav::testing::shared_data_path("liver/liver-smoothUV.obj");
-  if (!nav::testing::file_exists(path)) GTEST_SKIP() << "no " << path;
+  NAV_REQUIRE_SHARED_DATA(path);
   auto surface = load_surface(path, LengthUnit::centimetre);
   ASSERT_TRUE(surface.ok()) << surface.error().describe();
   const TriSurface& liver = surface.value();

@@ -100,7 +100,8 @@ TEST(TemporalCalibration, LineRowOfADrawnLine) {
 TEST(TemporalCalibration, RealWaterTankTrackerToVideoLag) {
   const std::string video_path = nav::testing::shared_data_path("plus/WaterTankBottomTranslationVideoBuffer.igs.mha");
   const std::string tracker_path = nav::testing::shared_data_path("plus/WaterTankBottomTranslationTrackerBuffer.igs.mha");
-  if (!nav::testing::file_exists(video_path) || !nav::testing::file_exists(tracker_path)) GTEST_SKIP();
+  NAV_REQUIRE_SHARED_DATA(video_path);
+  NAV_REQUIRE_SHARED_DATA(tracker_path);
   const auto video = ultrasound::read_plus_sequence(video_path);
   const auto tracker = ultrasound::read_plus_sequence(tracker_path);
   ASSERT_TRUE(video.ok() && tracker.ok());

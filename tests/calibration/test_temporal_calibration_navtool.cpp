@@ -16,7 +16,8 @@ using nav::testing::shared_data_path;
 TEST(NavtoolCalibTemporal, WaterTankLagWrittenAndNarrowWindowRefused) {
   const std::string video = shared_data_path("plus/WaterTankBottomTranslationVideoBuffer.igs.mha");
   const std::string tracker = shared_data_path("plus/WaterTankBottomTranslationTrackerBuffer.igs.mha");
-  if (!nav::testing::file_exists(video) || !nav::testing::file_exists(tracker)) GTEST_SKIP();
+  NAV_REQUIRE_SHARED_DATA(video);
+  NAV_REQUIRE_SHARED_DATA(tracker);
   const std::string out = nav::testing::temporary_path("calib_temporal_lag.txt");
   const std::string command = executable_path("navtool") + " calib temporal --video " + video + " --tracker " + tracker;
   const auto run = run_command(command + " --out " + out + " 2>&1");

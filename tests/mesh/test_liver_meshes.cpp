@@ -15,12 +15,9 @@ using nav::LengthUnit;
 
 std::string liver_path(const char* name) { return nav::testing::shared_data_path(std::string("liver/") + name); }
 
-#define SKIP_WITHOUT(path) \
-  if (!nav::testing::file_exists(path)) GTEST_SKIP() << "shared data missing: " << (path)
-
 TEST(LiverMeshes, VolumeMeshHasItsPublishedCountsAndNoInvertedElement) {
   const std::string path = liver_path("liverFine.vtu");
-  SKIP_WITHOUT(path);
+  NAV_REQUIRE_SHARED_DATA(path);
   const auto mesh = nav::load_tet_mesh(path, LengthUnit::centimetre);
   ASSERT_TRUE(mesh.ok()) << mesh.error().describe();
   const auto report = nav::validate_tet_mesh(mesh.value());
@@ -41,7 +38,7 @@ TEST(LiverMeshes, VolumeMeshHasItsPublishedCountsAndNoInvertedElement) {
 
 TEST(LiverMeshes, VolumeMeshBoundaryIsClosedAndEnclosesTheMeshVolume) {
   const std::string path = liver_path("liverFine.vtu");
-  SKIP_WITHOUT(path);
+  NAV_REQUIRE_SHARED_DATA(path);
   const auto mesh = nav::load_tet_mesh(path, LengthUnit::centimetre);
   ASSERT_TRUE(mesh.ok()) << mesh.error().describe();
   const auto boundary = nav::extract_boundary(mesh.value());
@@ -54,7 +51,7 @@ TEST(LiverMeshes, VolumeMeshBoundaryIsClosedAndEnclosesTheMeshVolume) {
 
 TEST(LiverMeshes, SmoothSurfaceIsClosedAndOutward) {
   const std::string path = liver_path("liver-smoothUV.obj");
-  SKIP_WITHOUT(path);
+  NAV_REQUIRE_SHARED_DATA(path);
   const auto surface = nav::load_surface(path, LengthUnit::centimetre);
   ASSERT_TRUE(surface.ok()) << surface.error().describe();
   const auto report = nav::validate_surface(surface.value());
@@ -68,7 +65,7 @@ TEST(LiverMeshes, SmoothSurfaceIsClosedAndOutward) {
 
 TEST(LiverMeshes, VolumeMeshLoadsWellUnderOneHundredMilliseconds) {
   const std::string path = liver_path("liverFine.vtu");
-  SKIP_WITHOUT(path);
+  NAV_REQUIRE_SHARED_DATA(path);
   ASSERT_TRUE(nav::load_tet_mesh(path, LengthUnit::centimetre).ok());  // warm the file cache
   double best_ms = 1e9;
   for (int run = 0; run < 5; ++run) {

@@ -51,7 +51,7 @@ TEST(ObjReader, IndexBeyondTheVerticesDefinedSoFarNamesItsLine) {
 
 TEST(ObjReader, RealLiverSurfaceHasItsPublishedCounts) {
   const std::string path = nav::testing::shared_data_path("liver/liver-smoothUV.obj");
-  if (!nav::testing::file_exists(path)) GTEST_SKIP() << "shared data missing: " << path;
+  NAV_REQUIRE_SHARED_DATA(path);
   const auto surface = nav::load_obj_surface(path, LengthUnit::centimetre);
   ASSERT_TRUE(surface.ok()) << surface.error().describe();
   EXPECT_EQ(surface.value().vertices_m.size(), 2194u);

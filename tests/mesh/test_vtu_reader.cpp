@@ -58,7 +58,7 @@ TEST(VtuReader, GarbledValueIsLocatedInsideItsArray) {
 
 TEST(VtuReader, RealLiverMeshLoads) {
   const std::string path = nav::testing::shared_data_path("liver/liverFine.vtu");
-  if (!nav::testing::file_exists(path)) GTEST_SKIP() << "shared data missing: " << path;
+  NAV_REQUIRE_SHARED_DATA(path);
   const auto mesh = nav::load_vtu_tet_mesh(path, LengthUnit::centimetre);
   ASSERT_TRUE(mesh.ok()) << mesh.error().describe();
   EXPECT_EQ(mesh.value().nodes_m.size(), 4293u);

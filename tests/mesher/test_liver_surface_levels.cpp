@@ -20,7 +20,7 @@ class LiverSurfaceLevels : public ::testing::TestWithParam<double> {
  protected:
   void SetUp() override {
     const std::string path = testing::shared_data_path("liver/liver-smoothUV.obj");
-    if (!testing::file_exists(path)) GTEST_SKIP() << "shared data missing: " << path;
+    NAV_REQUIRE_SHARED_DATA(path);
     auto surface = load_obj_surface(path, LengthUnit::centimetre);
     ASSERT_TRUE(surface.ok()) << surface.error().describe();
     surface_volume_m3_ = enclosed_volume_m3(surface.value());

@@ -151,7 +151,8 @@ class ReducedAccuracy : public ::testing::Test {
     shared_ = nullptr;
   }
   void SetUp() override {
-    if (!shared_) GTEST_SKIP() << "shared data missing: liverFine.vtu";
+    NAV_REQUIRE_SHARED_DATA(testing::shared_data_path("liver/liverFine.vtu"));
+    ASSERT_NE(shared_, nullptr) << "the shared liver runs failed to build";
   }
 
   /// The POD + corotational-cubature basis of size r trained on the shared snapshots, and its

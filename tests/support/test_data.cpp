@@ -19,6 +19,11 @@ std::string shared_data_path(const std::string& relative) {
 
 bool file_exists(const std::string& path) { return std::ifstream(path).good(); }
 
+bool running_under_ci() {
+  const char* ci = std::getenv("CI");
+  return ci != nullptr && std::string(ci) == "true";
+}
+
 std::string file_text(const std::string& path) {
   std::ifstream file(path);
   std::stringstream text;

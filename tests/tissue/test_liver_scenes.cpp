@@ -22,7 +22,7 @@ namespace {
 /// The liver at about `tet_count` elements, or a skip when the shared data is missing.
 #define LIVER_MESH_OR_SKIP(mesh, tet_count)                                                                    \
   const std::string liver_dir = testing::shared_data_path("liver");                                          \
-  if (!testing::file_exists(liver_dir + "/liver-smoothUV.obj")) GTEST_SKIP() << "shared data missing: " << liver_dir; \
+  NAV_REQUIRE_SHARED_DATA(liver_dir + "/liver-smoothUV.obj"); \
   const TetMesh mesh = load_liver_mesh(liver_dir, tet_count).value()
 
 /// Displacement at `point_m` of the rest mesh (linear in the element containing it; zero

@@ -117,7 +117,7 @@ TEST(PlusSequence, ReadsAHandWrittenRawNrrd) {
 
 TEST(PlusSequence, ReadsTheRealCompressedCalibrationRecording) {
   const std::string path = plus_path("fCal_Test_Calibration_3NWires_fCal2.0.igs.mha");
-  if (!nav::testing::file_exists(path)) GTEST_SKIP() << "no " << path;
+  NAV_REQUIRE_SHARED_DATA(path);
   const auto sequence = read_plus_sequence(path, {.max_frames = 2});
   ASSERT_TRUE(sequence.ok()) << sequence.error().describe();
   const PlusSequence& s = sequence.value();
@@ -138,7 +138,7 @@ TEST(PlusSequence, ReadsTheRealCompressedCalibrationRecording) {
 
 TEST(PlusSequence, ReadsTheRealGzipNrrdRecording) {
   const std::string path = plus_path("NwirePhantomFreehand.igs.nrrd");
-  if (!nav::testing::file_exists(path)) GTEST_SKIP() << "no " << path;
+  NAV_REQUIRE_SHARED_DATA(path);
   const auto sequence = read_plus_sequence(path, {.max_frames = 1});
   ASSERT_TRUE(sequence.ok()) << sequence.error().describe();
   EXPECT_EQ(sequence.value().frame_count, 97u);
@@ -150,7 +150,7 @@ TEST(PlusSequence, ReadsTheRealGzipNrrdRecording) {
 
 TEST(PlusSequence, ReadsTheRealTrackerOnlyBuffer) {
   const std::string path = plus_path("WaterTankBottomTranslationTrackerBuffer-trimmed.igs.mha");
-  if (!nav::testing::file_exists(path)) GTEST_SKIP() << "no " << path;
+  NAV_REQUIRE_SHARED_DATA(path);
   const auto sequence = read_plus_sequence(path);
   ASSERT_TRUE(sequence.ok()) << sequence.error().describe();
   EXPECT_EQ(sequence.value().frame_count, 801u);

@@ -29,7 +29,7 @@ TEST(SequencePlayer, PoseSampleIsTheRecordedTransformInMetres) {
 
 TEST(SequencePlayer, RealRecordingReachesASubscriberAtRecordedTiming) {
   const std::string path = nav::testing::shared_data_path("plus/fCal_Test_Calibration_3NWires_fCal2.0.igs.mha");
-  if (!nav::testing::file_exists(path)) GTEST_SKIP() << "no " << path;
+  NAV_REQUIRE_SHARED_DATA(path);
   const auto sequence = read_plus_sequence(path, {.max_frames = 3});
   ASSERT_TRUE(sequence.ok()) << sequence.error().describe();
   testing::DeviceLink link = testing::link_device(141);
