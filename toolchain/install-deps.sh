@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Installs the build and runtime dependencies from Debian bookworm's packages.
 # Idempotent: packages already present are left as they are and apt is not asked twice.
-# Usage (as root): toolchain/install-deps.sh [--rtlib-only] [--cross] [--fuzz]
+# Usage (as root): toolchain/install-deps.sh [--rtlib-only] [--cross] [--fuzz] [--format]
 #   --rtlib-only  only what rtlib and its tests need (no station libraries)
 #   --cross       add the aarch64 cross compiler and qemu user emulation (preset aarch64)
 #   --fuzz        add clang with libFuzzer and the sanitizer runtimes (toolchain/fuzz, the asan-ubsan preset)
+#   --format      add clang-format 14, the version whose layout .clang-format fixes (toolchain/format)
 set -euo pipefail
 
 core_packages=(
@@ -21,6 +22,7 @@ station_packages=(
 )
 cross_packages=(g++-aarch64-linux-gnu qemu-user)
 fuzz_packages=(clang-14 libclang-rt-14-dev)
+format_packages=(clang-format-14)
 
 packages=("${core_packages[@]}")
 with_station=1
@@ -29,7 +31,8 @@ for option in "$@"; do
     --rtlib-only) with_station=0 ;;
     --cross) packages+=("${cross_packages[@]}") ;;
     --fuzz) packages+=("${fuzz_packages[@]}") ;;
-    *) echo "install-deps: unknown option '$option' (--rtlib-only, --cross, --fuzz)" >&2; exit 2 ;;
+    --format) packages+=("${format_packages[@]}") ;;
+    *) echo "install-deps: unknown option '$option' (--rtlib-only, --cross, --fuzz, --format)" >&2; exit 2 ;;
   esac
 done
 if [[ $with_station -eq 1 ]]; then

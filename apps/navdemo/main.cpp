@@ -21,9 +21,6 @@
 
 namespace {
 
-using nav::operator+;
-using nav::operator-;
-using nav::operator*;
 
 constexpr int kExitBadInput = 2;
 

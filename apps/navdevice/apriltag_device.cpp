@@ -41,8 +41,8 @@ std::vector<nav::trackers::TagBody> tool_bodies(const std::vector<nav::station::
       body.tags.push_back({static_cast<int>(r.device_id), Eigen::Isometry3d::Identity()});
     } else {
       for (const nav::station::ToolTag& tag : declared->second) {
-        Eigen::Isometry3d tool_from_tag(tag.tag_in_tool.rotation);
-        tool_from_tag.translation() = tag.tag_in_tool.position_m;
+        Eigen::Isometry3d tool_from_tag(tag.tool_from_tag.rotation);
+        tool_from_tag.translation() = tag.tool_from_tag.position_m;
         body.tags.push_back({tag.id, tool_from_tag});
       }
     }

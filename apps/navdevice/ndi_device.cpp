@@ -63,7 +63,7 @@ nav::Result<nav::trackers::ndi::Connection> connect(const NdiArgs& args, const n
   const nav::station::TrackerSettings& t = scene.devices.tracker;
   const bool from_flags = !args.serial.empty() || !args.host.empty();
   if (!from_flags && t.kind != nav::station::TrackerKind::ndi)
-    return nav::Error{scene.source_path + ": devices.tracker is not an NDI tracker (kind: ndi): give --serial or --tcp", "", 0, ""};
+    return nav::Error{.message = scene.source_path + ": devices.tracker is not an NDI tracker (kind: ndi): give --serial or --tcp"};
   const std::string serial = from_flags ? args.serial : t.serial_device;
   const std::string host = from_flags ? args.host : t.host;
   const int port = from_flags ? args.port : t.port;

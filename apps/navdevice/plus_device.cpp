@@ -79,10 +79,10 @@ nav::Result<std::vector<nav::ultrasound::ToolTrack>> tool_tracks(const PlusArgs&
       defaults ? std::vector<std::pair<std::string, std::string>>{{"ProbeToTracker", "probe"}, {"StylusToTracker", "needle"}} : args.transforms;
   for (const auto& [name, role] : wanted) {
     const std::optional<std::uint32_t> id = role_id(tools, role);
-    if (!id) return nav::Error{"unknown role '" + role + "' (needle, probe, respiratory, or reference when the scene declares one)", "", 0, "--transform " + name + "=" + role};
+    if (!id) return nav::Error{.message = "unknown role '" + role + "' (needle, probe, respiratory, or reference when the scene declares one)", .field = "--transform " + name + "=" + role};
     if (sequence.find_transform(name) == nullptr) {
       if (defaults) continue;
-      return nav::Error{"the recording has no transform '" + name + "'", sequence.path, 0, "--transform " + name + "=" + role};
+      return nav::Error{.message = "the recording has no transform '" + name + "'", .file = sequence.path, .field = "--transform " + name + "=" + role};
     }
     tracks.push_back({name, *id});
   }

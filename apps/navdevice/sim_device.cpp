@@ -74,10 +74,10 @@ int run_sim(const std::vector<std::string>& arguments) {
   // The devices stamp on their clock: this host's monotonic clock less the scene's offset.
   nav::MonotonicClock clock;
   const TimeNs start_ns = clock.now_ns() + kStartDelayNs;
-  auto model_in_reference = nav::station::scene_model_in_reference(s);
-  if (!model_in_reference.ok()) return fail("sim", model_in_reference.error().describe());
+  auto reference_from_model = nav::station::scene_reference_from_model(s);
+  if (!reference_from_model.ok()) return fail("sim", reference_from_model.error().describe());
   const nav::station::TrackerSettings& t = s.devices.tracker;
-  nav::station::WorldPlayer player(world.value(), true, nav::station::simulated_tracker(t.tools, t.reference_in_tracker, model_in_reference.value()));
+  nav::station::WorldPlayer player(world.value(), true, nav::station::simulated_tracker(t.tools, t.tracker_from_reference, reference_from_model.value()));
   player.set_world_to_device_ns(start_ns - static_cast<TimeNs>(s.devices.clock.offset_ms * 1e6));
   if (args->seconds > recorded_s) player.repeat_last(period_ns);
   const auto run_ns = static_cast<TimeNs>(args->seconds * 1e9);

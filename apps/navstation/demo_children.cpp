@@ -28,7 +28,7 @@ std::string log_tail(const ChildProcess& child) {
 }
 
 nav::Error failed(const ChildProcess& child, const std::string& what) {
-  return nav::Error{child.program() + " " + what + "; its log ends:\n" + log_tail(child), child.log_path(), 0, ""};
+  return nav::Error{.message = child.program() + " " + what + "; its log ends:\n" + log_tail(child), .file = child.log_path()};
 }
 
 std::string seconds_text(double s) {
@@ -42,7 +42,7 @@ std::string seconds_text(double s) {
 nav::Result<DemoChildren> DemoChildren::start(const DemoPlan& plan) {
   std::error_code error;
   std::filesystem::create_directories(plan.logs_dir, error);
-  if (error) return nav::Error{"cannot make the folder of the demo's logs: " + error.message(), plan.logs_dir, 0, ""};
+  if (error) return nav::Error{.message = "cannot make the folder of the demo's logs: " + error.message(), .file = plan.logs_dir};
   const std::filesystem::path logs(plan.logs_dir);
   const std::string domain = std::to_string(plan.domain_id);
   const std::string wait_s = seconds_text(kPatientReadyS + 2.0 * plan.seconds);
@@ -57,7 +57,7 @@ nav::Result<DemoChildren> DemoChildren::start(const DemoPlan& plan) {
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::duration<double>(kPatientReadyS + 2.0 * plan.seconds);
   while (patient.value().log().find(kPatientReady) == std::string::npos) {
     if (patient.value().ended()) return failed(patient.value(), "ended before it was ready");
-    if (nav::dds::stop_requested()) return nav::Error{"stopped before the patient was ready", "", 0, ""};
+    if (nav::dds::stop_requested()) return nav::Error{.message = "stopped before the patient was ready"};
     if (std::chrono::steady_clock::now() > give_up) return failed(patient.value(), "was not ready within " + wait_s + " s");
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }

@@ -13,7 +13,7 @@ nav::Status NavviewBeside::start(const nav::station::DisplaySurface& surface) {
   if (images_dir_.empty()) return nav::Done{};
   std::error_code error;
   std::filesystem::create_directories(images_dir_, error);
-  if (error) return nav::Error{"cannot make the folder of navview's images: " + error.message(), images_dir_, 0, ""};
+  if (error) return nav::Error{.message = "cannot make the folder of navview's images: " + error.message(), .file = images_dir_};
   const std::string obj = (std::filesystem::path(images_dir_) / "liver_surface.obj").string();
   if (const nav::Status written = nav::write_text_file(obj, nav::station::surface_obj(surface)); !written.ok()) return written;
   // navview ends by itself well after the run, should navstation never stop it.

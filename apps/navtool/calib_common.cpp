@@ -57,13 +57,13 @@ nav::Result<std::vector<nav::calibration::RecordedPose>> read_recorded_tool_pose
     pose.pose.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
     poses.push_back(pose);
   }
-  if (poses.empty()) return nav::Error{"the recording holds no tool pose", path, 0, "nav/tool_pose"};
+  if (poses.empty()) return nav::Error{.message = "the recording holds no tool pose", .file = path, .field = "nav/tool_pose"};
   return poses;
 }
 
 nav::Result<std::vector<nav::calibration::RecordedPose>> read_poses_option(const CalibOptions& options) {
   if (options.has("--poses") == options.has("--recording")) {
-    return nav::Error{"give exactly one of --poses FILE.csv and --recording FILE.navrec", "", 0, "--poses"};
+    return nav::Error{.message = "give exactly one of --poses FILE.csv and --recording FILE.navrec", .field = "--poses"};
   }
   if (options.has("--poses")) return nav::calibration::read_pose_csv(options.get("--poses"));
   return read_recorded_tool_poses(options.get("--recording"));

@@ -21,8 +21,8 @@ nav::Result<std::vector<nav::calibration::TrackedImage>> tracked_frames(const na
   const std::string reference_name = options.get("--reference", "ReferenceToTracker");
   const auto* probe = sequence.find_transform(probe_name);
   const auto* reference = sequence.find_transform(reference_name);
-  if (probe == nullptr) return nav::Error{"no such transform in the recording", sequence.path, 0, probe_name};
-  if (reference == nullptr) return nav::Error{"no such transform in the recording", sequence.path, 0, reference_name};
+  if (probe == nullptr) return nav::Error{.message = "no such transform in the recording", .file = sequence.path, .field = probe_name};
+  if (reference == nullptr) return nav::Error{.message = "no such transform in the recording", .file = sequence.path, .field = reference_name};
   std::vector<nav::calibration::TrackedImage> frames;
   for (std::size_t i = 0; i < sequence.frames_read; ++i) {
     if (!probe->valid[i] || !reference->valid[i] || !sequence.image_valid[i]) continue;

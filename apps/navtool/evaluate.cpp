@@ -142,7 +142,7 @@ int evaluate(const std::vector<std::string>& args) {
                stderr);
     return exit_bad_input;
   }
-  nav::Result<nav::station::EvaluationInput> input = nav::Error{"", "", 0, ""};
+  nav::Result<nav::station::EvaluationInput> input = nav::Error{.message = ""};
   if (!parsed->recording_path.empty()) {
     input = read_recording(parsed->recording_path);
   } else {

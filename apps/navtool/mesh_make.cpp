@@ -107,7 +107,7 @@ nav::Result<Made> make(const MakeArgs& args) {
       return Made{std::move(liver.mesh), "tumour tetrahedra: " + std::to_string(tumour_tets) + "\nattachment nodes: " +
                                              std::to_string(liver.attachment_nodes.size()) + "\n"};
     } catch (const std::invalid_argument& error) {
-      return nav::Error{error.what(), "", 0, "--size"};
+      return nav::Error{.message = error.what(), .field = "--size"};
     }
   }
   if (args.source == Source::surface) {

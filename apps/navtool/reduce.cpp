@@ -184,7 +184,7 @@ nav::Result<Training> solve_training(const nav::TetMesh& mesh, const nav::Tissue
       s.count += one.value().count;
       s.total_steps += one.value().total_steps;
     }
-    if (t.snapshots.count == 0) return nav::Error{"no training load converged at --load-scale " + std::to_string(load_scale), "", 0, ""};
+    if (t.snapshots.count == 0) return nav::Error{.message = "no training load converged at --load-scale " + std::to_string(load_scale)};
   }
   t.seconds = seconds_since(start);
   return t;
@@ -248,15 +248,15 @@ void print_report(const ReduceArgs& args, const nav::TetMesh& mesh, const nav::R
 /// for (if any). Fills args' method and force from it.
 nav::Result<nav::ReducedBasis> load_lower(ReduceArgs& args, const nav::TetMesh& mesh) {
   auto lower = nav::load_reduced_basis(args.extend, &mesh);
-  if (!lower.ok()) return nav::Error{"--extend: " + lower.error().describe(), "", 0, ""};
+  if (!lower.ok()) return nav::Error{.message = "--extend: " + lower.error().describe()};
   const nav::ReducedBasis& b = lower.value();
   if (args.reduction.basis_size <= b.basis_size)
-    return nav::Error{"--r " + std::to_string(args.reduction.basis_size) + " must be above the " + std::to_string(b.basis_size) +
-                          " columns of the lower rung " + args.extend, "", 0, ""};
+    return nav::Error{.message = "--r " + std::to_string(args.reduction.basis_size) + " must be above the " + std::to_string(b.basis_size) +
+                          " columns of the lower rung " + args.extend};
   const std::string force = name_of(kForces, b.force_kind);
   if (!args.force.empty() && args.force != force)
-    return nav::Error{"--force " + args.force + " differs from the lower rung's (" + force + ", " + args.extend +
-                          "): the rungs of a ladder share one element law", "", 0, ""};
+    return nav::Error{.message = "--force " + args.force + " differs from the lower rung's (" + force + ", " + args.extend +
+                          "): the rungs of a ladder share one element law"};
   args.force = force;
   args.method = name_of(kMethods, b.source);
   args.reduction.force_kind = b.force_kind;

@@ -4,7 +4,7 @@
 namespace navview {
 
 nav::Result<std::unique_ptr<ImageOutput>> open_window(const std::string&) {
-  return nav::Error{"navview was built without X11 (install libx11-dev and reconfigure); use --headless", "", 0, ""};
+  return nav::Error{.message = "navview was built without X11 (install libx11-dev and reconfigure); use --headless"};
 }
 
 }  // namespace navview

@@ -34,7 +34,7 @@ class X11Window final : public ImageOutput {
       image_ = XCreateImage(display_, DefaultVisual(display_, DefaultScreen(display_)), 24, ZPixmap, 0,
                             reinterpret_cast<char*>(pixels_.data()), static_cast<unsigned>(image.cols),
                             static_cast<unsigned>(image.rows), 32, 0);
-      if (image_ == nullptr) return nav::Error{"Xlib could not create the window's image", "", 0, ""};
+      if (image_ == nullptr) return nav::Error{.message = "Xlib could not create the window's image"};
       XResizeWindow(display_, window_, static_cast<unsigned>(image.cols), static_cast<unsigned>(image.rows));
     }
     for (int y = 0; y < image.rows; ++y) {
@@ -86,11 +86,11 @@ class X11Window final : public ImageOutput {
 
 nav::Result<std::unique_ptr<ImageOutput>> open_window(const std::string& title) {
   Display* display = XOpenDisplay(nullptr);
-  if (display == nullptr) return nav::Error{"cannot open the X display ($DISPLAY); use --headless", "", 0, ""};
+  if (display == nullptr) return nav::Error{.message = "cannot open the X display ($DISPLAY); use --headless"};
   const int screen = DefaultScreen(display);
   if (DefaultDepth(display, screen) != 24) {
     XCloseDisplay(display);
-    return nav::Error{"navview needs a 24-bit TrueColor display; use --headless", "", 0, ""};
+    return nav::Error{.message = "navview needs a 24-bit TrueColor display; use --headless"};
   }
   const Window window = XCreateSimpleWindow(display, RootWindow(display, screen), 0, 0, 640, 480, 0,
                                             BlackPixel(display, screen), BlackPixel(display, screen));

@@ -147,7 +147,7 @@ std::string registered_scene() {
   const std::string tracker = "    kind: simulated\n    rate_hz: 60";
   const std::string text = edited(edited(movable_demo_text(), station_urdf, urdf), tracker,
                                   tracker + "\n    tools: {needle: 1, probe: 2, respiratory: 3, reference: 4}"
-                                            "\n    reference_in_tracker: {xyz: [0.3, -0.2, 1.1], rpy: [0.4, -0.3, 2.0]}");
+                                            "\n    tracker_from_reference: {xyz: [0.3, -0.2, 1.1], rpy: [0.4, -0.3, 2.0]}");
   const std::string path = temporary_path("registered.yaml");
   std::ofstream(path) << text;
   return path;

@@ -142,7 +142,7 @@ nav::ReductionOptions reduction(int r) {
 }
 
 /// The needle base's frame in its marker's: the needle points down the marker's -z.
-nav::RigidPose needle_base_in_marker() {
+nav::RigidPose needle_marker_from_base() {
   return {Eigen::Vector3d::Zero(), Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * std::numbers::pi, Eigen::Vector3d::UnitY()))};
 }
 
@@ -189,7 +189,7 @@ nav::OperatingLoopNeedleOptions needle_options() {
   capsule.surface_point_m = {l.liver.tumour_centre_m[0], l.liver.tumour_centre_m[1], l.surface_above_tumour_m};
   needle.scene.layers = {capsule};
   needle.scene.path_spacing_m = 0.005;
-  needle.base_in_marker = needle_base_in_marker();
+  needle.marker_from_base = needle_marker_from_base();
   return needle;
 }
 
@@ -240,8 +240,8 @@ nav::RigidPose needle_inserted(TimeNs now) {
   const Liver& l = liver();
   const double lowered_m = std::min(0.002 * 1e-9 * static_cast<double>(now), 0.04);
   const Eigen::Vector3d base_m{l.liver.tumour_centre_m[0], l.liver.tumour_centre_m[1], l.surface_above_tumour_m + 0.155 - lowered_m};
-  const nav::RigidPose marker_in_base = nav::inverse(needle_base_in_marker());
-  return nav::compose({base_m, needle_base_in_marker().rotation}, marker_in_base);
+  const nav::RigidPose base_from_marker = nav::inverse(needle_marker_from_base());
+  return nav::compose({base_m, needle_marker_from_base().rotation}, base_from_marker);
 }
 
 /// Median, p99, p99.9, max and jitter (standard deviation) of `us`, as counters name_us_*.

@@ -44,7 +44,7 @@ std::size_t record_pivoting_needle(const std::string& path, const Eigen::Vector3
   dds::NetworkConfig network;
   network.domain_id = 171;
   network.participant_name = "nav_test_calib_recording";
-  auto recorder = Result<std::unique_ptr<dds::Recorder>>(Error{"not created", "", 0, ""});  // outlives the node that fills it
+  auto recorder = Result<std::unique_ptr<dds::Recorder>>(Error{.message = "not created"});  // outlives the node that fills it
   auto tracker = dds::DdsNode::create(network);
   auto recorder_node = dds::DdsNode::create(network);
   if (!tracker.ok() || !recorder_node.ok()) return 0;

@@ -91,7 +91,7 @@ TEST(SurfaceIcp, RegistersTheLiverSurfaceFromNoisyPoints) {
   ASSERT_TRUE(surface.ok()) << surface.error().describe();
   const TriSurface& liver = surface.value();
   std::mt19937_64 rng(33);
-  // The truth T_points_surface: 6 degrees and 6 mm off; the points are sampled on the
+  // The truth points_from_surface: 6 degrees and 6 mm off; the points are sampled on the
   // surface, moved by it and given 0.3 mm of noise per axis.
   const Transform points_from_surface = transform(random_rotation(rng, 6.0 * M_PI / 180.0), {0.004, -0.003, 0.0035});
   std::uniform_int_distribution<std::size_t> pick(0, liver.triangles.size() - 1);

@@ -11,13 +11,13 @@ TEST(Error, DescribesFileLineFieldAndMessage) {
 }
 
 TEST(Error, LeavesOutEmptyParts) {
-  EXPECT_EQ((Error{"arena exhausted", "", 0, ""}).describe(), "arena exhausted");
-  EXPECT_EQ((Error{"cannot open", "a.vtu", 0, ""}).describe(), "a.vtu: cannot open");
+  EXPECT_EQ((Error{.message = "arena exhausted"}).describe(), "arena exhausted");
+  EXPECT_EQ((Error{.message = "cannot open", .file = "a.vtu"}).describe(), "a.vtu: cannot open");
 }
 
 TEST(Result, HoldsValueOrError) {
   Result<int> good = 3;
-  Result<int> bad = Error{"no", "f", 1, ""};
+  Result<int> bad = Error{.message = "no", .file = "f", .line = 1};
   ASSERT_TRUE(good.ok());
   EXPECT_EQ(good.value(), 3);
   ASSERT_FALSE(bad.ok());

@@ -128,7 +128,7 @@ TEST(DdsRecording, RecordedPosesReplayOntoDdsUnchanged) {
   const std::string path = nav::testing::temporary_path("nav_dds_round_trip.navrec");
   std::vector<TimeNs> sent_ns;
   {
-    auto recorder = Result<std::unique_ptr<Recorder>>(Error{"not created", "", 0, ""});  // outlives the node that fills it
+    auto recorder = Result<std::unique_ptr<Recorder>>(Error{.message = "not created"});  // outlives the node that fills it
     auto tracker = DdsNode::create(local_network(111));
     auto recorder_node = DdsNode::create(local_network(111));
     ASSERT_TRUE(tracker.ok() && recorder_node.ok());

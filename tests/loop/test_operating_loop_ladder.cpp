@@ -299,11 +299,11 @@ TEST(OperatingLoopLadder, NeverAllocatesAndRepeatsBitwise) {
 
 /// A run with a needle pushed at 20 mm/s into the top face over the tumour from 0.1 s, its
 /// marker pose measured every 4 ms (no delay), the breathing nominal.
-LoopRun run_with_needle(const OperatingLoopModel& model, const RigidPose& base_in_marker, TimeNs duration_ns) {
+LoopRun run_with_needle(const OperatingLoopModel& model, const RigidPose& marker_from_base, TimeNs duration_ns) {
   OperatingLoopData data = make_operating_loop_data(model).value();
   LoopRun out;
   out.ticks.reserve(static_cast<std::size_t>(duration_ns / kTick) + 1);
-  const RigidPose marker_from_base = inverse(base_in_marker);
+  const RigidPose marker_from_base = inverse(marker_from_base);
   testing::AllocationGuard guard;
   for (TimeNs now = 0; now <= duration_ns; now += kTick) {
     if (now % (10 * kNsPerMs) == 0) push_respiratory_sample(model, data, now, {0.02, -0.01, marker_m(now, 1.0)});
@@ -330,12 +330,12 @@ TEST(OperatingLoopLadder, ANeedlePushEscalatesAndTheNeedleIsCarriedAlong) {
   const LadderSetup& s = setup();
   OperatingLoopNeedleOptions needle;
   needle.scene = testing::top_face_layer(0.04, 0.01, 0.02, 0.003);
-  needle.base_in_marker = {{0.0, 0.0, -0.01}, Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * std::numbers::pi, Eigen::Vector3d::UnitY()))};
+  needle.marker_from_base = {{0.0, 0.0, -0.01}, Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * std::numbers::pi, Eigen::Vector3d::UnitY()))};
   const OperatingLoopModel ladder = make_operating_loop_model(s.ladder, s.filters, s.options, &needle, &s.mesh).value();
   const OperatingLoopModel one = make_operating_loop_model(s.ladder.reduced_rung(0), s.filters[0], s.options, needle, s.mesh).value();
   const TimeNs duration = 900 * kNsPerMs;
-  const LoopRun a = run_with_needle(ladder, needle.base_in_marker, duration);
-  const LoopRun b = run_with_needle(one, needle.base_in_marker, duration);
+  const LoopRun a = run_with_needle(ladder, needle.marker_from_base, duration);
+  const LoopRun b = run_with_needle(one, needle.marker_from_base, duration);
   EXPECT_EQ(a.allocations, 0u);
   std::size_t up = 0;
   for (std::size_t k = 1; k < a.ticks.size() && up == 0; ++k)

@@ -44,7 +44,7 @@ constexpr TimeNs kMarkerEvery = 25 * kNsPerMs, kMarkerDelay = 5 * kNsPerMs;
 
 /// The needle base in the marker frame: 1 cm below the marker, the needle pointing down
 /// (its +x along the marker's -z).
-RigidPose base_in_marker() {
+RigidPose marker_from_base() {
   return {{0.0, 0.0, -0.01}, Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * std::numbers::pi, Eigen::Vector3d::UnitY()))};
 }
 
@@ -88,7 +88,7 @@ struct LoopSetup {
     o.diaphragm_per_marker = kDiaphragmPerMarker;
     o.respiratory_reference_m = kMarkerMeanM;
     needle.scene = testing::top_face_layer(0.04, 0.01, kTopM, 0.003);
-    needle.base_in_marker = base_in_marker();
+    needle.marker_from_base = marker_from_base();
     needle.parameters.max_pose_jump_m = 0.005;
     auto built = make_operating_loop_model(reduced, filter, o, needle, mesh);
     EXPECT_TRUE(built.ok()) << built.error().describe();
@@ -134,13 +134,13 @@ ScriptedRun run(const Script& script, const OperatingLoopModel* model_override =
   OperatingLoopData data = make_operating_loop_data(model).value();
   ScriptedRun out;
   out.ticks.reserve(static_cast<std::size_t>(script.duration_ns / kTick) + 1);
-  const RigidPose tracker_from_model = inverse(s.registration), base_to_marker = inverse(base_in_marker());
+  const RigidPose tracker_from_model = inverse(s.registration), base_from_marker = inverse(marker_from_base());
   TimeNs next_pose = 0, next_marker = 0;
   testing::AllocationGuard guard;
   for (TimeNs now = 0; now <= script.duration_ns; now += kTick) {
     for (; next_pose + kPoseDelay <= now; next_pose += kPoseEvery) {
       if (script.gap_from >= 0 && next_pose >= script.gap_from && next_pose < script.gap_to) continue;
-      RigidPose marker = compose(tracker_from_model, compose(true_base(next_pose), base_to_marker));
+      RigidPose marker = compose(tracker_from_model, compose(true_base(next_pose), base_from_marker));
       if (next_pose == script.nan_at) marker.position_m[2] = std::numeric_limits<double>::quiet_NaN();
       push_needle_pose(model, data, {next_pose, marker});
     }
@@ -209,7 +209,7 @@ TEST(OperatingLoopNeedle, EqualsTheStandaloneCoupledNeedleBitwise) {
                            data.interaction.needle.positions_m[3 * static_cast<std::size_t>(n) + c];
     ASSERT_EQ(o.needle_shape.punctures, data.interaction.report.punctures) << k;
     // The published base is the tracked marker (extrapolated over the 2 to 5 ms since the
-    // newest sample, exact for constant velocity) times base_in_marker.
+    // newest sample, exact for constant velocity) times marker_from_base.
     const TimeNs t = static_cast<TimeNs>(k) * kTick;
     if (k >= first + 20 && !after_a_kink(t)) worst_base_m = std::max(worst_base_m, base_error_m(o, t));
   }
@@ -377,8 +377,8 @@ TEST(OperatingLoopNeedle, BadNeedleDeclarationsAreRefusedByField) {
   n.parameters.length_m = -1.0;
   EXPECT_EQ(field(n), "operating_loop.needle.parameters.length_m");
   n = s.needle;
-  n.base_in_marker.rotation.coeffs() *= 2.0;
-  EXPECT_EQ(field(n), "operating_loop.needle.base_in_marker");
+  n.marker_from_base.rotation.coeffs() *= 2.0;
+  EXPECT_EQ(field(n), "operating_loop.needle.marker_from_base");
   n = s.needle;
   n.max_point_forces = 33;  // the liver's scene takes 32
   EXPECT_EQ(field(n), "operating_loop.needle.max_point_forces");

@@ -99,10 +99,10 @@ const BrokenFile kCorpus[] = {
 nav::Error load_error(const std::string& path) {
   if (path.ends_with(".obj")) {
     const auto surface = nav::load_surface(path, nav::LengthUnit::metre);
-    return surface.ok() ? nav::Error{"loaded without error", "", 0, ""} : surface.error();
+    return surface.ok() ? nav::Error{.message = "loaded without error"} : surface.error();
   }
   const auto mesh = nav::load_tet_mesh(path, nav::LengthUnit::metre);
-  return mesh.ok() ? nav::Error{"loaded without error", "", 0, ""} : mesh.error();
+  return mesh.ok() ? nav::Error{.message = "loaded without error"} : mesh.error();
 }
 
 class BrokenFileCorpus : public ::testing::TestWithParam<BrokenFile> {};

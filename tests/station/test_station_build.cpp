@@ -133,10 +133,10 @@ TEST(StationBuild, TheProbeCalibrationIsTheUrdfsImageJoint) {
   ASSERT_TRUE(imaging.ok()) << imaging.error().describe();
   // The demo's probe: the image's x along the marker's y, its depth (y) along the marker's -z,
   // the marker at the centre of the top edge of 256 pixels of 0.3 mm.
-  const Eigen::Isometry3d& image_to_probe = imaging.value().image_to_probe;
-  EXPECT_LT((image_to_probe.linear().col(0) - Eigen::Vector3d::UnitY()).norm(), 1e-12);
-  EXPECT_LT((image_to_probe.linear().col(1) + Eigen::Vector3d::UnitZ()).norm(), 1e-12);
-  EXPECT_LT((image_to_probe * Eigen::Vector3d(0.5 * 255 * 0.0003, 0.0, 0.0)).norm(), 1e-12);
+  const Eigen::Isometry3d& probe_from_image = imaging.value().probe_from_image;
+  EXPECT_LT((probe_from_image.linear().col(0) - Eigen::Vector3d::UnitY()).norm(), 1e-12);
+  EXPECT_LT((probe_from_image.linear().col(1) + Eigen::Vector3d::UnitZ()).norm(), 1e-12);
+  EXPECT_LT((probe_from_image * Eigen::Vector3d(0.5 * 255 * 0.0003, 0.0, 0.0)).norm(), 1e-12);
   // A URDF without the image's joint: the error names the scene and frames.urdf.
   const std::string urdf = testing::temporary_path("no_image.urdf");
   std::ofstream(urdf) << "<robot name=\"r\"><link name=\"tracker\"/><link name=\"probe_marker\"/>"
@@ -166,13 +166,13 @@ TEST(StationBuild, TheNeedleIsWhereTheUrdfCalibratesIt) {
   const auto demo = scene_needle_calibration(scene.value());
   ASSERT_TRUE(demo.ok()) << demo.error().describe();
   EXPECT_LT((demo.value().tip_in_marker_m - Eigen::Vector3d(0.0, 0.0, -0.15)).norm(), 1e-12);
-  EXPECT_LT(demo.value().base_in_marker.rotation.angularDistance(needle_base_in_marker().rotation), 1e-12);
-  EXPECT_LT(demo.value().base_in_marker.position_m.norm(), 1e-12);
+  EXPECT_LT(demo.value().marker_from_base.rotation.angularDistance(needle_marker_from_base().rotation), 1e-12);
+  EXPECT_LT(demo.value().marker_from_base.position_m.norm(), 1e-12);
   // A needle calibrated along the marker's x: the base frame's +x follows it.
   scene.value().frames.urdf_path = urdf_with_tip("0.15 0 0", "needle_along_x.urdf");
   const auto along_x = scene_needle_calibration(scene.value());
   ASSERT_TRUE(along_x.ok()) << along_x.error().describe();
-  EXPECT_LT((along_x.value().base_in_marker.rotation * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitX()).norm(), 1e-12);
+  EXPECT_LT((along_x.value().marker_from_base.rotation * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitX()).norm(), 1e-12);
   EXPECT_LT((along_x.value().tip_in_marker_m - Eigen::Vector3d(0.15, 0.0, 0.0)).norm(), 1e-12);
   // A tip 1 cm beyond the scene's needle length: refused at needle.length_m, with both lengths.
   scene.value().frames.urdf_path = urdf_with_tip("0 0 -0.16", "needle_longer.urdf");

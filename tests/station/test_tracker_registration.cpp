@@ -30,11 +30,11 @@ ToolIds tools_with_reference() {
 double angle_rad(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) { return a.angularDistance(b); }
 
 TEST(TrackerRegistration, PosesPublishedInTheTrackersFrameComeBackInTheModelFrame) {
-  const RigidPose model_in_reference = pose_of(0.02, -0.13, 0.07, 0.3, -0.2, 1.1);
-  const RigidPose reference_in_tracker = pose_of(0.4, -0.25, 1.2, -0.5, 0.35, 2.4);
+  const RigidPose reference_from_model = pose_of(0.02, -0.13, 0.07, 0.3, -0.2, 1.1);
+  const RigidPose tracker_from_reference = pose_of(0.4, -0.25, 1.2, -0.5, 0.35, 2.4);
   const ToolIds tools = tools_with_reference();
-  const SimulatedTracker tracker = simulated_tracker(tools, reference_in_tracker, model_in_reference);
-  TrackerRegistration registration(model_in_reference, tools.reference);
+  const SimulatedTracker tracker = simulated_tracker(tools, tracker_from_reference, reference_from_model);
+  TrackerRegistration registration(reference_from_model, tools.reference);
 
   DeviceSample needle;
   needle.kind = SampleKind::needle_pose;
@@ -50,8 +50,8 @@ TEST(TrackerRegistration, PosesPublishedInTheTrackersFrameComeBackInTheModelFram
   // The reference's own pose registers and is no sample of the loop.
   dds::ToolPose reference = tool_pose_of(respiratory, 2, 0, tracker);
   reference.tool_id = *tools.reference;
-  reference.position_m = {reference_in_tracker.position_m[0], reference_in_tracker.position_m[1], reference_in_tracker.position_m[2]};
-  const Eigen::Quaterniond& q = reference_in_tracker.rotation;
+  reference.position_m = {tracker_from_reference.position_m[0], tracker_from_reference.position_m[1], tracker_from_reference.position_m[2]};
+  const Eigen::Quaterniond& q = tracker_from_reference.rotation;
   reference.orientation_wxyz = {q.w(), q.x(), q.y(), q.z()};
   EXPECT_FALSE(device_sample_of(reference, 0, 0, tools, registration));
 
@@ -75,7 +75,7 @@ TEST(TrackerRegistration, PosesPublishedInTheTrackersFrameComeBackInTheModelFram
   EXPECT_EQ(registration.unregistered_poses, 1);
 
   // A station told of no reference takes the tracker's frame for the reference's: centimetres off.
-  TrackerRegistration unaware(model_in_reference, std::nullopt);
+  TrackerRegistration unaware(reference_from_model, std::nullopt);
   ToolIds without = tools;
   without.reference.reset();
   const std::optional<DeviceSample> wrong = device_sample_of(published, 0, 0, without, unaware);
@@ -84,10 +84,10 @@ TEST(TrackerRegistration, PosesPublishedInTheTrackersFrameComeBackInTheModelFram
 }
 
 TEST(TrackerRegistration, WithoutAReferenceTheUrdfJointAloneRegistersATrackerFixedToThePatient) {
-  const RigidPose model_in_reference = pose_of(0.1, 0.0, -0.05, 0.0, 0.0, 0.5);
+  const RigidPose reference_from_model = pose_of(0.1, 0.0, -0.05, 0.0, 0.0, 0.5);
   const ToolIds tools;  // no reference
-  const SimulatedTracker tracker = simulated_tracker(tools, pose_of(1, 2, 3, 0.1, 0.2, 0.3), model_in_reference);
-  TrackerRegistration registration(model_in_reference, std::nullopt);
+  const SimulatedTracker tracker = simulated_tracker(tools, pose_of(1, 2, 3, 0.1, 0.2, 0.3), reference_from_model);
+  TrackerRegistration registration(reference_from_model, std::nullopt);
   DeviceSample probe;
   probe.kind = SampleKind::probe_pose;
   probe.pose = pose_of(0.02, 0.05, 0.09, -0.4, 0.1, 0.2);
@@ -101,7 +101,7 @@ TEST(TrackerRegistration, WithoutAReferenceTheUrdfJointAloneRegistersATrackerFix
 TEST(TrackerRegistration, TheSceneTakesTheJointFromItsUrdfAndNamesAUrdfWithoutIt) {
   auto scene = load_scene(testing::example_scene_path("demo.yaml"));
   ASSERT_TRUE(scene.ok()) << scene.error().describe();
-  auto identity = scene_model_in_reference(scene.value());
+  auto identity = scene_reference_from_model(scene.value());
   ASSERT_TRUE(identity.ok()) << identity.error().describe();
   EXPECT_LT(identity.value().position_m.norm(), 1e-15);
 
@@ -113,14 +113,14 @@ TEST(TrackerRegistration, TheSceneTakesTheJointFromItsUrdfAndNamesAUrdfWithoutIt
   const std::string path = testing::temporary_path("registered.urdf");
   std::ofstream(path) << urdf;
   scene.value().frames.urdf_path = path;
-  auto moved = scene_model_in_reference(scene.value());
+  auto moved = scene_reference_from_model(scene.value());
   ASSERT_TRUE(moved.ok()) << moved.error().describe();
   EXPECT_LT((moved.value().position_m - Eigen::Vector3d(0.01, -0.2, 0.3)).norm(), 1e-12);
   EXPECT_LT((moved.value().rotation * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(), 1e-12);
 
   // A URDF without the joint: refused at the scene's frames.urdf, naming the chain.
   std::ofstream(path) << testing::edited(testing::edited(urdf, moved_joint + "\n  </joint>", ""), "<link name=\"liver_model\"/>", "");
-  auto missing = scene_model_in_reference(scene.value());
+  auto missing = scene_reference_from_model(scene.value());
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(missing.error().describe().find("reference_marker to liver_model"), std::string::npos) << missing.error().describe();
   EXPECT_NE(missing.error().describe().find("frames.urdf"), std::string::npos) << missing.error().describe();

@@ -96,7 +96,7 @@ TEST(WorldPlayer, PlaysOnPastItsRecordingByRepeatingItsLastPeriod) {
     ASSERT_TRUE(out.wait_for_match(topic, 1, 5 * kNsPerSecond));
 
   const TrackerSettings& t = scene.devices.tracker;
-  WorldPlayer player(world.value(), true, simulated_tracker(t.tools, t.reference_in_tracker, scene_model_in_reference(scene).value()));
+  WorldPlayer player(world.value(), true, simulated_tracker(t.tools, t.tracker_from_reference, scene_reference_from_model(scene).value()));
   player.repeat_last(period_ns);
   MonotonicClock clock;
   for (TimeNs now_ns = 0; now_ns <= kPlayed; now_ns += 10 * kNsPerMs) {

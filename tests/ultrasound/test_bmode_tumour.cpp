@@ -72,27 +72,27 @@ TEST(TumourTracker, FindsTheTumourOverASweepWithinTwoPixelsAndAMillimetre) {
   const BmodeScene scene = default_bmode_scene();
   BmodeSimulator simulator(geometry, scene, 11);
   TumourTracker tracker;
-  Eigen::Isometry3d image_to_probe = Eigen::Isometry3d::Identity();
-  image_to_probe.translation() = Eigen::Vector3d(-0.038, 0.002, 0.0);
-  image_to_probe.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  Eigen::Isometry3d probe_from_image = Eigen::Isometry3d::Identity();
+  probe_from_image.translation() = Eigen::Vector3d(-0.038, 0.002, 0.0);
+  probe_from_image.linear() = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()).toRotationMatrix();
   std::vector<std::uint8_t> pixels(geometry.width_px * geometry.height_px);
   double worst_px = 0.0, worst_mm = 0.0, lowest_confidence = 1.0;
   for (int step = 0; step <= 10; ++step) {
     const double offset_m = -0.010 + 0.002 * step;
     const double depth_m = 0.035 + 0.001 * step;
-    const Eigen::Isometry3d image_in_liver = plane_through_tumour(geometry, scene, offset_m, depth_m);
-    const BmodeTruth truth = simulator.render(image_in_liver, pixels.data());
+    const Eigen::Isometry3d liver_from_image = plane_through_tumour(geometry, scene, offset_m, depth_m);
+    const BmodeTruth truth = simulator.render(liver_from_image, pixels.data());
     const TumourDetection found = tracker.update(pixels.data(), geometry.width_px, geometry.height_px);
     ASSERT_TRUE(found.found) << "step " << step;
     worst_px = std::max(worst_px, std::hypot(found.u_px - truth.tumour_u_px, found.v_px - truth.tumour_v_px));
     lowest_confidence = std::min(lowest_confidence, found.confidence);
     EXPECT_NEAR(found.radius_px, truth.tumour_section_radius_px, 0.1 * truth.tumour_section_radius_px);
     // Through the calibration and the tracked probe pose, against the section's true centre.
-    const Eigen::Isometry3d probe_in_liver = image_in_liver * image_to_probe.inverse();
+    const Eigen::Isometry3d liver_from_probe = liver_from_image * probe_from_image.inverse();
     const Eigen::Vector3d point = image_point_in_world(found.u_px, found.v_px, geometry.spacing_m, geometry.spacing_m,
-                                                       image_to_probe, probe_in_liver);
+                                                       probe_from_image, liver_from_probe);
     const Eigen::Vector3d section_centre =
-        image_in_liver * Eigen::Vector3d(truth.tumour_u_px * geometry.spacing_m, truth.tumour_v_px * geometry.spacing_m, 0);
+        liver_from_image * Eigen::Vector3d(truth.tumour_u_px * geometry.spacing_m, truth.tumour_v_px * geometry.spacing_m, 0);
     worst_mm = std::max(worst_mm, 1e3 * (point - section_centre).norm());
   }
   std::printf("tumour centre: worst error %.2f px, %.3f mm; lowest confidence %.2f\n", worst_px, worst_mm,
@@ -120,9 +120,9 @@ TEST(BmodeDevice, PublishesFramesATrackerCanUseOverDds) {
   ASSERT_TRUE(link.ok);
   const BmodeGeometry geometry;
   const BmodeScene scene = default_bmode_scene();
-  const Eigen::Isometry3d image_to_probe(Eigen::Translation3d(-0.038, 0.0, 0.0));
-  BmodeDevice device(BmodeSimulator(geometry, scene, 5), image_to_probe, 2);
-  const Eigen::Isometry3d probe_in_liver = plane_through_tumour(geometry, scene, 0.0, kDepth_m) * image_to_probe.inverse();
+  const Eigen::Isometry3d probe_from_image(Eigen::Translation3d(-0.038, 0.0, 0.0));
+  BmodeDevice device(BmodeSimulator(geometry, scene, 5), probe_from_image, 2);
+  const Eigen::Isometry3d liver_from_probe = plane_through_tumour(geometry, scene, 0.0, kDepth_m) * probe_from_image.inverse();
   // Frames and poses are best effort, as from a real scanner: the device publishes again
   // until the station has both (the first samples may leave before the station's side of
   // the match is complete).
@@ -132,12 +132,12 @@ TEST(BmodeDevice, PublishesFramesATrackerCanUseOverDds) {
   bool received = false;
   for (int attempt = 0; attempt < 20 && !received; ++attempt) {
     bool published = false;
-    truth = device.publish(*link.device, probe_in_liver, 1000 + attempt, published);
+    truth = device.publish(*link.device, liver_from_probe, 1000 + attempt, published);
     ASSERT_TRUE(published);
     received = testing::next_frame(link, *frame) && link.poses->try_pop(pose);
   }
   ASSERT_TRUE(received) << "no frame and pose reached the station in 20 publications";
-  EXPECT_NEAR(pose.position_m[2], probe_in_liver.translation().z(), 1e-15);
+  EXPECT_NEAR(pose.position_m[2], liver_from_probe.translation().z(), 1e-15);
   TumourTracker tracker;
   const TumourDetection found = tracker.update(frame->pixels.data(), frame->width_px, frame->height_px);
   ASSERT_TRUE(found.found);

@@ -83,10 +83,10 @@ Eigen::VectorXd residuals(const std::vector<PlanarView>& views, const Parameters
 
 Result<Eigen::Matrix3d> fit_homography(const PlanarView& view) {
   const std::size_t n = view.board_points_m.size();
-  if (n < 4 || view.image_points_px.size() != n) return Error{"a view needs >= 4 matched points", "", 0, "view"};
+  if (n < 4 || view.image_points_px.size() != n) return Error{.message = "a view needs >= 4 matched points", .field = "view"};
   std::vector<Eigen::Vector3d> board3;
   for (const auto& b : view.board_points_m) board3.emplace_back(b.x(), b.y(), 0.0);
-  if (point_spread(board3)(1) < 1e-6) return Error{"the view's board points are collinear", "", 0, "view"};
+  if (point_spread(board3)(1) < 1e-6) return Error{.message = "the view's board points are collinear", .field = "view"};
   const Eigen::Matrix3d tb = normaliser(view.board_points_m);
   const Eigen::Matrix3d ti = normaliser(view.image_points_px);
   Eigen::MatrixXd a(2 * static_cast<Eigen::Index>(n), 9);
@@ -106,12 +106,12 @@ Result<Eigen::Matrix3d> fit_homography(const PlanarView& view) {
 }
 
 Result<CameraCalibration> calibrate_camera(const std::vector<PlanarView>& views, const CameraModelOptions& options) {
-  if (views.size() < 3) return Error{"too few views: " + std::to_string(views.size()) + " < 3", "", 0, "views"};
+  if (views.size() < 3) return Error{.message = "too few views: " + std::to_string(views.size()) + " < 3", .field = "views"};
   std::vector<Eigen::Matrix3d> homographies;
   Eigen::MatrixXd v(2 * static_cast<Eigen::Index>(views.size()), 6);
   for (std::size_t i = 0; i < views.size(); ++i) {
     Result<Eigen::Matrix3d> h = fit_homography(views[i]);
-    if (!h) return Error{h.error().message, "", 0, "view " + std::to_string(i)};
+    if (!h) return Error{.message = h.error().message, .field = "view " + std::to_string(i)};
     homographies.push_back(h.value());
     v.row(2 * static_cast<Eigen::Index>(i)) = zhang_v(h.value(), 0, 1).transpose();
     v.row(2 * static_cast<Eigen::Index>(i) + 1) = (zhang_v(h.value(), 0, 0) - zhang_v(h.value(), 1, 1)).transpose();
@@ -124,7 +124,7 @@ Result<CameraCalibration> calibrate_camera(const std::vector<PlanarView>& views,
   const double lambda = b33 - (b13 * b13 + v0 * (b12 * b13 - b11 * b23)) / b11;
   if (!(lambda / b11 > 0.0) || !(lambda * b11 / denominator > 0.0) ||
       svd.singularValues()(4) < 1e-9 * svd.singularValues()(0)) {
-    return Error{"the views do not constrain the intrinsics (boards too alike in orientation)", "", 0, "views"};
+    return Error{.message = "the views do not constrain the intrinsics (boards too alike in orientation)", .field = "views"};
   }
   const double alpha = std::sqrt(lambda / b11);
   const double beta = std::sqrt(lambda * b11 / denominator);

@@ -17,7 +17,7 @@ namespace {
 
 Error xml_error(const std::string& path, const tinyxml2::XMLElement* element, const std::string& field,
                 const std::string& message) {
-  return Error{message, path, element != nullptr ? element->GetLineNum() : 0, field};
+  return Error{.message = message, .file = path, .line = element != nullptr ? element->GetLineNum() : 0, .field = field};
 }
 
 /// Reads "a b c" into three finite numbers.
@@ -129,7 +129,7 @@ std::string utc_timestamp() {
 
 Result<FrameTree> FrameTree::load(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
-  if (!file) return Error{"cannot open the URDF file", path, 0, ""};
+  if (!file) return Error{.message = "cannot open the URDF file", .file = path};
   std::ostringstream text;
   text << file.rdbuf();
   return parse(text.str(), path);
@@ -138,7 +138,7 @@ Result<FrameTree> FrameTree::load(const std::string& path) {
 Result<FrameTree> FrameTree::parse(const std::string& xml, const std::string& path) {
   tinyxml2::XMLDocument document;
   if (document.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
-    return Error{std::string("not XML: ") + document.ErrorStr(), path, document.ErrorLineNum(), ""};
+    return Error{.message = std::string("not XML: ") + document.ErrorStr(), .file = path, .line = document.ErrorLineNum()};
   }
   if (Status checked = check_elements(document, path); !checked) return checked.error();
   console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
@@ -148,8 +148,7 @@ Result<FrameTree> FrameTree::parse(const std::string& xml, const std::string& pa
   document.FirstChildElement("robot")->Accept(&checked_robot);
   const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(checked_robot.CStr());
   if (!model || !model->getRoot()) {
-    return Error{"urdfdom rejected the model (unknown link, duplicate name, several roots or a cycle)", path, 0,
-                 "robot"};
+    return Error{.message = "urdfdom rejected the model (unknown link, duplicate name, several roots or a cycle)", .file = path, .field = "robot"};
   }
   FrameTree tree;
   tree.source_path_ = path;
@@ -187,11 +186,11 @@ const FrameJoint* FrameTree::joint(const std::string& name) const {
 Status FrameTree::add_pose(const std::string& frame, TimeNs time_ns, const Transform& parent_from_child) {
   const auto found = joint_of_child_.find(frame);
   if (found == joint_of_child_.end() || !joints_.at(found->second).tracked) {
-    return Error{"no floating joint has this child frame", source_path_, 0, frame};
+    return Error{.message = "no floating joint has this child frame", .file = source_path_, .field = frame};
   }
   auto& poses = history_[frame];
   if (!poses.empty() && time_ns <= poses.back().time_ns) {
-    return Error{"pose time does not increase", source_path_, 0, frame};
+    return Error{.message = "pose time does not increase", .file = source_path_, .field = frame};
   }
   poses.push_back({time_ns, parent_from_child});
   if (poses.size() > kPoseHistory) poses.pop_front();
@@ -202,13 +201,12 @@ Result<Transform> FrameTree::joint_transform(const FrameJoint& joint, TimeNs tim
   if (!joint.tracked) return joint.parent_from_child;
   const auto found = history_.find(joint.child);
   if (found == history_.end() || found->second.empty()) {
-    return Error{"no tracked pose buffered", source_path_, 0, joint.child};
+    return Error{.message = "no tracked pose buffered", .file = source_path_, .field = joint.child};
   }
   const auto& poses = found->second;
   if (time_ns < poses.front().time_ns || time_ns > poses.back().time_ns) {
-    return Error{"time " + std::to_string(time_ns) + " ns outside the buffered span [" +
-                     std::to_string(poses.front().time_ns) + ", " + std::to_string(poses.back().time_ns) + "] ns",
-                 source_path_, 0, joint.child};
+    return Error{.message = "time " + std::to_string(time_ns) + " ns outside the buffered span [" +
+                     std::to_string(poses.front().time_ns) + ", " + std::to_string(poses.back().time_ns) + "] ns", .file = source_path_, .field = joint.child};
   }
   const auto after = std::lower_bound(poses.begin(), poses.end(), time_ns,
                                       [](const TimedPose& pose, TimeNs t) { return pose.time_ns < t; });
@@ -244,9 +242,9 @@ Result<Transform> FrameTree::lookup(const std::string& target, const std::string
   // Only the joints below the frames' lowest common ancestor take part, so that a tracked
   // joint above both (e.g. the needle marker for base -> tip) needs no pose.
   const std::vector<std::string> target_path = path_to_root(target);
-  if (target_path.empty()) return Error{"unknown frame", source_path_, 0, target};
+  if (target_path.empty()) return Error{.message = "unknown frame", .file = source_path_, .field = target};
   const std::vector<std::string> source_path = path_to_root(source);
-  if (source_path.empty()) return Error{"unknown frame", source_path_, 0, source};
+  if (source_path.empty()) return Error{.message = "unknown frame", .file = source_path_, .field = source};
   std::size_t target_index = target_path.size() - 1;
   std::size_t source_index = source_path.size() - 1;
   while (target_index > 0 && source_index > 0 && target_path[target_index - 1] == source_path[source_index - 1]) {
@@ -263,8 +261,8 @@ Result<Transform> FrameTree::lookup(const std::string& target, const std::string
 Status FrameTree::set_calibration(const std::string& joint_name, const Transform& parent_from_child,
                                   const CalibrationRecord& record) {
   const auto found = joints_.find(joint_name);
-  if (found == joints_.end()) return Error{"no such joint", source_path_, 0, joint_name};
-  if (found->second.tracked) return Error{"a tracked (floating) joint cannot be calibrated", source_path_, 0, joint_name};
+  if (found == joints_.end()) return Error{.message = "no such joint", .file = source_path_, .field = joint_name};
+  if (found->second.tracked) return Error{.message = "a tracked (floating) joint cannot be calibrated", .file = source_path_, .field = joint_name};
   found->second.parent_from_child = parent_from_child;
   found->second.record = record;
   return Done{};
@@ -284,7 +282,7 @@ Status FrameTree::save(const std::string& path) const {
     origin->SetAttribute("nav_calibrated", joint.record->date.c_str());
     origin->SetAttribute("nav_residual_m", joint.record->residual_m);
   }
-  if (document.SaveFile(path.c_str()) != tinyxml2::XML_SUCCESS) return Error{"cannot write the URDF", path, 0, ""};
+  if (document.SaveFile(path.c_str()) != tinyxml2::XML_SUCCESS) return Error{.message = "cannot write the URDF", .file = path};
   return Done{};
 }
 

@@ -25,7 +25,7 @@ struct CalibrationRecord {
   double residual_m = 0.0;  // RMS residual of the calibration
 };
 
-/// One joint of the tree: parent frame, child frame and, for fixed joints, T_parent_child.
+/// One joint of the tree: parent frame, child frame and, for fixed joints, parent_from_child.
 struct FrameJoint {
   std::string name;
   std::string parent;
@@ -48,10 +48,10 @@ class FrameTree {
   /// The joint called `name`, or null.
   const FrameJoint* joint(const std::string& name) const;
 
-  /// Buffers a tracked pose T_parent_child of the floating joint whose child is `frame`, at
+  /// Buffers a tracked pose parent_from_child of the floating joint whose child is `frame`, at
   /// `time_ns` (strictly after the previous one). Keeps the newest `kPoseHistory` samples.
   Status add_pose(const std::string& frame, TimeNs time_ns, const Transform& parent_from_child);
-  /// T_target_source at `time_ns`: maps points of `source` into `target`. Tracked joints on
+  /// target_from_source at `time_ns`: maps points of `source` into `target`. Tracked joints on
   /// the path are interpolated; a time outside a joint's buffered span is an error.
   Result<Transform> lookup(const std::string& target, const std::string& source, TimeNs time_ns) const;
 
@@ -71,7 +71,7 @@ class FrameTree {
   Result<Transform> joint_transform(const FrameJoint& joint, TimeNs time_ns) const;
   /// The frames from `frame` up to the root (both included); empty for an unknown frame.
   std::vector<std::string> path_to_root(const std::string& frame) const;
-  /// T_ancestor_frame for path[0] = frame and path[ancestor_index] = ancestor.
+  /// ancestor_from_frame for path[0] = frame and path[ancestor_index] = ancestor.
   Result<Transform> ancestor_from_frame(const std::vector<std::string>& path, std::size_t ancestor_index,
                                         TimeNs time_ns) const;
 

@@ -23,10 +23,10 @@ struct Motion {
 Result<HandEyeResult> hand_eye_calibration(const std::vector<Transform>& tracker_from_marker,
                                            const std::vector<Transform>& camera_from_target) {
   if (tracker_from_marker.size() != camera_from_target.size()) {
-    return Error{"marker and camera pose counts differ", "", 0, "poses"};
+    return Error{.message = "marker and camera pose counts differ", .field = "poses"};
   }
   if (tracker_from_marker.size() < 3) {
-    return Error{"too few poses: " + std::to_string(tracker_from_marker.size()) + " < 3", "", 0, "poses"};
+    return Error{.message = "too few poses: " + std::to_string(tracker_from_marker.size()) + " < 3", .field = "poses"};
   }
   std::vector<Motion> motions;
   for (std::size_t i = 0; i < tracker_from_marker.size(); ++i) {
@@ -42,8 +42,7 @@ Result<HandEyeResult> hand_eye_calibration(const std::vector<Transform>& tracker
   }
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
   if (svd.singularValues()(1) < 1e-6 * svd.singularValues()(0) || svd.singularValues()(0) < 1e-12) {
-    return Error{"the motions' rotation axes are all parallel (or there is no rotation): X is undetermined", "", 0,
-                 "poses"};
+    return Error{.message = "the motions' rotation axes are all parallel (or there is no rotation): X is undetermined", .field = "poses"};
   }
   Eigen::Matrix3d sign = Eigen::Matrix3d::Identity();
   sign(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;

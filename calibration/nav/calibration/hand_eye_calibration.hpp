@@ -1,7 +1,7 @@
 #pragma once
-// Hand-eye calibration AX = XB: the transform X = T_marker_camera between a tracked marker
+// Hand-eye calibration AX = XB: the transform X = marker_from_camera between a tracked marker
 // and the camera rigidly attached to it, from simultaneous poses of the marker in the tracker
-// (T_tracker_marker) and of a fixed target in the camera (T_camera_target). Rotation by the
+// (tracker_from_marker) and of a fixed target in the camera (camera_from_target). Rotation by the
 // Park-Martin log-map fit (Kabsch on rotation vectors), then translation by least squares.
 #include <vector>
 

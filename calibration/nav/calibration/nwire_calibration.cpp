@@ -55,10 +55,9 @@ Result<NWireCalibration> nwire_calibration(const std::vector<TrackedImage>& fram
       const NWireCorrespondence correspondence{bottom_up, right_left};
       const NWirePoints points = points_of(frames, lines, phantom, correspondence);
       if (points.frames_segmented < min_frames) {
-        return Error{"the N-wire phantom was found in " + std::to_string(points.frames_segmented) + " of " +
+        return Error{.message = "the N-wire phantom was found in " + std::to_string(points.frames_segmented) + " of " +
                          std::to_string(points.frames_total) + " frames (at least " + std::to_string(min_frames) +
-                         " needed)",
-                     "", 0, "frames"};
+                         " needed)", .field = "frames"};
       }
       auto fit = fit_probe_calibration(points.points);
       if (!fit) return fit.error();

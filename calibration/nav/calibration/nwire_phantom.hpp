@@ -22,7 +22,7 @@ struct PhantomWire {
 using NWirePattern = std::array<PhantomWire, 3>;
 
 /// The phantom: its N patterns (in the XML's order) and its registration to the reference
-/// marker, T_reference_phantom (the XML's Phantom-to-Reference transform).
+/// marker, reference_from_phantom (the XML's Phantom-to-Reference transform).
 struct NWirePhantom {
   std::vector<NWirePattern> patterns;
   Transform reference_from_phantom = Transform::Identity();

@@ -51,15 +51,13 @@ Fit solve(const std::vector<Transform>& poses, const std::vector<bool>& use) {
 
 Result<PivotResult> pivot_calibration(const std::vector<Transform>& poses, const PivotOptions& options) {
   if (poses.size() < options.min_poses) {
-    return Error{"too few poses: " + std::to_string(poses.size()) + " < " + std::to_string(options.min_poses), "", 0,
-                 "poses"};
+    return Error{.message = "too few poses: " + std::to_string(poses.size()) + " < " + std::to_string(options.min_poses), .field = "poses"};
   }
   PivotResult result;
   result.angular_spread_rad = angular_spread_rad(poses);
   if (result.angular_spread_rad < options.min_angular_spread_rad) {
-    return Error{"not enough rotation in the pivot set: spread " + std::to_string(result.angular_spread_rad * 180.0 / M_PI) +
-                     " deg < " + std::to_string(options.min_angular_spread_rad * 180.0 / M_PI) + " deg",
-                 "", 0, "poses"};
+    return Error{.message = "not enough rotation in the pivot set: spread " + std::to_string(result.angular_spread_rad * 180.0 / M_PI) +
+                     " deg < " + std::to_string(options.min_angular_spread_rad * 180.0 / M_PI) + " deg", .field = "poses"};
   }
   std::vector<bool> inlier(poses.size(), true);
   Fit fit{};
@@ -67,9 +65,8 @@ Result<PivotResult> pivot_calibration(const std::vector<Transform>& poses, const
   for (int round = 0; round < 5; ++round) {
     fit = solve(poses, inlier);
     if (fit.condition_number > options.max_condition_number) {
-      return Error{"ill-conditioned pivot set (condition number " + std::to_string(fit.condition_number) +
-                       "): the poses turn about one axis only",
-                   "", 0, "poses"};
+      return Error{.message = "ill-conditioned pivot set (condition number " + std::to_string(fit.condition_number) +
+                       "): the poses turn about one axis only", .field = "poses"};
     }
     const Eigen::Vector3d tip = fit.solution.head<3>();
     const Eigen::Vector3d pivot = fit.solution.tail<3>();
@@ -88,8 +85,7 @@ Result<PivotResult> pivot_calibration(const std::vector<Transform>& poses, const
     }
     if (!changed) break;
     if (static_cast<std::size_t>(std::count(inlier.begin(), inlier.end(), true)) < options.min_poses) {
-      return Error{"too many outliers: fewer than " + std::to_string(options.min_poses) + " consistent poses", "", 0,
-                   "poses"};
+      return Error{.message = "too many outliers: fewer than " + std::to_string(options.min_poses) + " consistent poses", .field = "poses"};
     }
   }
   result.tip_in_marker_m = fit.solution.head<3>();

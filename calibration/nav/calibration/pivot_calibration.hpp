@@ -34,7 +34,7 @@ struct PivotResult {
   double condition_number = 0.0;
 };
 
-/// Calibrates from the tracked poses T_tracker_marker. Errors: too few poses, too little
+/// Calibrates from the tracked poses tracker_from_marker. Errors: too few poses, too little
 /// rotation, an ill-conditioned set, too many outliers.
 Result<PivotResult> pivot_calibration(const std::vector<Transform>& tracker_from_marker, const PivotOptions& options = {});
 

@@ -25,10 +25,10 @@ Eigen::Vector3d point_spread(const std::vector<Eigen::Vector3d>& points) {
 
 Result<PointRegistration> register_points(const std::vector<Eigen::Vector3d>& source,
                                           const std::vector<Eigen::Vector3d>& target) {
-  if (source.size() != target.size()) return Error{"source and target point counts differ", "", 0, "points"};
-  if (source.size() < 3) return Error{"too few points: " + std::to_string(source.size()) + " < 3", "", 0, "points"};
+  if (source.size() != target.size()) return Error{.message = "source and target point counts differ", .field = "points"};
+  if (source.size() < 3) return Error{.message = "too few points: " + std::to_string(source.size()) + " < 3", .field = "points"};
   if (point_spread(source)(1) < 1e-8 || point_spread(target)(1) < 1e-8) {
-    return Error{"the points are collinear: the rotation about their line is undetermined", "", 0, "points"};
+    return Error{.message = "the points are collinear: the rotation about their line is undetermined", .field = "points"};
   }
   const Eigen::Vector3d source_mean = centroid(source);
   const Eigen::Vector3d target_mean = centroid(target);

@@ -10,7 +10,7 @@
 
 namespace nav::calibration {
 
-/// A rigid registration: T_target_source and its RMS fiducial registration error.
+/// A rigid registration: target_from_source and its RMS fiducial registration error.
 struct PointRegistration {
   Transform target_from_source = Transform::Identity();
   double fre_rms_m = 0.0;

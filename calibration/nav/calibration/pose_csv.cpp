@@ -31,15 +31,14 @@ bool to_number(const std::string& text, double& value) {
 template <typename Record>
 Status for_each_record(const std::string& path, std::size_t columns, Record record) {
   std::ifstream file(path);
-  if (!file) return Error{"cannot open the file", path, 0, ""};
+  if (!file) return Error{.message = "cannot open the file", .file = path};
   std::string line;
   for (int line_number = 1; std::getline(file, line); ++line_number) {
     const auto first = line.find_first_not_of(" \t\r");
     if (first == std::string::npos || line[first] == '#') continue;
     const std::vector<std::string> fields = split(line);
     if (fields.size() != columns) {
-      return Error{"expected " + std::to_string(columns) + " comma-separated fields, found " + std::to_string(fields.size()),
-                   path, line_number, ""};
+      return Error{.message = "expected " + std::to_string(columns) + " comma-separated fields, found " + std::to_string(fields.size()), .file = path, .line = line_number};
     }
     if (Status status = record(fields, line_number); !status) return status;
   }
@@ -50,7 +49,7 @@ Status read_numbers(const std::vector<std::string>& fields, std::size_t first, d
                     int line) {
   for (std::size_t i = first; i < fields.size(); ++i) {
     if (!to_number(fields[i], values[i - first])) {
-      return Error{"not a finite number: '" + fields[i] + "'", path, line, "column " + std::to_string(i + 1)};
+      return Error{.message = "not a finite number: '" + fields[i] + "'", .file = path, .line = line, .field = "column " + std::to_string(i + 1)};
     }
   }
   return Done{};
@@ -62,11 +61,11 @@ Result<std::vector<RecordedPose>> read_pose_csv(const std::string& path) {
   std::vector<RecordedPose> poses;
   Status status = for_each_record(path, 9, [&](const std::vector<std::string>& fields, int line) -> Status {
     double time_s = 0.0;
-    if (!to_number(fields[0], time_s)) return Error{"not a time in seconds: '" + fields[0] + "'", path, line, "column 1"};
+    if (!to_number(fields[0], time_s)) return Error{.message = "not a time in seconds: '" + fields[0] + "'", .file = path, .line = line, .field = "column 1"};
     double values[7];
     if (Status numbers = read_numbers(fields, 2, values, path, line); !numbers) return numbers;
     const Eigen::Quaterniond q(values[3], values[4], values[5], values[6]);
-    if (std::abs(q.norm() - 1.0) > 1e-3) return Error{"quaternion is not unit", path, line, "columns 6-9"};
+    if (std::abs(q.norm() - 1.0) > 1e-3) return Error{.message = "quaternion is not unit", .file = path, .line = line, .field = "columns 6-9"};
     poses.push_back({static_cast<TimeNs>(std::llround(time_s * 1e9)), fields[1],
                      make_transform(q, {values[0], values[1], values[2]})});
     return Done{};
@@ -97,15 +96,15 @@ std::vector<Transform> poses_of(const std::vector<RecordedPose>& poses, const st
 
 Status write_pose_csv(const std::string& path, const std::vector<RecordedPose>& poses) {
   std::FILE* file = std::fopen(path.c_str(), "w");
-  if (file == nullptr) return Error{"cannot create the file", path, 0, ""};
-  std::fputs("# time_s,tool,x_m,y_m,z_m,qw,qx,qy,qz (T_tracker_tool)\n", file);
+  if (file == nullptr) return Error{.message = "cannot create the file", .file = path};
+  std::fputs("# time_s,tool,x_m,y_m,z_m,qw,qx,qy,qz (tracker_from_tool)\n", file);
   for (const RecordedPose& pose : poses) {
     const Eigen::Quaterniond q(pose.pose.rotation());
     const Eigen::Vector3d t = pose.pose.translation();
     std::fprintf(file, "%.9f,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", static_cast<double>(pose.time_ns) * 1e-9,
                  pose.tool.c_str(), t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z());
   }
-  return std::fclose(file) == 0 ? Status(Done{}) : Status(Error{"cannot write the file", path, 0, ""});
+  return std::fclose(file) == 0 ? Status(Done{}) : Status(Error{.message = "cannot write the file", .file = path});
 }
 
 }  // namespace nav::calibration

@@ -1,7 +1,7 @@
 #pragma once
 // The calibration commands' recorded-pose and point files: plain CSV, one record a line,
 // '#' comments and blank lines ignored, lengths in metres.
-//   poses:  time_s,tool,x_m,y_m,z_m,qw,qx,qy,qz   (T_tracker_tool; tool is a name or id)
+//   poses:  time_s,tool,x_m,y_m,z_m,qw,qx,qy,qz   (tracker_from_tool; tool is a name or id)
 //   points: x_m,y_m,z_m
 #include <string>
 #include <vector>

@@ -12,7 +12,7 @@ Result<Eigen::VectorXd> solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& b
                               const char* why) {
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const auto& singular = svd.singularValues();
-  if (singular(singular.size() - 1) < options.min_inverse_condition * singular(0)) return Error{why, "", 0, "points"};
+  if (singular(singular.size() - 1) < options.min_inverse_condition * singular(0)) return Error{.message = why, .field = "points"};
   return Eigen::VectorXd(svd.solve(b));
 }
 
@@ -46,7 +46,7 @@ double rms(const std::vector<double>& values) {
 }
 
 Result<ProbeCalibration> fit_once(const std::vector<ImageProbePoint>& points, const ProbeCalibrationOptions& options) {
-  if (points.size() < options.min_points) return Error{"too few points for a probe calibration", "", 0, "points"};
+  if (points.size() < options.min_points) return Error{.message = "too few points for a probe calibration", .field = "points"};
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(points.size()), 9);
   Eigen::VectorXd b(3 * static_cast<Eigen::Index>(points.size()));
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -89,7 +89,7 @@ Result<ProbeCalibration> fit_probe_calibration(const std::vector<ImageProbePoint
 
 Result<PointTargetCalibration> point_target_calibration(const std::vector<TargetSighting>& sightings,
                                                         const ProbeCalibrationOptions& options) {
-  if (sightings.size() < options.min_points) return Error{"too few sightings for a point-target calibration", "", 0, "sightings"};
+  if (sightings.size() < options.min_points) return Error{.message = "too few sightings for a point-target calibration", .field = "sightings"};
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(sightings.size()), 12);
   Eigen::VectorXd b(3 * static_cast<Eigen::Index>(sightings.size()));
   for (std::size_t i = 0; i < sightings.size(); ++i) {

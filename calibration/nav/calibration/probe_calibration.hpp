@@ -1,5 +1,5 @@
 #pragma once
-// Ultrasound probe spatial calibration: the transform T_probe_image from the image plane to
+// Ultrasound probe spatial calibration: the transform probe_from_image from the image plane to
 // the probe's tracked marker, and the pixel spacing. Pixel (u, v) is the image point
 // (u * spacing_x, v * spacing_y, 0); with a = sx R e_x and b = sy R e_y the mapping
 // q = u a + v b + t is linear, so both calibrations below are linear least squares, made

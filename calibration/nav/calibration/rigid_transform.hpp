@@ -1,11 +1,11 @@
 #pragma once
-// Rigid transforms for the calibration library: T_a_b maps points of frame b into frame a.
+// Rigid transforms for the calibration library: a_from_b maps points of frame b into frame a.
 // Eigen's Isometry3d, plus the few conversions (URDF rpy, interpolation) calibrations share.
 #include <Eigen/Geometry>
 
 namespace nav::calibration {
 
-/// A rigid transform T_a_b (rotation and translation in metres).
+/// A rigid transform a_from_b (rotation and translation in metres).
 using Transform = Eigen::Isometry3d;
 
 /// The transform with rotation `q` (normalised here) and translation `t_m`.

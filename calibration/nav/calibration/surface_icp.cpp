@@ -77,10 +77,10 @@ Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen:
 
 Result<IcpResult> surface_icp(const TriSurface& surface, const std::vector<Eigen::Vector3d>& points,
                               const Transform& initial, const IcpOptions& options) {
-  if (surface.triangles.empty()) return Error{"the surface has no triangles", "", 0, "surface"};
-  if (points.size() < 6) return Error{"too few points: " + std::to_string(points.size()) + " < 6", "", 0, "points"};
+  if (surface.triangles.empty()) return Error{.message = "the surface has no triangles", .field = "surface"};
+  if (points.size() < 6) return Error{.message = "too few points: " + std::to_string(points.size()) + " < 6", .field = "points"};
   if (point_spread(points)(2) < 1e-6) {
-    return Error{"the points are coplanar: they could slide within their plane", "", 0, "points"};
+    return Error{.message = "the points are coplanar: they could slide within their plane", .field = "points"};
   }
   const ClosestPoints closest(surface);
   IcpResult result;

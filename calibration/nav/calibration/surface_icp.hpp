@@ -17,14 +17,14 @@ struct IcpOptions {
   double convergence_m = 1e-9;  // stop when the RMS distance changes less than this
 };
 
-/// The result: T_surface_points and the final RMS point-to-surface distance.
+/// The result: surface_from_points and the final RMS point-to-surface distance.
 struct IcpResult {
   Transform surface_from_points = Transform::Identity();
   double rms_distance_m = 0.0;
   int iterations = 0;
 };
 
-/// Registers `points` onto `surface` from `initial` (T_surface_points). Errors: an empty
+/// Registers `points` onto `surface` from `initial` (surface_from_points). Errors: an empty
 /// surface, fewer than 6 points, coplanar points (they could slide within their plane).
 Result<IcpResult> surface_icp(const TriSurface& surface, const std::vector<Eigen::Vector3d>& points,
                               const Transform& initial, const IcpOptions& options = {});

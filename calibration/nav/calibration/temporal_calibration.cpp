@@ -71,15 +71,15 @@ Peak scan(const std::vector<double>& fixed, const std::vector<double>& moving, s
 }
 
 std::optional<Error> check(const TimedSignal& signal, const char* name) {
-  if (signal.times_s.size() != signal.values.size()) return Error{"times and values differ in number", "", 0, name};
+  if (signal.times_s.size() != signal.values.size()) return Error{.message = "times and values differ in number", .field = name};
   for (std::size_t i = 1; i < signal.times_s.size(); ++i) {
-    if (!(signal.times_s[i] > signal.times_s[i - 1])) return Error{"time stamps must increase", "", 0, name};
+    if (!(signal.times_s[i] > signal.times_s[i - 1])) return Error{.message = "time stamps must increase", .field = name};
   }
   for (const double value : signal.values) {
-    if (!std::isfinite(value)) return Error{"a value is not finite", "", 0, name};
+    if (!std::isfinite(value)) return Error{.message = "a value is not finite", .field = name};
   }
   const auto [low, high] = std::minmax_element(signal.values.begin(), signal.values.end());
-  if (!signal.values.empty() && *low == *high) return Error{"the signal is flat (no motion to correlate)", "", 0, name};
+  if (!signal.values.empty() && *low == *high) return Error{.message = "the signal is flat (no motion to correlate)", .field = name};
   return std::nullopt;
 }
 
@@ -89,7 +89,7 @@ Result<LagEstimate> estimate_lag(const TimedSignal& fixed, const TimedSignal& mo
   if (auto problem = check(fixed, "fixed")) return *problem;
   if (auto problem = check(moving, "moving")) return *problem;
   if (fixed.times_s.size() < options.min_samples || moving.times_s.size() < options.min_samples) {
-    return Error{"too few samples for a temporal calibration", "", 0, "signals"};
+    return Error{.message = "too few samples for a temporal calibration", .field = "signals"};
   }
   // The fixed grid covers the fixed signal's span; the moving one its own, extended by the
   // window so that every scanned lag finds samples.
@@ -104,7 +104,7 @@ Result<LagEstimate> estimate_lag(const TimedSignal& fixed, const TimedSignal& mo
   // Correlate over the fixed grid's stretch that the moving signal covers.
   const double overlap_start = std::max(fixed_start, moving_start), overlap_end = std::min(fixed.times_s.back(), moving.times_s.back());
   if (overlap_end - overlap_start < 4.0 * options.max_lag_s) {
-    return Error{"the signals overlap for less than four search windows", "", 0, "signals"};
+    return Error{.message = "the signals overlap for less than four search windows", .field = "signals"};
   }
   const auto from = static_cast<std::size_t>((overlap_start - fixed_start) / step);
   const auto to = std::min(fixed_count, static_cast<std::size_t>((overlap_end - fixed_start) / step) + 1);
@@ -114,7 +114,7 @@ Result<LagEstimate> estimate_lag(const TimedSignal& fixed, const TimedSignal& mo
     std::ostringstream message;
     message << "the lag lies beyond the search window of +-" << options.max_lag_s << " s (best correlation in it "
             << whole.correlation << (whole.at_edge ? ", at its edge)" : ")");
-    return Error{message.str(), "", 0, "max_lag_s"};
+    return Error{.message = message.str(), .field = "max_lag_s"};
   }
   LagEstimate estimate;
   estimate.lag_s = whole.lag_s;

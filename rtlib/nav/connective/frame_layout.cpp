@@ -9,7 +9,7 @@
 namespace nav {
 namespace {
 
-Error error(std::string message, std::string field) { return Error{std::move(message), "", 0, std::move(field)}; }
+Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
 
 /// Gauss-Legendre abscissae and weights on [0, 1], n = 1 to 4.
 void gauss_rule(int n, std::vector<double>& x, std::vector<double>& w) {

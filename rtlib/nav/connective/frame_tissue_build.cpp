@@ -12,7 +12,7 @@ namespace {
 
 using detail::FrameTables;
 
-Error error(std::string message, std::string field) { return Error{std::move(message), "", 0, std::move(field)}; }
+Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
 
 bool finite_non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
 

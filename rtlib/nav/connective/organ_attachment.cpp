@@ -25,9 +25,8 @@ Result<std::pair<std::int32_t, std::array<double, 4>>> locate_in_tets(const TetM
     }
     if (inside) return std::make_pair(static_cast<std::int32_t>(e), b);
   }
-  return Error{"the point (" + std::to_string(point_m[0]) + ", " + std::to_string(point_m[1]) + ", " + std::to_string(point_m[2]) +
-                   ") m is in no tetrahedron of the organ",
-               "", 0, field};
+  return Error{.message = "the point (" + std::to_string(point_m[0]) + ", " + std::to_string(point_m[1]) + ", " + std::to_string(point_m[2]) +
+                   ") m is in no tetrahedron of the organ", .field = field};
 }
 
 namespace {

@@ -25,7 +25,7 @@ Result<OrganLigaments> make_organ_ligaments(const TetMesh& organ, const std::vec
         double column_m = -1e300;
         for (const Point3& p : organ.nodes_m)
           if (std::abs(p[0] - x) <= 0.5 * dx && std::abs(p[1] - y) <= 0.5 * dy) column_m = std::max(column_m, p[2]);
-        if (column_m < -1e299) return Error{"no organ node under the footprint's column " + std::to_string(i) + ", " + std::to_string(j), "", 0, field};
+        if (column_m < -1e299) return Error{.message = "no organ node under the footprint's column " + std::to_string(i) + ", " + std::to_string(j), .field = field};
         top_m = std::min(top_m, column_m);
       }
     FrameGrid grid;
@@ -33,7 +33,7 @@ Result<OrganLigaments> make_organ_ligaments(const TetMesh& organ, const std::vec
     grid.counts = spec.frames;
     grid.spacing_m = {spec.width_m / (spec.frames[0] - 1), spec.depth_m / (spec.frames[1] - 1), spec.length_m / (spec.frames[2] - 1)};
     auto layout = make_grid_layout(grid);
-    if (!layout.ok()) return Error{layout.error().message, "", 0, field + "." + layout.error().field};
+    if (!layout.ok()) return Error{.message = layout.error().message, .field = field + "." + layout.error().field};
     const FrameLayout& made = layout.value();
     for (std::size_t f = 0; f < made.frames_m.size(); ++f) {
       const auto index = first_frame + static_cast<std::int32_t>(f);

@@ -11,9 +11,9 @@ namespace nav {
 /// and the field or element concerned (empty if none).
 struct Error {
   std::string message;
-  std::string file;
+  std::string file{};
   int line = 0;
-  std::string field;
+  std::string field{};
 
   /// "file:line: field: message", leaving out the parts that are empty.
   std::string describe() const;

@@ -8,7 +8,7 @@ Status write_text_file(const std::string& path, std::string_view text) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(text.data(), static_cast<std::streamsize>(text.size()));
   out.close();
-  if (!out) return Error{"cannot write the file", path, 0, ""};
+  if (!out) return Error{.message = "cannot write the file", .file = path};
   return Done{};
 }
 

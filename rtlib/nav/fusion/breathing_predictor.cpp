@@ -12,7 +12,7 @@ namespace nav {
 namespace {
 
 Error option_error(const char* field, const std::string& message) {
-  return Error{message, "", 0, std::string("breathing_predictor.") + field};
+  return Error{.message = message, .field = std::string("breathing_predictor.") + field};
 }
 
 double seconds(TimeNs duration_ns) noexcept { return static_cast<double>(duration_ns) * 1e-9; }

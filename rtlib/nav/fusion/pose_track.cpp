@@ -7,7 +7,7 @@ namespace nav {
 namespace {
 
 Error option_error(const char* field, const std::string& message) {
-  return Error{message, "", 0, std::string("pose_track.") + field};
+  return Error{.message = message, .field = std::string("pose_track.") + field};
 }
 
 bool finite_unit_pose(const RigidPose& pose, double tolerance) noexcept {

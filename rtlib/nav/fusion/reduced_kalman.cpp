@@ -11,7 +11,7 @@
 namespace nav {
 namespace {
 
-Error error(std::string message, std::string field) { return Error{std::move(message), "", 0, std::move(field)}; }
+Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
 
 /// Sum of a[j] b[j] over n values, in index order.
 double dot(const double* a, const double* b, int n) noexcept {

@@ -10,7 +10,7 @@
 
 namespace nav {
 
-/// The transform T_to_from of a rigid body: x_to = rotation * x_from + position_m.
+/// A rigid transform named to_from_from (tracker_from_tool maps tool points into the tracker): x_to = rotation * x_from + position_m.
 struct RigidPose {
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
@@ -22,12 +22,12 @@ struct TimedPose {
   RigidPose pose;
 };
 
-/// T_a_c = T_a_b * T_b_c.
+/// a_from_c = a_from_b * b_from_c.
 inline RigidPose compose(const RigidPose& a_from_b, const RigidPose& b_from_c) noexcept {
   return {a_from_b.rotation * b_from_c.position_m + a_from_b.position_m, a_from_b.rotation * b_from_c.rotation};
 }
 
-/// T_b_a from T_a_b.
+/// b_from_a from a_from_b.
 inline RigidPose inverse(const RigidPose& a_from_b) noexcept {
   const Eigen::Quaterniond r = a_from_b.rotation.conjugate();
   return {-(r * a_from_b.position_m), r};

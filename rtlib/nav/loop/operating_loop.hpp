@@ -84,14 +84,14 @@ struct OperatingLoopOptions {
 };
 
 /// A flexible needle for the loop to step, coupled to its reduced liver. Its base is the
-/// tracked needle marker's pose times base_in_marker, every tick; it stays idle (node_count 0,
+/// tracked needle marker's pose times marker_from_base, every tick; it stays idle (node_count 0,
 /// no force) until the first good needle pose, which places it straight there; while the
 /// needle input is degraded its base is held at the last good pose. The tissue steps with the
 /// loop's liver (every tissue_every_ticks ticks) under the needle's forces and the diaphragm.
 struct OperatingLoopNeedleOptions {
   NeedleParameters parameters;        ///< parameters.step_s must equal the tick period; at most kLoopMaxNeedleNodes nodes
   NeedleTissueScene scene;            ///< the layers the needle meets, model frame
-  RigidPose base_in_marker;           ///< T_marker_base: the needle base (holder) in the marker frame; the needle lies along its +x
+  RigidPose marker_from_base;           ///< marker_from_base: the needle base (holder) in the marker frame; the needle lies along its +x
   std::size_t max_point_forces = 16;  ///< at most the reduced model's scene's max_point_forces
 };
 
@@ -101,12 +101,12 @@ struct OperatingLoopNeedleOptions {
 struct OperatingLoopNeedleModel {
   ReducedModel tissue;                ///< the loop's reduced model
   ReducedCoupledNeedleModel coupled;  ///< coupled.tissue == &tissue
-  RigidPose base_in_marker;
+  RigidPose marker_from_base;
   Eigen::Vector3d tip_in_marker_m = Eigen::Vector3d::Zero();  ///< the straight needle's tip, marker frame
 
   OperatingLoopNeedleModel(ReducedModel liver, const RigidPose& base, double length_m)
       : tissue(std::move(liver)),
-        base_in_marker(base),
+        marker_from_base(base),
         tip_in_marker_m(base.rotation * Eigen::Vector3d(length_m, 0.0, 0.0) + base.position_m) {}
   OperatingLoopNeedleModel(const OperatingLoopNeedleModel&) = delete;
   OperatingLoopNeedleModel& operator=(const OperatingLoopNeedleModel&) = delete;

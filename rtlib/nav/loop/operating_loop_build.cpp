@@ -12,7 +12,7 @@ namespace nav {
 namespace {
 
 Error option_error(const std::string& field, const std::string& message) {
-  return Error{message, "", 0, "operating_loop." + field};
+  return Error{.message = message, .field = "operating_loop." + field};
 }
 
 /// A liver rung as given, and the names its errors use.
@@ -56,7 +56,7 @@ Status check_rung(const RungInput& rung, const OperatingLoopOptions& options) {
 /// The needle coupled to one rung's liver; errors put under operating_loop.needle.
 Result<std::shared_ptr<const OperatingLoopNeedleModel>> couple_needle(const ReducedModel& liver, const OperatingLoopNeedleOptions& needle,
                                                                       const OperatingLoopOptions& options, const TetMesh& mesh) {
-  auto holder = std::make_shared<OperatingLoopNeedleModel>(liver, needle.base_in_marker, needle.parameters.length_m);
+  auto holder = std::make_shared<OperatingLoopNeedleModel>(liver, needle.marker_from_base, needle.parameters.length_m);
   auto coupled = make_coupled_needle_model(needle.parameters, needle.scene, holder->tissue, mesh, needle.max_point_forces,
                                            options.tissue_every_ticks);
   if (!coupled.ok()) {
@@ -83,9 +83,9 @@ Status check_needle(const OperatingLoopNeedleOptions& needle, const OperatingLoo
   if (p.element_count + 1 > kLoopMaxNeedleNodes)
     return option_error("needle.parameters.element_count", "gives " + std::to_string(p.element_count + 1) +
                                                                " nodes; a loop carries at most " + std::to_string(kLoopMaxNeedleNodes));
-  const RigidPose& base = needle.base_in_marker;
+  const RigidPose& base = needle.marker_from_base;
   if (!base.position_m.allFinite() || std::abs(base.rotation.norm() - 1.0) > 1e-9)
-    return option_error("needle.base_in_marker", "must be a finite position and a unit quaternion");
+    return option_error("needle.marker_from_base", "must be a finite position and a unit quaternion");
   return Done{};
 }
 
@@ -186,7 +186,7 @@ Result<OperatingLoopData> make_operating_loop_data(const OperatingLoopModel& mod
     if (!filter.ok()) return filter.error();
     OperatingLoopRungData data{std::move(reduced).value(), std::move(lookahead).value(), std::move(filter).value(), std::nullopt};
     if (rung.needle) {  // idle at its holder's pose in the marker frame until the needle is seen
-      auto coupled = make_coupled_needle_data(rung.needle->coupled, to_needle_pose(rung.needle->base_in_marker));
+      auto coupled = make_coupled_needle_data(rung.needle->coupled, to_needle_pose(rung.needle->marker_from_base));
       if (!coupled.ok()) return coupled.error();
       data.needle_model.emplace(std::move(coupled).value());
     }
@@ -202,7 +202,7 @@ Result<OperatingLoopData> make_operating_loop_data(const OperatingLoopModel& mod
   OperatingLoopData data(std::move(rungs), static_cast<std::size_t>(max_r) * static_cast<std::size_t>(max_r),
                          std::move(needle).value(), std::move(probe).value(), std::move(breathing).value(),
                          model.options.max_pending_observations);
-  if (model.has_needle()) data.needle_base = model.rungs.front().needle->base_in_marker;
+  if (model.has_needle()) data.needle_base = model.rungs.front().needle->marker_from_base;
   return data;
 }
 

@@ -144,7 +144,7 @@ bool finite(const RigidPose& pose) noexcept { return pose.position_m.allFinite()
 /// Idle until the first good pose.
 void needle_tick(const OperatingLoopNeedleModel& needle_model, OperatingLoopData& data, const PoseQuery& tracked) noexcept {
   if (!tracked.degraded && finite(tracked.pose)) {
-    data.needle_base = compose(tracked.pose, needle_model.base_in_marker);
+    data.needle_base = compose(tracked.pose, needle_model.marker_from_base);
     data.needle_acquired = true;
   }
   if (!data.needle_acquired) return;

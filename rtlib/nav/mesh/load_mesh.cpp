@@ -34,13 +34,13 @@ Result<TetMesh> load_tet_mesh(const std::string& path, LengthUnit unit) {
   if (extension == ".msh") return load_msh_tet_mesh(path, unit);
   if (extension == ".vtk") return load_vtk_tet_mesh(path, unit);
   if (extension == ".vtu") return load_vtu_tet_mesh(path, unit);
-  return Error{"unknown tetrahedral mesh extension '" + extension + "' (.msh, .vtk and .vtu are read)", path, 0, ""};
+  return Error{.message = "unknown tetrahedral mesh extension '" + extension + "' (.msh, .vtk and .vtu are read)", .file = path};
 }
 
 Result<TriSurface> load_surface(const std::string& path, LengthUnit unit) {
   const std::string extension = lower_extension(path);
   if (extension == ".obj") return load_obj_surface(path, unit);
-  return Error{"unknown surface extension '" + extension + "' (.obj is read)", path, 0, ""};
+  return Error{.message = "unknown surface extension '" + extension + "' (.obj is read)", .file = path};
 }
 
 }  // namespace nav

@@ -8,8 +8,10 @@
 
 namespace nav {
 
-/// A point or vector in 3-D space, in metres unless the name says otherwise.
-using Point3 = std::array<double, 3>;
+/// A point or vector in 3-D space, in metres unless the name says otherwise. A type of nav's
+/// own (an std::array underneath), so that its operators (geometry.hpp) are found from user
+/// code without a using-declaration.
+struct Point3 : std::array<double, 3> {};
 
 /// Region tags carried per tetrahedron.
 enum class TissueRegion : std::uint8_t { parenchyma = 1, tumour = 2 };

@@ -23,15 +23,15 @@ std::string_view strip_plus(std::string_view token) {
 Result<std::string> read_text_file(const std::string& path) {
   std::error_code code;
   const auto status = std::filesystem::status(path, code);
-  if (code || !std::filesystem::exists(status)) return Error{"cannot open file: no such file", path, 0, ""};
-  if (!std::filesystem::is_regular_file(status)) return Error{"cannot open file: not a regular file", path, 0, ""};
+  if (code || !std::filesystem::exists(status)) return Error{.message = "cannot open file: no such file", .file = path};
+  if (!std::filesystem::is_regular_file(status)) return Error{.message = "cannot open file: not a regular file", .file = path};
   std::ifstream stream(path, std::ios::binary);
-  if (!stream) return Error{"cannot open file", path, 0, ""};
+  if (!stream) return Error{.message = "cannot open file", .file = path};
   const auto size = std::filesystem::file_size(path, code);
-  if (code) return Error{"cannot read file size", path, 0, ""};
+  if (code) return Error{.message = "cannot read file size", .file = path};
   std::string text(size, '\0');
   stream.read(text.data(), static_cast<std::streamsize>(size));
-  if (static_cast<std::uintmax_t>(stream.gcount()) != size) return Error{"cannot read file", path, 0, ""};
+  if (static_cast<std::uintmax_t>(stream.gcount()) != size) return Error{.message = "cannot read file", .file = path};
   return text;
 }
 
@@ -194,7 +194,7 @@ int TextScanner::line() const {
 }
 
 bool TextScanner::fail(std::string_view field, std::string message) {
-  return fail(Error{std::move(message), path_, line(), std::string(field)});
+  return fail(Error{.message = std::move(message), .file = path_, .line = line(), .field = std::string(field)});
 }
 
 bool TextScanner::fail(Error error) {

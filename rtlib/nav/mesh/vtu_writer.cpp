@@ -31,15 +31,15 @@ void append_data_array(std::string& out, const std::string& attributes, std::spa
 Status check_field(const VtuField& field, std::size_t count, const char* where) {
   const std::string context = std::string(where) + " field '" + field.name + "'";
   if (field.name.empty() || field.name.find_first_of("<>&\"'") != std::string::npos) {
-    return Error{"a field name must be non-empty without <>&\"' characters", "", 0, context};
+    return Error{.message = "a field name must be non-empty without <>&\"' characters", .field = context};
   }
-  if (field.components < 1) return Error{"components must be at least 1", "", 0, context};
+  if (field.components < 1) return Error{.message = "components must be at least 1", .field = context};
   const std::size_t expected = static_cast<std::size_t>(field.components) * count;
   if (field.values.size() != expected) {
-    return Error{std::to_string(field.values.size()) + " values, expected " + std::to_string(expected), "", 0, context};
+    return Error{.message = std::to_string(field.values.size()) + " values, expected " + std::to_string(expected), .field = context};
   }
   for (std::size_t i = 0; i < field.values.size(); ++i) {
-    if (!std::isfinite(field.values[i])) return Error{"value " + std::to_string(i) + " is not finite", "", 0, context};
+    if (!std::isfinite(field.values[i])) return Error{.message = "value " + std::to_string(i) + " is not finite", .field = context};
   }
   return Done{};
 }
@@ -48,18 +48,18 @@ Status check_inputs(const TetMesh& mesh, const std::vector<VtuField>& point_fiel
                     const std::vector<VtuField>& cell_fields) {
   for (const Point3& p : mesh.nodes_m) {
     if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
-      return Error{"a node coordinate is not finite", "", 0, "nodes_m"};
+      return Error{.message = "a node coordinate is not finite", .field = "nodes_m"};
     }
   }
   for (const auto& tet : mesh.tets) {
     for (const std::int32_t node : tet) {
       if (node < 0 || static_cast<std::size_t>(node) >= mesh.nodes_m.size()) {
-        return Error{"node index " + std::to_string(node) + " is out of range", "", 0, "tets"};
+        return Error{.message = "node index " + std::to_string(node) + " is out of range", .field = "tets"};
       }
     }
   }
   if (!mesh.tet_regions.empty() && mesh.tet_regions.size() != mesh.tets.size()) {
-    return Error{"one region tag per element is needed", "", 0, "tet_regions"};
+    return Error{.message = "one region tag per element is needed", .field = "tet_regions"};
   }
   for (const VtuField& field : point_fields) {
     if (auto status = check_field(field, mesh.nodes_m.size(), "point"); !status) return status;
@@ -67,7 +67,7 @@ Status check_inputs(const TetMesh& mesh, const std::vector<VtuField>& point_fiel
   for (const VtuField& field : cell_fields) {
     if (auto status = check_field(field, mesh.tets.size(), "cell"); !status) return status;
     if (!mesh.tet_regions.empty() && field.name == kVtuRegionArray) {
-      return Error{"the name is taken by tet_regions", "", 0, "cell field '" + field.name + "'"};
+      return Error{.message = "the name is taken by tet_regions", .field = "cell field '" + field.name + "'"};
     }
   }
   return Done{};
@@ -142,10 +142,10 @@ Status write_vtu(const std::string& path, const TetMesh& mesh, const std::vector
     return error;
   }
   std::ofstream stream(path, std::ios::binary | std::ios::trunc);
-  if (!stream) return Error{"cannot open file for writing", path, 0, ""};
+  if (!stream) return Error{.message = "cannot open file for writing", .file = path};
   stream.write(text.value().data(), static_cast<std::streamsize>(text.value().size()));
   stream.close();
-  if (!stream) return Error{"cannot write file", path, 0, ""};
+  if (!stream) return Error{.message = "cannot write file", .file = path};
   return Done{};
 }
 

@@ -23,9 +23,9 @@ void add_point_force(std::span<PointForce> forces, std::size_t& count, std::int3
 }  // namespace
 
 Status validate_coupling(const NeedleTissueScene& scene, std::size_t max_point_forces, int needle_steps_per_tissue_step) {
-  if (scene.layers.empty()) return Error{"the coupled scene needs a layer", "", 0, "scene.layers"};
-  if (needle_steps_per_tissue_step < 1) return Error{"must be at least 1", "", 0, "needle_steps_per_tissue_step"};
-  if (max_point_forces < 1) return Error{"must be at least 1", "", 0, "max_point_forces"};
+  if (scene.layers.empty()) return Error{.message = "the coupled scene needs a layer", .field = "scene.layers"};
+  if (needle_steps_per_tissue_step < 1) return Error{.message = "must be at least 1", .field = "needle_steps_per_tissue_step"};
+  if (max_point_forces < 1) return Error{.message = "must be at least 1", .field = "max_point_forces"};
   return Done{};
 }
 

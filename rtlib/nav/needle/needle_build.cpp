@@ -31,10 +31,10 @@ Result<NeedleModel> make_needle_model(const NeedleParameters& parameters) {
 
 Result<NeedleData> make_needle_data(const NeedleModel& model, const NeedlePose& base) {
   for (double v : base.position_m)
-    if (!std::isfinite(v)) return Error{"must be finite", "", 0, "needle.base.position_m"};
+    if (!std::isfinite(v)) return Error{.message = "must be finite", .field = "needle.base.position_m"};
   double norm2 = 0.0;
   for (double v : base.rotation_wxyz) norm2 += v * v;
-  if (!std::isfinite(norm2) || std::abs(norm2 - 1.0) > 1e-6) return Error{"must be a unit quaternion", "", 0, "needle.base.rotation_wxyz"};
+  if (!std::isfinite(norm2) || std::abs(norm2 - 1.0) > 1e-6) return Error{.message = "must be a unit quaternion", .field = "needle.base.rotation_wxyz"};
   const auto nodes = static_cast<std::size_t>(model.node_count());
   const auto free_blocks = nodes - 1;
   ArenaPlan plan;

@@ -17,7 +17,7 @@
 
 namespace nav {
 
-/// A rigid pose T_world_base: the base position in metres and the unit quaternion
+/// A rigid pose world_from_base: the base position in metres and the unit quaternion
 /// (w, x, y, z) of the base frame; the needle extends along the frame's +x axis.
 struct NeedlePose {
   std::array<double, 3> position_m{};

@@ -9,7 +9,7 @@ namespace nav {
 namespace {
 
 Status field_error(const char* field, const std::string& message) {
-  return Error{message, "", 0, std::string("needle.") + field};
+  return Error{.message = message, .field = std::string("needle.") + field};
 }
 
 bool in_range(double value, double low, double high) { return std::isfinite(value) && value >= low && value <= high; }

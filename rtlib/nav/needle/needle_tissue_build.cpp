@@ -10,7 +10,7 @@ namespace nav {
 
 namespace {
 
-Error scene_error(const std::string& field, const char* message) { return Error{message, "", 0, "scene." + field}; }
+Error scene_error(const std::string& field, const char* message) { return Error{.message = message, .field = "scene." + field}; }
 
 bool positive(double v) { return std::isfinite(v) && v > 0.0; }
 bool non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
@@ -40,7 +40,7 @@ Status validate_scene(const NeedleTissueScene& s) {
   if (s.gauss_seidel_sweeps < 1 || s.gauss_seidel_sweeps > 1000) return scene_error("gauss_seidel_sweeps", "must be within [1, 1000]");
   if (!positive(s.residual_bound_m)) return scene_error("residual_bound_m", "must be positive");
   if (!kernel_isa_available(s.kernel_isa))
-    return Error{"this build or CPU has no " + std::string(kernel_isa_name(s.kernel_isa)) + " kernels", "", 0, "scene.kernel_isa"};
+    return Error{.message = "this build or CPU has no " + std::string(kernel_isa_name(s.kernel_isa)) + " kernels", .field = "scene.kernel_isa"};
   return Done{};
 }
 
@@ -51,7 +51,7 @@ Result<NeedleTissueModel> make_needle_tissue_model(const NeedleParameters& needl
   auto needle_model = make_needle_model(needle);
   if (!needle_model.ok()) return needle_model.error();
   if (auto valid = validate_scene(scene); !valid) return valid.error();
-  if (tissue_rest_m.size() % 3 != 0) return Error{"must hold 3 coordinates per node", "", 0, "tissue_rest_m"};
+  if (tissue_rest_m.size() % 3 != 0) return Error{.message = "must hold 3 coordinates per node", .field = "tissue_rest_m"};
   NeedleTissueModel model;
   model.needle = std::move(needle_model).value();
   model.scene = scene;

@@ -27,16 +27,16 @@ Result<Eigen::VectorXd> one_step_q(const ReducedModel& tissue, const PointForce*
   if (force != nullptr) inputs.point_forces = std::span<const PointForce>(force, 1);
   step(tissue, data.value(), inputs);
   if (data.value().health.has(HealthFlag::bad_sample) || data.value().health.has(HealthFlag::non_finite_state))
-    return Error{"the reduced model refused the probe step", "", 0, "tissue"};
+    return Error{.message = "the reduced model refused the probe step", .field = "tissue"};
   return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(data.value().q.data(), static_cast<Eigen::Index>(data.value().q.size())));
 }
 
 }  // namespace
 
 Result<ReducedComplianceFactors> reduced_compliance_factors(const ReducedModel& tissue, double probe_force_n) {
-  if (!(std::isfinite(probe_force_n) && probe_force_n > 0.0)) return Error{"must be positive", "", 0, "probe_force_n"};
+  if (!(std::isfinite(probe_force_n) && probe_force_n > 0.0)) return Error{.message = "must be positive", .field = "probe_force_n"};
   const int r = tissue.basis_size();
-  if (r < 1 || r > kMaxComplianceRank) return Error{"must be within [1, 256]", "", 0, "tissue.basis_size"};
+  if (r < 1 || r > kMaxComplianceRank) return Error{.message = "must be within [1, 256]", .field = "tissue.basis_size"};
   const auto n3 = static_cast<Eigen::Index>(3 * tissue.node_count());
   // U, column by column: the displacements of a unit coordinate.
   auto scratch = make_reduced_data(tissue);
@@ -52,7 +52,7 @@ Result<ReducedComplianceFactors> reduced_compliance_factors(const ReducedModel& 
   // r node axes whose basis rows are well conditioned, probed one by one: their generalized
   // forces F (columns U_k^T) and the changes of q per newton D give G = D F^-1.
   const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> pivoting(basis.transpose());
-  if (pivoting.rank() < r) return Error{"the basis has dependent columns", "", 0, "tissue.basis"};
+  if (pivoting.rank() < r) return Error{.message = "the basis has dependent columns", .field = "tissue.basis"};
   const auto rest_q = one_step_q(tissue, nullptr);
   if (!rest_q.ok()) return rest_q.error();
   Eigen::MatrixXd forces(r, r), changes(r, r);
@@ -67,7 +67,7 @@ Result<ReducedComplianceFactors> reduced_compliance_factors(const ReducedModel& 
   }
   const Eigen::MatrixXd g = forces.transpose().partialPivLu().solve(changes.transpose()).transpose();
   const Eigen::LLT<Eigen::MatrixXd> factor(0.5 * (g + g.transpose()));
-  if (factor.info() != Eigen::Success) return Error{"the reduced step's response is not positive definite", "", 0, "tissue"};
+  if (factor.info() != Eigen::Success) return Error{.message = "the reduced step's response is not positive definite", .field = "tissue"};
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> v = basis * factor.matrixL().toDenseMatrix();
   return ReducedComplianceFactors{r, std::vector<double>(v.data(), v.data() + v.size())};
 }
@@ -77,7 +77,7 @@ Result<ReducedCoupledNeedleModel> make_coupled_needle_model(const NeedleParamete
                                                             std::size_t max_point_forces, int needle_steps_per_tissue_step) {
   if (auto valid = detail::validate_coupling(scene, max_point_forces, needle_steps_per_tissue_step); !valid) return valid.error();
   if (static_cast<std::int64_t>(mesh.nodes_m.size()) != tissue.node_count())
-    return Error{"has another node count than the reduced model", "", 0, "mesh"};
+    return Error{.message = "has another node count than the reduced model", .field = "mesh"};
   {
     // The tissue must take max_point_forces point forces in one step.
     auto data = make_reduced_data(tissue);
@@ -87,7 +87,7 @@ Result<ReducedCoupledNeedleModel> make_coupled_needle_model(const NeedleParamete
     inputs.point_forces = none;
     step(tissue, data.value(), inputs);
     if (data.value().health.has(HealthFlag::bad_sample))
-      return Error{"exceeds the reduced model's scene max_point_forces", "", 0, "max_point_forces"};
+      return Error{.message = "exceeds the reduced model's scene max_point_forces", .field = "max_point_forces"};
   }
   auto factors = reduced_compliance_factors(tissue, 0.01);
   if (!factors.ok()) return factors.error();

@@ -27,7 +27,7 @@ std::int32_t nearest_node(std::span<const double> rest_m, const Point3& point_m)
 }  // namespace
 
 Result<ProbedCompliance> probe_tet_fem_compliance(const TetFemModel& tissue, const Point3& point_m, double probe_force_n) {
-  if (!(std::isfinite(probe_force_n) && probe_force_n > 0.0)) return Error{"must be positive", "", 0, "probe_force_n"};
+  if (!(std::isfinite(probe_force_n) && probe_force_n > 0.0)) return Error{.message = "must be positive", .field = "probe_force_n"};
   const std::span<const double> rest = tissue.rest_positions_m();
   const std::int32_t node = nearest_node(rest, point_m);
   const std::size_t nodes = rest.size() / 3;
@@ -41,7 +41,7 @@ Result<ProbedCompliance> probe_tet_fem_compliance(const TetFemModel& tissue, con
     TissueInputs inputs;
     inputs.point_forces = std::span<const PointForce>(&force, 1);
     step(tissue, data.value(), inputs);
-    if (!data.value().health.healthy()) return Error{"the tissue refused the probe step", "", 0, "tissue"};
+    if (!data.value().health.healthy()) return Error{.message = "the tissue refused the probe step", .field = "tissue"};
     for (std::size_t n = 0; n < nodes; ++n) {
       double d2 = 0.0;
       for (int c = 0; c < 3; ++c) d2 += std::pow(data.value().positions_m[3 * n + c] - rest[3 * n + c], 2);
@@ -55,7 +55,7 @@ Result<ProbedCompliance> probe_tet_fem_compliance(const TetFemModel& tissue, con
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) probed.tensor_m_per_n[static_cast<std::size_t>(3 * j + i)] = 0.5 * (columns[3 * j + i] + columns[3 * i + j]);
   probed.point_compliance_m_per_n = (columns[0] + columns[4] + columns[8]) / 3.0;
-  if (!(probed.point_compliance_m_per_n > 0.0)) return Error{"no positive compliance at the probed node", "", 0, "tissue"};
+  if (!(probed.point_compliance_m_per_n > 0.0)) return Error{.message = "no positive compliance at the probed node", .field = "tissue"};
   // Gaussian fit of the near-field decay: ratio r at distance d gives l = d / sqrt(-2 ln r);
   // the median over the 12 nearest nodes (the far field is not Gaussian).
   std::vector<std::pair<double, double>> near;  // (distance, response ratio)
@@ -70,7 +70,7 @@ Result<ProbedCompliance> probe_tet_fem_compliance(const TetFemModel& tissue, con
   std::vector<double> lengths;
   for (std::size_t k = 0; k < std::min<std::size_t>(12, near.size()); ++k)
     if (near[k].second > 0.0 && near[k].second < 1.0) lengths.push_back(near[k].first / std::sqrt(-2.0 * std::log(near[k].second)));
-  if (lengths.empty()) return Error{"the probe's response does not decay over the mesh", "", 0, "tissue"};
+  if (lengths.empty()) return Error{.message = "the probe's response does not decay over the mesh", .field = "tissue"};
   std::nth_element(lengths.begin(), lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 2), lengths.end());
   probed.correlation_length_m = lengths[lengths.size() / 2];
   return probed;

@@ -14,7 +14,7 @@
 namespace nav {
 namespace {
 
-Error error(std::string message, std::string field) { return Error{std::move(message), "", 0, std::move(field)}; }
+Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
 
 /// Most rows (r per snapshot) of the ECSW training matrix: its snapshots are spread evenly.
 constexpr Eigen::Index kMaxTrainingRows = 512;

@@ -69,8 +69,7 @@ Result<std::vector<double>> diaphragm_lift(const FullSystem& system) {
   if (tables.prescribed_nodes.empty()) return std::vector<double>{};
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(system.stiffness);
   if (factor.info() != Eigen::Success)
-    return Error{"the stiffness with the supports applied is singular: the lift needs fixed nodes or springs", "", 0,
-                 "fixed_nodes"};
+    return Error{.message = "the stiffness with the supports applied is singular: the lift needs fixed nodes or springs", .field = "fixed_nodes"};
   const auto n3 = static_cast<std::size_t>(3 * tables.node_count);
   std::vector<double> lift(3 * n3, 0.0);
   for (int c = 0; c < 3; ++c) {

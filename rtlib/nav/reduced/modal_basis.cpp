@@ -44,7 +44,7 @@ class ShiftInvertOperator {
 /// nothing (its rigid motions are then modes of w^2 = 0), far below the first elastic w^2.
 constexpr double kShift = -1.0;
 
-Error error(std::string message, std::string field) { return Error{std::move(message), "", 0, std::move(field)}; }
+Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
 
 /// The `count` lowest modes (free-dof columns) and their w^2.
 Result<std::pair<Eigen::MatrixXd, Eigen::VectorXd>> lowest_modes(const FullSystem& system, Eigen::Index count) {

@@ -94,7 +94,7 @@ class Reader {
     return fail(what, "truncated at byte " + std::to_string(bytes_.size()) + " (needs " + std::to_string(count) +
                           " bytes from byte " + std::to_string(position_) + ")");
   }
-  Error fail(const std::string& field, const std::string& message) const { return Error{message, name_, 0, field}; }
+  Error fail(const std::string& field, const std::string& message) const { return Error{.message = message, .file = name_, .field = field}; }
 
   std::uint32_t u32() {
     std::uint32_t v = 0;
@@ -272,18 +272,18 @@ Result<ReducedBasis> decode_reduced_basis(std::span<const std::uint8_t> bytes, c
 Status save_reduced_basis(const std::string& path, const ReducedBasis& basis) {
   const std::vector<std::uint8_t> bytes = encode_reduced_basis(basis);
   std::ofstream file(path, std::ios::binary | std::ios::trunc);
-  if (!file) return Error{"cannot open for writing", path, 0, ""};
+  if (!file) return Error{.message = "cannot open for writing", .file = path};
   file.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   file.close();
-  if (!file) return Error{"cannot write " + std::to_string(bytes.size()) + " bytes", path, 0, ""};
+  if (!file) return Error{.message = "cannot write " + std::to_string(bytes.size()) + " bytes", .file = path};
   return Done{};
 }
 
 Result<ReducedBasis> load_reduced_basis(const std::string& path, const TetMesh* expected_mesh) {
   std::ifstream file(path, std::ios::binary);
-  if (!file) return Error{"cannot open", path, 0, ""};
+  if (!file) return Error{.message = "cannot open", .file = path};
   const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
-  if (file.bad()) return Error{"cannot read", path, 0, ""};
+  if (file.bad()) return Error{.message = "cannot read", .file = path};
   return decode_reduced_basis(bytes, path, expected_mesh);
 }
 

@@ -13,11 +13,11 @@ Result<ReducedBasis> extend_basis(const TetMesh& mesh, const TissueScene& scene,
                                   const ReducedBasis& lower, int basis_size, std::span<const double> snapshots_m,
                                   int snapshot_count) {
   const auto n3 = 3 * mesh.nodes_m.size();
-  if (lower.mesh_fingerprint != mesh_fingerprint(mesh)) return Error{"the basis belongs to another mesh", "", 0, "mesh_fingerprint"};
+  if (lower.mesh_fingerprint != mesh_fingerprint(mesh)) return Error{.message = "the basis belongs to another mesh", .field = "mesh_fingerprint"};
   if (lower.basis_size < 1 || lower.basis.size() != n3 * static_cast<std::size_t>(lower.basis_size))
-    return Error{"the basis is not 3 node_count x basis_size", "", 0, "basis"};
+    return Error{.message = "the basis is not 3 node_count x basis_size", .field = "basis"};
   if (basis_size <= lower.basis_size)
-    return Error{"the extended basis must have more than " + std::to_string(lower.basis_size) + " columns", "", 0, "basis_size"};
+    return Error{.message = "the extended basis must have more than " + std::to_string(lower.basis_size) + " columns", .field = "basis_size"};
   auto system = detail::make_full_system(mesh, scene, solver);
   if (!system.ok()) return system.error();
   const detail::TetFemTables& tables = system.value().model.tables();
@@ -33,7 +33,7 @@ Result<ReducedBasis> extend_basis(const TetMesh& mesh, const TissueScene& scene,
   // The snapshots' part the lower basis misses, and its POD (method of snapshots).
   const Eigen::MatrixXd missed = snapshots.value() - kept * (kept.transpose() * mass.asDiagonal() * snapshots.value());
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(missed.transpose() * mass.asDiagonal() * missed);
-  if (eigen.info() != Eigen::Success) return Error{"the snapshot correlation has no eigen decomposition", "", 0, "snapshots_m"};
+  if (eigen.info() != Eigen::Success) return Error{.message = "the snapshot correlation has no eigen decomposition", .field = "snapshots_m"};
   const Eigen::Index count = missed.cols();
   Eigen::MatrixXd candidates(mass.size(), r + count);
   candidates.leftCols(r) = kept;
@@ -41,7 +41,7 @@ Result<ReducedBasis> extend_basis(const TetMesh& mesh, const TissueScene& scene,
   constexpr double kDropFraction = 1e-6;  // what is left of a direction after removing the kept ones
   Eigen::MatrixXd columns = detail::mass_orthonormalize(candidates, mass, kDropFraction, basis_size);
   if (columns.cols() < basis_size)
-    return Error{"the snapshots add only " + std::to_string(columns.cols() - r) + " directions to the basis", "", 0, "basis_size"};
+    return Error{.message = "the snapshots add only " + std::to_string(columns.cols() - r) + " directions to the basis", .field = "basis_size"};
   columns.leftCols(r) = kept;  // the lower rung's columns exactly (Gram-Schmidt changed them by rounding only)
   auto basis = detail::pack_basis(mesh, system.value(), columns, lower.source, lower.force_kind);
   if (!basis.ok()) return basis;

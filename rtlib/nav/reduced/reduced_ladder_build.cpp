@@ -12,7 +12,7 @@ namespace {
 
 using detail::ReducedLadderTables;
 
-Error error(std::string message, std::string field) { return Error{std::move(message), "", 0, std::move(field)}; }
+Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
 
 std::string rung_field(std::size_t i, const std::string& field) { return "rungs[" + std::to_string(i) + "]." + field; }
 

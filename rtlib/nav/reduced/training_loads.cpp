@@ -123,9 +123,8 @@ Status solve_one(const TetFemModel& model, TetFemData& data, const TrainingLoad&
       ++total_steps;
       if (data.health.has(HealthFlag::non_finite_state) || data.health.has(HealthFlag::inverted_element)) {
         snapshots.resize(first_snapshot);
-        return Error{"full-order solve failed (non-finite state or inverted elements) at load fraction " +
-                         std::to_string(fraction) + " with a ramp over " + std::to_string(ramp_steps) + " steps",
-                     "", 0, load.name};
+        return Error{.message = "full-order solve failed (non-finite state or inverted elements) at load fraction " +
+                         std::to_string(fraction) + " with a ramp over " + std::to_string(ramp_steps) + " steps", .field = load.name};
       }
       last_move_m = largest_move_m(data.positions_m, previous);
       std::copy(data.positions_m.begin(), data.positions_m.end(), previous.begin());
@@ -133,9 +132,8 @@ Status solve_one(const TetFemModel& model, TetFemData& data, const TrainingLoad&
     }
     if (!converged) {
       snapshots.resize(first_snapshot);
-      return Error{"full-order solve did not converge at load fraction " + std::to_string(target) + " (ramp over " +
-                       std::to_string(ramp_steps) + " steps; last step moved " + std::to_string(last_move_m) + " m)",
-                   "", 0, load.name};
+      return Error{.message = "full-order solve did not converge at load fraction " + std::to_string(target) + " (ramp over " +
+                       std::to_string(ramp_steps) + " steps; last step moved " + std::to_string(last_move_m) + " m)", .field = load.name};
     }
     for (std::size_t i = 0; i < rest.size(); ++i) snapshots.push_back(data.positions_m[i] - rest[i]);
     reached = target;
@@ -337,13 +335,13 @@ Result<std::vector<double>> solve_reduced_static(const TetMesh& mesh, const Tiss
     const double fraction = std::min(1.0, static_cast<double>(s) / std::max(1, options.ramp_steps));
     step(model.value(), data.value(), load.inputs(fraction));
     if (data.value().health.has(HealthFlag::non_finite_state))
-      return Error{"reduced solve met a non-finite state at step " + std::to_string(s), "", 0, load.name};
+      return Error{.message = "reduced solve met a non-finite state at step " + std::to_string(s), .field = load.name};
     reconstruct_all_displacements_m(model.value(), data.value(), u);
     last_move_m = largest_move_m(u, previous);
     previous = u;
     if (fraction >= 1.0 && last_move_m <= options.converged_step_m) return u;
   }
-  return Error{"reduced solve did not converge (last step moved " + std::to_string(last_move_m) + " m)", "", 0, load.name};
+  return Error{.message = "reduced solve did not converge (last step moved " + std::to_string(last_move_m) + " m)", .field = load.name};
 }
 
 DisplacementError displacement_error(std::span<const double> u_m, std::span<const double> reference_m,

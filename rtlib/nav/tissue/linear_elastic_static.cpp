@@ -30,13 +30,13 @@ const ElasticMaterial& material_of(const TetMesh& mesh, std::size_t tet, const S
 
 Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const StaticLoadCase& load_case) {
   const auto node_count = static_cast<std::int64_t>(mesh.nodes_m.size());
-  if (load_case.fixed_nodes.empty()) return Error{"no fixed node: the system has rigid motions", "", 0, "fixed_nodes"};
+  if (load_case.fixed_nodes.empty()) return Error{.message = "no fixed node: the system has rigid motions", .field = "fixed_nodes"};
 
   // Free dof numbering: -1 for fixed components.
   std::vector<std::int64_t> dof_index(3 * node_count, 0);
   for (std::int32_t node : load_case.fixed_nodes) {
     if (node < 0 || node >= node_count)
-      return Error{"node " + std::to_string(node) + " is out of range", "", 0, "fixed_nodes"};
+      return Error{.message = "node " + std::to_string(node) + " is out of range", .field = "fixed_nodes"};
     for (int c = 0; c < 3; ++c) dof_index[3 * node + c] = -1;
   }
   std::int64_t free_dofs = 0;
@@ -54,12 +54,12 @@ Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const StaticLoad
     std::array<Point3, 4> x;
     for (int a = 0; a < 4; ++a) {
       if (tet[a] < 0 || tet[a] >= node_count)
-        return Error{"element " + std::to_string(e) + " refers to node " + std::to_string(tet[a]), "", 0, "tets"};
+        return Error{.message = "element " + std::to_string(e) + " refers to node " + std::to_string(tet[a]), .field = "tets"};
       x[a] = mesh.nodes_m[tet[a]];
     }
     const double volume_m3 = signed_tet_volume_m3(x[0], x[1], x[2], x[3]);
     if (!(volume_m3 > 0.0))
-      return Error{"element " + std::to_string(e) + " is inverted or flat", "", 0, "tets"};
+      return Error{.message = "element " + std::to_string(e) + " is inverted or flat", .field = "tets"};
     const ElasticMaterial& material = material_of(mesh, e, load_case);
     const Matrix43 gradients = shape_gradients(x);
     const LameParameters lame = lame_parameters(material);
@@ -83,7 +83,7 @@ Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const StaticLoad
 
   for (const auto& [node, force_n] : load_case.nodal_forces_n) {
     if (node < 0 || node >= node_count)
-      return Error{"node " + std::to_string(node) + " is out of range", "", 0, "nodal_forces_n"};
+      return Error{.message = "node " + std::to_string(node) + " is out of range", .field = "nodal_forces_n"};
     for (int c = 0; c < 3; ++c)
       if (dof_index[3 * node + c] >= 0) force[dof_index[3 * node + c]] += force_n[c];
   }
@@ -91,7 +91,7 @@ Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const StaticLoad
   Eigen::SparseMatrix<double> stiffness(free_dofs, free_dofs);
   stiffness.setFromTriplets(triplets.begin(), triplets.end());
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(stiffness);
-  if (solver.info() != Eigen::Success) return Error{"the stiffness matrix could not be factorised", "", 0, "stiffness"};
+  if (solver.info() != Eigen::Success) return Error{.message = "the stiffness matrix could not be factorised", .field = "stiffness"};
   const Eigen::VectorXd u = solver.solve(force);
 
   StaticSolution solution;

@@ -13,11 +13,11 @@ namespace nav {
 Result<MassSpringModel> make_mass_spring_model(const TetMesh& mesh, const TissueScene& scene,
                                                const MassSpringOptions& options) {
   if (!(std::isfinite(options.step_s) && options.step_s > 0.0))
-    return Error{"the step must be a positive number of seconds", "", 0, "step_s"};
+    return Error{.message = "the step must be a positive number of seconds", .field = "step_s"};
   if (!(std::isfinite(options.damping_per_s) && options.damping_per_s >= 0.0))
-    return Error{"damping must be a non-negative number", "", 0, "damping_per_s"};
+    return Error{.message = "damping must be a non-negative number", .field = "damping_per_s"};
   if (options.volume_newton_iterations < 1)
-    return Error{"at least one iteration is needed", "", 0, "volume_newton_iterations"};
+    return Error{.message = "at least one iteration is needed", .field = "volume_newton_iterations"};
   TissueSolverOptions support_options;
   support_options.integrator = Integrator::explicit_central_difference;
   support_options.rotation = ElementRotation::none;
@@ -61,7 +61,7 @@ Result<MassSpringModel> make_mass_spring_model(const TetMesh& mesh, const Tissue
     tables->boundary_triangles.push_back(nodes);
   }
   tables->rest_volume_m3 = enclosed_volume_m3(tables->boundary_triangles, fem.rest_m);
-  if (!(tables->rest_volume_m3 > 0.0)) return Error{"the boundary encloses no volume", "", 0, "tets"};
+  if (!(tables->rest_volume_m3 > 0.0)) return Error{.message = "the boundary encloses no volume", .field = "tets"};
   return MassSpringModel(std::move(tables));
 }
 

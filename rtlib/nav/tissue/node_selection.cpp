@@ -9,7 +9,7 @@ Result<std::vector<std::int32_t>> nodes_in_box(const TetMesh& mesh, const Bounds
     for (int c = 0; c < 3; ++c) inside = inside && mesh.nodes_m[n][c] >= box_m.min_m[c] && mesh.nodes_m[n][c] <= box_m.max_m[c];
     if (inside) nodes.push_back(static_cast<std::int32_t>(n));
   }
-  if (nodes.empty()) return Error{"the region selects no node", "", 0, field};
+  if (nodes.empty()) return Error{.message = "the region selects no node", .field = field};
   return nodes;
 }
 

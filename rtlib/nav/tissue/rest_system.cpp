@@ -132,8 +132,7 @@ Status build_rest_system(TetFemTables& tables) {
   set_coefficients(tables);
   const bool quasi_static = tables.options.integrator == Integrator::quasi_static;
   if (quasi_static && tables.fixed_nodes.empty() && tables.prescribed_nodes.empty() && tables.spring_nodes.empty())
-    return Error{"a quasi-static model needs fixed nodes, springs or a prescribed region to remove rigid motions", "", 0,
-                 "fixed_nodes"};
+    return Error{.message = "a quasi-static model needs fixed nodes, springs or a prescribed region to remove rigid motions", .field = "fixed_nodes"};
   const Eigen::SparseMatrix<double> matrix = assemble(tables);
   const bool needs_factor = tables.options.integrator != Integrator::explicit_central_difference &&
                             tables.options.solver == LinearSolver::ldlt_warped;

@@ -17,7 +17,7 @@ namespace {
 using detail::NodeKind;
 using detail::TetFemTables;
 
-Error error(std::string message, std::string field) { return Error{std::move(message), "", 0, std::move(field)}; }
+Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
 
 Status check_options(const TissueSolverOptions& options) {
   if (!(std::isfinite(options.step_s) && options.step_s > 0.0)) return error("the step must be a positive number of seconds", "step_s");

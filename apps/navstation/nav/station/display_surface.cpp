@@ -10,8 +10,8 @@ namespace nav::station {
 Result<DisplaySurface> make_display_surface(const TetMesh& mesh) {
   TetMeshBoundary boundary = extract_boundary(mesh);
   if (boundary.mesh_node_of_vertex.size() > dds::kMaxSurfaceVertices)
-    return Error{"the liver's boundary has " + std::to_string(boundary.mesh_node_of_vertex.size()) + " vertices, more than a "
-                 "DeformedSurface holds (" + std::to_string(dds::kMaxSurfaceVertices) + ")", "", 0, "liver.mesh"};
+    return Error{.message = "the liver's boundary has " + std::to_string(boundary.mesh_node_of_vertex.size()) + " vertices, more than a "
+                 "DeformedSurface holds (" + std::to_string(dds::kMaxSurfaceVertices) + ")", .field = "liver.mesh"};
   DisplaySurface surface;
   surface.nodes = std::move(boundary.mesh_node_of_vertex);
   surface.rest_m = std::move(boundary.surface.vertices_m);

@@ -324,9 +324,9 @@ TrackerSettings read_tracker(MapReader r, const std::string& scene_path) {
       t.rotation_noise_rad = r.number("rotation_noise_rad", Range{0.0, 1.0}, t.rotation_noise_rad);
       t.dropout_probability = r.number("dropout_probability", kFraction, t.dropout_probability);
       t.seed = static_cast<std::uint64_t>(r.integer("seed", 0, 1LL << 62, 1));
-      if (r.optional("reference_in_tracker")) {
-        if (!t.tools.reference) r.fail_at("reference_in_tracker", "places the reference tool: declare it in tools (reference: ID)");
-        t.reference_in_tracker = read_pose(r.map("reference_in_tracker"));
+      if (r.optional("tracker_from_reference")) {
+        if (!t.tools.reference) r.fail_at("tracker_from_reference", "places the reference tool: declare it in tools (reference: ID)");
+        t.tracker_from_reference = read_pose(r.map("tracker_from_reference"));
       }
       break;
     case TrackerKind::ndi:
@@ -505,7 +505,7 @@ bool is_device_index(const std::string& source) {
 
 Result<Scene> parse_scene(const std::string& text, const std::string& path) {
   if (text.size() > kMaxSceneBytes)
-    return Error{"larger than " + std::to_string(kMaxSceneBytes) + " bytes: not a scene file", path, 0, ""};
+    return Error{.message = "larger than " + std::to_string(kMaxSceneBytes) + " bytes: not a scene file", .file = path};
   try {
     return read_scene(YAML::Load(text), path);
   } catch (const detail::SceneFailure& failure) {
@@ -515,16 +515,16 @@ Result<Scene> parse_scene(const std::string& text, const std::string& path) {
     if (!e.mark.is_null()) error.message += " (column " + std::to_string(e.mark.column + 1) + ")";
     return error;
   } catch (const std::bad_alloc&) {
-    return Error{"out of memory while parsing", path, 0, ""};
+    return Error{.message = "out of memory while parsing", .file = path};
   }
 }
 
 Result<Scene> load_scene(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
-  if (!file) return Error{"cannot open the scene file", path, 0, ""};
+  if (!file) return Error{.message = "cannot open the scene file", .file = path};
   std::string text;
   text.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
-  if (file.bad()) return Error{"cannot read the scene file", path, 0, ""};
+  if (file.bad()) return Error{.message = "cannot read the scene file", .file = path};
   return parse_scene(text, path);
 }
 

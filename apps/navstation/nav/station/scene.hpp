@@ -124,10 +124,10 @@ struct ToolIds {
 };
 
 /// One tag of a tool tracked by several AprilTags: its tag36h11 id and where it sits on the
-/// tool (T_tool_tag).
+/// tool (tool_from_tag).
 struct ToolTag {
   int id = 0;
-  RigidPose tag_in_tool;
+  RigidPose tool_from_tag;
 };
 
 /// `devices.tracker:` one of the three kinds with its settings.
@@ -144,9 +144,9 @@ struct TrackerSettings {
   double rotation_noise_rad = 0.0;
   double dropout_probability = 0.0;
   std::uint64_t seed = 1;
-  /// simulated: where the tracker sees the reference marker (T_tracker_reference; without a
+  /// simulated: where the tracker sees the reference marker (tracker_from_reference; without a
   /// reference tool, the model's registration is the URDF's alone)
-  RigidPose reference_in_tracker;
+  RigidPose tracker_from_reference;
   // ndi: a serial device, or host and port; which port handle is which tool
   std::string serial_device;
   std::string host;

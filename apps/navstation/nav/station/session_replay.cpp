@@ -51,7 +51,7 @@ Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader,
   dds::SampleBoundary<dds::ToolPose> pose_boundary(boundary.arrival);
   dds::SampleBoundary<dds::UltrasoundFrame> frame_boundary(boundary.arrival);
   const std::unique_ptr<dds::PoseInbox> inbox = role_inbox(tools, boundary.pose_bounds);
-  TrackerRegistration registration(boundary.model_in_reference, tools.reference);
+  TrackerRegistration registration(boundary.reference_from_model, tools.reference);
   dds::BoundaryCounters counters;
   const auto admitted = [&](dds::SampleFault fault) {
     counters.count(fault);
@@ -107,7 +107,7 @@ Result<SessionReplay> replay_session(const Scene& scene, const std::string& path
   if (!boundary.ok()) return boundary.error();
   auto samples = observed_session(*reader.value(), imaging.value(), boundary.value(), out);
   if (!samples.ok()) return samples.error();
-  if (samples.value().empty()) return Error{"the recording holds no tracker poses or ultrasound frames to replay", path, 0, ""};
+  if (samples.value().empty()) return Error{.message = "the recording holds no tracker poses or ultrasound frames to replay", .file = path};
   auto replay = replay_station(loop.value(), samples.value(), out.duration_ns, true);
   if (!replay.ok()) return replay.error();
   out.replay = std::move(replay).value();

@@ -31,7 +31,7 @@ Result<TetFemModel> patient_liver(const StationLiver& liver, const Scene& scene,
   TissueSolverOptions solver = scene.liver.full;
   solver.step_s = seconds(step_ns);
   auto model = make_tet_fem_model(liver.mesh, patient, solver);
-  if (!model.ok()) return Error{model.error().describe(), scene.source_path, scene.liver.line, "liver.model"};
+  if (!model.ok()) return Error{.message = model.error().describe(), .file = scene.source_path, .line = scene.liver.line, .field = "liver.model"};
   return model;
 }
 
@@ -65,7 +65,7 @@ Status record_tumour(SimulatedWorld& world, const StationLiver& liver, const Sce
     char message[160];
     std::snprintf(message, sizeof message, "the simulated patient's liver ran away at %.2f s: its tumour is %.4g mm from rest",
                   seconds(static_cast<TimeNs>(i) * world.step_ns), 1e3 * std::sqrt(moved_m2));
-    return Error{message, scene.source_path, scene.liver.line, "liver.model"};
+    return Error{.message = message, .file = scene.source_path, .line = scene.liver.line, .field = "liver.model"};
   }
   world.tumour_truth_m.push_back(tumour);
   return Done{};
@@ -83,7 +83,7 @@ Status tumour_truth(SimulatedWorld& world, const StationLiver& liver, const Scen
   auto patient = patient_liver(liver, scene, options, world.step_ns);
   if (!patient.ok()) return patient.error();
   auto data = make_tet_fem_data(patient.value());
-  if (!data.ok()) return Error{data.error().describe(), scene.source_path, scene.liver.line, "liver.model"};
+  if (!data.ok()) return Error{.message = data.error().describe(), .file = scene.source_path, .line = scene.liver.line, .field = "liver.model"};
   const std::size_t steps = truth_steps(scene, options, world.step_ns);
   world.tumour_truth_m.reserve(steps);
   for (std::size_t i = 0; i < steps; ++i) {
@@ -103,12 +103,12 @@ Status needle_and_tumour_truth(SimulatedWorld& world, const StationLiver& liver,
   auto patient = patient_liver(liver, scene, options, world.step_ns);
   if (!patient.ok()) return patient.error();
   const int every = static_cast<int>(std::lround(scene.station.loop_rate_hz / scene.station.tissue_rate_hz));
-  const auto needle_error = [&](const Error& e) { return Error{e.describe(), scene.source_path, needle.line, "needle"}; };
+  const auto needle_error = [&](const Error& e) { return Error{.message = e.describe(), .file = scene.source_path, .line = needle.line, .field = "needle"}; };
   auto model = make_coupled_needle_model(needle.parameters, needle.interaction, patient.value(),
                                          liver.scene.max_point_forces, every);
   if (!model.ok()) return needle_error(model.error());
-  const RigidPose base_in_marker = needle_base_in_marker();
-  auto data = make_coupled_needle_data(model.value(), to_needle_pose(compose(world.needle_marker_at(0), base_in_marker)));
+  const RigidPose marker_from_base = needle_marker_from_base();
+  auto data = make_coupled_needle_data(model.value(), to_needle_pose(compose(world.needle_marker_at(0), marker_from_base)));
   if (!data.ok()) return needle_error(data.error());
   CoupledNeedleData& d = data.value();  // it holds the patient's tissue state too
   const std::size_t steps = truth_steps(scene, options, world.step_ns);
@@ -120,7 +120,7 @@ Status needle_and_tumour_truth(SimulatedWorld& world, const StationLiver& liver,
     for (int k = 0; k < every; ++k) {
       const TimeNs t = static_cast<TimeNs>(i) * world.step_ns + k * world.needle_step_ns;
       NeedleInputs inputs;
-      inputs.base = to_needle_pose(compose(world.needle_marker_at(t), base_in_marker));
+      inputs.base = to_needle_pose(compose(world.needle_marker_at(t), marker_from_base));
       step_needle(model.value(), d, inputs);
       if (k == 0) {
         step_tissue(model.value(), d, diaphragm_inputs(breathing, options, world.step_ns, i));
@@ -192,13 +192,13 @@ void scan(SimulatedWorld& world, const StationLiver& liver, const Scene& scene, 
     const RigidPose probe = world.probe_at(t);
     const Point3 tumour = world.tumour_at(t);
     const Eigen::Vector3d displacement = Eigen::Vector3d{tumour[0], tumour[1], tumour[2]} - rest;
-    Eigen::Isometry3d probe_in_rest = Eigen::Isometry3d::Identity();
-    probe_in_rest.linear() = probe.rotation.toRotationMatrix();
-    probe_in_rest.translation() = probe.position_m - displacement;
-    const Eigen::Isometry3d image_in_rest = probe_in_rest * world.imaging.image_to_probe;
+    Eigen::Isometry3d rest_from_probe = Eigen::Isometry3d::Identity();
+    rest_from_probe.linear() = probe.rotation.toRotationMatrix();
+    rest_from_probe.translation() = probe.position_m - displacement;
+    const Eigen::Isometry3d rest_from_image = rest_from_probe * world.imaging.probe_from_image;
     UltrasoundImage frame;
     frame.pixels.resize(pixel_count);
-    frame.tumour_visible = simulator.render(image_in_rest, frame.pixels.data()).tumour_visible();
+    frame.tumour_visible = simulator.render(rest_from_image, frame.pixels.data()).tumour_visible();
     DeviceSample seen{SampleKind::ultrasound_frame, t, t + options.ultrasound_delay_ns, {}, Eigen::Vector3d::Zero()};
     seen.frame_index = static_cast<std::int32_t>(world.frames.size());
     world.frames.push_back(std::move(frame));
@@ -246,9 +246,8 @@ double marker_displacement_m(const WorldOptions& options, TimeNs time_ns) {
 
 Status check_simulated_devices(const Scene& scene) {
   if (scene.devices.tracker.kind == TrackerKind::simulated && scene.devices.ultrasound.kind == UltrasoundKind::simulated) return Done{};
-  return Error{"the simulated world plays simulated devices only (kind: simulated); this scene's devices are real: run the station live "
-               "(navstation --live) with their device processes",
-               scene.source_path, 0, "devices"};
+  return Error{.message = "the simulated world plays simulated devices only (kind: simulated); this scene's devices are real: run the station live "
+               "(navstation --live) with their device processes", .file = scene.source_path, .field = "devices"};
 }
 
 Result<SimulatedWorld> simulate_world(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,

@@ -98,9 +98,9 @@ struct SimulatedWorld {
   Point3 tumour_at(TimeNs time_ns) const;
   /// The true needle tip at any time (the bent tip of the coupled needle, if any).
   Eigen::Vector3d needle_tip_at(TimeNs time_ns) const;
-  /// The true needle marker pose (T_model_marker) at any time: -z along the needle.
+  /// The true needle marker pose (model_from_marker) at any time: -z along the needle.
   RigidPose needle_marker_at(TimeNs time_ns) const;
-  /// The true probe marker pose (T_model_probe) at any time.
+  /// The true probe marker pose (model_from_probe) at any time.
   RigidPose probe_at(TimeNs time_ns) const;
 };
 

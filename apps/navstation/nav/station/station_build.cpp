@@ -29,8 +29,7 @@ Status check_frames(const calibration::FrameTree& tree, const Scene& scene) {
   const std::vector<std::string> frames = tree.frames();
   for (const std::string& name : needed)
     if (std::find(frames.begin(), frames.end(), name) == frames.end())
-      return Error{"the URDF " + scene.frames.urdf_path + " has no frame '" + name + "'", scene.source_path, scene.frames.line,
-                   "frames.urdf"};
+      return Error{.message = "the URDF " + scene.frames.urdf_path + " has no frame '" + name + "'", .file = scene.source_path, .line = scene.frames.line, .field = "frames.urdf"};
   return Done{};
 }
 
@@ -54,7 +53,7 @@ Error ladder_error(const Error& inner, const Scene& scene) {
   } else {
     field.clear();
   }
-  return at_section(Error{inner.message, inner.file, inner.line, field}, scene, line, key);
+  return at_section(Error{.message = inner.message, .file = inner.file, .line = inner.line, .field = field}, scene, line, key);
 }
 
 /// The full-order law of the reduced rungs' force kind, with their step, integrator and damping
@@ -111,8 +110,7 @@ Result<std::vector<ReducedRungSpec>> load_reduced_rungs(const Scene& scene, cons
     auto basis = load_reduced_basis(e.rungs[i].artifact_path, &mesh);
     if (!basis.ok()) return at_section(basis.error(), scene, e.rungs[i].line, key);
     if (basis.value().force_kind != rungs[0].basis.force_kind)
-      return Error{e.rungs[i].artifact_path + ": its force kind differs from liver.model.artifact's (the rungs share one element law)",
-                   scene.source_path, e.rungs[i].line, key};
+      return Error{.message = e.rungs[i].artifact_path + ": its force kind differs from liver.model.artifact's (the rungs share one element law)", .file = scene.source_path, .line = e.rungs[i].line, .field = key};
     rungs.push_back({std::move(basis).value(), settings.reduced});
   }
   return rungs;
@@ -177,14 +175,13 @@ Result<BuiltStation> build_station(Scene scene) {
   const Status network = dds::check_network(station_network(scene.topics.domain_id, "nav_station", scene.network));
   if (!network.ok()) {
     const std::string& field = network.error().field;
-    return Error{network.error().message, scene.source_path, scene.network.line,
-                 field == "local_address" ? "network.local_address" : "network.peers"};
+    return Error{.message = network.error().message, .file = scene.source_path, .line = scene.network.line, .field = field == "local_address" ? "network.local_address" : "network.peers"};
   }
   // The station's own identity only: each host holds the keys of the roles it runs.
   const Status secured = dds::check_security(security_files(scene.network.security, Role::station));
   if (!secured.ok()) {
     const Error& e = secured.error();
-    return Error{e.message + (e.file.empty() ? "" : ": " + e.file) + " (the station's files)", scene.source_path, scene.network.security.line, e.field};
+    return Error{.message = e.message + (e.file.empty() ? "" : ": " + e.file) + " (the station's files)", .file = scene.source_path, .line = scene.network.security.line, .field = e.field};
   }
   BuiltStation built{StationModels{std::move(scene), std::move(frames).value(), {}, {}, {}, {}, {}}, {}};
   StationModels& models = built.models;

@@ -250,8 +250,7 @@ Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t dom
     if (!status.ok()) return status.error();
   if (!s.wait_for_match(dds::Topic::tool_pose, 1, kMatchTimeoutNs) || !s.wait_for_match(dds::Topic::ultrasound_frame, 1, kMatchTimeoutNs) ||
       !d.wait_for_match(dds::Topic::tool_pose, 1, kMatchTimeoutNs) || !d.wait_for_match(dds::Topic::ultrasound_frame, 1, kMatchTimeoutNs))
-    return Error{"the devices' and the station's DDS participants did not match within 10 s", "", 0,
-                 "domain " + std::to_string(domain_id)};
+    return Error{.message = "the devices' and the station's DDS participants did not match within 10 s", .field = "domain " + std::to_string(domain_id)};
   return link;
 }
 
@@ -308,8 +307,8 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
   }
   DisplaySurfacePublisher surfaces(loop, *options.dds);
   std::optional<WorldPlayer> player;
-  if (world != nullptr) player.emplace(*world, false, simulated_tracker(link.tools, options.dds->simulated_reference_in_tracker, options.dds->model_in_reference));
-  TrackerRegistration registration(options.dds->model_in_reference, link.tools.reference);
+  if (world != nullptr) player.emplace(*world, false, simulated_tracker(link.tools, options.dds->simulated_tracker_from_reference, options.dds->reference_from_model));
+  TrackerRegistration registration(options.dds->reference_from_model, link.tools.reference);
   ch.wait_for_start();
   run.resident_at_start_bytes = resident_bytes();  // every buffer is in, locked with the loop's memory
   const TimeNs device_to_loop_ns = options.dds->arrival.source_clock_offset_ns - ch.start_ns;  // stamps onto the loop's clock

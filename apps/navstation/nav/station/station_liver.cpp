@@ -17,7 +17,7 @@ namespace {
 constexpr double kDiaphragmDepthM = 0.02;  // boundary nodes this close to the top are the diaphragm
 
 Error liver_error(const Scene& scene, const std::string& message, const std::string& field) {
-  return Error{message, scene.source_path, scene.liver.line, field};
+  return Error{.message = message, .file = scene.source_path, .line = scene.liver.line, .field = field};
 }
 
 /// Boundary nodes within kDiaphragmDepthM of the top that are not attachments.

@@ -89,9 +89,8 @@ OperatingLoopOptions loop_options(const Scene& scene, const BreathingGeometry& b
 Result<ReducedKalmanModel> tumour_filter(const StationLiver& liver, const Scene& scene, std::size_t k, const ReducedBasis& basis,
                                          const ReducedModel& reduced, const StationLoopSettings& settings) {
   const auto at_artifact = [&](const std::string& message) {
-    if (k == 0) return Error{message, scene.source_path, scene.liver.line, "liver.model.artifact"};
-    return Error{message, scene.source_path, scene.liver.escalation->rungs[k - 1].line,
-                 "liver.model.escalation.rungs[" + std::to_string(k - 1) + "]"};
+    if (k == 0) return Error{.message = message, .file = scene.source_path, .line = scene.liver.line, .field = "liver.model.artifact"};
+    return Error{.message = message, .file = scene.source_path, .line = scene.liver.escalation->rungs[k - 1].line, .field = "liver.model.escalation.rungs[" + std::to_string(k - 1) + "]"};
   };
   if (basis.training_q_bound.empty() && scene.liver.rung == LiverRung::reduced)
     return at_artifact("the artifact has no training envelope (a basis made without training loads); the station's filter sizes "
@@ -124,21 +123,20 @@ Result<OperatingLoopModel> ladder_loop(const StationLiver& liver, const Scene& s
 
 }  // namespace
 
-RigidPose needle_base_in_marker() {
+RigidPose needle_marker_from_base() {
   return {Eigen::Vector3d::Zero(), Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitZ())};
 }
 
 Status check_station_loop(const Scene& scene) {
   if (scene.liver.escalation && scene.liver.escalation->full_order_on_top)
-    return Error{"a running station's ladder has reduced rungs only (its filter needs reduced coordinates on every rung): "
-                 "set full_order_on_top: false",
-                 scene.source_path, scene.liver.escalation->line, "liver.model.escalation.full_order_on_top"};
-  if (auto registration = scene_model_in_reference(scene); !registration.ok()) return registration.error();
+    return Error{.message = "a running station's ladder has reduced rungs only (its filter needs reduced coordinates on every rung): "
+                 "set full_order_on_top: false", .file = scene.source_path, .line = scene.liver.escalation->line, .field = "liver.model.escalation.full_order_on_top"};
+  if (auto registration = scene_reference_from_model(scene); !registration.ok()) return registration.error();
   return Done{};
 }
 
 Result<NeedleCalibration> scene_needle_calibration(const Scene& scene) {
-  const auto urdf_error = [&](const std::string& message) { return Error{message, scene.source_path, scene.frames.line, "frames.urdf"}; };
+  const auto urdf_error = [&](const std::string& message) { return Error{.message = message, .file = scene.source_path, .line = scene.frames.line, .field = "frames.urdf"}; };
   auto frames = calibration::FrameTree::load(scene.frames.urdf_path);
   if (!frames.ok()) return urdf_error(frames.error().describe());
   auto base = frames.value().lookup("needle_marker", "needle_base", 0);
@@ -153,10 +151,10 @@ Result<NeedleCalibration> scene_needle_calibration(const Scene& scene) {
     char text[256];
     std::snprintf(text, sizeof text, "the URDF's needle is %.1f mm from base to tip (%s), the scene's %.1f mm long", 1e3 * length_m,
                   scene.frames.urdf_path.c_str(), 1e3 * scene.needle->parameters.length_m);
-    return Error{text, scene.source_path, scene.needle->line, "needle.length_m"};
+    return Error{.message = text, .file = scene.source_path, .line = scene.needle->line, .field = "needle.length_m"};
   }
   NeedleCalibration calibration;
-  calibration.base_in_marker = {base_m, Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), tip_m - base_m)};
+  calibration.marker_from_base = {base_m, Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), tip_m - base_m)};
   calibration.tip_in_marker_m = tip_m;
   return calibration;
 }
@@ -172,18 +170,17 @@ Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Sc
     needle.emplace();
     needle->parameters = scene.needle->parameters;
     needle->scene = scene.needle->interaction;
-    needle->base_in_marker = calibration.value().base_in_marker;
+    needle->marker_from_base = calibration.value().marker_from_base;
     needle->max_point_forces = liver.scene.max_point_forces;
   }
   const auto loop_error = [&](const Error& e) {  // the loop's own errors: its needle's, or the liver model's
-    return e.file.empty() ? Error{e.describe(), scene.source_path, needle ? scene.needle->line : scene.liver.line,
-                                  needle ? "needle" : "liver.model"}
+    return e.file.empty() ? Error{.message = e.describe(), .file = scene.source_path, .line = needle ? scene.needle->line : scene.liver.line, .field = needle ? "needle" : "liver.model"}
                           : e;
   };
   std::vector<ReducedRungSpec> rungs;
   if (scene.liver.rung == LiverRung::full) {
     auto trained = trained_rung(liver, scene, settings);
-    if (!trained.ok()) return Error{trained.error().describe(), scene.source_path, scene.liver.line, "liver.model (start-up training)"};
+    if (!trained.ok()) return Error{.message = trained.error().describe(), .file = scene.source_path, .line = scene.liver.line, .field = "liver.model (start-up training)"};
     rungs.push_back(std::move(trained).value());
   } else {
     auto loaded = load_reduced_rungs(scene, liver.mesh);

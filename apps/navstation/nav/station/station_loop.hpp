@@ -31,14 +31,14 @@ struct StationLoopSettings {
 };
 
 /// The needle base (holder) in the needle marker's frame of the simulated needle (the demo
-/// URDF's), T_marker_base: the needle points along the marker's -z from the marker's origin
+/// URDF's), marker_from_base: the needle points along the marker's -z from the marker's origin
 /// (the tip straight at (0, 0, -length_m)), and along the base frame's +x, as the needle
 /// models lie.
-RigidPose needle_base_in_marker();
+RigidPose needle_marker_from_base();
 
 /// The tracked needle's calibration in the needle marker's frame.
 struct NeedleCalibration {
-  RigidPose base_in_marker;        ///< T_marker_base: origin at the base, +x along the needle to its tip
+  RigidPose marker_from_base;        ///< marker_from_base: origin at the base, +x along the needle to its tip
   Eigen::Vector3d tip_in_marker_m = Eigen::Vector3d::Zero();  ///< the straight needle's tip
 };
 
@@ -51,7 +51,7 @@ Result<NeedleCalibration> scene_needle_calibration(const Scene& scene);
 /// the model frame, on the scene's liver model (see the file comment), its needle tip and base
 /// where the URDF calibrates them (scene_needle_calibration). With `needle:` the loop steps the
 /// scene's flexible needle coupled to every rung (at the loop rate, its base at the needle
-/// marker * base_in_marker); without it, a rigid needle. Errors name the scene key
+/// marker * marker_from_base); without it, a rigid needle. Errors name the scene key
 /// (liver.model.artifact, liver.model.escalation..., needle, frames.urdf).
 Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
                                              const StationLoopSettings& settings);

@@ -220,7 +220,7 @@ Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWo
 }
 
 Result<StationRun> run_live_station(const OperatingLoopModel& loop, const ProbeImaging& imaging, const StationRunOptions& options) {
-  if (!options.dds) return Error{"a live station reads its devices on DDS: it needs DDS run options", "", 0, "dds"};
+  if (!options.dds) return Error{.message = "a live station reads its devices on DDS: it needs DDS run options", .field = "dds"};
   return run_threads(loop, nullptr, imaging, options);
 }
 

@@ -73,8 +73,8 @@ struct DdsRunOptions {
   dds::TopicNames topic_names{};            ///< the topics' names (empty entries: the defaults)
   NetworkSettings network;                  ///< the participants' local address and peers
   ToolIds tools;                            ///< the tracked tools' ids on nav/tool_pose
-  RigidPose model_in_reference;             ///< the URDF's registration (tracker_registration.hpp)
-  RigidPose simulated_reference_in_tracker; ///< where the in-process simulated tracker sees the reference (world_player.hpp)
+  RigidPose reference_from_model;             ///< the URDF's registration (tracker_registration.hpp)
+  RigidPose simulated_tracker_from_reference; ///< where the in-process simulated tracker sees the reference (world_player.hpp)
   std::optional<PeerOutage> device_outage;  ///< the devices' participant goes away once
   TimeNs health_period_ns = 100 * kNsPerMs; ///< the station's health is published this often
   const DisplaySurface* surface = nullptr;  ///< published on nav/deformed_surface when given (outlives the run)

@@ -61,11 +61,11 @@ StationRunOptions station_run_options(const Scene& scene, TimeNs duration_ns, Ti
 }
 
 Result<DdsRunOptions> dds_run_options(const Scene& scene, const DisplaySurface* surface) {
-  auto model_in_reference = scene_model_in_reference(scene);
-  if (!model_in_reference.ok()) return model_in_reference.error();
+  auto reference_from_model = scene_reference_from_model(scene);
+  if (!reference_from_model.ok()) return reference_from_model.error();
   DdsRunOptions dds;
-  dds.model_in_reference = model_in_reference.value();
-  dds.simulated_reference_in_tracker = scene.devices.tracker.reference_in_tracker;
+  dds.reference_from_model = reference_from_model.value();
+  dds.simulated_tracker_from_reference = scene.devices.tracker.tracker_from_reference;
   dds.domain_id = scene.topics.domain_id;
   dds.topic_names = topic_names(scene.topics);
   dds.network = scene.network;
@@ -101,7 +101,7 @@ Result<StationParts> build_station_parts(const Scene& scene, const BreathingGeom
   if (!loop.ok()) return loop.error();
   const double build_s = seconds_since(start);
   auto surface = make_display_surface(liver.value().mesh);
-  if (!surface.ok()) return Error{surface.error().describe(), scene.source_path, scene.liver.line, "liver.mesh"};
+  if (!surface.ok()) return Error{.message = surface.error().describe(), .file = scene.source_path, .line = scene.liver.line, .field = "liver.mesh"};
   if (before_run) {
     const Status ready = before_run(surface.value());
     if (!ready.ok()) return ready.error();

@@ -15,24 +15,24 @@
 
 namespace nav::station {
 
-/// T_reference_model: the URDF's `reference_marker -> liver_model` joint, or an error at the
+/// reference_from_model: the URDF's `reference_marker -> liver_model` joint, or an error at the
 /// scene's frames.urdf.
-Result<RigidPose> scene_model_in_reference(const Scene& scene);
+Result<RigidPose> scene_reference_from_model(const Scene& scene);
 
 /// Takes tracked poses into the model frame.
 class TrackerRegistration {
  public:
-  TrackerRegistration(const RigidPose& model_in_reference, std::optional<std::uint32_t> reference_tool);
+  TrackerRegistration(const RigidPose& reference_from_model, std::optional<std::uint32_t> reference_tool);
 
   /// When `pose` is the reference tool's, takes it as the reference marker's place (true).
   bool take_reference(const dds::ToolPose& pose) noexcept;
-  /// T_model_tracker now; nothing until the first pose of a tracked reference.
+  /// model_from_tracker now; nothing until the first pose of a tracked reference.
   std::optional<RigidPose> model_from_tracker() const noexcept;
   /// Poses that came before the reference had been seen (and were not used).
   std::int64_t unregistered_poses = 0;
 
  private:
-  RigidPose model_in_reference_;
+  RigidPose reference_from_model_;
   std::optional<std::uint32_t> reference_tool_;
   std::optional<RigidPose> model_from_tracker_;
 };

@@ -9,13 +9,12 @@ namespace nav::station {
 
 Result<ProbeImaging> scene_probe_imaging(const Scene& scene) {
   auto frames = calibration::FrameTree::load(scene.frames.urdf_path);
-  if (!frames.ok()) return Error{frames.error().describe(), scene.source_path, scene.frames.line, "frames.urdf"};
-  auto image_to_probe = frames.value().lookup("probe_marker", "image_plane", 0);
-  if (!image_to_probe.ok())
-    return Error{"no fixed chain from probe_marker to image_plane: " + image_to_probe.error().describe(), scene.source_path, scene.frames.line,
-                 "frames.urdf"};
+  if (!frames.ok()) return Error{.message = frames.error().describe(), .file = scene.source_path, .line = scene.frames.line, .field = "frames.urdf"};
+  auto probe_from_image = frames.value().lookup("probe_marker", "image_plane", 0);
+  if (!probe_from_image.ok())
+    return Error{.message = "no fixed chain from probe_marker to image_plane: " + probe_from_image.error().describe(), .file = scene.source_path, .line = scene.frames.line, .field = "frames.urdf"};
   ProbeImaging imaging;
-  imaging.image_to_probe = image_to_probe.value();
+  imaging.probe_from_image = probe_from_image.value();
   return imaging;
 }
 
@@ -24,12 +23,12 @@ TumourObserver::TumourObserver(const ProbeImaging& imaging, const TumourObserver
   poses_.reserve(options_.pose_history);
 }
 
-void TumourObserver::add_probe_pose(TimeNs time_ns, const RigidPose& probe_in_model) {
+void TumourObserver::add_probe_pose(TimeNs time_ns, const RigidPose& model_from_probe) {
   if (poses_.size() < options_.pose_history) {
-    poses_.push_back({time_ns, probe_in_model});
+    poses_.push_back({time_ns, model_from_probe});
     return;
   }
-  poses_[next_] = {time_ns, probe_in_model};
+  poses_[next_] = {time_ns, model_from_probe};
   next_ = (next_ + 1) % poses_.size();
 }
 
@@ -67,11 +66,11 @@ std::optional<Eigen::Vector3d> TumourObserver::observe(TimeNs capture_ns, const 
     ++counts_.dropped_no_pose;
     return std::nullopt;
   }
-  Eigen::Isometry3d probe_to_model = Eigen::Isometry3d::Identity();
-  probe_to_model.linear() = probe->rotation.toRotationMatrix();
-  probe_to_model.translation() = probe->position_m;
+  Eigen::Isometry3d model_from_probe = Eigen::Isometry3d::Identity();
+  model_from_probe.linear() = probe->rotation.toRotationMatrix();
+  model_from_probe.translation() = probe->position_m;
   ++counts_.observations;
-  return ultrasound::image_point_in_world(found.u_px, found.v_px, spacing_x_m, spacing_y_m, imaging_.image_to_probe, probe_to_model);
+  return ultrasound::image_point_in_world(found.u_px, found.v_px, spacing_x_m, spacing_y_m, imaging_.probe_from_image, model_from_probe);
 }
 
 }  // namespace nav::station

@@ -20,13 +20,13 @@
 
 namespace nav::station {
 
-/// The tracked probe's imaging: the image grid and the probe calibration T_probe_image.
+/// The tracked probe's imaging: the image grid and the probe calibration probe_from_image.
 struct ProbeImaging {
   ultrasound::BmodeGeometry geometry;
-  Eigen::Isometry3d image_to_probe = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d probe_from_image = Eigen::Isometry3d::Identity();
 };
 
-/// The probe of `scene`: its calibration T_probe_image is the URDF's chain from probe_marker to
+/// The probe of `scene`: its calibration probe_from_image is the URDF's chain from probe_marker to
 /// image_plane (`navtool calib probe` writes it); its grid, the simulated scanner's (a station
 /// reads each frame on the frame's own grid). Errors name the scene file and frames.urdf.
 Result<ProbeImaging> scene_probe_imaging(const Scene& scene);
@@ -51,8 +51,8 @@ class TumourObserver {
  public:
   TumourObserver(const ProbeImaging& imaging, const TumourObserverOptions& options = {});
 
-  /// A tracked probe pose (T_model_probe) measured at `time_ns`; poses come in time order.
-  void add_probe_pose(TimeNs time_ns, const RigidPose& probe_in_model);
+  /// A tracked probe pose (model_from_probe) measured at `time_ns`; poses come in time order.
+  void add_probe_pose(TimeNs time_ns, const RigidPose& model_from_probe);
 
   /// The tumour of an 8-bit row-major frame captured at `capture_ns`, or nothing (counted).
   std::optional<Eigen::Vector3d> observe(TimeNs capture_ns, const std::uint8_t* pixels, std::uint32_t width_px,

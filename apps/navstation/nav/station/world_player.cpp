@@ -21,15 +21,15 @@ dds::ToolPose WorldPlayer::reference_pose(const dds::ToolPose& respiratory) cons
   dds::ToolPose pose = respiratory;
   pose.tool_id = *tracker_.tools.reference;
   set_name(pose.frame_from, "reference_marker");
-  const RigidPose& r = tracker_.reference_in_tracker;
+  const RigidPose& r = tracker_.tracker_from_reference;
   pose.position_m = vector_of(r.position_m);
   pose.orientation_wxyz = {r.rotation.w(), r.rotation.x(), r.rotation.y(), r.rotation.z()};
   return pose;
 }
 
-SimulatedTracker simulated_tracker(const ToolIds& tools, const RigidPose& reference_in_tracker, const RigidPose& model_in_reference) {
-  const RigidPose reference = tools.reference ? reference_in_tracker : RigidPose{};
-  return {tools, compose(reference, model_in_reference), reference};
+SimulatedTracker simulated_tracker(const ToolIds& tools, const RigidPose& tracker_from_reference, const RigidPose& reference_from_model) {
+  const RigidPose reference = tools.reference ? tracker_from_reference : RigidPose{};
+  return {tools, compose(reference, reference_from_model), reference};
 }
 
 WorldPlayer::WorldPlayer(const SimulatedWorld& world, bool publish_truth, const SimulatedTracker& tracker)
@@ -128,7 +128,7 @@ dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_nu
   const ToolIds& tools = tracker.tools;
   if (sample.kind == SampleKind::respiratory) {
     pose.tool_id = tools.respiratory;
-    const RigidPose& t = tracker.model_in_tracker;
+    const RigidPose& t = tracker.tracker_from_model;
     pose.position_m = vector_of(t.rotation * sample.point_m + t.position_m);
     set_name(pose.frame_from, "respiratory_marker");
     return pose;
@@ -136,7 +136,7 @@ dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_nu
   const bool needle = sample.kind == SampleKind::needle_pose;
   pose.tool_id = needle ? tools.needle : tools.probe;
   set_name(pose.frame_from, needle ? "needle_base" : "probe_marker");
-  const RigidPose in_tracker = compose(tracker.model_in_tracker, sample.pose);
+  const RigidPose in_tracker = compose(tracker.tracker_from_model, sample.pose);
   const Eigen::Quaterniond& q = in_tracker.rotation;
   pose.position_m = vector_of(in_tracker.position_m);
   pose.orientation_wxyz = {q.w(), q.x(), q.y(), q.z()};

@@ -25,17 +25,17 @@ struct PlayerCounts {
 };
 
 /// A simulated tracker's tools and where it sees the patient: the world's model-frame poses go
-/// out in the tracker's frame (T_tracker_model applied), and the reference tool, when the scene
-/// tracks one, at its fixed place T_tracker_reference with every respiratory sample.
+/// out in the tracker's frame (tracker_from_model applied), and the reference tool, when the scene
+/// tracks one, at its fixed place tracker_from_reference with every respiratory sample.
 struct SimulatedTracker {
   ToolIds tools;
-  RigidPose model_in_tracker;      ///< T_tracker_model = T_tracker_reference * T_reference_model
-  RigidPose reference_in_tracker;  ///< T_tracker_reference
+  RigidPose tracker_from_model;      ///< tracker_from_model = tracker_from_reference * reference_from_model
+  RigidPose tracker_from_reference;  ///< tracker_from_reference
 };
 
-/// A simulated tracker of `tools` seeing the reference marker at `reference_in_tracker` (when
-/// `tools` has a reference; else at its origin) and the model on it by the URDF's `model_in_reference`.
-SimulatedTracker simulated_tracker(const ToolIds& tools, const RigidPose& reference_in_tracker, const RigidPose& model_in_reference);
+/// A simulated tracker of `tools` seeing the reference marker at `tracker_from_reference` (when
+/// `tools` has a reference; else at its origin) and the model on it by the URDF's `reference_from_model`.
+SimulatedTracker simulated_tracker(const ToolIds& tools, const RigidPose& tracker_from_reference, const RigidPose& reference_from_model);
 
 /// Plays one world's recording, in order: once, or on and on by repeating its last period.
 class WorldPlayer {

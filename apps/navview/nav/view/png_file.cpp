@@ -55,7 +55,7 @@ std::vector<std::uint8_t> filtered_rows(const cv::Mat& image) {
   return rows;
 }
 
-Error png_error(const std::string& path, const std::string& message) { return Error{message, path, 0, ""}; }
+Error png_error(const std::string& path, const std::string& message) { return Error{.message = message, .file = path}; }
 
 }  // namespace
 

@@ -137,12 +137,12 @@ Result<std::unique_ptr<DdsNode>> DdsNode::create(const NetworkConfig& network, c
   impl->participant = fdds::DomainParticipantFactory::get_instance()->create_participant(
       static_cast<fdds::DomainId_t>(network.domain_id), participant_qos.value());
   if (impl->participant == nullptr) {
-    return Error{"Fast DDS refused to create the participant", "", 0, "domain " + std::to_string(network.domain_id)};
+    return Error{.message = "Fast DDS refused to create the participant", .field = "domain " + std::to_string(network.domain_id)};
   }
   impl->publisher = impl->participant->create_publisher(fdds::PublisherQos());
   impl->subscriber = impl->participant->create_subscriber(fdds::SubscriberQos());
   if (impl->publisher == nullptr || impl->subscriber == nullptr || !impl->create_topics()) {
-    return Error{"Fast DDS refused to create the station's topics", "", 0, ""};
+    return Error{.message = "Fast DDS refused to create the station's topics"};
   }
   return std::unique_ptr<DdsNode>(new DdsNode(std::move(impl)));
 }
@@ -153,12 +153,12 @@ DdsNode::~DdsNode() = default;
 template <typename Sample>
 Status DdsNode::advertise() {
   constexpr std::size_t i = index_of(WireTraits<Sample>::topic);
-  if (impl_->writers[i] != nullptr) return Error{"topic already advertised", "", 0, topic_name(WireTraits<Sample>::topic)};
+  if (impl_->writers[i] != nullptr) return Error{.message = "topic already advertised", .field = topic_name(WireTraits<Sample>::topic)};
   auto scratch = std::make_unique<WriteScratch<Sample>>();
   if constexpr (std::is_same_v<Sample, UltrasoundFrame>) scratch->wire.pixels().reserve(kMaxFramePixels);
   impl_->writers[i] =
       impl_->publisher->create_datawriter(impl_->topics[i], writer_qos(WireTraits<Sample>::topic, impl_->qos));
-  if (impl_->writers[i] == nullptr) return Error{"Fast DDS refused the writer", "", 0, topic_name(WireTraits<Sample>::topic)};
+  if (impl_->writers[i] == nullptr) return Error{.message = "Fast DDS refused the writer", .field = topic_name(WireTraits<Sample>::topic)};
   impl_->write_scratch[i] = std::move(scratch);
   return Done{};
 }
@@ -175,11 +175,11 @@ bool DdsNode::write(const Sample& sample) {
 template <typename Sample>
 Status DdsNode::subscribe(SampleSink<Sample>& sink, std::optional<ArrivalWindow> window) {
   constexpr std::size_t i = index_of(WireTraits<Sample>::topic);
-  if (impl_->readers[i] != nullptr) return Error{"topic already subscribed", "", 0, topic_name(WireTraits<Sample>::topic)};
+  if (impl_->readers[i] != nullptr) return Error{.message = "topic already subscribed", .field = topic_name(WireTraits<Sample>::topic)};
   auto listener = std::make_unique<SinkListener<Sample>>(sink, *impl_->topic_counters[i], window);
   impl_->readers[i] = impl_->subscriber->create_datareader(
       impl_->topics[i], reader_qos(WireTraits<Sample>::topic, impl_->qos), listener.get());
-  if (impl_->readers[i] == nullptr) return Error{"Fast DDS refused the reader", "", 0, topic_name(WireTraits<Sample>::topic)};
+  if (impl_->readers[i] == nullptr) return Error{.message = "Fast DDS refused the reader", .field = topic_name(WireTraits<Sample>::topic)};
   impl_->listeners[i] = std::move(listener);
   return Done{};
 }

@@ -19,17 +19,15 @@ Status refuse_environment_overrides() {
   for (const Override& o : kOverrides) {
     const char* value = std::getenv(o.variable);
     if (value == nullptr) continue;
-    return Error{std::string(o.variable) + " is set ('" + value + "'): Fast DDS " + o.effect +
+    return Error{.message = std::string(o.variable) + " is set ('" + value + "'): Fast DDS " + o.effect +
                      "; unset it (a participant's network comes from its settings: local address, peers, and an XML "
-                     "profile named there)",
-                 "", 0, o.variable};
+                     "profile named there)", .field = o.variable};
   }
   const char* skip = std::getenv("SKIP_DEFAULT_XML_FILE");
   std::error_code ignored;
   if ((skip == nullptr || skip[0] != '1') && std::filesystem::exists("DEFAULT_FASTRTPS_PROFILES.xml", ignored)) {
-    return Error{"Fast DDS would load this file from the working folder (XML defaults and library settings outside "
-                 "the code's network settings); remove it, run elsewhere, or set SKIP_DEFAULT_XML_FILE=1",
-                 std::filesystem::absolute("DEFAULT_FASTRTPS_PROFILES.xml", ignored).string(), 0, ""};
+    return Error{.message = "Fast DDS would load this file from the working folder (XML defaults and library settings outside "
+                 "the code's network settings); remove it, run elsewhere, or set SKIP_DEFAULT_XML_FILE=1", .file = std::filesystem::absolute("DEFAULT_FASTRTPS_PROFILES.xml", ignored).string()};
   }
   return Done{};
 }

@@ -25,16 +25,16 @@ namespace rtps = eprosima::fastrtps::rtps;
 Result<rtps::Locator_t> unicast_locator(const std::string& address, const char* field) {
   in_addr parsed{};
   if (inet_pton(AF_INET, address.c_str(), &parsed) != 1) {
-    return Error{"'" + address + "' is not an IPv4 address (write it as a.b.c.d)", "", 0, field};
+    return Error{.message = "'" + address + "' is not an IPv4 address (write it as a.b.c.d)", .field = field};
   }
   rtps::Locator_t locator;
   locator.kind = LOCATOR_KIND_UDPv4;
   rtps::IPLocator::setIPv4(locator, address);
   if (rtps::IPLocator::isAny(locator)) {
-    return Error{"0.0.0.0 would bind every interface; name one address", "", 0, field};
+    return Error{.message = "0.0.0.0 would bind every interface; name one address", .field = field};
   }
   if (rtps::IPLocator::isMulticast(locator)) {
-    return Error{"'" + address + "' is a multicast address; the station uses unicast only", "", 0, field};
+    return Error{.message = "'" + address + "' is a multicast address; the station uses unicast only", .field = field};
   }
   return locator;
 }
@@ -68,23 +68,22 @@ std::string interface_problem(const std::string& text, const in_addr& address) {
 /// Applies the XML profile named in `config` to `qos`, or returns why it cannot.
 Status apply_xml_profile(const NetworkConfig& config, fdds::DomainParticipantQos& qos) {
   if (config.xml_profile_file.empty()) {
-    if (!config.xml_profile_name.empty()) return Error{"a profile name was given without a profile file", "", 0, "xml_profile_file"};
+    if (!config.xml_profile_name.empty()) return Error{.message = "a profile name was given without a profile file", .field = "xml_profile_file"};
     return Done{};
   }
   if (config.xml_profile_name.empty()) {
-    return Error{"no participant profile named", config.xml_profile_file, 0, "xml_profile_name"};
+    return Error{.message = "no participant profile named", .file = config.xml_profile_file, .field = "xml_profile_name"};
   }
   std::error_code ignored;
   if (!std::filesystem::is_regular_file(config.xml_profile_file, ignored)) {
-    return Error{"DDS profile file not found (no fallback to the library defaults)", config.xml_profile_file, 0, ""};
+    return Error{.message = "DDS profile file not found (no fallback to the library defaults)", .file = config.xml_profile_file};
   }
   auto* factory = fdds::DomainParticipantFactory::get_instance();
   if (factory->load_XML_profiles_file(config.xml_profile_file) != ReturnCode_t::RETCODE_OK) {
-    return Error{"DDS profile file could not be parsed", config.xml_profile_file, 0, ""};
+    return Error{.message = "DDS profile file could not be parsed", .file = config.xml_profile_file};
   }
   if (factory->get_participant_qos_from_profile(config.xml_profile_name, qos) != ReturnCode_t::RETCODE_OK) {
-    return Error{"no participant profile '" + config.xml_profile_name + "' in the file", config.xml_profile_file, 0,
-                 "xml_profile_name"};
+    return Error{.message = "no participant profile '" + config.xml_profile_name + "' in the file", .file = config.xml_profile_file, .field = "xml_profile_name"};
   }
   return Done{};
 }
@@ -119,7 +118,7 @@ Status check_network(const NetworkConfig& config) {
   in_addr local_address{};
   inet_pton(AF_INET, config.local_address.c_str(), &local_address);
   if (const std::string problem = interface_problem(config.local_address, local_address); !problem.empty()) {
-    return Error{problem, "", 0, "local_address"};
+    return Error{.message = problem, .field = "local_address"};
   }
   for (const std::string& peer : config.peer_addresses) {
     auto locator = unicast_locator(peer, "peer_addresses");
@@ -141,8 +140,8 @@ Status check_security(const SecurityFiles& security) {
                         {security.permissions, "security.permissions"}};
   for (const File& file : files) {
     std::error_code ignored;
-    if (file.path.empty()) return Error{"DDS Security needs all five files; this one is not given", "", 0, file.key};
-    if (!std::filesystem::is_regular_file(file.path, ignored)) return Error{"DDS Security file not found", file.path, 0, file.key};
+    if (file.path.empty()) return Error{.message = "DDS Security needs all five files; this one is not given", .field = file.key};
+    if (!std::filesystem::is_regular_file(file.path, ignored)) return Error{.message = "DDS Security file not found", .file = file.path, .field = file.key};
   }
   return Done{};
 }

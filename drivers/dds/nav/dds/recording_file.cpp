@@ -66,17 +66,17 @@ bool read_at(std::FILE* file, std::uint64_t offset, void* into, std::size_t byte
 }
 
 Error damage_at(const std::string& path, std::uint64_t offset, const std::string& what) {
-  return Error{what + " at byte offset " + std::to_string(offset), path, 0, ""};
+  return Error{.message = what + " at byte offset " + std::to_string(offset), .file = path};
 }
 
 }  // namespace
 
 Result<std::unique_ptr<RecordingWriter>> RecordingWriter::create(const std::string& path) {
   std::FILE* file = std::fopen(path.c_str(), "wb");
-  if (file == nullptr) return Error{"cannot create the recording", path, 0, ""};
+  if (file == nullptr) return Error{.message = "cannot create the recording", .file = path};
   std::unique_ptr<RecordingWriter> writer(new RecordingWriter(file, path));
   if (std::fwrite(kFileMagic, 1, sizeof(kFileMagic), file) != sizeof(kFileMagic)) {
-    return Error{"cannot write the recording header", path, 0, ""};
+    return Error{.message = "cannot write the recording header", .file = path};
   }
   writer->end_offset_ = sizeof(kFileMagic);
   return writer;
@@ -86,7 +86,7 @@ RecordingWriter::~RecordingWriter() { close(); }
 
 Status RecordingWriter::append(Topic topic, TimeNs source_time_ns, TimeNs receive_time_ns,
                                const std::vector<std::uint8_t>& payload) {
-  if (file_ == nullptr) return Error{"recording already closed", path_, 0, ""};
+  if (file_ == nullptr) return Error{.message = "recording already closed", .file = path_};
   RecordHeader header;
   header.topic = static_cast<std::uint8_t>(topic);
   header.payload_bytes = static_cast<std::uint32_t>(payload.size());
@@ -96,7 +96,7 @@ Status RecordingWriter::append(Topic topic, TimeNs source_time_ns, TimeNs receiv
   const auto head = encode_header(header);
   if (std::fwrite(head.data(), 1, head.size(), file_) != head.size() ||
       std::fwrite(payload.data(), 1, payload.size(), file_) != payload.size()) {
-    return Error{"cannot write a record (disk full?)", path_, 0, ""};
+    return Error{.message = "cannot write a record (disk full?)", .file = path_};
   }
   offsets_.push_back(end_offset_);
   end_offset_ += head.size() + payload.size();
@@ -114,20 +114,20 @@ Status RecordingWriter::close() {
   const bool written = std::fwrite(index.data(), 1, index.size(), file_) == index.size();
   const bool closed = std::fclose(file_) == 0;
   file_ = nullptr;
-  if (!written || !closed) return Error{"cannot write the recording index", path_, 0, ""};
+  if (!written || !closed) return Error{.message = "cannot write the recording index", .file = path_};
   return Done{};
 }
 
 Result<std::unique_ptr<RecordingReader>> RecordingReader::open(const std::string& path) {
   std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr) return Error{"cannot open the recording", path, 0, ""};
+  if (file == nullptr) return Error{.message = "cannot open the recording", .file = path};
   std::unique_ptr<RecordingReader> reader(new RecordingReader(file, path));
   char magic[sizeof(kFileMagic)] = {};
   if (!read_at(file, 0, magic, sizeof(magic)) || std::memcmp(magic, kFileMagic, sizeof(magic)) != 0) {
-    return Error{"not a navigation recording (bad file header)", path, 0, ""};
+    return Error{.message = "not a navigation recording (bad file header)", .file = path};
   }
   const off_t end = fseeko(file, 0, SEEK_END) == 0 ? ftello(file) : -1;
-  if (end < 0) return Error{"cannot read the recording's size", path, 0, ""};
+  if (end < 0) return Error{.message = "cannot read the recording's size", .file = path};
   reader->file_size_ = static_cast<std::uint64_t>(end);
   if (!reader->load_index(reader->file_size_)) reader->scan(reader->file_size_);
   return reader;
@@ -172,9 +172,8 @@ void RecordingReader::scan(std::uint64_t file_size) {
     offsets_.push_back(offset);
     offset += kRecordHeaderBytes + header.payload_bytes;
   }
-  damage_ = Error{"no index at the end (the recorder did not close the file); " + std::to_string(offsets_.size()) +
-                      " records found by scanning",
-                  path_, 0, ""};
+  damage_ = Error{.message = "no index at the end (the recorder did not close the file); " + std::to_string(offsets_.size()) +
+                      " records found by scanning", .file = path_};
 }
 
 Result<RecordedSample> RecordingReader::read(std::size_t index) {

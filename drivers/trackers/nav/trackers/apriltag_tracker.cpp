@@ -65,10 +65,10 @@ AprilTagTracker::~AprilTagTracker() = default;
 
 Result<std::unique_ptr<AprilTagTracker>> AprilTagTracker::create(const CameraIntrinsics& camera, double tag_size_m,
                                                                  std::vector<TagBody> bodies) {
-  if (!(tag_size_m > 0.0)) return Error{"tag size must be positive", "", 0, "tag_size_m"};
-  if (!(camera.fx_px > 0.0 && camera.fy_px > 0.0)) return Error{"focal lengths must be positive", "", 0, "camera"};
+  if (!(tag_size_m > 0.0)) return Error{.message = "tag size must be positive", .field = "tag_size_m"};
+  if (!(camera.fx_px > 0.0 && camera.fy_px > 0.0)) return Error{.message = "focal lengths must be positive", .field = "camera"};
   for (const TagBody& body : bodies) {
-    if (body.tags.empty()) return Error{"a rigid body needs at least one tag", "", 0, "tool " + std::to_string(body.tool_id)};
+    if (body.tags.empty()) return Error{.message = "a rigid body needs at least one tag", .field = "tool " + std::to_string(body.tool_id)};
   }
   auto detector = std::make_unique<Detector>();
   detector->family = tag36h11_create();

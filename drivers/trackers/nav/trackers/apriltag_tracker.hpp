@@ -4,7 +4,7 @@
 // corners, Gauss-Newton on the reprojection error). Conventions (dependencies.md): corners
 // are reported with pixel centres at integers (apriltag's +0.5 removed); the tag frame has x
 // right and y down the printed tag, z into it, corners at (-s/2, s/2), (s/2, s/2),
-// (s/2, -s/2), (-s/2, -s/2); poses are T_camera_tag in the OpenCV camera frame. With a lens
+// (s/2, -s/2), (-s/2, -s/2); poses are camera_from_tag in the OpenCV camera frame. With a lens
 // distortion, tags are detected in the frame resampled to the ideal pinhole camera (straight
 // edges), their poses found there, and their corners reported as seen (through the lens).
 // I/O-thread code (detection allocates).
@@ -72,7 +72,7 @@ class AprilTagTracker {
 
   /// Every tag36h11 tag in `image`, with its pose.
   std::vector<TagObservation> detect(const GrayImage& image) const;
-  /// One sample per body (T_camera_body; missing when none of its tags is seen), measured
+  /// One sample per body (camera_from_body; missing when none of its tags is seen), measured
   /// at `time_ns`.
   std::vector<TrackerSample> track(const GrayImage& image, TimeNs time_ns) const;
   /// The body pose from the observations of its tags, or nullopt-like false when unseen;

@@ -8,7 +8,7 @@ namespace nav::trackers {
 
 Result<CameraIntrinsics> read_camera_intrinsics(const std::string& path) {
   std::ifstream in(path);
-  if (!in) return Error{"cannot read the camera intrinsics (navtool calib camera --out writes them)", path, 0, ""};
+  if (!in) return Error{.message = "cannot read the camera intrinsics (navtool calib camera --out writes them)", .file = path};
   std::string line;
   int line_number = 0;
   while (std::getline(in, line)) {
@@ -18,8 +18,8 @@ Result<CameraIntrinsics> read_camera_intrinsics(const std::string& path) {
     double v[9];
     for (double& value : v)
       if (!(numbers >> value) || !std::isfinite(value))
-        return Error{"expected the nine finite numbers fx_px fy_px cx_px cy_px k1 k2 p1 p2 k3", path, line_number, ""};
-    if (!(v[0] > 0.0) || !(v[1] > 0.0)) return Error{"the focal lengths fx_px and fy_px must be positive", path, line_number, "fx_px"};
+        return Error{.message = "expected the nine finite numbers fx_px fy_px cx_px cy_px k1 k2 p1 p2 k3", .file = path, .line = line_number};
+    if (!(v[0] > 0.0) || !(v[1] > 0.0)) return Error{.message = "the focal lengths fx_px and fy_px must be positive", .file = path, .line = line_number, .field = "fx_px"};
     CameraIntrinsics camera;
     camera.fx_px = v[0];
     camera.fy_px = v[1];
@@ -28,7 +28,7 @@ Result<CameraIntrinsics> read_camera_intrinsics(const std::string& path) {
     camera.distortion = {v[4], v[5], v[6], v[7], v[8]};
     return camera;
   }
-  return Error{"no intrinsics line (only comments or nothing)", path, line_number, ""};
+  return Error{.message = "no intrinsics line (only comments or nothing)", .file = path, .line = line_number};
 }
 
 }  // namespace nav::trackers

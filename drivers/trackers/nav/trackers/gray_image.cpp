@@ -14,20 +14,20 @@ GrayImage gray_image_from_frame(const dds::UltrasoundFrame& frame) {
 
 Result<GrayImage> read_pgm(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
-  if (!file) return Error{"cannot open the image", path, 0, ""};
+  if (!file) return Error{.message = "cannot open the image", .file = path};
   std::string magic;
   int width = 0, height = 0, maxval = 0;
   file >> magic;
-  if (magic != "P5") return Error{"not a binary PGM (P5)", path, 1, "magic"};
+  if (magic != "P5") return Error{.message = "not a binary PGM (P5)", .file = path, .line = 1, .field = "magic"};
   file >> width >> height >> maxval;
   if (!file || width <= 0 || height <= 0 || width > 16384 || height > 16384) {
-    return Error{"bad image size", path, 1, "width/height"};
+    return Error{.message = "bad image size", .file = path, .line = 1, .field = "width/height"};
   }
-  if (maxval != 255) return Error{"only 8-bit PGM (maxval 255) is supported", path, 1, "maxval"};
+  if (maxval != 255) return Error{.message = "only 8-bit PGM (maxval 255) is supported", .file = path, .line = 1, .field = "maxval"};
   file.get();  // the single whitespace before the pixels
   GrayImage image{width, height, std::vector<std::uint8_t>(static_cast<std::size_t>(width) * height)};
   file.read(reinterpret_cast<char*>(image.pixels.data()), static_cast<std::streamsize>(image.pixels.size()));
-  if (!file) return Error{"image data truncated", path, 0, "pixels"};
+  if (!file) return Error{.message = "image data truncated", .file = path, .field = "pixels"};
   return image;
 }
 
@@ -35,7 +35,7 @@ Status write_pgm(const std::string& path, const GrayImage& image) {
   std::ofstream file(path, std::ios::binary);
   file << "P5\n" << image.width_px << " " << image.height_px << "\n255\n";
   file.write(reinterpret_cast<const char*>(image.pixels.data()), static_cast<std::streamsize>(image.pixels.size()));
-  if (!file) return Error{"cannot write the image", path, 0, ""};
+  if (!file) return Error{.message = "cannot write the image", .file = path};
   return Done{};
 }
 
@@ -45,7 +45,7 @@ Result<std::vector<std::string>> list_pgm_files(const std::string& folder) {
   for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
     if (entry.is_regular_file() && entry.path().extension() == ".pgm") files.push_back(entry.path().string());
   }
-  if (error) return Error{"cannot list the image folder: " + error.message(), folder, 0, ""};
+  if (error) return Error{.message = "cannot list the image folder: " + error.message(), .file = folder};
   std::sort(files.begin(), files.end());
   return files;
 }

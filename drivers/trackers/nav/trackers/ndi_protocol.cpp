@@ -106,7 +106,7 @@ std::string hex(std::uint32_t value, int width) {
   return text;
 }
 
-Error bad(const std::string& message, const std::string& field) { return Error{message, "", 0, field}; }
+Error bad(const std::string& message, const std::string& field) { return Error{.message = message, .field = field}; }
 
 }  // namespace
 
@@ -350,15 +350,15 @@ std::string encode_pvwr(const RomWrite& write) {
 }
 
 Result<RomWrite> decode_pvwr(std::string_view arguments) {
-  if (arguments.size() != 6 + 2 * kRomChunkBytes) return Error{"PVWR takes a handle, an address and 64 bytes in hex", "", 0, "PVWR"};
+  if (arguments.size() != 6 + 2 * kRomChunkBytes) return Error{.message = "PVWR takes a handle, an address and 64 bytes in hex", .field = "PVWR"};
   int digits[6 + 2 * kRomChunkBytes];
   for (std::size_t i = 0; i < arguments.size(); ++i)
-    if (!hex_value(arguments[i], digits[i])) return Error{"PVWR: not a hex digit at " + std::to_string(i), "", 0, "PVWR"};
+    if (!hex_value(arguments[i], digits[i])) return Error{.message = "PVWR: not a hex digit at " + std::to_string(i), .field = "PVWR"};
   RomWrite write;
   write.handle = static_cast<std::uint8_t>(16 * digits[0] + digits[1]);
   write.address = static_cast<std::size_t>(((digits[2] * 16 + digits[3]) * 16 + digits[4]) * 16 + digits[5]);
   if (write.address % kRomChunkBytes != 0 || write.address + kRomChunkBytes > kRomBytes)
-    return Error{"PVWR: address " + std::to_string(write.address) + " is not a chunk of the 1024-byte definition", "", 0, "PVWR"};
+    return Error{.message = "PVWR: address " + std::to_string(write.address) + " is not a chunk of the 1024-byte definition", .field = "PVWR"};
   for (std::size_t i = 0; i < kRomChunkBytes; ++i) write.bytes += static_cast<char>(16 * digits[6 + 2 * i] + digits[7 + 2 * i]);
   return write;
 }

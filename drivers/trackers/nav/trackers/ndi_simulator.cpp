@@ -235,7 +235,7 @@ Result<PseudoTerminal> open_pseudo_terminal() {
   const int master = posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);
   if (master < 0 || grantpt(master) != 0 || unlockpt(master) != 0) {
     if (master >= 0) ::close(master);
-    return Error{std::string("cannot open a pseudo-terminal: ") + std::strerror(errno), "/dev/ptmx", 0, ""};
+    return Error{.message = std::string("cannot open a pseudo-terminal: ") + std::strerror(errno), .file = "/dev/ptmx"};
   }
   termios settings{};
   if (tcgetattr(master, &settings) == 0) {
@@ -245,7 +245,7 @@ Result<PseudoTerminal> open_pseudo_terminal() {
   char name[128];
   if (ptsname_r(master, name, sizeof name) != 0) {
     ::close(master);
-    return Error{"ptsname failed", "/dev/ptmx", 0, ""};
+    return Error{.message = "ptsname failed", .file = "/dev/ptmx"};
   }
   return PseudoTerminal{master, name};
 }

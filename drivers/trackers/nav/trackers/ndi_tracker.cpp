@@ -51,7 +51,7 @@ TrackerSample to_sample(const HandleRecord& record, TimeNs measured_time_ns) {
 
 Status negotiate_serial(Connection& connection, int baud) {
   const std::optional<std::string> comm = comm_arguments(baud);
-  if (!comm) return Error{"no serial rate " + std::to_string(baud) + " the device and this host share", connection.path(), 0, "COMM"};
+  if (!comm) return Error{.message = "no serial rate " + std::to_string(baud) + " the device and this host share", .file = connection.path(), .field = "COMM"};
   if (Status reset_rate = connection.set_serial_speed(kResetBaud); !reset_rate) return reset_rate;
   connection.discard_input();
   const TimeNs reply_timeout_ns = connection.reply_timeout_ns;
@@ -63,9 +63,8 @@ Status negotiate_serial(Connection& connection, int baud) {
     if (Status broke = connection.send_break(); !broke) return broke;
     Result<std::string> reset = connection.read_reply();
     if (!reset || reset.value() != "RESET")
-      return Error{"no reply to INIT at 9600 8N1, and no RESET after a serial break" + (reset ? ": the device said " + reset.value() : std::string()) +
-                       " (is the device on, and is this its port?)",
-                   connection.path(), 0, "INIT"};
+      return Error{.message = "no reply to INIT at 9600 8N1, and no RESET after a serial break" + (reset ? ": the device said " + reset.value() : std::string()) +
+                       " (is the device on, and is this its port?)", .file = connection.path(), .field = "INIT"};
     Result<std::string> init = connection.command("INIT", "");
     if (!init) return init.error();
   }
@@ -77,16 +76,15 @@ Status negotiate_serial(Connection& connection, int baud) {
 
 Result<std::string> read_tool_definition(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
-  if (!file) return Error{"cannot open the tool definition", path, 0, ""};
+  if (!file) return Error{.message = "cannot open the tool definition", .file = path};
   std::string bytes(kRomBytes + 1, '\0');  // one byte more than a device takes: never a whole large file
   file.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   bytes.resize(static_cast<std::size_t>(file.gcount()));
-  if (bytes.empty()) return Error{"the tool definition is empty", path, 0, ""};
+  if (bytes.empty()) return Error{.message = "the tool definition is empty", .file = path};
   if (bytes.size() > kRomBytes) {
     std::error_code error;
     const std::uintmax_t size = std::filesystem::file_size(path, error);
-    return Error{"the tool definition has " + (error ? std::string("more than 1024") : std::to_string(size)) + " bytes; a device takes at most 1024",
-                 path, 0, ""};
+    return Error{.message = "the tool definition has " + (error ? std::string("more than 1024") : std::to_string(size)) + " bytes; a device takes at most 1024", .file = path};
   }
   return bytes;
 }
@@ -99,7 +97,7 @@ Result<std::uint8_t> load_passive_tool(Connection& connection, const std::string
   if (!requested) return requested.error();
   unsigned handle = 0;
   if (requested.value().size() < 2 || std::sscanf(requested.value().substr(0, 2).c_str(), "%2X", &handle) != 1)
-    return Error{"PHRQ replied '" + requested.value() + "', not a port handle", "", 0, "PHRQ"};
+    return Error{.message = "PHRQ replied '" + requested.value() + "', not a port handle", .field = "PHRQ"};
   for (std::size_t address = 0; address < definition.size(); address += kRomChunkBytes) {
     const RomWrite chunk{static_cast<std::uint8_t>(handle), address, definition.substr(address, kRomChunkBytes)};
     Result<std::string> written = connection.command("PVWR", encode_pvwr(chunk));
@@ -125,23 +123,32 @@ Result<NdiTracker> NdiTracker::start(Connection connection, const std::vector<st
   if (Status enabled = for_listed_handles(tracker.connection_, "03", "PENA", "D", &tracker.handles_); !enabled) {
     return enabled.error();
   }
-  if (tracker.handles_.empty()) return Error{"the device reports no port handle to enable", "", 0, "PHSR"};
+  if (tracker.handles_.empty()) return Error{.message = "the device reports no port handle to enable", .field = "PHSR"};
   Result<std::string> started = tracker.connection_.command("TSTART", "");
   if (!started) return started.error();
   return tracker;
 }
 
+namespace {
+
+/// One BX (binary) tracking reply, decoded.
+Result<TrackingReply> read_bx(Connection& connection) {
+  Result<std::string> bytes = connection.binary_command("BX", "0001");
+  if (!bytes) return bytes.error();
+  return decode_bx(bytes.value());
+}
+
+/// One TX (text) tracking reply, decoded.
+Result<TrackingReply> read_tx(Connection& connection) {
+  Result<std::string> body = connection.command("TX", "0001");
+  if (!body) return body.error();
+  return decode_tx(body.value());
+}
+
+}  // namespace
+
 Result<std::vector<TrackerSample>> NdiTracker::poll(ReplyFormat format, TimeNs request_time_ns) {
-  Result<TrackingReply> reply = Error{"", "", 0, ""};
-  if (format == ReplyFormat::bx) {
-    Result<std::string> bytes = connection_.binary_command("BX", "0001");
-    if (!bytes) return bytes.error();
-    reply = decode_bx(bytes.value());
-  } else {
-    Result<std::string> body = connection_.command("TX", "0001");
-    if (!body) return body.error();
-    reply = decode_tx(body.value());
-  }
+  Result<TrackingReply> reply = format == ReplyFormat::bx ? read_bx(connection_) : read_tx(connection_);
   if (!reply) return reply.error();
   std::vector<TrackerSample> samples;
   for (const HandleRecord& record : reply.value().handles) samples.push_back(to_sample(record, request_time_ns));

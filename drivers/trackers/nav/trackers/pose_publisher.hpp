@@ -1,5 +1,5 @@
 #pragma once
-// Publishes tracker samples as the station's ToolPose samples on DDS (T_tracker_tool, frame
+// Publishes tracker samples as the station's ToolPose samples on DDS (tracker_from_tool, frame
 // names from the tool table); samples without a pose (missing, disabled) are counted, not
 // published. I/O-thread code.
 #include <cstdint>

@@ -17,7 +17,7 @@ enum class ToolState : std::uint8_t {
   disabled,               // port handle not enabled
 };
 
-/// One tool's pose T_tracker_tool at the device's measurement time.
+/// One tool's pose tracker_from_tool at the device's measurement time.
 struct TrackerSample {
   std::uint32_t tool_id = 0;
   TimeNs measured_time_ns = 0;   // when the device measured it (on the station clock)

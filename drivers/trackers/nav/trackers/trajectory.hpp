@@ -7,7 +7,7 @@
 
 namespace nav::trackers {
 
-/// A tool's scripted motion, T_tracker_tool(t).
+/// A tool's scripted motion, tracker_from_tool(t).
 struct Trajectory {
   std::array<double, 3> centre_m{0.0, 0.0, -1.0};
   double radius_m = 0.05;

@@ -16,18 +16,18 @@ namespace nav::ultrasound {
 /// frame) and the probe's tool id; the frame buffer is allocated once.
 class BmodeDevice {
  public:
-  BmodeDevice(BmodeSimulator simulator, const Eigen::Isometry3d& image_to_probe, std::uint32_t probe_tool_id);
+  BmodeDevice(BmodeSimulator simulator, const Eigen::Isometry3d& probe_from_image, std::uint32_t probe_tool_id);
 
-  /// Renders the view of a probe at `probe_in_liver` (T_liver_probe, metres), publishes the
+  /// Renders the view of a probe at `liver_from_probe` (liver_from_probe, metres), publishes the
   /// pose (probe in "liver") and the frame, both stamped `time_ns`, on `node` (which has
   /// advertised both topics); returns the frame's truth. False in `published` if DDS refused.
-  BmodeTruth publish(dds::DdsNode& node, const Eigen::Isometry3d& probe_in_liver, TimeNs time_ns, bool& published);
+  BmodeTruth publish(dds::DdsNode& node, const Eigen::Isometry3d& liver_from_probe, TimeNs time_ns, bool& published);
 
   const dds::UltrasoundFrame& last_frame() const noexcept { return *frame_; }
 
  private:
   BmodeSimulator simulator_;
-  Eigen::Isometry3d image_to_probe_;
+  Eigen::Isometry3d probe_from_image_;
   std::uint32_t probe_tool_id_;
   std::uint64_t sequence_number_ = 0;
   std::unique_ptr<dds::UltrasoundFrame> frame_;

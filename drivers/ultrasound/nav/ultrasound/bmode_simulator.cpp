@@ -58,9 +58,9 @@ double BmodeSimulator::echogenicity(const Point3& point_m) const {
   return echo + (kCapsule - echo) * std::exp(-capsule * capsule);
 }
 
-BmodeTruth BmodeSimulator::truth(const Eigen::Isometry3d& image_in_liver) const {
+BmodeTruth BmodeSimulator::truth(const Eigen::Isometry3d& liver_from_image) const {
   const Eigen::Vector3d centre(scene_.tumour_centre_m[0], scene_.tumour_centre_m[1], scene_.tumour_centre_m[2]);
-  const Eigen::Vector3d in_image = image_in_liver.inverse() * centre;
+  const Eigen::Vector3d in_image = liver_from_image.inverse() * centre;
   BmodeTruth truth;
   truth.tumour_u_px = in_image.x() / geometry_.spacing_m;
   truth.tumour_v_px = in_image.y() / geometry_.spacing_m;
@@ -70,7 +70,7 @@ BmodeTruth BmodeSimulator::truth(const Eigen::Isometry3d& image_in_liver) const 
   return truth;
 }
 
-BmodeTruth BmodeSimulator::render(const Eigen::Isometry3d& image_in_liver, std::uint8_t* pixels) {
+BmodeTruth BmodeSimulator::render(const Eigen::Isometry3d& liver_from_image, std::uint8_t* pixels) {
   const int width = static_cast<int>(geometry_.width_px);
   const int height = static_cast<int>(geometry_.height_px);
   // Fully developed speckle: Rayleigh-distributed amplitude (mean 1), then a little blur for
@@ -84,7 +84,7 @@ BmodeTruth BmodeSimulator::render(const Eigen::Isometry3d& image_in_liver, std::
     const double depth_m = v * geometry_.spacing_m;
     const double attenuation = std::exp(-scene_.attenuation_np_per_m * depth_m);
     for (int u = 0; u < width; ++u) {
-      const Eigen::Vector3d point = image_in_liver * Eigen::Vector3d(u * geometry_.spacing_m, depth_m, 0.0);
+      const Eigen::Vector3d point = liver_from_image * Eigen::Vector3d(u * geometry_.spacing_m, depth_m, 0.0);
       const double echo = echogenicity({point.x(), point.y(), point.z()});
       const std::size_t i = static_cast<std::size_t>(v) * geometry_.width_px + static_cast<std::size_t>(u);
       // Normalise the blurred speckle back to about unit mean (blur lowers its variance only).
@@ -92,7 +92,7 @@ BmodeTruth BmodeSimulator::render(const Eigen::Isometry3d& image_in_liver, std::
       pixels[i] = static_cast<std::uint8_t>(std::clamp(std::lround(level), 0L, 255L));
     }
   }
-  return truth(image_in_liver);
+  return truth(liver_from_image);
 }
 
 Eigen::Isometry3d plane_through_tumour(const BmodeGeometry& geometry, const BmodeScene& scene, double plane_offset_m,

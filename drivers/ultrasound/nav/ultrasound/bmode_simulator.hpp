@@ -55,12 +55,12 @@ class BmodeSimulator {
  public:
   BmodeSimulator(const BmodeGeometry& geometry, BmodeScene scene, std::uint64_t seed);
 
-  /// Renders the plane whose image frame is `image_in_liver` (T_liver_image, metres) into
+  /// Renders the plane whose image frame is `liver_from_image` (liver_from_image, metres) into
   /// `pixels` (width_px * height_px, row-major) and returns the truth.
-  BmodeTruth render(const Eigen::Isometry3d& image_in_liver, std::uint8_t* pixels);
+  BmodeTruth render(const Eigen::Isometry3d& liver_from_image, std::uint8_t* pixels);
 
   /// The truth alone, for a plane.
-  BmodeTruth truth(const Eigen::Isometry3d& image_in_liver) const;
+  BmodeTruth truth(const Eigen::Isometry3d& liver_from_image) const;
 
   const BmodeGeometry& geometry() const noexcept { return geometry_; }
 

@@ -42,12 +42,12 @@ CaptureSource::~CaptureSource() = default;
 Result<std::unique_ptr<CaptureSource>> CaptureSource::open(const std::string& source, const CaptureOptions& options,
                                                            Clock& clock) {
   if (!(options.pixel_spacing_m[0] > 0.0 && options.pixel_spacing_m[1] > 0.0)) {
-    return Error{"pixel spacing must be positive", source, 0, "pixel_spacing_m"};
+    return Error{.message = "pixel spacing must be positive", .file = source, .field = "pixel_spacing_m"};
   }
   const bool device = is_device_index(source);
   const bool pattern = source.find('%') != std::string::npos;
   if (!device && !pattern && !std::filesystem::exists(source)) {
-    return Error{"no such video file", source, 0, "source"};
+    return Error{.message = "no such video file", .file = source, .field = "source"};
   }
   auto impl = std::make_unique<Impl>();
   impl->source = source;
@@ -60,8 +60,7 @@ Result<std::unique_ptr<CaptureSource>> CaptureSource::open(const std::string& so
                       : pattern ? impl->capture.open(source, cv::CAP_IMAGES)
                                 : impl->capture.open(source, cv::CAP_FFMPEG);
   if (!opened || !impl->capture.isOpened()) {
-    return Error{device ? "cannot open the capture device" : "cannot open the video file or image sequence", source, 0,
-                 "source"};
+    return Error{.message = device ? "cannot open the capture device" : "cannot open the video file or image sequence", .file = source, .field = "source"};
   }
   return std::unique_ptr<CaptureSource>(new CaptureSource(std::move(impl)));
 }
@@ -73,19 +72,18 @@ Result<bool> CaptureSource::next(dds::UltrasoundFrame& frame) {
   if (!s.capture.retrieve(s.grabbed) || s.grabbed.empty()) return false;
   const cv::Mat grey = to_grey8(s.grabbed);
   const std::string where = "frame " + std::to_string(s.frames);
-  if (grey.type() != CV_8UC1) return Error{"unsupported pixel format", s.source, 0, where};
+  if (grey.type() != CV_8UC1) return Error{.message = "unsupported pixel format", .file = s.source, .field = where};
   const ClipRectangle& clip = s.options.clip;
   cv::Rect region(0, 0, grey.cols, grey.rows);
   if (clip.width_px > 0 && clip.height_px > 0) {
     region = cv::Rect(static_cast<int>(clip.x_px), static_cast<int>(clip.y_px), static_cast<int>(clip.width_px),
                       static_cast<int>(clip.height_px));
     if (region.x + region.width > grey.cols || region.y + region.height > grey.rows) {
-      return Error{"the clip rectangle leaves the " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) + " image",
-                   s.source, 0, where};
+      return Error{.message = "the clip rectangle leaves the " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) + " image", .file = s.source, .field = where};
     }
   }
   if (static_cast<std::size_t>(region.area()) > dds::kMaxFramePixels) {
-    return Error{"the image has more pixels than a frame sample holds", s.source, 0, where};
+    return Error{.message = "the image has more pixels than a frame sample holds", .file = s.source, .field = where};
   }
   const cv::Mat clipped = grey(region);
   frame.sequence_number = s.frames++;
@@ -106,7 +104,7 @@ Result<bool> CaptureSource::publish_next(dds::DdsNode& node) {
   Result<bool> grabbed = next(*impl_->sample);
   if (!grabbed || !grabbed.value()) return grabbed;
   if (!node.write(*impl_->sample)) {
-    return Error{"DDS refused the frame", impl_->source, 0, "frame " + std::to_string(impl_->sample->sequence_number)};
+    return Error{.message = "DDS refused the frame", .file = impl_->source, .field = "frame " + std::to_string(impl_->sample->sequence_number)};
   }
   return true;
 }

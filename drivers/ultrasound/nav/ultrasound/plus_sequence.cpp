@@ -52,7 +52,7 @@ class HeaderReader {
   HeaderReader(const std::string& name, PlusSequence& sequence) : name_(name), sequence_(sequence) {}
 
   Error error(int line, std::string field, std::string message) const {
-    return Error{std::move(message), name_, line, std::move(field)};
+    return Error{.message = std::move(message), .file = name_, .line = line, .field = std::move(field)};
   }
 
   /// MetaImage and NRRD geometry fields, normalised by the caller to these keys.
@@ -277,7 +277,7 @@ Result<PlusSequence> parse_plus_sequence(std::string_view bytes, const std::stri
 
 Result<PlusSequence> read_plus_sequence(const std::string& path, const PlusReadOptions& options) {
   std::ifstream file(path, std::ios::binary);
-  if (!file) return Error{"cannot open", path, 0, ""};
+  if (!file) return Error{.message = "cannot open", .file = path};
   const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
   return parse_plus_sequence(bytes, path, options);
 }

@@ -56,7 +56,7 @@ Status write_plus_sequence(const std::string& path, const PlusSequence& sequence
   std::ofstream file(path, std::ios::binary);
   const std::string text = format_plus_sequence(sequence, compress);
   file.write(text.data(), static_cast<std::streamsize>(text.size()));
-  if (!file) return Error{"cannot write", path, 0, ""};
+  if (!file) return Error{.message = "cannot write", .file = path};
   return Done{};
 }
 

@@ -55,7 +55,7 @@ Result<std::size_t> play_sequence(dds::DdsNode& node, const PlusSequence& sequen
   std::vector<const TransformTrack*> tracks;
   for (const ToolTrack& tool : options.tools) {
     tracks.push_back(sequence.find_transform(tool.transform_name));
-    if (tracks.back() == nullptr) return Error{"no such transform in the sequence", sequence.path, 0, tool.transform_name};
+    if (tracks.back() == nullptr) return Error{.message = "no such transform in the sequence", .file = sequence.path, .field = tool.transform_name};
   }
   const bool has_images = sequence.frame_pixels() > 0;
   const std::size_t frames = has_images ? sequence.frames_read : sequence.frame_count;

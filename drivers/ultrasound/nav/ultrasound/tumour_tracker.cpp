@@ -68,8 +68,8 @@ TumourDetection TumourTracker::update(const std::uint8_t* pixels, std::uint32_t 
 }
 
 Eigen::Vector3d image_point_in_world(double u_px, double v_px, double spacing_x_m, double spacing_y_m,
-                                     const Eigen::Isometry3d& image_to_probe, const Eigen::Isometry3d& probe_to_world) {
-  return probe_to_world * (image_to_probe * Eigen::Vector3d(u_px * spacing_x_m, v_px * spacing_y_m, 0.0));
+                                     const Eigen::Isometry3d& probe_from_image, const Eigen::Isometry3d& world_from_probe) {
+  return world_from_probe * (probe_from_image * Eigen::Vector3d(u_px * spacing_x_m, v_px * spacing_y_m, 0.0));
 }
 
 }  // namespace nav::ultrasound

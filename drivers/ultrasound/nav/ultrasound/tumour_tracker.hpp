@@ -45,10 +45,10 @@ class TumourTracker {
   TumourDetection last_;
 };
 
-/// A pixel (u, v) as a point of the world (metres): image_to_probe (the probe calibration)
+/// A pixel (u, v) as a point of the world (metres): probe_from_image (the probe calibration)
 /// maps the image point (u * spacing_x, v * spacing_y, 0) to the probe frame, and
-/// probe_to_world (the tracked pose) the probe frame to the world.
+/// world_from_probe (the tracked pose) the probe frame to the world.
 Eigen::Vector3d image_point_in_world(double u_px, double v_px, double spacing_x_m, double spacing_y_m,
-                                     const Eigen::Isometry3d& image_to_probe, const Eigen::Isometry3d& probe_to_world);
+                                     const Eigen::Isometry3d& probe_from_image, const Eigen::Isometry3d& world_from_probe);
 
 }  // namespace nav::ultrasound
