@@ -101,7 +101,8 @@ struct RealtimeRecord {
 
 /// The real-time thread: drain, tick, publish, at 1 kHz. Nothing here allocates, locks or
 /// makes a system call but the timer's sleep (station software pins it to its own core).
-void realtime_thread(Shared& shared, const nav::OperatingLoopModel& loop, nav::OperatingLoopData& data, RealtimeRecord& record) {
+void realtime_thread(Shared& shared, const nav::OperatingLoopModel& loop, nav::OperatingLoopData& data,
+                     RealtimeRecord& record) {
   nav::FixedRateTimer timer(shared.clock, loop.options.tick_period_ns, shared.start_ns);
   TrackerSample sample;
   TumourPoint point;
@@ -111,9 +112,11 @@ void realtime_thread(Shared& shared, const nav::OperatingLoopModel& loop, nav::O
     for (; shared.tracker.try_pop(sample); ++record.tracker_samples) {
       if (sample.tool == TrackerSample::Tool::needle) nav::push_needle_pose(loop, data, {sample.time_ns, sample.pose});
       if (sample.tool == TrackerSample::Tool::probe) nav::push_probe_pose(loop, data, {sample.time_ns, sample.pose});
-      if (sample.tool == TrackerSample::Tool::respiratory) nav::push_respiratory_sample(loop, data, sample.time_ns, sample.pose.position_m);
+      if (sample.tool == TrackerSample::Tool::respiratory)
+        nav::push_respiratory_sample(loop, data, sample.time_ns, sample.pose.position_m);
     }
-    for (; shared.ultrasound.try_pop(point); ++record.tumour_points) nav::push_tumour_observation(data, point.time_ns, point.position_m);
+    for (; shared.ultrasound.try_pop(point); ++record.tumour_points)
+      nav::push_tumour_observation(data, point.time_ns, point.position_m);
     nav::tick(loop, data, begin_ns - shared.start_ns);
     shared.outputs.write(data.outputs);
     const auto i = static_cast<std::size_t>(record.ticks++);
@@ -134,8 +137,8 @@ struct Scores {
 
 Eigen::Vector3d vec(const nav::Point3& p) { return {p[0], p[1], p[2]}; }
 
-void score(const nav::OperatingLoopOutputs& o, const embedding::PatientMotion& motion, const embedding::TumourTruth& truth,
-           TimeNs latency_ns, Scores& s) {
+void score(const nav::OperatingLoopOutputs& o, const embedding::PatientMotion& motion,
+           const embedding::TumourTruth& truth, TimeNs latency_ns, Scores& s) {
   for (const nav::Point3* p : {&o.tumour_now_m, &o.tumour_ahead_m, &o.needle_tip_m})
     s.finite = s.finite && std::isfinite((*p)[0]) && std::isfinite((*p)[1]) && std::isfinite((*p)[2]);
   if (s.ready_ns < 0 && !o.degraded) s.ready_ns = o.time_ns;
@@ -163,7 +166,9 @@ int fail(const char* what, const nav::Error& error) {
 }
 
 /// The square root of a covariance's trace, in millimetres.
-double sd_mm(const std::array<double, 9>& covariance_m2) { return 1e3 * std::sqrt(covariance_m2[0] + covariance_m2[4] + covariance_m2[8]); }
+double sd_mm(const std::array<double, 9>& covariance_m2) {
+  return 1e3 * std::sqrt(covariance_m2[0] + covariance_m2[4] + covariance_m2[8]);
+}
 
 }  // namespace
 
@@ -179,7 +184,8 @@ int main(int argc, char** argv) {
   auto liver = embedding::make_liver(0.02);
   if (!liver.ok()) return fail("liver", liver.error());
   embedding::PatientMotion motion;
-  motion.needle_entry_m = liver.value().tumour_rest_m + Eigen::Vector3d(0.0, 0.06, 0.0);  // 6 cm anterior, inserted toward it
+  motion.needle_entry_m =
+      liver.value().tumour_rest_m + Eigen::Vector3d(0.0, 0.06, 0.0);  // 6 cm anterior, inserted toward it
   embedding::LoopSettings settings;
   settings.respiratory_reference_m = motion.marker_rest_z_m;
   auto loop = embedding::make_loop(liver.value(), settings);
@@ -189,15 +195,17 @@ int main(int argc, char** argv) {
   const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
   auto truth = embedding::TumourTruth::solve(liver.value(), 0.012, 25);
   if (!truth.ok()) return fail("truth", truth.error());
-  std::printf("liver: %zu tetrahedra, %d vibration modes with corotational cubature; loop built in %.2f s\n", liver.value().mesh.tets.size(),
-              loop.value().rungs.front().reduced.basis_size(), build_s);
+  std::printf("liver: %zu tetrahedra, %d vibration modes with corotational cubature; loop built in %.2f s\n",
+              liver.value().mesh.tets.size(), loop.value().rungs.front().reduced.basis_size(), build_s);
 
   auto shared = std::make_unique<Shared>();
   const auto ticks = static_cast<std::size_t>(run_s * 1e9 / static_cast<double>(loop.value().options.tick_period_ns));
   RealtimeRecord record{std::vector<double>(ticks), std::vector<double>(ticks)};
-  const nav::RigidPose probe{liver.value().tumour_rest_m + Eigen::Vector3d(0.0, 0.045, 0.0), Eigen::Quaterniond::Identity()};
+  const nav::RigidPose probe{liver.value().tumour_rest_m + Eigen::Vector3d(0.0, 0.045, 0.0),
+                             Eigen::Quaterniond::Identity()};
   shared->start_ns = shared->clock.now_ns() + 20 * nav::kNsPerMs;
-  std::thread realtime(realtime_thread, std::ref(*shared), std::cref(loop.value()), std::ref(data.value()), std::ref(record));
+  std::thread realtime(realtime_thread, std::ref(*shared), std::cref(loop.value()), std::ref(data.value()),
+                       std::ref(record));
   std::thread tracker(tracker_thread, std::ref(*shared), std::cref(motion), std::cref(probe));
   std::thread ultrasound(ultrasound_thread, std::ref(*shared), std::cref(motion), std::cref(truth.value()));
 
@@ -215,30 +223,40 @@ int main(int argc, char** argv) {
   if (shared->outputs.update()) score(shared->outputs.read(), motion, truth.value(), latency_ns, scores);
   last = shared->outputs.read();
 
-  const auto misses = std::count_if(record.lateness_us.begin(), record.lateness_us.end(), [&](double late) { return late > 1e3 * miss_ms; });
+  const auto misses = std::count_if(record.lateness_us.begin(), record.lateness_us.end(),
+                                    [&](double late) { return late > 1e3 * miss_ms; });
   std::printf("ran %lld ticks at 1 kHz: step median %.1f us, p99 %.1f us, max %.1f us; lateness max %.1f us\n",
               static_cast<long long>(record.ticks), percentile(record.step_us, 0.5), percentile(record.step_us, 0.99),
               percentile(record.step_us, 1.0), percentile(record.lateness_us, 1.0));
   std::printf("deadline misses (> %.0f ms late): %lld\n", miss_ms, static_cast<long long>(misses));
   std::printf("pushed: %lld tracker samples, %lld tumour points\n", static_cast<long long>(record.tracker_samples),
               static_cast<long long>(record.tumour_points));
-  std::printf("tumour error against the full-order liver (RMS over %d liver steps from 1 s): now %.2f mm, at +%.0f ms %.2f mm; "
-              "marker only %.2f mm\n",
-              scores.steps, rms_mm(scores.now2, scores.steps), 1e-6 * static_cast<double>(latency_ns), rms_mm(scores.ahead2, scores.steps),
-              rms_mm(scores.marker2, scores.steps));
+  std::printf(
+      "tumour error against the full-order liver (RMS over %d liver steps from 1 s): now %.2f mm, at +%.0f ms %.2f mm; "
+      "marker only %.2f mm\n",
+      scores.steps, rms_mm(scores.now2, scores.steps), 1e-6 * static_cast<double>(latency_ns),
+      rms_mm(scores.ahead2, scores.steps), rms_mm(scores.marker2, scores.steps));
   std::printf("needle tip error: %.2f mm RMS\n", rms_mm(scores.tip2, scores.steps));
-  const Eigen::Vector3d now_mm = 1e3 * vec(last.tumour_now_m), ahead_mm = 1e3 * vec(last.tumour_ahead_m), tip_mm = 1e3 * vec(last.needle_tip_m);
-  std::printf("last outputs at %.3f s: tumour now (%.1f, %.1f, %.1f) mm, sd %.2f mm; ahead (%.1f, %.1f, %.1f) mm, sd %.2f mm\n",
-              seconds(last.time_ns), now_mm[0], now_mm[1], now_mm[2], sd_mm(last.tumour_now_covariance_m2), ahead_mm[0], ahead_mm[1],
-              ahead_mm[2], sd_mm(last.tumour_ahead_covariance_m2));
-  std::printf("  needle tip (%.1f, %.1f, %.1f) mm, %.1f mm from the tumour\n", tip_mm[0], tip_mm[1], tip_mm[2], 1e3 * last.tip_to_tumour_m);
-  std::printf("  health: degraded %s; flags needle 0x%x, probe 0x%x, respiratory 0x%x, ultrasound 0x%x, tissue 0x%x, loop 0x%x\n",
-              last.degraded ? "yes" : "no", last.needle.flags.bits(), last.probe.flags.bits(), last.respiratory.flags.bits(),
-              last.ultrasound.flags.bits(), last.tissue.bits(), last.loop.bits());
-  std::printf("outputs finite: %s; first tick with nothing degraded at %.3f s\n", scores.finite ? "yes" : "no", seconds(scores.ready_ns));
+  const Eigen::Vector3d now_mm = 1e3 * vec(last.tumour_now_m), ahead_mm = 1e3 * vec(last.tumour_ahead_m),
+                        tip_mm = 1e3 * vec(last.needle_tip_m);
+  std::printf(
+      "last outputs at %.3f s: tumour now (%.1f, %.1f, %.1f) mm, sd %.2f mm; ahead (%.1f, %.1f, %.1f) mm, sd %.2f mm\n",
+      seconds(last.time_ns), now_mm[0], now_mm[1], now_mm[2], sd_mm(last.tumour_now_covariance_m2), ahead_mm[0],
+      ahead_mm[1], ahead_mm[2], sd_mm(last.tumour_ahead_covariance_m2));
+  std::printf("  needle tip (%.1f, %.1f, %.1f) mm, %.1f mm from the tumour\n", tip_mm[0], tip_mm[1], tip_mm[2],
+              1e3 * last.tip_to_tumour_m);
+  std::printf(
+      "  health: degraded %s; flags needle 0x%x, probe 0x%x, respiratory 0x%x, ultrasound 0x%x, tissue 0x%x, loop "
+      "0x%x\n",
+      last.degraded ? "yes" : "no", last.needle.flags.bits(), last.probe.flags.bits(), last.respiratory.flags.bits(),
+      last.ultrasound.flags.bits(), last.tissue.bits(), last.loop.bits());
+  std::printf("outputs finite: %s; first tick with nothing degraded at %.3f s\n", scores.finite ? "yes" : "no",
+              seconds(scores.ready_ns));
   // The same figures on one line, for scripts and tests.
-  std::printf("figures: %lld %lld %lld %.4f %.4f %.4f %.4f %d %d\n", static_cast<long long>(misses), static_cast<long long>(record.tracker_samples),
-              static_cast<long long>(record.tumour_points), rms_mm(scores.now2, scores.steps), rms_mm(scores.ahead2, scores.steps),
-              rms_mm(scores.marker2, scores.steps), rms_mm(scores.tip2, scores.steps), scores.finite ? 1 : 0, last.degraded ? 1 : 0);
+  std::printf("figures: %lld %lld %lld %.4f %.4f %.4f %.4f %d %d\n", static_cast<long long>(misses),
+              static_cast<long long>(record.tracker_samples), static_cast<long long>(record.tumour_points),
+              rms_mm(scores.now2, scores.steps), rms_mm(scores.ahead2, scores.steps),
+              rms_mm(scores.marker2, scores.steps), rms_mm(scores.tip2, scores.steps), scores.finite ? 1 : 0,
+              last.degraded ? 1 : 0);
   return scores.finite ? 0 : 1;
 }

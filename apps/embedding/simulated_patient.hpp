@@ -20,17 +20,19 @@ namespace embedding {
 /// the diaphragm inside moves further than the marker and later (the marker is only a
 /// surrogate: the ultrasound has to make up the difference).
 struct PatientMotion {
-  double marker_rest_z_m = 0.10;       ///< respiratory marker height at mid-breath
+  double marker_rest_z_m = 0.10;  ///< respiratory marker height at mid-breath
   double marker_amplitude_m = 0.005;
   double period_s = 3.0;
-  double diaphragm_gain = 1.3;         ///< diaphragm lift per marker rise
+  double diaphragm_gain = 1.3;  ///< diaphragm lift per marker rise
   double diaphragm_lag_s = 0.2;
-  Eigen::Vector3d needle_entry_m;      ///< where the tip starts (model frame)
+  Eigen::Vector3d needle_entry_m;                    ///< where the tip starts (model frame)
   Eigen::Vector3d needle_direction{0.0, -1.0, 0.0};  ///< unit, toward the tumour
   double needle_speed_m_s = 0.004;
   double needle_length_m = 0.15;
 
-  double marker_rise_m(double t_s) const { return marker_amplitude_m * std::sin(2.0 * std::numbers::pi * t_s / period_s); }
+  double marker_rise_m(double t_s) const {
+    return marker_amplitude_m * std::sin(2.0 * std::numbers::pi * t_s / period_s);
+  }
   double diaphragm_lift_m(double t_s) const { return diaphragm_gain * marker_rise_m(t_s - diaphragm_lag_s); }
   Eigen::Vector3d needle_tip_m(double t_s) const { return needle_entry_m + needle_speed_m_s * t_s * needle_direction; }
   /// The needle marker: its -z axis along the needle, the tip needle_length_m from it.

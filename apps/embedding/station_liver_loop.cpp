@@ -84,7 +84,8 @@ nav::Result<TumourTruth> TumourTruth::solve(const Liver& liver, double max_lift_
     for (int c = 0; c < 4; ++c)
       for (int a = 0; a < 3; ++a)
         p[a] += liver.tumour.weights[static_cast<std::size_t>(c)] *
-                states.value()[static_cast<std::size_t>(i) * dofs + 3 * static_cast<std::size_t>(liver.tumour.nodes[static_cast<std::size_t>(c)]) +
+                states.value()[static_cast<std::size_t>(i) * dofs +
+                               3 * static_cast<std::size_t>(liver.tumour.nodes[static_cast<std::size_t>(c)]) +
                                static_cast<std::size_t>(a)];
     truth.tumour_m_.push_back(p);
   }
@@ -138,7 +139,8 @@ nav::Result<nav::OperatingLoopModel> make_loop(const Liver& liver, const LoopSet
   o.respiratory_reference_m = settings.respiratory_reference_m;
   o.needle.max_extrapolation_ns = 100 * nav::kNsPerMs;  // the display latency plus the tracker's delay
   o.probe.max_extrapolation_ns = 100 * nav::kNsPerMs;
-  o.breathing.history_capacity = static_cast<std::size_t>(std::ceil(settings.tracker_rate_hz * 8.0)) + 16;  // the 8 s fit window
+  o.breathing.history_capacity =
+      static_cast<std::size_t>(std::ceil(settings.tracker_rate_hz * 8.0)) + 16;  // the 8 s fit window
   return nav::make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o);
 }
 

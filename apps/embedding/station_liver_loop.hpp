@@ -23,7 +23,7 @@ namespace embedding {
 struct Liver {
   nav::TetMesh mesh;
   nav::TissueScene scene;
-  nav::ObservedPoint tumour;     ///< the tumour's centre in its tetrahedron
+  nav::ObservedPoint tumour;      ///< the tumour's centre in its tetrahedron
   Eigen::Vector3d tumour_rest_m;  ///< the same point at rest (model frame)
 };
 
@@ -46,12 +46,12 @@ class TumourTruth {
 
 /// The loop's rates and geometry that the station software chooses.
 struct LoopSettings {
-  nav::TimeNs tick_period_ns = nav::kNsPerMs;       ///< 1 kHz
-  int tissue_every_ticks = 10;                      ///< the liver at 100 Hz
+  nav::TimeNs tick_period_ns = nav::kNsPerMs;  ///< 1 kHz
+  int tissue_every_ticks = 10;                 ///< the liver at 100 Hz
   nav::TimeNs display_latency_ns = 50 * nav::kNsPerMs;
-  double needle_length_m = 0.15;                    ///< the tip is at -length along the marker's z
-  double respiratory_reference_m = 0.0;             ///< marker height (tracker z) at rest
-  double observation_std_m = 1e-3;                  ///< the ultrasound's tumour point, per axis
+  double needle_length_m = 0.15;         ///< the tip is at -length along the marker's z
+  double respiratory_reference_m = 0.0;  ///< marker height (tracker z) at rest
+  double observation_std_m = 1e-3;       ///< the ultrasound's tumour point, per axis
   double tracker_rate_hz = 60.0;
 };
 

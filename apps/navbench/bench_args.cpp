@@ -9,8 +9,10 @@ namespace navbench {
 std::optional<BenchArgs> parse_bench_args(const std::vector<std::string>& args, const char* usage) {
   BenchArgs parsed;
   for (std::size_t k = 0; k < args.size(); ++k) {
-    if (args[k] == "--json" && k + 1 < args.size()) parsed.json_path = args[++k];
-    else if (args[k] == "--quick") parsed.quick = true;
+    if (args[k] == "--json" && k + 1 < args.size())
+      parsed.json_path = args[++k];
+    else if (args[k] == "--quick")
+      parsed.quick = true;
   }
   if (parsed.json_path.empty()) {
     std::fputs(usage, stderr);

@@ -51,7 +51,8 @@ Record sweep_case(int n, int m, int points_per_axis, nav::FrameSolver solver, in
   scene.material = {1e5, 0.45, 1100.0};
   for (std::size_t f = 0; f < scene.layout.frames_m.size(); ++f) {
     if (scene.layout.frames_m[f][2] == 0.0) scene.supports.driven_frames.push_back(static_cast<std::int32_t>(f));
-    if (scene.layout.frames_m[f][2] > 0.01 * (m - 1) - 1e-9) scene.supports.fixed_frames.push_back(static_cast<std::int32_t>(f));
+    if (scene.layout.frames_m[f][2] > 0.01 * (m - 1) - 1e-9)
+      scene.supports.fixed_frames.push_back(static_cast<std::int32_t>(f));
   }
   nav::FrameTissueOptions options;
   options.solver = solver;
@@ -62,7 +63,8 @@ Record sweep_case(int n, int m, int points_per_axis, nav::FrameSolver solver, in
   const auto [median, p99] = time_ticks(steps, [&](int k) {
     for (std::size_t d = 0; d < model.driven_frames().size(); ++d)
       for (std::size_t a = 0; a < 3; ++a)
-        driven[3 * d + a] = model.rest_positions_m()[3 * static_cast<std::size_t>(model.driven_frames()[d]) + a] + (a == 0 ? 0.003 * std::sin(0.1 * k) : 0.0);
+        driven[3 * d + a] = model.rest_positions_m()[3 * static_cast<std::size_t>(model.driven_frames()[d]) + a] +
+                            (a == 0 ? 0.003 * std::sin(0.1 * k) : 0.0);
     nav::FrameTissueInputs inputs;
     inputs.driven_positions_m = driven;
     nav::step(model, data, inputs);
@@ -125,7 +127,8 @@ LiverRun run_liver(const nav::TetMesh& mesh, const nav::OrganLigaments& ligament
     }
     nav::step(model, data, inputs);
   });
-  for (std::size_t i = 0; i < data.positions_m.size(); ++i) run.displacement_m.push_back(data.positions_m[i] - model.rest_positions_m()[i]);
+  for (std::size_t i = 0; i < data.positions_m.size(); ++i)
+    run.displacement_m.push_back(data.positions_m[i] - model.rest_positions_m()[i]);
   run.health = data.health.bits() | (with_ligaments ? ligament.health.bits() : 0u);
   return run;
 }
@@ -139,7 +142,9 @@ double largest(const std::vector<double>& values) {
 nav::OrganLigaments make_ligaments(const nav::TetMesh& mesh, double youngs_modulus_pa, bool stabilise) {
   nav::FrameTissueOptions options;
   options.rayleigh_mass_per_s = 1.0;
-  return nav::make_organ_ligaments(mesh, two_ligaments(), {youngs_modulus_pa, 0.45, 1100.0}, options, {0.0, 0.0, -9.81}, stabilise).value();
+  return nav::make_organ_ligaments(mesh, two_ligaments(), {youngs_modulus_pa, 0.45, 1100.0}, options, {0.0, 0.0, -9.81},
+                                   stabilise)
+      .value();
 }
 
 /// Liver held by two ligaments against fixed nodes: cost and displacement difference.
@@ -190,7 +195,10 @@ std::vector<Record> stability_cases(const nav::TetMesh& mesh, int steps, const s
       r.name = stabilise ? "coupling_stabilised" : "coupling_plain_staggered";
       r.youngs_modulus_pa = modulus_pa;
       r.largest_displacement_m = largest(run.displacement_m);
-      r.stable = r.largest_displacement_m < 0.1 && (run.health & static_cast<unsigned>(nav::HealthFlag::non_finite_state)) == 0 ? 1 : 0;
+      r.stable =
+          r.largest_displacement_m < 0.1 && (run.health & static_cast<unsigned>(nav::HealthFlag::non_finite_state)) == 0
+              ? 1
+              : 0;
       r.spring_n_m = ligaments.attachment.spring_stiffness_n_m;
       r.health = run.health;
       records.push_back(r);
@@ -206,11 +214,15 @@ bool write_json(const std::string& path, const std::vector<Record>& records) {
     const Record& r = records[k];
     std::fprintf(file, "  {\"case\": \"%s\"", r.name.c_str());
     if (!r.solver.empty()) std::fprintf(file, ", \"solver\": \"%s\"", r.solver.c_str());
-    if (r.frames > 0) std::fprintf(file, ", \"frames\": %lld, \"points\": %lld, \"pairs\": %lld", r.frames, r.points, r.pairs);
+    if (r.frames > 0)
+      std::fprintf(file, ", \"frames\": %lld, \"points\": %lld, \"pairs\": %lld", r.frames, r.points, r.pairs);
     if (r.tets > 0) std::fprintf(file, ", \"tetrahedra\": %lld", r.tets);
-    const std::pair<const char*, double> numbers[] = {{"youngs_modulus_pa", r.youngs_modulus_pa}, {"step_us_median", r.median_us},
-                                                      {"step_us_p99", r.p99_us}, {"largest_displacement_m", r.largest_displacement_m},
-                                                      {"difference_max_m", r.difference_max_m}, {"difference_rms_m", r.difference_rms_m},
+    const std::pair<const char*, double> numbers[] = {{"youngs_modulus_pa", r.youngs_modulus_pa},
+                                                      {"step_us_median", r.median_us},
+                                                      {"step_us_p99", r.p99_us},
+                                                      {"largest_displacement_m", r.largest_displacement_m},
+                                                      {"difference_max_m", r.difference_max_m},
+                                                      {"difference_rms_m", r.difference_rms_m},
                                                       {"stabilising_spring_n_m", r.spring_n_m}};
     for (const auto& [key, value] : numbers)
       if (std::isfinite(value)) std::fprintf(file, ", \"%s\": %.6g", key, value);
@@ -239,12 +251,15 @@ int run_connective_bench(const std::vector<std::string>& args) {
     }
   const nav::EmbeddedLiver liver = nav::make_embedded_liver(nav::kEmbeddedLiverElementSizeM);
   for (const Record& r : liver_cases(liver.mesh, quick ? 20 : 300)) records.push_back(r);
-  const std::vector<double> moduli = quick ? std::vector<double>{1e4, 1e6} : std::vector<double>{1e3, 1e4, 3e4, 1e5, 2e5, 1e6, 1e7};
+  const std::vector<double> moduli =
+      quick ? std::vector<double>{1e4, 1e6} : std::vector<double>{1e3, 1e4, 3e4, 1e5, 2e5, 1e6, 1e7};
   for (const Record& r : stability_cases(liver.mesh, quick ? 20 : 200, moduli)) records.push_back(r);
   for (const Record& r : records)
-    std::fprintf(stderr, "%-26s %-18s %4lld frames %5lld points %5lld tets  E %8.1e  median %9.1f us  p99 %9.1f us  largest %.4f m  diff %.4f m  stable %d  health %u\n",
-                 r.name.c_str(), r.solver.c_str(), r.frames, r.points, r.tets, r.youngs_modulus_pa, r.median_us, r.p99_us,
-                 r.largest_displacement_m, r.difference_max_m, r.stable, r.health);
+    std::fprintf(stderr,
+                 "%-26s %-18s %4lld frames %5lld points %5lld tets  E %8.1e  median %9.1f us  p99 %9.1f us  largest "
+                 "%.4f m  diff %.4f m  stable %d  health %u\n",
+                 r.name.c_str(), r.solver.c_str(), r.frames, r.points, r.tets, r.youngs_modulus_pa, r.median_us,
+                 r.p99_us, r.largest_displacement_m, r.difference_max_m, r.stable, r.health);
   if (!write_json(parsed->json_path, records)) return 1;
   return 0;
 }

@@ -49,14 +49,18 @@ std::vector<Case> cases() {
     o.rayleigh_mass_per_s = kDampingPerS;
     all.push_back({model, integrator, o, false});
   };
-  fem("linear", "implicit_euler", ElementLaw::linear_elastic, ElementRotation::none, Integrator::implicit_euler, 0.0, 1);
+  fem("linear", "implicit_euler", ElementLaw::linear_elastic, ElementRotation::none, Integrator::implicit_euler, 0.0,
+      1);
   fem("linear", "explicit_central_difference", ElementLaw::linear_elastic, ElementRotation::none,
       Integrator::explicit_central_difference, 0.0, 1);
-  fem("corotational", "implicit_euler", ElementLaw::linear_elastic, ElementRotation::corotational, Integrator::implicit_euler, 0.0, 1);
+  fem("corotational", "implicit_euler", ElementLaw::linear_elastic, ElementRotation::corotational,
+      Integrator::implicit_euler, 0.0, 1);
   fem("corotational", "explicit_central_difference", ElementLaw::linear_elastic, ElementRotation::corotational,
       Integrator::explicit_central_difference, 0.0, 1);
-  fem("corotational", "quasi_static", ElementLaw::linear_elastic, ElementRotation::corotational, Integrator::quasi_static, 0.0, 3);
-  fem("stvk", "implicit_euler", ElementLaw::st_venant_kirchhoff, ElementRotation::corotational, Integrator::implicit_euler, 0.0, 3);
+  fem("corotational", "quasi_static", ElementLaw::linear_elastic, ElementRotation::corotational,
+      Integrator::quasi_static, 0.0, 3);
+  fem("stvk", "implicit_euler", ElementLaw::st_venant_kirchhoff, ElementRotation::corotational,
+      Integrator::implicit_euler, 0.0, 3);
   fem("stvk_penalty", "implicit_euler", ElementLaw::st_venant_kirchhoff, ElementRotation::corotational,
       Integrator::implicit_euler, 1.0e5, 3);
   fem("stvk_penalty", "explicit_central_difference", ElementLaw::st_venant_kirchhoff, ElementRotation::none,
@@ -139,7 +143,8 @@ std::optional<Record> run_case(const Case& c, const nav::TetMesh& mesh, const na
     record.steps = static_cast<int>(std::ceil(kSettleS / o.step_s));
     step_us = timed_steps(record.steps, [&](double f) { nav::step(model, data, ramped(scene.inputs, f)); });
     x.assign(data.positions_m.begin(), data.positions_m.end());
-    record.healthy = !data.health.has(nav::HealthFlag::non_finite_state) && !data.health.has(nav::HealthFlag::inverted_element);
+    record.healthy =
+        !data.health.has(nav::HealthFlag::non_finite_state) && !data.health.has(nav::HealthFlag::inverted_element);
   }
   if (step_us.empty()) return std::nullopt;
   record.step_us_median = step_us[step_us.size() / 2];
@@ -167,9 +172,9 @@ bool write_json(const std::string& path, const std::vector<Record>& records) {
                  "  {\"model\": \"%s\", \"tetrahedra\": %lld, \"integrator\": \"%s\", \"scene\": \"%s\", "
                  "\"step_us_median\": %.1f, \"step_us_p99\": %.1f, \"error_rms_m\": %.4e, \"error_max_m\": %.4e, "
                  "\"volume_change_pct\": %.4f, \"steps\": %d, \"healthy\": %s}%s\n",
-                 r.model.c_str(), static_cast<long long>(r.tets), r.integrator.c_str(), r.scene.c_str(), r.step_us_median,
-                 r.step_us_p99, r.error_rms_m, r.error_max_m, r.volume_change_pct, r.steps, r.healthy ? "true" : "false",
-                 k + 1 < records.size() ? "," : "");
+                 r.model.c_str(), static_cast<long long>(r.tets), r.integrator.c_str(), r.scene.c_str(),
+                 r.step_us_median, r.step_us_p99, r.error_rms_m, r.error_max_m, r.volume_change_pct, r.steps,
+                 r.healthy ? "true" : "false", k + 1 < records.size() ? "," : "");
   }
   std::fputs("]\n", file);
   return std::fclose(file) == 0;
@@ -182,40 +187,57 @@ void write_svg(const std::string& path, const std::vector<Record>& records) {
   if (!file) return;
   const double width = 900, height = 600, left = 80, bottom = 60, right = 260, top = 30;
   const double x_lo = 0.0, x_hi = 6.0, y_lo = -8.0, y_hi = -1.0;  // log10 of us and m
-  const auto px = [&](double us) { return left + (std::log10(std::max(us, 1.0)) - x_lo) / (x_hi - x_lo) * (width - left - right); };
+  const auto px = [&](double us) {
+    return left + (std::log10(std::max(us, 1.0)) - x_lo) / (x_hi - x_lo) * (width - left - right);
+  };
   const auto py = [&](double m) {
     return top + (y_hi - std::log10(std::max(m, 1e-8))) / (y_hi - y_lo) * (height - top - bottom);
   };
   const std::vector<std::string> models{"linear", "corotational", "stvk", "stvk_penalty", "mass_spring_volume"};
   const char* colours[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e"};
-  std::fprintf(file, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" font-family=\"sans-serif\" font-size=\"12\">\n", width, height);
+  std::fprintf(file,
+               "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" font-family=\"sans-serif\" "
+               "font-size=\"12\">\n",
+               width, height);
   std::fprintf(file, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n");
   for (int d = 0; d <= 6; ++d)
-    std::fprintf(file, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">1e%d us</text>\n",
-                 px(std::pow(10.0, d)), top, px(std::pow(10.0, d)), height - bottom, px(std::pow(10.0, d)), height - bottom + 18, d);
+    std::fprintf(file,
+                 "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" "
+                 "text-anchor=\"middle\">1e%d us</text>\n",
+                 px(std::pow(10.0, d)), top, px(std::pow(10.0, d)), height - bottom, px(std::pow(10.0, d)),
+                 height - bottom + 18, d);
   for (int d = -8; d <= -1; ++d)
-    std::fprintf(file, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">1e%d m</text>\n",
-                 left, py(std::pow(10.0, d)), width - right, py(std::pow(10.0, d)), left - 6, py(std::pow(10.0, d)) + 4, d);
-  std::fprintf(file, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">median step time (log)</text>\n", (left + width - right) / 2, height - 20);
-  std::fprintf(file, "<text x=\"16\" y=\"%.1f\" transform=\"rotate(-90 16 %.1f)\" text-anchor=\"middle\">RMS error vs neo-Hookean (log)</text>\n",
+    std::fprintf(file,
+                 "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" "
+                 "text-anchor=\"end\">1e%d m</text>\n",
+                 left, py(std::pow(10.0, d)), width - right, py(std::pow(10.0, d)), left - 6, py(std::pow(10.0, d)) + 4,
+                 d);
+  std::fprintf(file, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">median step time (log)</text>\n",
+               (left + width - right) / 2, height - 20);
+  std::fprintf(file,
+               "<text x=\"16\" y=\"%.1f\" transform=\"rotate(-90 16 %.1f)\" text-anchor=\"middle\">RMS error vs "
+               "neo-Hookean (log)</text>\n",
                (top + height - bottom) / 2, (top + height - bottom) / 2);
   for (const Record& r : records) {
     const std::size_t m = static_cast<std::size_t>(std::find(models.begin(), models.end(), r.model) - models.begin());
     const char* colour = colours[std::min<std::size_t>(m, 4)];
     const double cx = px(r.step_us_median), cy = py(r.error_rms_m);
     if (r.scene == "gravity")
-      std::fprintf(file, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\"><title>%s %s %lld tets</title></circle>\n", cx, cy, colour,
-                   r.model.c_str(), r.integrator.c_str(), static_cast<long long>(r.tets));
+      std::fprintf(file,
+                   "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\"><title>%s %s %lld tets</title></circle>\n", cx,
+                   cy, colour, r.model.c_str(), r.integrator.c_str(), static_cast<long long>(r.tets));
     else
-      std::fprintf(file, "<rect x=\"%.1f\" y=\"%.1f\" width=\"9\" height=\"9\" fill=\"%s\"><title>%s %s %lld tets</title></rect>\n", cx - 4.5,
-                   cy - 4.5, colour, r.model.c_str(), r.integrator.c_str(), static_cast<long long>(r.tets));
+      std::fprintf(
+          file,
+          "<rect x=\"%.1f\" y=\"%.1f\" width=\"9\" height=\"9\" fill=\"%s\"><title>%s %s %lld tets</title></rect>\n",
+          cx - 4.5, cy - 4.5, colour, r.model.c_str(), r.integrator.c_str(), static_cast<long long>(r.tets));
   }
   for (std::size_t m = 0; m < models.size(); ++m)
-    std::fprintf(file, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\"/><text x=\"%.1f\" y=\"%.1f\">%s</text>\n", width - right + 20,
-                 top + 20 + 20.0 * static_cast<double>(m), colours[m], width - right + 32, top + 24 + 20.0 * static_cast<double>(m),
-                 models[m].c_str());
-  std::fprintf(file, "<text x=\"%.1f\" y=\"%.1f\">circle: gravity, square: probe 2 cm</text>\n</svg>\n", width - right + 20,
-               top + 24 + 20.0 * static_cast<double>(models.size()));
+    std::fprintf(file, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\"/><text x=\"%.1f\" y=\"%.1f\">%s</text>\n",
+                 width - right + 20, top + 20 + 20.0 * static_cast<double>(m), colours[m], width - right + 32,
+                 top + 24 + 20.0 * static_cast<double>(m), models[m].c_str());
+  std::fprintf(file, "<text x=\"%.1f\" y=\"%.1f\">circle: gravity, square: probe 2 cm</text>\n</svg>\n",
+               width - right + 20, top + 24 + 20.0 * static_cast<double>(models.size()));
   std::fclose(file);
 }
 
@@ -261,9 +283,9 @@ int run_full_bench(const std::vector<std::string>& args) {
         }
         records.push_back(*record);
         const Record& r = records.back();
-        std::fprintf(stderr, "  %-18s %-28s %7.0f us (p99 %7.0f)  rms %.2e m  max %.2e m  dV %+.3f %%%s\n", r.model.c_str(),
-                     r.integrator.c_str(), r.step_us_median, r.step_us_p99, r.error_rms_m, r.error_max_m, r.volume_change_pct,
-                     r.healthy ? "" : "  (flagged)");
+        std::fprintf(stderr, "  %-18s %-28s %7.0f us (p99 %7.0f)  rms %.2e m  max %.2e m  dV %+.3f %%%s\n",
+                     r.model.c_str(), r.integrator.c_str(), r.step_us_median, r.step_us_p99, r.error_rms_m,
+                     r.error_max_m, r.volume_change_pct, r.healthy ? "" : "  (flagged)");
       }
     }
   }

@@ -30,8 +30,8 @@ struct Record {
   long long tets = 0;
   int needle_steps_per_tissue_step = 0;
   double median_us = 0.0, p99_us = 0.0, residual_m = 0.0;
-  int basis_size = 0;  ///< r of a reduced tissue, 0 otherwise
-  nav::KernelIsa kernel_isa = nav::KernelIsa::best;  ///< of the Gauss-Seidel lane kernels (resolved)
+  int basis_size = 0;                                         ///< r of a reduced tissue, 0 otherwise
+  nav::KernelIsa kernel_isa = nav::KernelIsa::best;           ///< of the Gauss-Seidel lane kernels (resolved)
   int sweeps = nav::NeedleTissueScene{}.gauss_seidel_sweeps;  ///< of projected Gauss-Seidel, 0 without constraints
 };
 
@@ -73,12 +73,14 @@ Record needle_alone(int elements, int ticks) {
     inputs.base.position_m = {oscillating_x_m(0.0, k), 0.0, 0.0};
     nav::step(model, data, inputs);
   });
-  return {"needle_alone", elements, 0, 0, 0, 0, median, p99, 0.0, 0, nav::KernelIsa::best, 0};  // no constraints: no sweeps
+  return {"needle_alone",       elements, 0, 0, 0, 0, median, p99, 0.0, 0,
+          nav::KernelIsa::best, 0};  // no constraints: no sweeps
 }
 
 Record needle_with_constraints(int elements, int points, int ticks) {
   const double spacing_m = 0.004;
-  const nav::NeedleTissueModel model = nav::make_needle_tissue_model(needle(elements), capsule_and_parenchyma(spacing_m)).value();
+  const nav::NeedleTissueModel model =
+      nav::make_needle_tissue_model(needle(elements), capsule_and_parenchyma(spacing_m)).value();
   nav::NeedleTissueData data = nav::make_needle_tissue_data(model, {}).value();
   // The tip starts 5 mm off the capsule: insert until `points` path points hold the shaft.
   double x = 0.0;
@@ -119,11 +121,19 @@ Record coupled(const EmbeddedLiverScene& liver, const nav::TetFemModel& tissue, 
     nav::step(model, data, inputs);
     rows = std::max(rows, data.interaction.row_count);
   });
-  std::fprintf(stderr, "  coupled 1:%d: punctures %d, path points %d, tip depth %.1f mm, health bits %u (tissue %u)\n", ratio,
-               data.interaction.report.punctures, data.interaction.report.active_path_points,
+  std::fprintf(stderr, "  coupled 1:%d: punctures %d, path points %d, tip depth %.1f mm, health bits %u (tissue %u)\n",
+               ratio, data.interaction.report.punctures, data.interaction.report.active_path_points,
                1e3 * data.interaction.report.tip_depth_m, data.interaction.health.bits(), data.tissue.health.bits());
-  return {"coupled_full_order_corotational", 30, data.interaction.report.active_path_points, rows,
-          static_cast<long long>(liver.liver.mesh.tets.size()), ratio, median, p99, data.interaction.report.residual_m, 0};
+  return {"coupled_full_order_corotational",
+          30,
+          data.interaction.report.active_path_points,
+          rows,
+          static_cast<long long>(liver.liver.mesh.tets.size()),
+          ratio,
+          median,
+          p99,
+          data.interaction.report.residual_m,
+          0};
 }
 
 /// The needle in the reduced liver, the tissue stepping every tick, its Gauss-Seidel kernels
@@ -140,11 +150,13 @@ struct ReducedRun {
   double residual_m = 0.0;
   std::vector<double> us;  ///< step times
 
-  ReducedRun(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements, int points, nav::KernelIsa isa,
-             int sweeps = nav::NeedleTissueScene{}.gauss_seidel_sweeps)
+  ReducedRun(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements, int points,
+             nav::KernelIsa isa, int sweeps = nav::NeedleTissueScene{}.gauss_seidel_sweeps)
       : elements(elements),
         approach(approach_tumour(liver)),
-        model(nav::make_coupled_needle_model(needle(elements), scene_of(approach, isa, sweeps), tissue, liver.liver.mesh, 64, 1).value()),
+        model(nav::make_coupled_needle_model(needle(elements), scene_of(approach, isa, sweeps), tissue,
+                                             liver.liver.mesh, 64, 1)
+                  .value()),
         data(nav::make_coupled_needle_data(model, approach.base_at(0.0)).value()),
         advanced_m(insert_until(model, data, approach, points)) {}
 
@@ -165,17 +177,29 @@ struct ReducedRun {
   }
 
   Record record(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue) const {
-    std::fprintf(stderr, "  reduced liver, %d elements, %s kernels: inserted %.1f mm, path points %d, health bits %u (tissue %u)\n",
-                 elements, std::string(nav::kernel_isa_name(model.interaction.scene.kernel_isa)).c_str(), 1e3 * advanced_m,
-                 data.interaction.report.active_path_points, data.interaction.health.bits(), data.tissue.health.bits());
+    std::fprintf(
+        stderr,
+        "  reduced liver, %d elements, %s kernels: inserted %.1f mm, path points %d, health bits %u (tissue %u)\n",
+        elements, std::string(nav::kernel_isa_name(model.interaction.scene.kernel_isa)).c_str(), 1e3 * advanced_m,
+        data.interaction.report.active_path_points, data.interaction.health.bits(), data.tissue.health.bits());
     const auto [median, p99] = median_p99(us);
-    return {"coupled_reduced_liver", elements, data.interaction.report.active_path_points, rows,
-            static_cast<long long>(liver.liver.mesh.tets.size()), 1, median, p99, residual_m, tissue.basis_size(),
-            nav::resolve_kernel_isa(model.interaction.scene.kernel_isa), model.interaction.scene.gauss_seidel_sweeps};
+    return {"coupled_reduced_liver",
+            elements,
+            data.interaction.report.active_path_points,
+            rows,
+            static_cast<long long>(liver.liver.mesh.tets.size()),
+            1,
+            median,
+            p99,
+            residual_m,
+            tissue.basis_size(),
+            nav::resolve_kernel_isa(model.interaction.scene.kernel_isa),
+            model.interaction.scene.gauss_seidel_sweeps};
   }
 };
 
-Record coupled_reduced(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements, int points, int ticks) {
+Record coupled_reduced(const EmbeddedLiverScene& liver, const nav::ReducedModel& tissue, int elements, int points,
+                       int ticks) {
   ReducedRun run(liver, tissue, elements, points, nav::KernelIsa::best);
   run.time(0, ticks);
   return run.record(liver, tissue);
@@ -194,7 +218,8 @@ std::vector<Record> coupled_reduced_per_isa(const EmbeddedLiverScene& liver, con
   std::vector<std::unique_ptr<ReducedRun>> runs;
   for (int elements : element_counts) {
     for (nav::KernelIsa isa : {nav::KernelIsa::baseline, nav::KernelIsa::avx2, nav::KernelIsa::avx512})
-      if (nav::kernel_isa_available(isa)) runs.push_back(std::make_unique<ReducedRun>(liver, tissue, elements, 32, isa));
+      if (nav::kernel_isa_available(isa))
+        runs.push_back(std::make_unique<ReducedRun>(liver, tissue, elements, 32, isa));
     runs.push_back(std::make_unique<ReducedRun>(liver, tissue, elements, 32, nav::KernelIsa::best, kFewSweeps));
   }
   constexpr int kTurn = 500;
@@ -236,32 +261,48 @@ void write_profile_svg(const std::string& path, const std::vector<ProfilePoint>&
   const double x_lo = -6.0, x_hi = 46.0, y_lo = -1.2, y_hi = 1.4;
   const auto px = [&](double mm) { return left + (mm - x_lo) / (x_hi - x_lo) * (width - left - right); };
   const auto py = [&](double n) { return top + (y_hi - n) / (y_hi - y_lo) * (height - top - bottom); };
-  std::fprintf(file, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" font-family=\"sans-serif\" font-size=\"12\">\n", width, height);
+  std::fprintf(file,
+               "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" font-family=\"sans-serif\" "
+               "font-size=\"12\">\n",
+               width, height);
   std::fprintf(file, "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n");
   for (int mm = 0; mm <= 45; mm += 5)
-    std::fprintf(file, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">%d</text>\n",
+    std::fprintf(file,
+                 "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" "
+                 "text-anchor=\"middle\">%d</text>\n",
                  px(mm), top, px(mm), height - bottom, px(mm), height - bottom + 16, mm);
   for (int k = -12; k <= 14; k += 2) {
     const double n = 0.1 * k;
-    std::fprintf(file, "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\"/><text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">%.1f</text>\n",
+    std::fprintf(file,
+                 "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\"/><text x=\"%.1f\" y=\"%.1f\" "
+                 "text-anchor=\"end\">%.1f</text>\n",
                  left, py(n), width - right, py(n), k == 0 ? "#888" : "#ddd", left - 6, py(n) + 4, n);
   }
-  std::fprintf(file, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">tip depth below the capsule (mm)</text>\n", (left + width - right) / 2, height - 20);
-  std::fprintf(file, "<text x=\"16\" y=\"%.1f\" transform=\"rotate(-90 16 %.1f)\" text-anchor=\"middle\">force resisting insertion (N)</text>\n",
+  std::fprintf(file, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">tip depth below the capsule (mm)</text>\n",
+               (left + width - right) / 2, height - 20);
+  std::fprintf(file,
+               "<text x=\"16\" y=\"%.1f\" transform=\"rotate(-90 16 %.1f)\" text-anchor=\"middle\">force resisting "
+               "insertion (N)</text>\n",
                (top + height - bottom) / 2, (top + height - bottom) / 2);
   const char* names[] = {"total", "stiffness (capsule)", "cutting", "shaft friction"};
   const char* colours[] = {"#000000", "#1f77b4", "#d62728", "#2ca02c"};
   for (int series = 0; series < 4; ++series) {
-    std::fprintf(file, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"%s\" points=\"", colours[series], series == 0 ? "2" : "1.2");
+    std::fprintf(file, "<polyline fill=\"none\" stroke=\"%s\" stroke-width=\"%s\" points=\"", colours[series],
+                 series == 0 ? "2" : "1.2");
     for (const ProfilePoint& p : profile) {
       const double values[] = {p.forces.total_n, p.forces.stiffness_n, p.forces.cutting_n, p.forces.friction_n};
-      std::fprintf(file, "%.1f,%.1f ", px(std::clamp(p.depth_mm, x_lo, x_hi)), py(std::clamp(values[series], y_lo, y_hi)));
+      std::fprintf(file, "%.1f,%.1f ", px(std::clamp(p.depth_mm, x_lo, x_hi)),
+                   py(std::clamp(values[series], y_lo, y_hi)));
     }
-    std::fprintf(file, "\"/>\n<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" stroke-width=\"2\"/><text x=\"%.1f\" y=\"%.1f\">%s</text>\n",
-                 width - right + 12, top + 20 + 20.0 * series, width - right + 32, top + 20 + 20.0 * series, colours[series],
-                 width - right + 38, top + 24 + 20.0 * series, names[series]);
+    std::fprintf(file,
+                 "\"/>\n<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\" stroke-width=\"2\"/><text "
+                 "x=\"%.1f\" y=\"%.1f\">%s</text>\n",
+                 width - right + 12, top + 20 + 20.0 * series, width - right + 32, top + 20 + 20.0 * series,
+                 colours[series], width - right + 38, top + 24 + 20.0 * series, names[series]);
   }
-  std::fprintf(file, "<text x=\"%.1f\" y=\"%.1f\">insert 40 mm, hold, retract 10,</text><text x=\"%.1f\" y=\"%.1f\">re-insert 15, retract all</text>\n</svg>\n",
+  std::fprintf(file,
+               "<text x=\"%.1f\" y=\"%.1f\">insert 40 mm, hold, retract 10,</text><text x=\"%.1f\" "
+               "y=\"%.1f\">re-insert 15, retract all</text>\n</svg>\n",
                width - right + 12, top + 120, width - right + 12, top + 136);
   std::fclose(file);
 }
@@ -272,13 +313,14 @@ bool write_json(const std::string& path, const std::vector<Record>& records) {
   std::fputs("[\n", file);
   for (std::size_t k = 0; k < records.size(); ++k) {
     const Record& r = records[k];
-    std::fprintf(file,
-                 "  {\"case\": \"%s\", \"elements\": %d, \"constraint_points\": %d, \"rows\": %d, \"tetrahedra\": %lld, "
-                 "\"needle_steps_per_tissue_step\": %d, \"basis_size\": %d, \"kernel_isa\": \"%s\", \"step_us_median\": %.2f, "
-                 "\"gauss_seidel_sweeps\": %d, \"step_us_p99\": %.2f, \"residual_m\": %.3e}%s\n",
-                 r.name.c_str(), r.elements, r.constraint_points, r.rows, r.tets, r.needle_steps_per_tissue_step, r.basis_size,
-                 std::string(nav::kernel_isa_name(nav::resolve_kernel_isa(r.kernel_isa))).c_str(), r.median_us, r.sweeps, r.p99_us,
-                 r.residual_m, k + 1 < records.size() ? "," : "");
+    std::fprintf(
+        file,
+        "  {\"case\": \"%s\", \"elements\": %d, \"constraint_points\": %d, \"rows\": %d, \"tetrahedra\": %lld, "
+        "\"needle_steps_per_tissue_step\": %d, \"basis_size\": %d, \"kernel_isa\": \"%s\", \"step_us_median\": %.2f, "
+        "\"gauss_seidel_sweeps\": %d, \"step_us_p99\": %.2f, \"residual_m\": %.3e}%s\n",
+        r.name.c_str(), r.elements, r.constraint_points, r.rows, r.tets, r.needle_steps_per_tissue_step, r.basis_size,
+        std::string(nav::kernel_isa_name(nav::resolve_kernel_isa(r.kernel_isa))).c_str(), r.median_us, r.sweeps,
+        r.p99_us, r.residual_m, k + 1 < records.size() ? "," : "");
   }
   std::fputs("]\n", file);
   return std::fclose(file) == 0;
@@ -312,13 +354,15 @@ int run_needle_bench(const std::vector<std::string>& args) {
   }
   for (const Record& r : records)
     std::fprintf(stderr,
-                 "%-32s %2d elements %2d points %3d rows %5lld tets 1:%-2d %-8s %2d sweeps median %9.1f us  p99 %9.1f us  residual %.1e m\n",
+                 "%-32s %2d elements %2d points %3d rows %5lld tets 1:%-2d %-8s %2d sweeps median %9.1f us  p99 %9.1f "
+                 "us  residual %.1e m\n",
                  r.name.c_str(), r.elements, r.constraint_points, r.rows, r.tets, r.needle_steps_per_tissue_step,
-                 std::string(nav::kernel_isa_name(nav::resolve_kernel_isa(r.kernel_isa))).c_str(), r.sweeps, r.median_us, r.p99_us,
-                 r.residual_m);
+                 std::string(nav::kernel_isa_name(nav::resolve_kernel_isa(r.kernel_isa))).c_str(), r.sweeps,
+                 r.median_us, r.p99_us, r.residual_m);
   if (!write_json(json_path, records)) return 1;
   const std::size_t dot = json_path.rfind('.');
-  write_profile_svg((dot == std::string::npos ? json_path : json_path.substr(0, dot)) + "_force_profile.svg", insertion_profile());
+  write_profile_svg((dot == std::string::npos ? json_path : json_path.substr(0, dot)) + "_force_profile.svg",
+                    insertion_profile());
   return 0;
 }
 

@@ -109,14 +109,16 @@ struct Approach {
   nav::NeedlePose wobbled_base(double advanced_m, int tick) const {
     const int phase = tick % 40;
     nav::NeedlePose pose = base_at(advanced_m + 2e-5 * (phase < 20 ? phase - 10 : 30 - phase));
-    const Eigen::Vector3d shifted = Eigen::Vector3d(pose.position_m.data()) + 1e-3 * std::sin(1e-2 * tick) * direction.unitOrthogonal();
+    const Eigen::Vector3d shifted =
+        Eigen::Vector3d(pose.position_m.data()) + 1e-3 * std::sin(1e-2 * tick) * direction.unitOrthogonal();
     pose.position_m = {shifted.x(), shifted.y(), shifted.z()};
     return pose;
   }
 };
 
 inline Approach approach_tumour(const EmbeddedLiverScene& liver) {
-  const Eigen::Vector3d tumour(liver.liver.tumour_centre_m[0], liver.liver.tumour_centre_m[1], liver.liver.tumour_centre_m[2]);
+  const Eigen::Vector3d tumour(liver.liver.tumour_centre_m[0], liver.liver.tumour_centre_m[1],
+                               liver.liver.tumour_centre_m[2]);
   Eigen::Vector3d entry = Eigen::Vector3d::Zero();
   double best_m = -1.0;
   for (std::int32_t node : nav::extract_boundary(liver.liver.mesh).mesh_node_of_vertex) {

@@ -87,7 +87,8 @@ nav::TissueScene embedded_scene(const nav::EmbeddedLiver& liver) {
 std::int32_t nearest_node(const nav::TetMesh& mesh, const nav::Point3& p) {
   std::int32_t best = 0;
   for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n)
-    if (nav::norm(nav::operator-(mesh.nodes_m[n], p)) < nav::norm(nav::operator-(mesh.nodes_m[static_cast<std::size_t>(best)], p)))
+    if (nav::norm(nav::operator-(mesh.nodes_m[n], p)) <
+        nav::norm(nav::operator-(mesh.nodes_m[static_cast<std::size_t>(best)], p)))
       best = static_cast<std::int32_t>(n);
   return best;
 }
@@ -99,7 +100,8 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 /// The held-out loads that get a neo-Hookean reference (its solve takes tens of seconds on
 /// liverFine): the first of each kind.
 bool is_reference_load(const nav::TrainingLoad& load) {
-  return load.name.starts_with("gravity x") || load.name == "push 0" || load.name == "needle 0" || load.name == "diaphragm 0";
+  return load.name.starts_with("gravity x") || load.name == "push 0" || load.name == "needle 0" ||
+         load.name == "diaphragm 0";
 }
 
 /// Solves the level's training and held-out loads and the neo-Hookean references.
@@ -123,16 +125,17 @@ std::optional<std::string> prepare(Level& level) {
     const nav::TrainingLoad& load = level.held_out[k];
     if (!is_reference_load(load)) continue;
     level.neo_loads.push_back(k);
-    const auto reference = nav::solve_neo_hookean_static(level.mesh, nav::scene_for_load(level.scene, load), load.inputs(1.0), {},
-                                                         reference_options);
+    const auto reference = nav::solve_neo_hookean_static(level.mesh, nav::scene_for_load(level.scene, load),
+                                                         load.inputs(1.0), {}, reference_options);
     if (!reference.ok()) return "neo-Hookean reference of " + load.name + ": " + reference.error().describe();
     const auto& x = reference.value().positions_m;
     for (std::size_t n = 0; n < level.mesh.nodes_m.size(); ++n)
       for (std::size_t c = 0; c < 3; ++c) level.neo_hookean_m.push_back(x[3 * n + c] - level.mesh.nodes_m[n][c]);
   }
-  std::fprintf(stderr, "%s: %zu tets, %d training snapshots, %zu held-out loads; full-order solves %.1f s, neo-Hookean %.1f s\n",
-               level.name.c_str(), level.mesh.tets.size(), level.training.count, level.held_out.size(), full_s,
-               seconds_since(start) - full_s);
+  std::fprintf(
+      stderr, "%s: %zu tets, %d training snapshots, %zu held-out loads; full-order solves %.1f s, neo-Hookean %.1f s\n",
+      level.name.c_str(), level.mesh.tets.size(), level.training.count, level.held_out.size(), full_s,
+      seconds_since(start) - full_s);
   return std::nullopt;
 }
 
@@ -143,15 +146,16 @@ void score(const Level& level, const std::vector<double>& solutions_m, Record& r
   const auto solution = [&](std::size_t k) { return std::span(solutions_m).subspan(k * rows, rows); };
   double sum_m2 = 0.0, sum_corot_m2 = 0.0;
   for (std::size_t j = 0; j < level.neo_loads.size(); ++j) {
-    const auto neo = nav::displacement_error(solution(level.neo_loads[j]), std::span(level.neo_hookean_m).subspan(j * rows, rows),
-                                             level.target);
+    const auto neo = nav::displacement_error(solution(level.neo_loads[j]),
+                                             std::span(level.neo_hookean_m).subspan(j * rows, rows), level.target);
     sum_m2 += neo.rms_m * neo.rms_m;
     record.error_max_m = std::max(record.error_max_m, neo.max_m);
     record.target_error_m = std::max(record.target_error_m, neo.target_m);
     record.error_rms_pct = std::max(record.error_rms_pct, 100.0 * neo.rms_m / neo.reference_max_m);
   }
   for (std::size_t k = 0; k < level.held_out.size(); ++k) {
-    const auto corot = nav::displacement_error(solution(k), std::span(level.corotational_m).subspan(k * rows, rows), level.target);
+    const auto corot =
+        nav::displacement_error(solution(k), std::span(level.corotational_m).subspan(k * rows, rows), level.target);
     sum_corot_m2 += corot.rms_m * corot.rms_m;
     record.target_error_vs_corotational_m = std::max(record.target_error_vs_corotational_m, corot.target_m);
     record.error_rms_vs_corotational_pct =
@@ -195,10 +199,12 @@ std::optional<Record> run_full_order(const Level& level, const std::string& mode
     return std::nullopt;
   }
   score(level, solved.value().displacements_m, record);
-  const auto model = nav::make_tet_fem_model(level.mesh, nav::scene_for_load(level.scene, level.held_out[0]), realtime).value();
+  const auto model =
+      nav::make_tet_fem_model(level.mesh, nav::scene_for_load(level.scene, level.held_out[0]), realtime).value();
   auto data = nav::make_tet_fem_data(model).value();
   const nav::TissueInputs inputs = level.held_out[0].inputs(1.0);
-  time_steps(quick ? 20 : 60, [&] { nav::step(model, data, inputs); }, record);
+  time_steps(
+      quick ? 20 : 60, [&] { nav::step(model, data, inputs); }, record);
   record.memory_bytes = static_cast<std::int64_t>(data.arena.capacity_bytes()) + 12 * model.factor_nonzeros() +
                         17 * 8 * model.tet_count() + 16 * 8 * model.node_count();
   return record;
@@ -217,8 +223,8 @@ std::optional<Record> run_reduced(const Level& level, const ReducedCase& c, bool
   auto basis = c.source == ReducedBasisSource::pod
                    ? nav::make_pod_basis(level.mesh, level.scene, solver, options, s.displacements_m, s.count)
                    : nav::make_modal_basis(level.mesh, level.scene, solver, options);
-  nav::Status reduced = basis.ok() ? nav::add_force_reduction(level.mesh, level.scene, solver, options, s.displacements_m,
-                                                              s.count, basis.value())
+  nav::Status reduced = basis.ok() ? nav::add_force_reduction(level.mesh, level.scene, solver, options,
+                                                              s.displacements_m, s.count, basis.value())
                                    : nav::Status(basis.error());
   if (!reduced.ok()) {
     std::fprintf(stderr, "  %s r=%d: %s\n", c.model.c_str(), c.r, reduced.error().describe().c_str());
@@ -240,7 +246,8 @@ std::optional<Record> run_reduced(const Level& level, const ReducedCase& c, bool
   if (!model.ok()) return std::nullopt;
   auto data = nav::make_reduced_data(model.value()).value();
   const nav::TissueInputs inputs = level.held_out[0].inputs(1.0);
-  time_steps(quick ? 500 : 3000, [&] { nav::step(model.value(), data, inputs); }, record);
+  time_steps(
+      quick ? 500 : 3000, [&] { nav::step(model.value(), data, inputs); }, record);
   record.memory_bytes = model.value().memory_bytes();
   return record;
 }
@@ -269,14 +276,15 @@ std::vector<ReducedCase> reduced_cases(bool quick, int snapshot_count) {
 
 std::string to_json(const Record& r) {
   char text[1024];
-  std::snprintf(text, sizeof(text),
-                "{\"mesh\": \"%s\", \"model\": \"%s\", \"r\": %d, \"sampled_elements\": %d, \"tetrahedra\": %lld, "
-                "\"step_us_median\": %.3f, \"step_us_p99\": %.3f, \"error_rms_m\": %.4e, \"error_max_m\": %.4e, "
-                "\"target_error_m\": %.4e, \"error_rms_pct\": %.3f, \"error_rms_vs_corotational_m\": %.4e, "
-                "\"error_rms_vs_corotational_pct\": %.3f, \"target_error_vs_corotational_m\": %.4e, \"memory_bytes\": %lld}",
-                r.mesh.c_str(), r.model.c_str(), r.r, r.sampled_elements, static_cast<long long>(r.tetrahedra), r.step_us_median,
-                r.step_us_p99, r.error_rms_m, r.error_max_m, r.target_error_m, r.error_rms_pct, r.error_rms_vs_corotational_m,
-                r.error_rms_vs_corotational_pct, r.target_error_vs_corotational_m, static_cast<long long>(r.memory_bytes));
+  std::snprintf(
+      text, sizeof(text),
+      "{\"mesh\": \"%s\", \"model\": \"%s\", \"r\": %d, \"sampled_elements\": %d, \"tetrahedra\": %lld, "
+      "\"step_us_median\": %.3f, \"step_us_p99\": %.3f, \"error_rms_m\": %.4e, \"error_max_m\": %.4e, "
+      "\"target_error_m\": %.4e, \"error_rms_pct\": %.3f, \"error_rms_vs_corotational_m\": %.4e, "
+      "\"error_rms_vs_corotational_pct\": %.3f, \"target_error_vs_corotational_m\": %.4e, \"memory_bytes\": %lld}",
+      r.mesh.c_str(), r.model.c_str(), r.r, r.sampled_elements, static_cast<long long>(r.tetrahedra), r.step_us_median,
+      r.step_us_p99, r.error_rms_m, r.error_max_m, r.target_error_m, r.error_rms_pct, r.error_rms_vs_corotational_m,
+      r.error_rms_vs_corotational_pct, r.target_error_vs_corotational_m, static_cast<long long>(r.memory_bytes));
   return text;
 }
 
@@ -300,7 +308,15 @@ std::vector<Level> levels(bool quick) {
   }
   if (!quick) {
     nav::EmbeddedLiver liver = nav::make_embedded_liver(nav::kEmbeddedLiverElementSizeM);
-    Level level{"generated_liver", liver.mesh, embedded_scene(liver), nearest_node(liver.mesh, liver.tumour_centre_m), {}, {}, {}, {}, {}};
+    Level level{"generated_liver",
+                liver.mesh,
+                embedded_scene(liver),
+                nearest_node(liver.mesh, liver.tumour_centre_m),
+                {},
+                {},
+                {},
+                {},
+                {}};
     out.push_back(std::move(level));
   }
   return out;
@@ -310,14 +326,17 @@ std::vector<Level> levels(bool quick) {
 /// leaves its finished meshes behind); false if a file cannot be written.
 bool write_outputs(const std::vector<Record>& records, const std::string& json_path, const std::string& plot_path) {
   std::string json = "[\n";
-  for (std::size_t k = 0; k < records.size(); ++k) json += "  " + to_json(records[k]) + (k + 1 < records.size() ? ",\n" : "\n");
+  for (std::size_t k = 0; k < records.size(); ++k)
+    json += "  " + to_json(records[k]) + (k + 1 < records.size() ? ",\n" : "\n");
   json += "]\n";
   std::vector<PlotPoint> points;
   for (const Record& r : records)
-    points.push_back({std::max(r.step_us_median, 1e-3), std::max(r.error_rms_m, 1e-9), r.model, r.mesh,
-                      r.mesh + " " + r.model + " r=" + std::to_string(r.r) + " m=" + std::to_string(r.sampled_elements)});
-  const std::string svg = log_log_svg(points, {"median step time (us, log)", "RMS nodal error vs neo-Hookean on held-out loads (m, log)",
-                                               "Tissue rungs: error against step time"});
+    points.push_back(
+        {std::max(r.step_us_median, 1e-3), std::max(r.error_rms_m, 1e-9), r.model, r.mesh,
+         r.mesh + " " + r.model + " r=" + std::to_string(r.r) + " m=" + std::to_string(r.sampled_elements)});
+  const std::string svg =
+      log_log_svg(points, {"median step time (us, log)", "RMS nodal error vs neo-Hookean on held-out loads (m, log)",
+                           "Tissue rungs: error against step time"});
   if (write_text(json_path, json) && write_text(plot_path, svg)) return true;
   std::fprintf(stderr, "cannot write %s or %s\n", json_path.c_str(), plot_path.c_str());
   return false;
@@ -346,13 +365,16 @@ int run_tradeoff_bench(const std::vector<std::string>& args) {
       if (!record) return;
       records.push_back(*record);
       const Record& r = records.back();
-      std::fprintf(stderr, "  %-24s r %3d m %4d  %9.2f us (p99 %9.2f)  rms %.3e m (%.2f %%; vs corot %.2f %%)  target %.3f mm  %lld B\n",
-                   r.model.c_str(), r.r, r.sampled_elements, r.step_us_median, r.step_us_p99, r.error_rms_m, r.error_rms_pct,
-                   r.error_rms_vs_corotational_pct, 1e3 * r.target_error_m, static_cast<long long>(r.memory_bytes));
+      std::fprintf(
+          stderr,
+          "  %-24s r %3d m %4d  %9.2f us (p99 %9.2f)  rms %.3e m (%.2f %%; vs corot %.2f %%)  target %.3f mm  %lld B\n",
+          r.model.c_str(), r.r, r.sampled_elements, r.step_us_median, r.step_us_p99, r.error_rms_m, r.error_rms_pct,
+          r.error_rms_vs_corotational_pct, 1e3 * r.target_error_m, static_cast<long long>(r.memory_bytes));
     };
     for (const char* model : {"linear", "corotational", "stvk"})
       if (!parsed->quick || std::string(model) != "stvk") add(run_full_order(level, model, parsed->quick));
-    for (const ReducedCase& c : reduced_cases(parsed->quick, level.training.count)) add(run_reduced(level, c, parsed->quick));
+    for (const ReducedCase& c : reduced_cases(parsed->quick, level.training.count))
+      add(run_reduced(level, c, parsed->quick));
     if (!write_outputs(records, parsed->json_path, plot_path)) return 1;
   }
   return 0;

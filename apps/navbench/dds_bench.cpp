@@ -39,7 +39,8 @@ class LatencySink final : public nav::dds::SampleSink<Sample> {
 
   /// After the run: the latencies received, and the span between first and last arrival.
   std::vector<TimeNs> latencies_ns() const {
-    return {latencies_ns_.begin(), latencies_ns_.begin() + static_cast<std::ptrdiff_t>(count_.load(std::memory_order_acquire))};
+    return {latencies_ns_.begin(),
+            latencies_ns_.begin() + static_cast<std::ptrdiff_t>(count_.load(std::memory_order_acquire))};
   }
   TimeNs arrival_span_ns() const { return last_receive_ns_ - first_receive_ns_; }
 
@@ -122,12 +123,18 @@ bool parse_args(const std::vector<std::string>& args, BenchArgs& parsed) {
   for (std::size_t i = 0; i + 1 < args.size(); i += 2) {
     const std::string& value = args[i + 1];
     try {
-      if (args[i] == "--json") parsed.json_file = value;
-      else if (args[i] == "--domain") parsed.domain_id = static_cast<std::uint32_t>(std::stoul(value));
-      else if (args[i] == "--pose-samples") parsed.pose_samples = std::stoull(value);
-      else if (args[i] == "--frame-samples") parsed.frame_samples = std::stoull(value);
-      else if (args[i] == "--security") parsed.security_dir = value;
-      else return false;
+      if (args[i] == "--json")
+        parsed.json_file = value;
+      else if (args[i] == "--domain")
+        parsed.domain_id = static_cast<std::uint32_t>(std::stoul(value));
+      else if (args[i] == "--pose-samples")
+        parsed.pose_samples = std::stoull(value);
+      else if (args[i] == "--frame-samples")
+        parsed.frame_samples = std::stoull(value);
+      else if (args[i] == "--security")
+        parsed.security_dir = value;
+      else
+        return false;
     } catch (const std::exception&) {
       return false;
     }
@@ -140,8 +147,8 @@ bool parse_args(const std::vector<std::string>& args, BenchArgs& parsed) {
 /// data sharing (a secured participant sends through the transports too), twice, interleaved.
 std::vector<Measurement> measurements(const BenchArgs& args) {
   const auto plan = [&](Stream stream, bool data_sharing, TimeNs period_ns, const std::string& security_dir = "") {
-    return PublishPlan{stream, args.domain_id, stream == Stream::pose ? args.pose_samples : args.frame_samples,
-                       period_ns, data_sharing, security_dir};
+    return PublishPlan{stream,    args.domain_id, stream == Stream::pose ? args.pose_samples : args.frame_samples,
+                       period_ns, data_sharing,   security_dir};
   };
   constexpr TimeNs kPosePeriodNs = 500'000;
   constexpr TimeNs kFramePeriodNs = 10 * nav::kNsPerMs;
@@ -157,9 +164,11 @@ std::vector<Measurement> measurements(const BenchArgs& args) {
   };
   if (args.security_dir.empty()) return list;
   for (const char* round : {"", "_again"}) {
-    for (const auto& [stream, period_ns, name] : {std::tuple{Stream::pose, kPosePeriodNs, "pose"}, {Stream::frame, kFramePeriodNs, "frame_1mib"}}) {
+    for (const auto& [stream, period_ns, name] :
+         {std::tuple{Stream::pose, kPosePeriodNs, "pose"}, {Stream::frame, kFramePeriodNs, "frame_1mib"}}) {
       list.push_back({std::string(name) + "_cross_process_unsecured" + round, plan(stream, false, period_ns), true});
-      list.push_back({std::string(name) + "_cross_process_secured" + round, plan(stream, false, period_ns, args.security_dir), true});
+      list.push_back({std::string(name) + "_cross_process_secured" + round,
+                      plan(stream, false, period_ns, args.security_dir), true});
     }
   }
   return list;
@@ -181,11 +190,11 @@ std::string security_cost_json(const std::vector<LatencyReport>& reports) {
       const LatencyReport* secured = report_named(reports, std::string(name) + "_cross_process_secured" + round);
       if (plain == nullptr || secured == nullptr || plain->received == 0 || secured->received == 0) continue;
       const double p50 = secured->median_us / plain->median_us, p99 = secured->p99_us / plain->p99_us;
-      std::printf("security cost, %s%s: median %.1f / %.1f us = %.2fx, p99 %.1f / %.1f us = %.2fx\n", name, round, secured->median_us,
-                  plain->median_us, p50, secured->p99_us, plain->p99_us, p99);
+      std::printf("security cost, %s%s: median %.1f / %.1f us = %.2fx, p99 %.1f / %.1f us = %.2fx\n", name, round,
+                  secured->median_us, plain->median_us, p50, secured->p99_us, plain->p99_us, p99);
       char member[160];
-      std::snprintf(member, sizeof member, "%s\"%s%s\": {\"median_ratio\": %.3f, \"p99_ratio\": %.3f}", json.empty() ? "" : ", ", name, round,
-                    p50, p99);
+      std::snprintf(member, sizeof member, "%s\"%s%s\": {\"median_ratio\": %.3f, \"p99_ratio\": %.3f}",
+                    json.empty() ? "" : ", ", name, round, p50, p99);
       json += member;
     }
   }
@@ -205,7 +214,8 @@ double p99_of(const std::vector<LatencyReport>& reports, const std::string& name
 int run_dds_bench(const std::vector<std::string>& args) {
   BenchArgs parsed;
   if (!parse_args(args, parsed) || parsed.json_file.empty()) {
-    std::fputs("usage: navbench dds --json FILE [--domain D] [--pose-samples N] [--frame-samples N] [--security DIR]\n", stderr);
+    std::fputs("usage: navbench dds --json FILE [--domain D] [--pose-samples N] [--frame-samples N] [--security DIR]\n",
+               stderr);
     return 2;
   }
   std::vector<LatencyReport> reports;

@@ -21,7 +21,8 @@ struct PublishPlan {
   std::uint64_t samples = 0;
   nav::TimeNs period_ns = 0;
   bool data_sharing = true;
-  std::string security_dir;  ///< a `navtool security init` folder: the reader joins as station, the writer as devices (empty: off)
+  std::string security_dir;  ///< a `navtool security init` folder: the reader joins as station, the writer as devices
+                             ///< (empty: off)
 };
 
 /// The participant a measurement's `role` ("station" reads, "devices" writes) joins with.

@@ -45,7 +45,8 @@ void send_paced(DdsNode& node, const PublishPlan& plan, Sample& sample) {
 }  // namespace
 
 bool publish_stream(DdsNode& node, const PublishPlan& plan) {
-  const nav::dds::Topic topic = plan.stream == Stream::pose ? nav::dds::Topic::tool_pose : nav::dds::Topic::ultrasound_frame;
+  const nav::dds::Topic topic =
+      plan.stream == Stream::pose ? nav::dds::Topic::tool_pose : nav::dds::Topic::ultrasound_frame;
   const bool advertised = plan.stream == Stream::pose ? node.advertise<nav::dds::ToolPose>().ok()
                                                       : node.advertise<nav::dds::UltrasoundFrame>().ok();
   if (!advertised || !node.wait_for_match(topic, 1, kMatchTimeoutNs)) return false;
@@ -73,8 +74,12 @@ nav::dds::NetworkConfig bench_network(const PublishPlan& plan, const char* parti
 }
 
 std::vector<std::string> to_peer_arguments(const PublishPlan& plan) {
-  return {plan.stream == Stream::pose ? "pose" : "frame", std::to_string(plan.domain_id), std::to_string(plan.samples),
-          std::to_string(plan.period_ns), plan.data_sharing ? "1" : "0", plan.security_dir.empty() ? "-" : plan.security_dir};
+  return {plan.stream == Stream::pose ? "pose" : "frame",
+          std::to_string(plan.domain_id),
+          std::to_string(plan.samples),
+          std::to_string(plan.period_ns),
+          plan.data_sharing ? "1" : "0",
+          plan.security_dir.empty() ? "-" : plan.security_dir};
 }
 
 bool from_peer_arguments(const std::vector<std::string>& args, PublishPlan& plan) {

@@ -21,11 +21,16 @@ std::string format(const char* pattern, auto... values) {
 std::string xml(const std::string& text) {
   std::string out;
   for (const char c : text) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
+    if (c == '<')
+      out += "&lt;";
+    else if (c == '>')
+      out += "&gt;";
+    else if (c == '&')
+      out += "&amp;";
+    else if (c == '"')
+      out += "&quot;";
+    else
+      out += c;
   }
   return out;
 }
@@ -34,9 +39,17 @@ std::string xml(const std::string& text) {
 std::string marker(std::size_t g, double x, double y, const char* fill, const char* stroke, const std::string& title) {
   const std::string inner = "<title>" + xml(title) + "</title>";
   switch (g % 3) {
-    case 0: return format("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" stroke=\"%s\">", x, y, fill, stroke) + inner + "</circle>\n";
-    case 1: return format("<rect x=\"%.1f\" y=\"%.1f\" width=\"9\" height=\"9\" fill=\"%s\" stroke=\"%s\">", x - 4.5, y - 4.5, fill, stroke) + inner + "</rect>\n";
-    default: return format("<polygon points=\"%.1f,%.1f %.1f,%.1f %.1f,%.1f\" fill=\"%s\" stroke=\"%s\">", x, y - 6, x - 5.5, y + 4, x + 5.5, y + 4, fill, stroke) + inner + "</polygon>\n";
+    case 0:
+      return format("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" stroke=\"%s\">", x, y, fill, stroke) + inner +
+             "</circle>\n";
+    case 1:
+      return format("<rect x=\"%.1f\" y=\"%.1f\" width=\"9\" height=\"9\" fill=\"%s\" stroke=\"%s\">", x - 4.5, y - 4.5,
+                    fill, stroke) +
+             inner + "</rect>\n";
+    default:
+      return format("<polygon points=\"%.1f,%.1f %.1f,%.1f %.1f,%.1f\" fill=\"%s\" stroke=\"%s\">", x, y - 6, x - 5.5,
+                    y + 4, x + 5.5, y + 4, fill, stroke) +
+             inner + "</polygon>\n";
   }
 }
 
@@ -79,18 +92,29 @@ std::string log_log_svg(const std::vector<PlotPoint>& points, const PlotLabels& 
   const auto px = [&](double x) { return left + (std::log10(x) - x_lo) / (x_hi - x_lo) * (width - left - right); };
   const auto py = [&](double y) { return top + (y_hi - std::log10(y)) / (y_hi - y_lo) * (height - top - bottom); };
 
-  std::string svg = format("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" font-family=\"sans-serif\" font-size=\"12\">\n", width, height);
+  std::string svg = format(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" font-family=\"sans-serif\" "
+      "font-size=\"12\">\n",
+      width, height);
   svg += "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  svg += format("<text x=\"%.1f\" y=\"24\" text-anchor=\"middle\" font-size=\"15\">", (left + width - right) / 2) + xml(labels.title) + "</text>\n";
+  svg += format("<text x=\"%.1f\" y=\"24\" text-anchor=\"middle\" font-size=\"15\">", (left + width - right) / 2) +
+         xml(labels.title) + "</text>\n";
   for (int d = static_cast<int>(x_lo); d <= static_cast<int>(x_hi); ++d)
-    svg += format("<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">1e%d</text>\n",
-                  px(std::pow(10.0, d)), top, px(std::pow(10.0, d)), height - bottom, px(std::pow(10.0, d)), height - bottom + 18, d);
+    svg += format(
+        "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" "
+        "text-anchor=\"middle\">1e%d</text>\n",
+        px(std::pow(10.0, d)), top, px(std::pow(10.0, d)), height - bottom, px(std::pow(10.0, d)), height - bottom + 18,
+        d);
   for (int d = static_cast<int>(y_lo); d <= static_cast<int>(y_hi); ++d)
-    svg += format("<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">1e%d</text>\n",
-                  left, py(std::pow(10.0, d)), width - right, py(std::pow(10.0, d)), left - 6, py(std::pow(10.0, d)) + 4, d);
-  svg += format("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">", (left + width - right) / 2, height - 20) + xml(labels.x) + "</text>\n";
-  svg += format("<text x=\"18\" y=\"%.1f\" transform=\"rotate(-90 18 %.1f)\" text-anchor=\"middle\">", (top + height - bottom) / 2,
-                (top + height - bottom) / 2) + xml(labels.y) + "</text>\n";
+    svg += format(
+        "<line x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%.1f\" y=\"%.1f\" "
+        "text-anchor=\"end\">1e%d</text>\n",
+        left, py(std::pow(10.0, d)), width - right, py(std::pow(10.0, d)), left - 6, py(std::pow(10.0, d)) + 4, d);
+  svg += format("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">", (left + width - right) / 2, height - 20) +
+         xml(labels.x) + "</text>\n";
+  svg += format("<text x=\"18\" y=\"%.1f\" transform=\"rotate(-90 18 %.1f)\" text-anchor=\"middle\">",
+                (top + height - bottom) / 2, (top + height - bottom) / 2) +
+         xml(labels.y) + "</text>\n";
 
   std::vector<std::string> keys, groups;
   for (const PlotPoint& p : points) keys.push_back(p.colour_key), groups.push_back(p.group);
@@ -103,7 +127,8 @@ std::string log_log_svg(const std::vector<PlotPoint>& points, const PlotLabels& 
     const std::vector<std::size_t> front = pareto_front(points, groups[g]);
     std::string line;
     for (const std::size_t i : front) line += format("%.1f,%.1f ", px(points[i].x), py(points[i].y));
-    svg += "<polyline class=\"pareto\" points=\"" + line + "\" fill=\"none\" stroke=\"black\" stroke-width=\"1.5\" stroke-dasharray=\"4 3\"/>\n";
+    svg += "<polyline class=\"pareto\" points=\"" + line +
+           "\" fill=\"none\" stroke=\"black\" stroke-width=\"1.5\" stroke-dasharray=\"4 3\"/>\n";
     for (std::size_t i = 0; i < points.size(); ++i) {
       if (points[i].group != groups[g]) continue;
       const bool on_front = std::find(front.begin(), front.end(), i) != front.end();
@@ -113,8 +138,9 @@ std::string log_log_svg(const std::vector<PlotPoint>& points, const PlotLabels& 
   }
   double y = top + 10;
   for (const std::string& key : keys) {
-    svg += format("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\"/><text x=\"%.1f\" y=\"%.1f\">", width - right + 20, y, colour_of(key),
-                  width - right + 32, y + 4) + xml(key) + "</text>\n";
+    svg += format("<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\"/><text x=\"%.1f\" y=\"%.1f\">",
+                  width - right + 20, y, colour_of(key), width - right + 32, y + 4) +
+           xml(key) + "</text>\n";
     y += 18;
   }
   y += 10;
@@ -123,7 +149,8 @@ std::string log_log_svg(const std::vector<PlotPoint>& points, const PlotLabels& 
     svg += format("<text x=\"%.1f\" y=\"%.1f\">", width - right + 32, y + 4) + xml(groups[g]) + "</text>\n";
     y += 18;
   }
-  svg += format("<text x=\"%.1f\" y=\"%.1f\">dashed, outlined: Pareto front per mesh</text>\n", width - right + 20, y + 8);
+  svg +=
+      format("<text x=\"%.1f\" y=\"%.1f\">dashed, outlined: Pareto front per mesh</text>\n", width - right + 20, y + 8);
   return svg + "</svg>\n";
 }
 

@@ -21,7 +21,6 @@
 
 namespace {
 
-
 constexpr int kExitBadInput = 2;
 
 struct Options {
@@ -86,8 +85,7 @@ std::vector<std::pair<std::int32_t, nav::Point3>> probe_forces(const nav::Embedd
   for (std::int32_t node : boundary.mesh_node_of_vertex)
     if (nav::norm(liver.mesh.nodes_m[node] - liver.mesh.nodes_m[contact]) <= radius_m) patch.push_back(node);
   std::vector<std::pair<std::int32_t, nav::Point3>> forces;
-  for (std::int32_t node : patch)
-    forces.push_back({node, {0.0, -force_n / static_cast<double>(patch.size()), 0.0}});
+  for (std::int32_t node : patch) forces.push_back({node, {0.0, -force_n / static_cast<double>(patch.size()), 0.0}});
   return forces;
 }
 
@@ -98,14 +96,16 @@ struct CaseFigures {
 
 CaseFigures summarise(const nav::TetMesh& mesh, const std::vector<nav::Point3>& displacement_m) {
   CaseFigures figures;
-  for (const nav::Point3& u : displacement_m) figures.max_displacement_m = std::max(figures.max_displacement_m, nav::norm(u));
+  for (const nav::Point3& u : displacement_m)
+    figures.max_displacement_m = std::max(figures.max_displacement_m, nav::norm(u));
   figures.tumour_displacement_m = nav::norm(tumour_displacement_m(mesh, displacement_m));
   return figures;
 }
 
 /// The neo-Hookean equilibrium under `load` (the same materials, supports, gravity and forces),
 /// as displacements from rest.
-nav::Result<std::vector<nav::Point3>> solve_reference(const nav::TetMesh& mesh, const nav::StaticLoadCase& load, int& newton_iterations) {
+nav::Result<std::vector<nav::Point3>> solve_reference(const nav::TetMesh& mesh, const nav::StaticLoadCase& load,
+                                                      int& newton_iterations) {
   nav::TissueScene scene;
   scene.default_material = load.default_material;
   scene.region_materials = load.region_materials;
@@ -171,10 +171,12 @@ int main(int argc, char** argv) {
     auto linear = nav::solve_linear_static(liver.mesh, load);
     const double linear_s = seconds_since(start);
     if (!reference.ok() || !linear.ok()) {
-      std::fprintf(stderr, "navdemo: %s: %s\n", name, (reference.ok() ? linear.error() : reference.error()).describe().c_str());
+      std::fprintf(stderr, "navdemo: %s: %s\n", name,
+                   (reference.ok() ? linear.error() : reference.error()).describe().c_str());
       return 1;
     }
-    if (with_probe) std::printf("probe: %.1f N on %zu surface nodes\n", options.probe_force_n, load.nodal_forces_n.size());
+    if (with_probe)
+      std::printf("probe: %.1f N on %zu surface nodes\n", options.probe_force_n, load.nodal_forces_n.size());
     const CaseFigures figures = summarise(liver.mesh, reference.value());
     std::printf("%s: neo-Hookean static solve (%lld dofs, %d Newton iterations) in %.0f ms\n", name,
                 static_cast<long long>(linear.value().free_dofs), newton_iterations, reference_s * 1e3);
@@ -189,9 +191,11 @@ int main(int argc, char** argv) {
       max_error_m = std::max(max_error_m, nav::norm(error_m[n]));
     }
     const double tumour_error_m = nav::norm(tumour_displacement_m(liver.mesh, error_m));
-    std::printf("  linear FEM in %.0f ms: max displacement %.2f mm, tumour %.2f mm; its error: %.2f mm at worst, %.2f mm at the tumour\n",
-                linear_s * 1e3, cheap.max_displacement_m * 1e3, cheap.tumour_displacement_m * 1e3, max_error_m * 1e3,
-                tumour_error_m * 1e3);
+    std::printf(
+        "  linear FEM in %.0f ms: max displacement %.2f mm, tumour %.2f mm; its error: %.2f mm at worst, %.2f mm at "
+        "the tumour\n",
+        linear_s * 1e3, cheap.max_displacement_m * 1e3, cheap.tumour_displacement_m * 1e3, max_error_m * 1e3,
+        tumour_error_m * 1e3);
 
     const std::string suffix = with_probe ? "_gravity_probe" : "_gravity";
     point_fields.push_back(displacement_field("displacement_m" + suffix, reference.value()));

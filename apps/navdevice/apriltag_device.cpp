@@ -32,7 +32,8 @@ constexpr const char* kUsage =
 
 /// The scene's tools as rigid bodies: the tags of devices.tracker.bodies at their poses on the
 /// tool, or a tool's one tag of devices.tracker.tags with the tool's frame at the tag.
-std::vector<nav::trackers::TagBody> tool_bodies(const std::vector<nav::station::ToolRole>& roles, const nav::station::TrackerSettings& t) {
+std::vector<nav::trackers::TagBody> tool_bodies(const std::vector<nav::station::ToolRole>& roles,
+                                                const nav::station::TrackerSettings& t) {
   std::vector<nav::trackers::TagBody> bodies;
   for (const nav::station::ToolRole& r : roles) {
     nav::trackers::TagBody body{r.tool_id, {}};
@@ -52,13 +53,14 @@ std::vector<nav::trackers::TagBody> tool_bodies(const std::vector<nav::station::
 }
 
 /// What the start-up line says of the tools: a body's tags, or the tool's one tag.
-std::string describe_bodies(const std::vector<nav::trackers::TagBody>& bodies, const std::vector<nav::station::ToolRole>& roles) {
+std::string describe_bodies(const std::vector<nav::trackers::TagBody>& bodies,
+                            const std::vector<nav::station::ToolRole>& roles) {
   std::string text;
   for (std::size_t i = 0; i < roles.size(); ++i) {
     std::string tags;
     for (const nav::trackers::BodyTag& tag : bodies[i].tags) tags += (tags.empty() ? "" : "+") + std::to_string(tag.id);
-    text += (text.empty() ? "" : ", ") + std::string(bodies[i].tags.size() > 1 ? "tags " : "tag ") + tags + " the " + roles[i].role +
-            " (tool " + std::to_string(roles[i].tool_id) + ")";
+    text += (text.empty() ? "" : ", ") + std::string(bodies[i].tags.size() > 1 ? "tags " : "tag ") + tags + " the " +
+            roles[i].role + " (tool " + std::to_string(roles[i].tool_id) + ")";
   }
   return text;
 }
@@ -79,7 +81,9 @@ int run_apriltag(const std::vector<std::string>& arguments) {
   if (t.kind != nav::station::TrackerKind::apriltag)
     return fail("apriltag", s.source_path + ": devices.tracker is not an AprilTag tracker (kind: apriltag)");
   if (t.camera_intrinsics_path.empty())
-    return fail("apriltag", s.source_path + ": devices.tracker.intrinsics is required to track tags (navtool calib camera --out FILE)");
+    return fail(
+        "apriltag",
+        s.source_path + ": devices.tracker.intrinsics is required to track tags (navtool calib camera --out FILE)");
   auto camera = nav::trackers::read_camera_intrinsics(t.camera_intrinsics_path);
   if (!camera.ok()) return fail("apriltag", camera.error().describe());
   const std::vector<nav::station::ToolRole> roles = nav::station::tool_roles(t.tools, t.tag_ids);
@@ -99,7 +103,8 @@ int run_apriltag(const std::vector<std::string>& arguments) {
   nav::dds::DdsNode& dds = *device.value().node;
   auto publisher = nav::trackers::PosePublisher::create(dds, "camera", tool_frames(roles));
   if (!publisher.ok()) return fail("apriltag", publisher.error().describe());
-  if (const int waited = wait_for_station(device.value(), *args, s, "apriltag"); waited != 0) return waited < 0 ? 0 : waited;
+  if (const int waited = wait_for_station(device.value(), *args, s, "apriltag"); waited != 0)
+    return waited < 0 ? 0 : waited;
 
   const auto period_ns = static_cast<TimeNs>(1e9 / t.rate_hz);
   const TimeNs start_ns = clock.now_ns();
@@ -116,24 +121,31 @@ int run_apriltag(const std::vector<std::string>& arguments) {
       ended = true;
       break;
     }
-    for (const nav::trackers::TrackerSample& sample : tracker.value()->track(nav::trackers::gray_image_from_frame(*frame), frame->source_time_ns))
+    for (const nav::trackers::TrackerSample& sample :
+         tracker.value()->track(nav::trackers::gray_image_from_frame(*frame), frame->source_time_ns))
       publisher.value().publish(sample);
     if (clock.now_ns() >= next_status_ns) {
       const nav::trackers::PublishCounts& c = publisher.value().counts();
-      std::printf("navdevice apriltag: %.0f s, %llu frames, %llu poses published, %llu tool samples without a pose; stations reading: %zu\n",
-                  1e-9 * static_cast<double>(next_status_ns - start_ns), static_cast<unsigned long long>(capture.value()->frames_read()),
-                  static_cast<unsigned long long>(c.published), static_cast<unsigned long long>(c.without_pose),
-                  dds.matched(nav::dds::Topic::tool_pose));
+      std::printf(
+          "navdevice apriltag: %.0f s, %llu frames, %llu poses published, %llu tool samples without a pose; stations "
+          "reading: %zu\n",
+          1e-9 * static_cast<double>(next_status_ns - start_ns),
+          static_cast<unsigned long long>(capture.value()->frames_read()), static_cast<unsigned long long>(c.published),
+          static_cast<unsigned long long>(c.without_pose), dds.matched(nav::dds::Topic::tool_pose));
       std::fflush(stdout);
       next_status_ns += nav::kNsPerSecond;
     }
   }
   dds.wait_for_acknowledgments(nav::kNsPerSecond);
   const nav::trackers::PublishCounts& c = publisher.value().counts();
-  std::printf("navdevice apriltag: %s after %.1f s: %llu frames, %llu poses published, %llu tool samples without a pose\n",
-              ended ? "end of the stream" : nav::dds::stop_requested() ? "stopped" : "done", 1e-9 * static_cast<double>(clock.now_ns() - start_ns),
-              static_cast<unsigned long long>(capture.value()->frames_read()), static_cast<unsigned long long>(c.published),
-              static_cast<unsigned long long>(c.without_pose));
+  std::printf(
+      "navdevice apriltag: %s after %.1f s: %llu frames, %llu poses published, %llu tool samples without a pose\n",
+      ended                        ? "end of the stream"
+      : nav::dds::stop_requested() ? "stopped"
+                                   : "done",
+      1e-9 * static_cast<double>(clock.now_ns() - start_ns),
+      static_cast<unsigned long long>(capture.value()->frames_read()), static_cast<unsigned long long>(c.published),
+      static_cast<unsigned long long>(c.without_pose));
   return 0;
 }
 

@@ -18,7 +18,8 @@ namespace {
 using nav::TimeNs;
 
 constexpr const char* kUsage =
-    "usage: navdevice capture --scene FILE [--source INDEX|VIDEO|PATTERN] [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
+    "usage: navdevice capture --scene FILE [--source INDEX|VIDEO|PATTERN] [--seconds S] [--domain D] [--no-wait] "
+    "[--wait-s S]\n"
     "  default: the scene's devices.ultrasound.source (kind: capture); --seconds 0 (default): to the end of the\n"
     "  stream or until stopped\n";
 
@@ -34,8 +35,10 @@ std::optional<CaptureArgs> parse(const std::vector<std::string>& args) {
     try {
       if (take_common_flag(args, i, parsed.device)) continue;
       const bool has_value = i + 1 < args.size();
-      if (args[i] == "--source" && has_value) parsed.source = args[++i];
-      else return std::nullopt;
+      if (args[i] == "--source" && has_value)
+        parsed.source = args[++i];
+      else
+        return std::nullopt;
     } catch (const std::exception&) {
       return std::nullopt;
     }
@@ -57,7 +60,8 @@ int run_capture(const std::vector<std::string>& arguments) {
   const nav::station::Scene& s = scene.value();
   const nav::station::UltrasoundSettings& u = s.devices.ultrasound;
   if (args->source.empty() && u.kind != nav::station::UltrasoundKind::capture)
-    return fail("capture", s.source_path + ": devices.ultrasound is not a capture source (kind: capture): give --source");
+    return fail("capture",
+                s.source_path + ": devices.ultrasound is not a capture source (kind: capture): give --source");
   const std::string source = args->source.empty() ? u.capture_source : args->source;
   nav::ultrasound::CaptureOptions options;
   options.probe_tool_id = s.devices.tracker.tools.probe;
@@ -69,9 +73,9 @@ int run_capture(const std::vector<std::string>& arguments) {
   const bool paced = !nav::station::is_device_index(source);
   char pace[64] = "at the grabber's rate";
   if (paced) std::snprintf(pace, sizeof pace, "paced at %.4g Hz", u.rate_hz);
-  std::printf("navdevice capture: %s: frames at %.3f x %.3f mm per pixel, clipped to %u x %u at (%u, %u)%s; %s\n", source.c_str(),
-              1e3 * u.pixel_spacing_m[0], 1e3 * u.pixel_spacing_m[1], u.clip_px[2], u.clip_px[3], u.clip_px[0], u.clip_px[1],
-              u.clip_px[2] == 0 ? " (the whole image)" : "", pace);
+  std::printf("navdevice capture: %s: frames at %.3f x %.3f mm per pixel, clipped to %u x %u at (%u, %u)%s; %s\n",
+              source.c_str(), 1e3 * u.pixel_spacing_m[0], 1e3 * u.pixel_spacing_m[1], u.clip_px[2], u.clip_px[3],
+              u.clip_px[0], u.clip_px[1], u.clip_px[2] == 0 ? " (the whole image)" : "", pace);
   std::fflush(stdout);
 
   auto device = open_device_node(s, "navdevice_capture");
@@ -79,7 +83,8 @@ int run_capture(const std::vector<std::string>& arguments) {
   nav::dds::DdsNode& dds = *device.value().node;
   if (const nav::Status advertised = dds.advertise<nav::dds::UltrasoundFrame>(); !advertised.ok())
     return fail("capture", advertised.error().describe());
-  if (const int waited = wait_for_station(device.value(), args->device, s, "capture"); waited != 0) return waited < 0 ? 0 : waited;
+  if (const int waited = wait_for_station(device.value(), args->device, s, "capture"); waited != 0)
+    return waited < 0 ? 0 : waited;
 
   const auto period_ns = static_cast<TimeNs>(1e9 / u.rate_hz);
   const TimeNs start_ns = clock.now_ns();
@@ -97,7 +102,8 @@ int run_capture(const std::vector<std::string>& arguments) {
     }
     if (clock.now_ns() >= next_status_ns) {
       std::printf("navdevice capture: %.0f s, %llu frames published; stations reading: %zu\n",
-                  1e-9 * static_cast<double>(next_status_ns - start_ns), static_cast<unsigned long long>(capture.value()->frames_read()),
+                  1e-9 * static_cast<double>(next_status_ns - start_ns),
+                  static_cast<unsigned long long>(capture.value()->frames_read()),
                   dds.matched(nav::dds::Topic::ultrasound_frame));
       std::fflush(stdout);
       next_status_ns += nav::kNsPerSecond;
@@ -105,7 +111,10 @@ int run_capture(const std::vector<std::string>& arguments) {
   }
   dds.wait_for_acknowledgments(nav::kNsPerSecond);
   std::printf("navdevice capture: %s after %.1f s: %llu frames published\n",
-              ended ? "end of the stream" : nav::dds::stop_requested() ? "stopped" : "done", 1e-9 * static_cast<double>(clock.now_ns() - start_ns),
+              ended                        ? "end of the stream"
+              : nav::dds::stop_requested() ? "stopped"
+                                           : "done",
+              1e-9 * static_cast<double>(clock.now_ns() - start_ns),
               static_cast<unsigned long long>(capture.value()->frames_read()));
   return 0;
 }

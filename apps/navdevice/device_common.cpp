@@ -10,17 +10,24 @@ namespace navdevice {
 
 bool take_common_flag(const std::vector<std::string>& args, std::size_t& i, DeviceArgs& out) {
   const bool has_value = i + 1 < args.size();
-  if (args[i] == "--scene" && has_value) out.scene_path = args[++i];
-  else if (args[i] == "--domain" && has_value) out.domain_id = std::stol(args[++i]);
-  else if (args[i] == "--wait-s" && has_value) out.wait_s = std::stod(args[++i]);
-  else if (args[i] == "--seconds" && has_value) out.seconds = std::stod(args[++i]);
-  else if (args[i] == "--no-wait") out.wait_for_station = false;
-  else return false;
+  if (args[i] == "--scene" && has_value)
+    out.scene_path = args[++i];
+  else if (args[i] == "--domain" && has_value)
+    out.domain_id = std::stol(args[++i]);
+  else if (args[i] == "--wait-s" && has_value)
+    out.wait_s = std::stod(args[++i]);
+  else if (args[i] == "--seconds" && has_value)
+    out.seconds = std::stod(args[++i]);
+  else if (args[i] == "--no-wait")
+    out.wait_for_station = false;
+  else
+    return false;
   return true;
 }
 
 bool common_flags_valid(const DeviceArgs& args) {
-  return !args.scene_path.empty() && args.domain_id >= -1 && args.domain_id <= 232 && args.wait_s >= 0.0 && args.seconds >= 0.0;
+  return !args.scene_path.empty() && args.domain_id >= -1 && args.domain_id <= 232 && args.wait_s >= 0.0 &&
+         args.seconds >= 0.0;
 }
 
 std::optional<DeviceArgs> parse_common_flags(const std::vector<std::string>& args) {
@@ -38,8 +45,8 @@ std::optional<DeviceArgs> parse_common_flags(const std::vector<std::string>& arg
 std::string describe_roles(const std::vector<nav::station::ToolRole>& roles, const char* device_id_name) {
   std::string text;
   for (const nav::station::ToolRole& r : roles)
-    text += (text.empty() ? std::string(device_id_name) + " " : std::string(", ")) + std::to_string(r.device_id) + (text.empty() ? " is" : "") + " the " +
-            r.role + " (tool " + std::to_string(r.tool_id) + ")";
+    text += (text.empty() ? std::string(device_id_name) + " " : std::string(", ")) + std::to_string(r.device_id) +
+            (text.empty() ? " is" : "") + " the " + r.role + " (tool " + std::to_string(r.tool_id) + ")";
   return text;
 }
 
@@ -64,24 +71,27 @@ nav::Result<nav::station::Scene> load_device_scene(const DeviceArgs& args) {
 nav::Result<DeviceNode> open_device_node(const nav::station::Scene& scene, const char* participant_name) {
   DeviceNode device;
   device.health = std::make_unique<nav::dds::RingSink<nav::dds::StationHealth, 4>>();
-  auto node = nav::station::make_station_node(scene.topics.domain_id, participant_name, nav::station::topic_names(scene.topics),
-                                              scene.network, nav::station::Role::devices);
+  auto node =
+      nav::station::make_station_node(scene.topics.domain_id, participant_name, nav::station::topic_names(scene.topics),
+                                      scene.network, nav::station::Role::devices);
   if (!node.ok()) return node.error();
   device.node = std::move(node).value();
   if (const nav::Status read = device.node->subscribe(*device.health); !read.ok()) return read.error();
   return device;
 }
 
-int wait_for_station(const DeviceNode& device, const DeviceArgs& args, const nav::station::Scene& scene, const char* device_name) {
+int wait_for_station(const DeviceNode& device, const DeviceArgs& args, const nav::station::Scene& scene,
+                     const char* device_name) {
   if (!args.wait_for_station) return 0;
-  std::printf("navdevice %s: waiting up to %.0f s for a running station (its health) on domain %u ...\n", device_name, args.wait_s,
-              scene.topics.domain_id);
+  std::printf("navdevice %s: waiting up to %.0f s for a running station (its health) on domain %u ...\n", device_name,
+              args.wait_s, scene.topics.domain_id);
   std::fflush(stdout);
   nav::MonotonicClock clock;
   const nav::TimeNs give_up_ns = clock.now_ns() + static_cast<nav::TimeNs>(args.wait_s * 1e9);
   while (device.health->size() == 0) {
     if (nav::dds::stop_requested()) return -1;
-    if (clock.now_ns() > give_up_ns) return fail(device_name, "no station ran on this domain within " + std::to_string(args.wait_s) + " s");
+    if (clock.now_ns() > give_up_ns)
+      return fail(device_name, "no station ran on this domain within " + std::to_string(args.wait_s) + " s");
     clock.sleep_until_ns(clock.now_ns() + 10 * nav::kNsPerMs);
   }
   return 0;

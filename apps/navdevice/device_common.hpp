@@ -82,6 +82,7 @@ nav::Result<DeviceNode> open_device_node(const nav::station::Scene& scene, const
 /// Waits (unless --no-wait) up to --wait-s for a running station's first health sample (a
 /// recorder or a display is not a station). Returns 0 to go on, -1 if stopped by a signal,
 /// or the exit code of the failure it printed.
-int wait_for_station(const DeviceNode& device, const DeviceArgs& args, const nav::station::Scene& scene, const char* device_name);
+int wait_for_station(const DeviceNode& device, const DeviceArgs& args, const nav::station::Scene& scene,
+                     const char* device_name);
 
 }  // namespace navdevice

@@ -21,16 +21,16 @@
 namespace navdevice {
 namespace {
 
-using nav::TimeNs;
 using nav::kNsPerSecond;
+using nav::TimeNs;
 
 constexpr const char* kUsage =
     "usage: navdevice load --scene FILE [--factor F] [--seconds S] [--domain D]\n"
     "  F (default 4) times the scene's tracker and scanner rates, on topics load/tool_pose and\n"
     "  load/ultrasound_frame, on the scene's I/O core; --seconds 0 (default): until stopped\n";
 constexpr double kDefaultFactor = 4.0;
-constexpr std::uint32_t kTools = 3;     // a tracker sample: the needle, probe and respiratory markers
-constexpr int kDefaultFramePx = 256;    // a frame's side when the scene's scanner has no simulated size
+constexpr std::uint32_t kTools = 3;   // a tracker sample: the needle, probe and respiratory markers
+constexpr int kDefaultFramePx = 256;  // a frame's side when the scene's scanner has no simulated size
 constexpr TimeNs kPollPeriodNs = nav::kNsPerMs / 2;
 
 struct LoadArgs {
@@ -44,8 +44,10 @@ std::optional<LoadArgs> parse(const std::vector<std::string>& args) {
   for (std::size_t i = 0; i < args.size(); ++i) {
     try {
       if (take_common_flag(args, i, parsed.device)) continue;
-      if (args[i] == "--factor" && i + 1 < args.size()) parsed.factor = std::stod(args[++i]);
-      else return std::nullopt;
+      if (args[i] == "--factor" && i + 1 < args.size())
+        parsed.factor = std::stod(args[++i]);
+      else
+        return std::nullopt;
     } catch (const std::exception&) {
       return std::nullopt;
     }
@@ -57,7 +59,8 @@ std::optional<LoadArgs> parse(const std::vector<std::string>& args) {
 /// The frames read back, filtered as an image pipeline would; counts and times them.
 class FramePipeline {
  public:
-  FramePipeline(int width_px, int height_px) : blurred_(height_px, width_px, CV_8UC1), mask_(height_px, width_px, CV_8UC1) {}
+  FramePipeline(int width_px, int height_px)
+      : blurred_(height_px, width_px, CV_8UC1), mask_(height_px, width_px, CV_8UC1) {}
 
   void process(const nav::dds::UltrasoundFrame& frame, const nav::MonotonicClock& clock) {
     const TimeNs start_ns = clock.now_ns();
@@ -112,7 +115,8 @@ int run_load(const std::vector<std::string>& arguments) {
   nav::dds::TopicNames names{};
   names[static_cast<std::size_t>(nav::dds::Topic::tool_pose)] = "load/tool_pose";
   names[static_cast<std::size_t>(nav::dds::Topic::ultrasound_frame)] = "load/ultrasound_frame";
-  auto node = nav::station::make_station_node(s.topics.domain_id, "navdevice_load", names, s.network, nav::station::Role::devices);
+  auto node = nav::station::make_station_node(s.topics.domain_id, "navdevice_load", names, s.network,
+                                              nav::station::Role::devices);
   if (!node.ok()) return fail("load", node.error().describe());
   auto poses_read = std::make_unique<nav::dds::RingSink<nav::dds::ToolPose, 256>>();
   auto frames_read = std::make_unique<nav::dds::RingSink<nav::dds::UltrasoundFrame, 4>>();
@@ -126,9 +130,11 @@ int run_load(const std::vector<std::string>& arguments) {
   FramePipeline pipeline(static_cast<int>(frame->width_px), static_cast<int>(frame->height_px));
   const TimeNs pose_period_ns = static_cast<TimeNs>(1e9 / (args->factor * s.devices.tracker.rate_hz));
   const TimeNs frame_period_ns = static_cast<TimeNs>(1e9 / (args->factor * s.devices.ultrasound.rate_hz));
-  std::printf("navdevice load: %.3g x the scene's rates: %u poses every %.2f ms, a %u x %u frame every %.2f ms, on core %d (%s)\n",
-              args->factor, kTools, 1e-6 * static_cast<double>(pose_period_ns), frame->width_px, frame->height_px,
-              1e-6 * static_cast<double>(frame_period_ns), s.station.io_core, nav::station::outcome_name(pinned.outcome));
+  std::printf(
+      "navdevice load: %.3g x the scene's rates: %u poses every %.2f ms, a %u x %u frame every %.2f ms, on core %d "
+      "(%s)\n",
+      args->factor, kTools, 1e-6 * static_cast<double>(pose_period_ns), frame->width_px, frame->height_px,
+      1e-6 * static_cast<double>(frame_period_ns), s.station.io_core, nav::station::outcome_name(pinned.outcome));
   std::fflush(stdout);
 
   nav::MonotonicClock clock;
@@ -157,10 +163,12 @@ int run_load(const std::vector<std::string>& arguments) {
     while (poses_read->try_pop(pose)) ++poses_back;
     while (frames_read->try_pop(*received)) pipeline.process(*received, clock);
     if (now_ns >= next_status_ns) {
-      std::printf("navdevice load: %.0f s, written %lld poses, %lld frames; read back %lld poses, %lld frames (filtered in %.0f ms)\n",
-                  1e-9 * static_cast<double>(now_ns - start_ns), static_cast<long long>(poses_written),
-                  static_cast<long long>(frames_written), static_cast<long long>(poses_back), static_cast<long long>(pipeline.frames()),
-                  pipeline.busy_ms());
+      std::printf(
+          "navdevice load: %.0f s, written %lld poses, %lld frames; read back %lld poses, %lld frames (filtered in "
+          "%.0f ms)\n",
+          1e-9 * static_cast<double>(now_ns - start_ns), static_cast<long long>(poses_written),
+          static_cast<long long>(frames_written), static_cast<long long>(poses_back),
+          static_cast<long long>(pipeline.frames()), pipeline.busy_ms());
       std::fflush(stdout);
       next_status_ns += kNsPerSecond;
     }
@@ -168,7 +176,8 @@ int run_load(const std::vector<std::string>& arguments) {
   }
   std::printf("navdevice load: done after %.1f s: written %lld poses, %lld frames; read back %lld poses, %lld frames\n",
               1e-9 * static_cast<double>(clock.now_ns() - start_ns), static_cast<long long>(poses_written),
-              static_cast<long long>(frames_written), static_cast<long long>(poses_back), static_cast<long long>(pipeline.frames()));
+              static_cast<long long>(frames_written), static_cast<long long>(poses_back),
+              static_cast<long long>(pipeline.frames()));
   return 0;
 }
 

@@ -44,12 +44,14 @@ int main(int argc, char** argv) {
   if (!args.empty() && args.front() == "ndi") return navdevice::run_ndi({args.begin() + 1, args.end()});
   if (!args.empty() && args.front() == "plus") return navdevice::run_plus({args.begin() + 1, args.end()});
   if (!args.empty() && args.front() == "load") return navdevice::run_load({args.begin() + 1, args.end()});
-  std::fprintf(stderr,
-               "usage: navdevice sim --scene FILE [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
-               "       navdevice apriltag --scene FILE [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
-               "       navdevice capture --scene FILE [--source INDEX|VIDEO|PATTERN] [--seconds S] [--domain D] [--no-wait]\n"
-               "       navdevice ndi --scene FILE [--serial DEVICE | --tcp HOST:PORT] [--seconds S] [--domain D] [--no-wait]\n"
-               "       navdevice plus --scene FILE [--recording FILE] [--fast] [--transform NAME=ROLE]... [--domain D] [--no-wait]\n"
-               "       navdevice load --scene FILE [--factor F] [--seconds S] [--domain D]\n");
+  std::fprintf(
+      stderr,
+      "usage: navdevice sim --scene FILE [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
+      "       navdevice apriltag --scene FILE [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
+      "       navdevice capture --scene FILE [--source INDEX|VIDEO|PATTERN] [--seconds S] [--domain D] [--no-wait]\n"
+      "       navdevice ndi --scene FILE [--serial DEVICE | --tcp HOST:PORT] [--seconds S] [--domain D] [--no-wait]\n"
+      "       navdevice plus --scene FILE [--recording FILE] [--fast] [--transform NAME=ROLE]... [--domain D] "
+      "[--no-wait]\n"
+      "       navdevice load --scene FILE [--factor F] [--seconds S] [--domain D]\n");
   return 2;
 }

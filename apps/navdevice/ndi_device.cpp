@@ -21,7 +21,8 @@ namespace {
 using nav::TimeNs;
 
 constexpr const char* kUsage =
-    "usage: navdevice ndi --scene FILE [--serial DEVICE | --tcp HOST:PORT] [--seconds S] [--domain D] [--no-wait] [--wait-s S]\n"
+    "usage: navdevice ndi --scene FILE [--serial DEVICE | --tcp HOST:PORT] [--seconds S] [--domain D] [--no-wait] "
+    "[--wait-s S]\n"
     "  default: the scene's devices.tracker (kind: ndi) serial device or host and port; --seconds 0 (default)\n"
     "  tracks until stopped\n";
 
@@ -59,16 +60,19 @@ std::optional<NdiArgs> parse(const std::vector<std::string>& args) {
 }
 
 /// Where the device is: the flags, else the scene's; "" and an Error when neither names one.
-nav::Result<nav::trackers::ndi::Connection> connect(const NdiArgs& args, const nav::station::Scene& scene, std::string& where) {
+nav::Result<nav::trackers::ndi::Connection> connect(const NdiArgs& args, const nav::station::Scene& scene,
+                                                    std::string& where) {
   const nav::station::TrackerSettings& t = scene.devices.tracker;
   const bool from_flags = !args.serial.empty() || !args.host.empty();
   if (!from_flags && t.kind != nav::station::TrackerKind::ndi)
-    return nav::Error{.message = scene.source_path + ": devices.tracker is not an NDI tracker (kind: ndi): give --serial or --tcp"};
+    return nav::Error{.message = scene.source_path +
+                                 ": devices.tracker is not an NDI tracker (kind: ndi): give --serial or --tcp"};
   const std::string serial = from_flags ? args.serial : t.serial_device;
   const std::string host = from_flags ? args.host : t.host;
   const int port = from_flags ? args.port : t.port;
   where = serial.empty() ? host + ":" + std::to_string(port) : serial;
-  return serial.empty() ? nav::trackers::ndi::Connection::open_tcp(host, port) : nav::trackers::ndi::Connection::open_serial(serial);
+  return serial.empty() ? nav::trackers::ndi::Connection::open_tcp(host, port)
+                        : nav::trackers::ndi::Connection::open_serial(serial);
 }
 
 /// Polls made and samples of handles the scene does not map, for the status lines.
@@ -76,12 +80,14 @@ struct PollCounts {
   std::uint64_t polls = 0, unmapped = 0;
 };
 
-void print_status(double seconds, const PollCounts& polls, const nav::trackers::PublishCounts& c, std::size_t stations) {
-  std::printf("navdevice ndi: %.0f s, %llu polls, %llu poses published, %llu tool samples without a pose, %llu refused, "
-              "%llu of unmapped handles; stations reading: %zu\n",
-              seconds, static_cast<unsigned long long>(polls.polls), static_cast<unsigned long long>(c.published),
-              static_cast<unsigned long long>(c.without_pose), static_cast<unsigned long long>(c.refused),
-              static_cast<unsigned long long>(polls.unmapped), stations);
+void print_status(double seconds, const PollCounts& polls, const nav::trackers::PublishCounts& c,
+                  std::size_t stations) {
+  std::printf(
+      "navdevice ndi: %.0f s, %llu polls, %llu poses published, %llu tool samples without a pose, %llu refused, "
+      "%llu of unmapped handles; stations reading: %zu\n",
+      seconds, static_cast<unsigned long long>(polls.polls), static_cast<unsigned long long>(c.published),
+      static_cast<unsigned long long>(c.without_pose), static_cast<unsigned long long>(c.refused),
+      static_cast<unsigned long long>(polls.unmapped), stations);
   std::fflush(stdout);
 }
 
@@ -114,16 +120,18 @@ int run_ndi(const std::vector<std::string>& arguments) {
   auto connection = connect(*args, s, where);
   if (!connection.ok()) return fail("ndi", connection.error().describe());
   if (!connection.value().path().empty()) {  // a serial line: from 9600 to the scene's rate
-    if (const nav::Status negotiated = nav::trackers::ndi::negotiate_serial(connection.value(), t.baud); !negotiated.ok())
+    if (const nav::Status negotiated = nav::trackers::ndi::negotiate_serial(connection.value(), t.baud);
+        !negotiated.ok())
       return fail("ndi", negotiated.error().describe());  // names the line
   }
   auto tracker = nav::trackers::ndi::NdiTracker::start(std::move(connection).value(), definitions);
   if (!tracker.ok()) return fail("ndi", where + ": " + tracker.error().describe());
-  for (std::size_t i = 0; i < passive_roles.size(); ++i) roles[passive_roles[i]].device_id = tracker.value().passive_handles()[i];
+  for (std::size_t i = 0; i < passive_roles.size(); ++i)
+    roles[passive_roles[i]].device_id = tracker.value().passive_handles()[i];
   std::map<std::uint32_t, std::uint32_t> tool_of_handle;
   for (const nav::station::ToolRole& r : roles) tool_of_handle[r.device_id] = r.tool_id;
-  std::printf("navdevice ndi: %s: %zu port handles enabled; %s; polling at %.0f Hz\n", where.c_str(), tracker.value().handles().size(),
-              describe_roles(roles, "handle").c_str(), s.devices.tracker.rate_hz);
+  std::printf("navdevice ndi: %s: %zu port handles enabled; %s; polling at %.0f Hz\n", where.c_str(),
+              tracker.value().handles().size(), describe_roles(roles, "handle").c_str(), s.devices.tracker.rate_hz);
   std::fflush(stdout);
 
   auto device = open_device_node(s, "navdevice_ndi");
@@ -161,7 +169,8 @@ int run_ndi(const std::vector<std::string>& arguments) {
       publisher.value().publish(sample);
     }
     if (clock.now_ns() >= next_status_ns) {
-      print_status(1e-9 * static_cast<double>(next_status_ns - start_ns), counts, publisher.value().counts(), dds.matched(nav::dds::Topic::tool_pose));
+      print_status(1e-9 * static_cast<double>(next_status_ns - start_ns), counts, publisher.value().counts(),
+                   dds.matched(nav::dds::Topic::tool_pose));
       next_status_ns += nav::kNsPerSecond;
     }
     next_poll_ns += period_ns;
@@ -169,9 +178,13 @@ int run_ndi(const std::vector<std::string>& arguments) {
   const nav::Status stopped = tracker.value().stop();
   if (!stopped.ok() && exit_code == 0) exit_code = fail("ndi", where + ": " + stopped.error().describe());
   dds.wait_for_acknowledgments(nav::kNsPerSecond);
-  std::printf("navdevice ndi: %s after %.1f s\n", nav::dds::stop_requested() ? "stopped" : exit_code == 0 ? "done" : "failed",
+  std::printf("navdevice ndi: %s after %.1f s\n",
+              nav::dds::stop_requested() ? "stopped"
+              : exit_code == 0           ? "done"
+                                         : "failed",
               1e-9 * static_cast<double>(clock.now_ns() - start_ns));
-  print_status(1e-9 * static_cast<double>(clock.now_ns() - start_ns), counts, publisher.value().counts(), dds.matched(nav::dds::Topic::tool_pose));
+  print_status(1e-9 * static_cast<double>(clock.now_ns() - start_ns), counts, publisher.value().counts(),
+               dds.matched(nav::dds::Topic::tool_pose));
   return exit_code;
 }
 

@@ -71,18 +71,26 @@ std::optional<std::uint32_t> role_id(const nav::station::ToolIds& tools, const s
 
 /// The tracks to play: the explicit mappings (each must be in the recording), or the default
 /// ones the recording has. An Error names the mapping at fault.
-nav::Result<std::vector<nav::ultrasound::ToolTrack>> tool_tracks(const PlusArgs& args, const nav::ultrasound::PlusSequence& sequence,
+nav::Result<std::vector<nav::ultrasound::ToolTrack>> tool_tracks(const PlusArgs& args,
+                                                                 const nav::ultrasound::PlusSequence& sequence,
                                                                  const nav::station::ToolIds& tools) {
   std::vector<nav::ultrasound::ToolTrack> tracks;
   const bool defaults = args.transforms.empty();
   const std::vector<std::pair<std::string, std::string>> wanted =
-      defaults ? std::vector<std::pair<std::string, std::string>>{{"ProbeToTracker", "probe"}, {"StylusToTracker", "needle"}} : args.transforms;
+      defaults
+          ? std::vector<std::pair<std::string, std::string>>{{"ProbeToTracker", "probe"}, {"StylusToTracker", "needle"}}
+          : args.transforms;
   for (const auto& [name, role] : wanted) {
     const std::optional<std::uint32_t> id = role_id(tools, role);
-    if (!id) return nav::Error{.message = "unknown role '" + role + "' (needle, probe, respiratory, or reference when the scene declares one)", .field = "--transform " + name + "=" + role};
+    if (!id)
+      return nav::Error{.message = "unknown role '" + role +
+                                   "' (needle, probe, respiratory, or reference when the scene declares one)",
+                        .field = "--transform " + name + "=" + role};
     if (sequence.find_transform(name) == nullptr) {
       if (defaults) continue;
-      return nav::Error{.message = "the recording has no transform '" + name + "'", .file = sequence.path, .field = "--transform " + name + "=" + role};
+      return nav::Error{.message = "the recording has no transform '" + name + "'",
+                        .file = sequence.path,
+                        .field = "--transform " + name + "=" + role};
     }
     tracks.push_back({name, *id});
   }
@@ -104,20 +112,23 @@ int run_plus(const std::vector<std::string>& arguments) {
   std::string recording = args->recording;
   if (recording.empty()) {
     if (s.devices.ultrasound.kind != nav::station::UltrasoundKind::plus)
-      return fail("plus", s.source_path + ": devices.ultrasound is not a PLUS recording (kind: plus): give --recording FILE");
+      return fail("plus",
+                  s.source_path + ": devices.ultrasound is not a PLUS recording (kind: plus): give --recording FILE");
     recording = s.devices.ultrasound.recording_path;
   }
   auto sequence = nav::ultrasound::read_plus_sequence(recording);
   if (!sequence.ok()) return fail("plus", sequence.error().describe());
   nav::ultrasound::PlusSequence& q = sequence.value();
   const std::optional<std::array<double, 2>>& spacing_m = s.devices.ultrasound.recording_pixel_spacing_m;
-  if (spacing_m && s.devices.ultrasound.kind == nav::station::UltrasoundKind::plus) q.spacing_mm = {1e3 * (*spacing_m)[0], 1e3 * (*spacing_m)[1]};
+  if (spacing_m && s.devices.ultrasound.kind == nav::station::UltrasoundKind::plus)
+    q.spacing_mm = {1e3 * (*spacing_m)[0], 1e3 * (*spacing_m)[1]};
   auto tracks = tool_tracks(*args, q, s.devices.tracker.tools);
   if (!tracks.ok()) return fail("plus", tracks.error().describe());
-  std::printf("navdevice plus: %s: %zu frames of %u x %u at %.3f x %.3f mm, %.1f s recorded; playing", recording.c_str(), q.frames_read,
-              q.width_px, q.height_px, q.spacing_mm[0], q.spacing_mm[1],
+  std::printf("navdevice plus: %s: %zu frames of %u x %u at %.3f x %.3f mm, %.1f s recorded; playing",
+              recording.c_str(), q.frames_read, q.width_px, q.height_px, q.spacing_mm[0], q.spacing_mm[1],
               q.timestamps_s.empty() ? 0.0 : q.timestamps_s.back() - q.timestamps_s.front());
-  for (const nav::ultrasound::ToolTrack& t : tracks.value()) std::printf(" %s as tool %u,", t.transform_name.c_str(), t.tool_id);
+  for (const nav::ultrasound::ToolTrack& t : tracks.value())
+    std::printf(" %s as tool %u,", t.transform_name.c_str(), t.tool_id);
   std::printf(" %s\n", args->fast ? "as fast as possible" : "at the recorded intervals");
   std::fflush(stdout);
 
@@ -126,7 +137,8 @@ int run_plus(const std::vector<std::string>& arguments) {
   nav::dds::DdsNode& dds = *device.value().node;
   for (const nav::Status& status : {dds.advertise<nav::dds::ToolPose>(), dds.advertise<nav::dds::UltrasoundFrame>()})
     if (!status.ok()) return fail("plus", status.error().describe());
-  if (const int waited = wait_for_station(device.value(), args->device, s, "plus"); waited != 0) return waited < 0 ? 0 : waited;
+  if (const int waited = wait_for_station(device.value(), args->device, s, "plus"); waited != 0)
+    return waited < 0 ? 0 : waited;
 
   DeviceClock clock(s.devices.clock);
   const TimeNs start_ns = clock.now_ns();
@@ -138,18 +150,21 @@ int run_plus(const std::vector<std::string>& arguments) {
   options.after_frame = [&](std::size_t played) {
     if (clock.now_ns() >= next_status_ns) {
       std::printf("navdevice plus: %.0f s, %zu of %zu frames played; stations reading: %zu\n",
-                  1e-9 * static_cast<double>(next_status_ns - start_ns), played, q.frames_read, dds.matched(nav::dds::Topic::ultrasound_frame));
+                  1e-9 * static_cast<double>(next_status_ns - start_ns), played, q.frames_read,
+                  dds.matched(nav::dds::Topic::ultrasound_frame));
       std::fflush(stdout);
       next_status_ns += nav::kNsPerSecond;
     }
-    const bool in_time = args->device.seconds == 0.0 || clock.now_ns() - start_ns < static_cast<TimeNs>(args->device.seconds * 1e9);
+    const bool in_time =
+        args->device.seconds == 0.0 || clock.now_ns() - start_ns < static_cast<TimeNs>(args->device.seconds * 1e9);
     return in_time && !nav::dds::stop_requested();
   };
   const auto played = nav::ultrasound::play_sequence(dds, q, options, clock);
   if (!played.ok()) return fail("plus", played.error().describe());
   dds.wait_for_acknowledgments(nav::kNsPerSecond);
-  std::printf("navdevice plus: %s after %.1f s: %zu of %zu frames played\n", nav::dds::stop_requested() ? "stopped" : "done",
-              1e-9 * static_cast<double>(clock.now_ns() - start_ns), played.value(), q.frames_read);
+  std::printf("navdevice plus: %s after %.1f s: %zu of %zu frames played\n",
+              nav::dds::stop_requested() ? "stopped" : "done", 1e-9 * static_cast<double>(clock.now_ns() - start_ns),
+              played.value(), q.frames_read);
   return 0;
 }
 

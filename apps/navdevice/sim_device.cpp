@@ -4,20 +4,20 @@
 #include <cstdio>
 #include <optional>
 
+#include "device_common.hpp"
 #include "nav/core/clock.hpp"
 #include "nav/dds/stop_request.hpp"
 #include "nav/station/simulated_world.hpp"
 #include "nav/station/station_liver.hpp"
 #include "nav/station/tracker_registration.hpp"
 #include "nav/station/world_player.hpp"
-#include "device_common.hpp"
 
 namespace navdevice {
 namespace {
 
-using nav::TimeNs;
 using nav::kNsPerMs;
 using nav::kNsPerSecond;
+using nav::TimeNs;
 
 constexpr TimeNs kPlayPeriodNs = kNsPerMs / 2;
 constexpr TimeNs kStartDelayNs = 20 * kNsPerMs;  // from the station's match to world time 0
@@ -30,8 +30,8 @@ constexpr double kRecordedSeconds = 60.0;
 
 void print_status(double seconds, const nav::station::PlayerCounts& c, std::size_t stations) {
   std::printf("navdevice sim: %.0f s, written %lld poses, %lld frames, %lld truths; stations reading: %zu\n", seconds,
-              static_cast<long long>(c.poses_written), static_cast<long long>(c.frames_written), static_cast<long long>(c.truths_written),
-              stations);
+              static_cast<long long>(c.poses_written), static_cast<long long>(c.frames_written),
+              static_cast<long long>(c.truths_written), stations);
   std::fflush(stdout);
 }
 
@@ -41,21 +41,25 @@ int run_sim(const std::vector<std::string>& arguments) {
   std::optional<DeviceArgs> args = parse_common_flags(arguments);
   if (args && args->seconds == 0.0) args->seconds = kDefaultSeconds;
   if (!args || args->seconds > kMaxSeconds) {
-    std::fprintf(stderr, "usage: navdevice sim --scene FILE [--seconds S (0, 14400]] [--domain D] [--no-wait] [--wait-s S]\n");
+    std::fprintf(stderr,
+                 "usage: navdevice sim --scene FILE [--seconds S (0, 14400]] [--domain D] [--no-wait] [--wait-s S]\n");
     return kExitUsage;
   }
   nav::dds::install_stop_handlers();
   auto scene = load_device_scene(*args);
   if (!scene.ok()) return fail("sim", scene.error().describe());
   const nav::station::Scene& s = scene.value();
-  if (const nav::Status simulated = nav::station::check_simulated_devices(s); !simulated.ok()) return fail("sim", simulated.error().describe());
+  if (const nav::Status simulated = nav::station::check_simulated_devices(s); !simulated.ok())
+    return fail("sim", simulated.error().describe());
   const double recorded_s = std::min(args->seconds, kRecordedSeconds);
   nav::station::WorldOptions world_options;
   world_options.duration_ns = static_cast<TimeNs>(recorded_s * 1e9);
   const TimeNs period_ns = nav::station::world_period_ns(world_options);
-  std::printf("navdevice sim: simulating %.0f s of the patient of scene '%s' (full-order liver, tracker, B-mode scanner)", recorded_s,
-              s.station.name.c_str());
-  if (args->seconds > recorded_s) std::printf("; its last %.0f s repeat to %.0f s", 1e-9 * static_cast<double>(period_ns), args->seconds);
+  std::printf(
+      "navdevice sim: simulating %.0f s of the patient of scene '%s' (full-order liver, tracker, B-mode scanner)",
+      recorded_s, s.station.name.c_str());
+  if (args->seconds > recorded_s)
+    std::printf("; its last %.0f s repeat to %.0f s", 1e-9 * static_cast<double>(period_ns), args->seconds);
   std::printf(" ...\n");
   std::fflush(stdout);
   auto liver = nav::station::make_station_liver(s);
@@ -77,7 +81,9 @@ int run_sim(const std::vector<std::string>& arguments) {
   auto reference_from_model = nav::station::scene_reference_from_model(s);
   if (!reference_from_model.ok()) return fail("sim", reference_from_model.error().describe());
   const nav::station::TrackerSettings& t = s.devices.tracker;
-  nav::station::WorldPlayer player(world.value(), true, nav::station::simulated_tracker(t.tools, t.tracker_from_reference, reference_from_model.value()));
+  nav::station::WorldPlayer player(
+      world.value(), true,
+      nav::station::simulated_tracker(t.tools, t.tracker_from_reference, reference_from_model.value()));
   player.set_world_to_device_ns(start_ns - static_cast<TimeNs>(s.devices.clock.offset_ms * 1e6));
   if (args->seconds > recorded_s) player.repeat_last(period_ns);
   const auto run_ns = static_cast<TimeNs>(args->seconds * 1e9);
@@ -87,7 +93,8 @@ int run_sim(const std::vector<std::string>& arguments) {
     if (now_ns > run_ns) break;
     player.play_until(now_ns, &dds, clock);
     if (now_ns >= next_status_ns) {
-      print_status(1e-9 * static_cast<double>(next_status_ns), player.counts(), dds.matched(nav::dds::Topic::tool_pose));
+      print_status(1e-9 * static_cast<double>(next_status_ns), player.counts(),
+                   dds.matched(nav::dds::Topic::tool_pose));
       next_status_ns += kNsPerSecond;
     }
     clock.sleep_until_ns(clock.now_ns() + kPlayPeriodNs);
@@ -95,7 +102,8 @@ int run_sim(const std::vector<std::string>& arguments) {
   dds.wait_for_acknowledgments(kNsPerSecond);  // the last truths reach the evaluation
   std::printf("navdevice sim: %s after %.1f s\n", nav::dds::stop_requested() ? "stopped" : "done",
               1e-9 * static_cast<double>(clock.now_ns() - start_ns));
-  print_status(1e-9 * static_cast<double>(clock.now_ns() - start_ns), player.counts(), dds.matched(nav::dds::Topic::tool_pose));
+  print_status(1e-9 * static_cast<double>(clock.now_ns() - start_ns), player.counts(),
+               dds.matched(nav::dds::Topic::tool_pose));
   return 0;
 }
 

@@ -15,19 +15,24 @@
 
 namespace navstation {
 
-nav::Result<ChildProcess> ChildProcess::start(const std::string& program, const std::vector<std::string>& args, const std::string& log_path) {
+nav::Result<ChildProcess> ChildProcess::start(const std::string& program, const std::vector<std::string>& args,
+                                              const std::string& log_path) {
   std::error_code error;
   const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
-  if (error) return nav::Error{.message = "cannot find navstation's own folder: " + error.message(), .file = "/proc/self/exe"};
+  if (error)
+    return nav::Error{.message = "cannot find navstation's own folder: " + error.message(), .file = "/proc/self/exe"};
   const std::string path = (self.parent_path() / program).string();
-  if (access(path.c_str(), X_OK) != 0) return nav::Error{.message = "cannot start " + program + ": " + std::strerror(errno), .file = path};
+  if (access(path.c_str(), X_OK) != 0)
+    return nav::Error{.message = "cannot start " + program + ": " + std::strerror(errno), .file = path};
   std::vector<std::string> arguments{path};
   arguments.insert(arguments.end(), args.begin(), args.end());
   std::vector<char*> argv;
   for (std::string& a : arguments) argv.push_back(a.data());
   argv.push_back(nullptr);
   const int log = open(log_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (log < 0) return nav::Error{.message = std::string("cannot write the log of ") + program + ": " + std::strerror(errno), .file = log_path};
+  if (log < 0)
+    return nav::Error{.message = std::string("cannot write the log of ") + program + ": " + std::strerror(errno),
+                      .file = log_path};
   const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid == 0) {  // only async-signal-safe calls until exec
@@ -40,12 +45,17 @@ nav::Result<ChildProcess> ChildProcess::start(const std::string& program, const 
   }
   const int fork_error = errno;
   close(log);
-  if (pid < 0) return nav::Error{.message = std::string("cannot start ") + program + ": " + std::strerror(fork_error), .file = path};
+  if (pid < 0)
+    return nav::Error{.message = std::string("cannot start ") + program + ": " + std::strerror(fork_error),
+                      .file = path};
   return ChildProcess(program, log_path, pid);
 }
 
 ChildProcess::ChildProcess(ChildProcess&& other) noexcept
-    : program_(std::move(other.program_)), log_path_(std::move(other.log_path_)), pid_(other.pid_), status_(other.status_) {
+    : program_(std::move(other.program_)),
+      log_path_(std::move(other.log_path_)),
+      pid_(other.pid_),
+      status_(other.status_) {
   other.pid_ = -1;
 }
 

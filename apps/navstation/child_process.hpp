@@ -18,7 +18,8 @@ class ChildProcess {
  public:
   /// Starts `program` (the executable of that name in navstation's own folder) with `args`,
   /// stdout and stderr into `log_path`, or says why it cannot.
-  static nav::Result<ChildProcess> start(const std::string& program, const std::vector<std::string>& args, const std::string& log_path);
+  static nav::Result<ChildProcess> start(const std::string& program, const std::vector<std::string>& args,
+                                         const std::string& log_path);
   ChildProcess(ChildProcess&& other) noexcept;
   ChildProcess& operator=(ChildProcess&&) = delete;
   ChildProcess(const ChildProcess&) = delete;
@@ -45,7 +46,8 @@ class ChildProcess {
   static constexpr double kStopGraceS = 10.0;
 
  private:
-  ChildProcess(std::string program, std::string log_path, pid_t pid) : program_(std::move(program)), log_path_(std::move(log_path)), pid_(pid) {}
+  ChildProcess(std::string program, std::string log_path, pid_t pid)
+      : program_(std::move(program)), log_path_(std::move(log_path)), pid_(pid) {}
   std::string program_, log_path_;
   pid_t pid_ = -1;
   std::optional<int> status_;  ///< waitpid's status once it ended

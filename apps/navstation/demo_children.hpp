@@ -1,8 +1,8 @@
 #pragma once
 // The demo's other processes: the simulated patient (navdevice sim), the evaluation
-// (navtool evaluate) and, for soak runs, a load on the host (navdevice load), children of `navstation --demo` on its scene and DDS domain, as a
-// station engineer would run them by hand (README: the live station). The station itself runs
-// in navstation's own process between start and finish_and_report.
+// (navtool evaluate) and, for soak runs, a load on the host (navdevice load), children of `navstation --demo` on its
+// scene and DDS domain, as a station engineer would run them by hand (README: the live station). The station itself
+// runs in navstation's own process between start and finish_and_report.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -14,11 +14,11 @@ namespace navstation {
 /// What the demo's children run on.
 struct DemoPlan {
   std::string scene_path;
-  double seconds = 10.0;           ///< the station's run
+  double seconds = 10.0;  ///< the station's run
   std::uint32_t domain_id = 0;
   std::string plot_path, json_path;  ///< the evaluation's error plot and figures (optional)
-  std::string logs_dir;            ///< the children's logs
-  double load_factor = 0.0;        ///< > 0: a load generator (navdevice load) at this factor of the scene's rates
+  std::string logs_dir;              ///< the children's logs
+  double load_factor = 0.0;          ///< > 0: a load generator (navdevice load) at this factor of the scene's rates
 };
 
 /// The patient and the evaluation, running.

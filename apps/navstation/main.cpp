@@ -39,24 +39,25 @@
 
 #include <unistd.h>
 
+#include "demo_children.hpp"
 #include "nav/core/kernel_isa.hpp"
 #include "nav/core/text_file.hpp"
+#include "nav/dds/stop_request.hpp"
 #include "nav/station/realtime_thread.hpp"
 #include "nav/station/scene.hpp"
+#include "nav/station/session_replay.hpp"
 #include "nav/station/station_build.hpp"
 #include "nav/station/station_dds.hpp"
-#include "nav/station/session_replay.hpp"
 #include "nav/station/station_loop.hpp"
 #include "nav/station/station_session.hpp"
-#include "demo_children.hpp"
 #include "navview_beside.hpp"
-#include "nav/dds/stop_request.hpp"
 
 namespace {
 
 constexpr const char* kUsage =
     "usage: navstation --scene FILE --check\n"
-    "       navstation (--demo [--logs DIR] [--load F] | --scene FILE) [--seconds S] [--domain D] [--plot FILE.svg] [--json FILE]\n"
+    "       navstation (--demo [--logs DIR] [--load F] | --scene FILE) [--seconds S] [--domain D] [--plot FILE.svg] "
+    "[--json FILE]\n"
     "                                                        [--images DIR]\n"
     "       navstation --scene FILE --live [--seconds S] [--domain D] [--images DIR]\n"
     "       navstation --scene FILE --replay REC.navrec\n";
@@ -69,7 +70,7 @@ struct Arguments {
   bool check = false, demo = false, live = false;
   double seconds = 10.0;
   double load_factor = 0.0;  ///< --load F (--demo): a load generator at F x the scene's rates
-  long domain_id = -1;  ///< -1: the scene's
+  long domain_id = -1;       ///< -1: the scene's
   std::string plot_path, json_path, images_dir, replay_path, logs_dir;
 };
 
@@ -79,7 +80,8 @@ void print_plan(const nav::station::Scene& scene) {
               s.tissue_rate_hz, s.display_latency_ms);
   std::printf("threads: real-time loop on core %d, I/O on core %d\n", s.realtime_core, s.io_core);
   const std::string_view isa = nav::kernel_isa_name(nav::resolve_kernel_isa(nav::KernelIsa::best));
-  std::printf("lane kernels: %.*s (every instruction set gives the same bits)\n", static_cast<int>(isa.size()), isa.data());
+  std::printf("lane kernels: %.*s (every instruction set gives the same bits)\n", static_cast<int>(isa.size()),
+              isa.data());
 }
 
 void print_realtime(const nav::station::StationSettings& s) {
@@ -103,15 +105,17 @@ void print_ladder(const nav::station::LiverModels& liver) {
   if (!o.escalation_allowed) {
     std::printf("escalation not allowed (the indicator only raises its flag)\n");
   } else if (o.de_escalate_after_steps > 0) {
-    std::printf("escalation allowed after %d flagged step(s); steps down after %d steps inside ratio %.3g, residual %.3g\n",
-                o.escalate_after_steps, o.de_escalate_after_steps, o.de_escalation_envelope_ratio, o.de_escalation_residual);
+    std::printf(
+        "escalation allowed after %d flagged step(s); steps down after %d steps inside ratio %.3g, residual %.3g\n",
+        o.escalate_after_steps, o.de_escalate_after_steps, o.de_escalation_envelope_ratio, o.de_escalation_residual);
   } else {
     std::printf("escalation allowed after %d flagged step(s); never steps down\n", o.escalate_after_steps);
   }
   for (int k = 0; k < ladder.reduced_rung_count(); ++k) {
     const nav::ReducedModel& rung = ladder.reduced_rung(k);
     std::printf("  rung %d  reduced r = %d, %d sampled tetrahedra", k, rung.basis_size(), rung.sample_count());
-    if (k + 1 < ladder.reduced_rung_count()) std::printf(", transfer loss to rung %d %.1e", k + 1, ladder.transfer_loss(k));
+    if (k + 1 < ladder.reduced_rung_count())
+      std::printf(", transfer loss to rung %d %.1e", k + 1, ladder.transfer_loss(k));
     std::printf("\n");
   }
   if (ladder.has_full_order())
@@ -155,14 +159,14 @@ std::optional<std::string> read_file(const std::string& path) {
 /// Runs the live station; its figures go to --json, or to `figures_json` when given (the demo's).
 int run_live(const nav::station::Scene& scene, const Arguments& args, std::string* figures_json = nullptr) {
   print_plan(scene);
-  std::printf("building the liver and its reduced loop, then running %.1f s on the devices of domain %u ...\n", args.seconds,
-              scene.topics.domain_id);
+  std::printf("building the liver and its reduced loop, then running %.1f s on the devices of domain %u ...\n",
+              args.seconds, scene.topics.domain_id);
   std::fflush(stdout);
   nav::dds::install_stop_handlers();  // SIGINT, SIGTERM: the run ends at its next tick and reports
   navstation::NavviewBeside navview(scene, args.images_dir, args.seconds);
-  auto session = nav::station::run_live_session(scene, static_cast<nav::TimeNs>(args.seconds * 1e9),
-                                                [&](const nav::station::DisplaySurface& surface) { return navview.start(surface); },
-                                                &nav::dds::g_stop_requested);
+  auto session = nav::station::run_live_session(
+      scene, static_cast<nav::TimeNs>(args.seconds * 1e9),
+      [&](const nav::station::DisplaySurface& surface) { return navview.start(surface); }, &nav::dds::g_stop_requested);
   const bool images = navview.stop_and_report();
   if (!session.ok()) {
     std::fprintf(stderr, "navstation: %s\n", session.error().describe().c_str());
@@ -178,12 +182,14 @@ int run_live(const nav::station::Scene& scene, const Arguments& args, std::strin
 /// The demo: the simulated patient and the evaluation as child processes, the live station here.
 int run_demo(const nav::station::Scene& scene, const Arguments& args) {
   nav::dds::install_stop_handlers();
-  const std::string logs_dir = args.logs_dir.empty() ? (std::filesystem::temp_directory_path() /
-                                                        ("navstation_demo." + std::to_string(getpid()))).string()
-                                                     : args.logs_dir;
-  const std::string evaluation_json = args.json_path.empty() ? "" : (std::filesystem::path(logs_dir) / "evaluation.json").string();
-  auto children = navstation::DemoChildren::start(
-      {NAV_STATION_DEMO_SCENE, args.seconds, scene.topics.domain_id, args.plot_path, evaluation_json, logs_dir, args.load_factor});
+  const std::string logs_dir =
+      args.logs_dir.empty()
+          ? (std::filesystem::temp_directory_path() / ("navstation_demo." + std::to_string(getpid()))).string()
+          : args.logs_dir;
+  const std::string evaluation_json =
+      args.json_path.empty() ? "" : (std::filesystem::path(logs_dir) / "evaluation.json").string();
+  auto children = navstation::DemoChildren::start({NAV_STATION_DEMO_SCENE, args.seconds, scene.topics.domain_id,
+                                                   args.plot_path, evaluation_json, logs_dir, args.load_factor});
   if (!children.ok()) {
     std::fprintf(stderr, "navstation: %s\n", children.error().describe().c_str());
     return kExitError;
@@ -195,7 +201,8 @@ int run_demo(const nav::station::Scene& scene, const Arguments& args) {
   bool written = true;
   if (!args.json_path.empty() && station == 0 && evaluated) {
     const std::optional<std::string> evaluation = read_file(evaluation_json);
-    written = evaluation && write_file(args.json_path, "{\"station\": " + station_json + ",\n\"evaluation\": " + *evaluation + "}\n");
+    written = evaluation &&
+              write_file(args.json_path, "{\"station\": " + station_json + ",\n\"evaluation\": " + *evaluation + "}\n");
   }
   return station == 0 && evaluated && written ? 0 : kExitError;
 }
@@ -230,11 +237,14 @@ int run_scene(const nav::station::Scene& scene, const Arguments& args) {
   std::printf("%s", nav::station::format_summary(scene, session.value()).c_str());
   bool written = true;
   if (!args.plot_path.empty()) {
-    written = write_file(args.plot_path, nav::station::error_plot_svg("station '" + scene.station.name + "': tumour prediction error",
-                                                                      nav::station::error_series(session.value()))) && written;
+    written = write_file(args.plot_path,
+                         nav::station::error_plot_svg("station '" + scene.station.name + "': tumour prediction error",
+                                                      nav::station::error_series(session.value()))) &&
+              written;
     if (written) std::printf("error plot: %s\n", args.plot_path.c_str());
   }
-  if (!args.json_path.empty()) written = write_file(args.json_path, nav::station::session_json(scene, session.value())) && written;
+  if (!args.json_path.empty())
+    written = write_file(args.json_path, nav::station::session_json(scene, session.value())) && written;
   written = written && images;
   return written ? 0 : kExitError;
 }
@@ -292,13 +302,14 @@ bool parse(int argc, char** argv, Arguments& args) {
     std::fprintf(stderr, "navstation: give --demo or --scene FILE\n");
     return false;
   }
-  if (!args.replay_path.empty() && (args.demo || args.check || args.live || !args.plot_path.empty() || !args.json_path.empty() ||
-                                    !args.images_dir.empty())) {
+  if (!args.replay_path.empty() && (args.demo || args.check || args.live || !args.plot_path.empty() ||
+                                    !args.json_path.empty() || !args.images_dir.empty())) {
     std::fprintf(stderr, "navstation: --replay runs a --scene FILE alone on a recording\n");
     return false;
   }
   if (!args.demo && !args.live && args.replay_path.empty() && args.seconds > 600.0) {
-    std::fprintf(stderr, "navstation: a scene's world runs in this process for at most 600 s (--live or --demo: 3600)\n");
+    std::fprintf(stderr,
+                 "navstation: a scene's world runs in this process for at most 600 s (--live or --demo: 3600)\n");
     return false;
   }
   if (args.load_factor > 0.0 && !args.demo) {
@@ -310,7 +321,9 @@ bool parse(int argc, char** argv, Arguments& args) {
     return false;
   }
   if (args.live && (args.demo || args.check || !args.plot_path.empty())) {
-    std::fprintf(stderr, "navstation: --live runs a --scene FILE alone (its evaluation is navtool evaluate; --json FILE: the run's figures)\n");
+    std::fprintf(stderr,
+                 "navstation: --live runs a --scene FILE alone (its evaluation is navtool evaluate; --json FILE: the "
+                 "run's figures)\n");
     return false;
   }
   return true;

@@ -14,7 +14,8 @@
 namespace navtool {
 
 int calib_camera(const std::vector<std::string>& args) {
-  const auto options = CalibOptions::parse(args, {"--images", "--tag-size", "--pitch", "--cols", "--rows", "--out", "--k3"});
+  const auto options =
+      CalibOptions::parse(args, {"--images", "--tag-size", "--pitch", "--cols", "--rows", "--out", "--k3"});
   if (!options) return exit_bad_input;
   const std::string k3 = options->get("--k3", "0");
   if (k3 != "0" && k3 != "1") return report_error({"expected 0 or 1", "", 0, "--k3"});
@@ -27,7 +28,8 @@ int calib_camera(const std::vector<std::string>& args) {
     const std::string text = options->get(names[i]);
     char* end = nullptr;
     numbers[i] = std::strtod(text.c_str(), &end);
-    if (end == text.c_str() || *end != '\0' || !(numbers[i] > 0.0)) return report_error({"expected a positive number", "", 0, names[i]});
+    if (end == text.c_str() || *end != '\0' || !(numbers[i] > 0.0))
+      return report_error({"expected a positive number", "", 0, names[i]});
   }
   const double tag_size_m = numbers[0];
   const double pitch_m = numbers[1];
@@ -44,7 +46,8 @@ int calib_camera(const std::vector<std::string>& args) {
     nav::calibration::PlanarView view;
     for (const auto& seen : detector.value()->detect(image.value())) {
       if (seen.id < 0 || seen.id >= cols * rows) continue;
-      const Eigen::Vector2d centre(((seen.id % cols) - 0.5 * (cols - 1)) * pitch_m, ((seen.id / cols) - 0.5 * (rows - 1)) * pitch_m);
+      const Eigen::Vector2d centre(((seen.id % cols) - 0.5 * (cols - 1)) * pitch_m,
+                                   ((seen.id / cols) - 0.5 * (rows - 1)) * pitch_m);
       for (int k = 0; k < 4; ++k) {
         view.board_points_m.push_back(centre + nav::trackers::tag_corner(k, tag_size_m).head<2>());
         view.image_points_px.push_back(seen.corners_px[k]);
@@ -57,14 +60,14 @@ int calib_camera(const std::vector<std::string>& args) {
   if (!result) return report_error(result.error());
   const auto& c = result.value();
   const auto& d = c.distortion;
-  std::printf("fx %.3f fy %.3f cx %.3f cy %.3f px, reprojection RMS %.3f px over %zu views\n", c.fx_px, c.fy_px, c.cx_px,
-              c.cy_px, c.rms_reprojection_px, views.size());
+  std::printf("fx %.3f fy %.3f cx %.3f cy %.3f px, reprojection RMS %.3f px over %zu views\n", c.fx_px, c.fy_px,
+              c.cx_px, c.cy_px, c.rms_reprojection_px, views.size());
   std::printf("lens distortion: k1 %.6f k2 %.6f p1 %.6f p2 %.6f k3 %.6f\n", d.k1, d.k2, d.p1, d.p2, d.k3);
   std::ofstream out(options->get("--out"));
   out.precision(10);
   out << "# fx_px fy_px cx_px cy_px k1 k2 p1 p2 k3 rms_px (pixel centres at integers; Brown-Conrady as OpenCV)\n"
-      << c.fx_px << " " << c.fy_px << " " << c.cx_px << " " << c.cy_px << " " << d.k1 << " " << d.k2 << " " << d.p1 << " "
-      << d.p2 << " " << d.k3 << " " << c.rms_reprojection_px << "\n";
+      << c.fx_px << " " << c.fy_px << " " << c.cx_px << " " << c.cy_px << " " << d.k1 << " " << d.k2 << " " << d.p1
+      << " " << d.p2 << " " << d.k3 << " " << c.rms_reprojection_px << "\n";
   if (!out) return report_error({"cannot write the intrinsics", options->get("--out"), 0, "--out"});
   return exit_ok;
 }

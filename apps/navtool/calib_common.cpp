@@ -9,7 +9,8 @@
 
 namespace navtool {
 
-std::optional<CalibOptions> CalibOptions::parse(const std::vector<std::string>& args, const std::vector<std::string>& known) {
+std::optional<CalibOptions> CalibOptions::parse(const std::vector<std::string>& args,
+                                                const std::vector<std::string>& known) {
   CalibOptions options;
   for (std::size_t i = 0; i < args.size(); i += 2) {
     if (std::find(known.begin(), known.end(), args[i]) == known.end()) {
@@ -33,7 +34,8 @@ std::string CalibOptions::get(const std::string& name, const std::string& fallba
 nav::Result<std::vector<nav::calibration::RecordedPose>> read_recorded_tool_poses(const std::string& path) {
   auto reader = nav::dds::RecordingReader::open(path);
   if (!reader) return reader.error();
-  if (reader.value()->damage()) std::fprintf(stderr, "navtool calib: note: %s\n", reader.value()->damage()->describe().c_str());
+  if (reader.value()->damage())
+    std::fprintf(stderr, "navtool calib: note: %s\n", reader.value()->damage()->describe().c_str());
   std::vector<nav::calibration::RecordedPose> poses;
   nav::dds::ToolPose sample;
   for (std::size_t i = 0; i < reader.value()->record_count(); ++i) {
@@ -57,13 +59,15 @@ nav::Result<std::vector<nav::calibration::RecordedPose>> read_recorded_tool_pose
     pose.pose.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
     poses.push_back(pose);
   }
-  if (poses.empty()) return nav::Error{.message = "the recording holds no tool pose", .file = path, .field = "nav/tool_pose"};
+  if (poses.empty())
+    return nav::Error{.message = "the recording holds no tool pose", .file = path, .field = "nav/tool_pose"};
   return poses;
 }
 
 nav::Result<std::vector<nav::calibration::RecordedPose>> read_poses_option(const CalibOptions& options) {
   if (options.has("--poses") == options.has("--recording")) {
-    return nav::Error{.message = "give exactly one of --poses FILE.csv and --recording FILE.navrec", .field = "--poses"};
+    return nav::Error{.message = "give exactly one of --poses FILE.csv and --recording FILE.navrec",
+                      .field = "--poses"};
   }
   if (options.has("--poses")) return nav::calibration::read_pose_csv(options.get("--poses"));
   return read_recorded_tool_poses(options.get("--recording"));

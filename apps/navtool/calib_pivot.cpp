@@ -14,7 +14,8 @@ int calib_pivot(const std::vector<std::string>& args) {
   if (!options) return exit_bad_input;
   auto recorded = read_poses_option(*options);
   if (!recorded) return report_error(recorded.error());
-  auto result = nav::calibration::pivot_calibration(nav::calibration::poses_of(recorded.value(), options->get("--tool")));
+  auto result =
+      nav::calibration::pivot_calibration(nav::calibration::poses_of(recorded.value(), options->get("--tool")));
   if (!result) {
     nav::Error error = result.error();
     error.file = options->get("--poses", options->get("--recording"));

@@ -21,8 +21,10 @@ nav::Result<std::vector<nav::calibration::TrackedImage>> tracked_frames(const na
   const std::string reference_name = options.get("--reference", "ReferenceToTracker");
   const auto* probe = sequence.find_transform(probe_name);
   const auto* reference = sequence.find_transform(reference_name);
-  if (probe == nullptr) return nav::Error{.message = "no such transform in the recording", .file = sequence.path, .field = probe_name};
-  if (reference == nullptr) return nav::Error{.message = "no such transform in the recording", .file = sequence.path, .field = reference_name};
+  if (probe == nullptr)
+    return nav::Error{.message = "no such transform in the recording", .file = sequence.path, .field = probe_name};
+  if (reference == nullptr)
+    return nav::Error{.message = "no such transform in the recording", .file = sequence.path, .field = reference_name};
   std::vector<nav::calibration::TrackedImage> frames;
   for (std::size_t i = 0; i < sequence.frames_read; ++i) {
     if (!probe->valid[i] || !reference->valid[i] || !sequence.image_valid[i]) continue;
@@ -62,7 +64,8 @@ int calib_probe(const std::vector<std::string>& args) {
   const nav::calibration::ProbeCalibration& calibration = result.value().calibration;
   const Eigen::Vector3d t = calibration.probe_from_image.translation();
   const Eigen::Vector3d rpy = nav::calibration::rotation_to_rpy(calibration.probe_from_image.linear());
-  std::printf("image to probe: xyz %.6f %.6f %.6f m, rpy %.6f %.6f %.6f rad\n", t.x(), t.y(), t.z(), rpy.x(), rpy.y(), rpy.z());
+  std::printf("image to probe: xyz %.6f %.6f %.6f m, rpy %.6f %.6f %.6f rad\n", t.x(), t.y(), t.z(), rpy.x(), rpy.y(),
+              rpy.z());
   std::printf("pixel spacing %.5f x %.5f mm\n", 1e3 * calibration.spacing_m.x(), 1e3 * calibration.spacing_m.y());
   std::printf("phantom found in %zu of %zu frames; %zu points, %zu outliers, RMS residual %.3f mm\n",
               result.value().frames_segmented, result.value().frames_total, calibration.points, calibration.outliers,
@@ -72,8 +75,11 @@ int calib_probe(const std::vector<std::string>& args) {
     if (!validation) return report_error(validation.error());
     const auto validation_frames = tracked_frames(validation.value(), *options);
     if (!validation_frames) return report_error(validation_frames.error());
-    const auto points = nav::calibration::nwire_points(validation_frames.value(), phantom.value(), result.value().correspondence);
-    if (points.points.empty()) return report_error({"the phantom was not found in the validation recording", options->get("--validation"), 0, "frames"});
+    const auto points =
+        nav::calibration::nwire_points(validation_frames.value(), phantom.value(), result.value().correspondence);
+    if (points.points.empty())
+      return report_error(
+          {"the phantom was not found in the validation recording", options->get("--validation"), 0, "frames"});
     const auto check = nav::calibration::validate_probe_calibration(calibration, points.points);
     std::printf("validation: %zu of %zu frames, %zu points, reprojection error mean %.3f RMS %.3f max %.3f mm\n",
                 points.frames_segmented, points.frames_total, check.points, 1e3 * check.mean_error_m,

@@ -24,8 +24,8 @@ std::optional<nav::LengthUnit> parse_unit(const std::string& name) {
 }  // namespace
 
 int calib_register(const std::vector<std::string>& args) {
-  const auto options = CalibOptions::parse(
-      args, {"--model-points", "--tracked-points", "--surface", "--unit", "--surface-points", "--urdf", "--out", "--joint"});
+  const auto options = CalibOptions::parse(args, {"--model-points", "--tracked-points", "--surface", "--unit",
+                                                  "--surface-points", "--urdf", "--out", "--joint"});
   if (!options) return exit_bad_input;
   if (!options->has("--model-points") || !options->has("--tracked-points")) {
     return report_error({"--model-points FILE.csv and --tracked-points FILE.csv are required", "", 0, ""});
@@ -54,7 +54,8 @@ int calib_register(const std::vector<std::string>& args) {
                 icp.value().iterations, residual_m * 1e3);
   }
   if (!options->has("--urdf")) return exit_ok;
-  return write_calibration(*options, options->get("--joint", "reference_to_liver_model"), tracked_from_model, residual_m);
+  return write_calibration(*options, options->get("--joint", "reference_to_liver_model"), tracked_from_model,
+                           residual_m);
 }
 
 }  // namespace navtool

@@ -16,7 +16,8 @@
 namespace navtool {
 
 int calib_temporal(const std::vector<std::string>& args) {
-  const auto options = CalibOptions::parse(args, {"--video", "--tracker", "--probe", "--reference", "--max-lag-s", "--out"});
+  const auto options =
+      CalibOptions::parse(args, {"--video", "--tracker", "--probe", "--reference", "--max-lag-s", "--out"});
   if (!options) return exit_bad_input;
   if (!options->has("--video") || !options->has("--tracker")) {
     return report_error({"--video FILE.mha and --tracker FILE.mha are required", "", 0, "--video"});
@@ -39,15 +40,18 @@ int calib_temporal(const std::vector<std::string>& args) {
   const std::string reference_name = options->get("--reference", "ReferenceToTracker");
   const auto* probe = tracker.value().find_transform(probe_name);
   const auto* reference = tracker.value().find_transform(reference_name);
-  if (probe == nullptr) return report_error({"no such transform in the recording", options->get("--tracker"), 0, probe_name});
-  if (reference == nullptr) return report_error({"no such transform in the recording", options->get("--tracker"), 0, reference_name});
+  if (probe == nullptr)
+    return report_error({"no such transform in the recording", options->get("--tracker"), 0, probe_name});
+  if (reference == nullptr)
+    return report_error({"no such transform in the recording", options->get("--tracker"), 0, reference_name});
   std::vector<double> times;
   std::vector<Eigen::Vector3d> positions;
   for (std::size_t i = 0; i < tracker.value().frame_count; ++i) {
     if (!probe->valid[i] || !reference->valid[i]) continue;
     times.push_back(tracker.value().timestamps_s[i]);
     positions.push_back((nav::ultrasound::rigid_transform_m(reference->matrices_mm[i]).inverse() *
-                         nav::ultrasound::rigid_transform_m(probe->matrices_mm[i])).translation());
+                         nav::ultrasound::rigid_transform_m(probe->matrices_mm[i]))
+                            .translation());
   }
   nav::calibration::TemporalOptions temporal;
   char* end = nullptr;
@@ -56,22 +60,23 @@ int calib_temporal(const std::vector<std::string>& args) {
   if (end == max_lag.c_str() || *end != '\0' || !(temporal.max_lag_s > 0.0)) {
     return report_error({"expected a positive number of seconds", "", 0, "--max-lag-s"});
   }
-  const auto estimate = nav::calibration::estimate_lag(nav::calibration::principal_motion(times, positions), line, temporal);
+  const auto estimate =
+      nav::calibration::estimate_lag(nav::calibration::principal_motion(times, positions), line, temporal);
   if (!estimate) {
     nav::Error error = estimate.error();
     error.file = options->get("--video");
     return report_error(error);
   }
   const auto& lag = estimate.value();
-  std::printf("video lags the tracker by %.2f ms +- %.2f ms (correlation %.3f, %zu of %zu frames with the line, %zu "
-              "tracker samples)\n",
-              1e3 * lag.lag_s, 1e3 * lag.uncertainty_s, lag.correlation, line.times_s.size(), frames.frames_read,
-              times.size());
+  std::printf(
+      "video lags the tracker by %.2f ms +- %.2f ms (correlation %.3f, %zu of %zu frames with the line, %zu "
+      "tracker samples)\n",
+      1e3 * lag.lag_s, 1e3 * lag.uncertainty_s, lag.correlation, line.times_s.size(), frames.frames_read, times.size());
   if (!options->has("--out")) return exit_ok;
   std::ofstream out(options->get("--out"));
   out << "# navtool calib temporal: subtract video_lag_s from the video's time stamps\n"
-      << "video_lag_s = " << lag.lag_s << "\nuncertainty_s = " << lag.uncertainty_s << "\ncorrelation = " << lag.correlation
-      << '\n';
+      << "video_lag_s = " << lag.lag_s << "\nuncertainty_s = " << lag.uncertainty_s
+      << "\ncorrelation = " << lag.correlation << '\n';
   if (!out) return report_error({"cannot write", options->get("--out"), 0, ""});
   std::printf("wrote %s\n", options->get("--out").c_str());
   return exit_ok;

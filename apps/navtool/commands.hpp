@@ -20,7 +20,8 @@ int mesh_make(const std::vector<std::string>& args);
 /// [--as-fast-as-possible] [--domain D] ...: args start with "record" or "replay".
 int record_replay(const std::vector<std::string>& args);
 
-/// navtool evaluate (--scene FILE [--seconds S] [--domain D] | --recording FILE) [--settle-s S] [--plot F.svg] [--json F]
+/// navtool evaluate (--scene FILE [--seconds S] [--domain D] | --recording FILE) [--settle-s S] [--plot F.svg] [--json
+/// F]
 int evaluate(const std::vector<std::string>& args);
 
 /// navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --method M --r R

@@ -33,25 +33,34 @@ std::optional<EvaluateArgs> parse(const std::vector<std::string>& args) {
   for (std::size_t i = 1; i < args.size(); ++i) {
     const bool has_value = i + 1 < args.size();
     try {
-      if (args[i] == "--scene" && has_value) parsed.scene_path = args[++i];
-      else if (args[i] == "--recording" && has_value) parsed.recording_path = args[++i];
-      else if (args[i] == "--seconds" && has_value) parsed.seconds = std::stod(args[++i]);
-      else if (args[i] == "--settle-s" && has_value) parsed.settle_s = std::stod(args[++i]);
-      else if (args[i] == "--domain" && has_value) parsed.domain_id = std::stol(args[++i]);
-      else if (args[i] == "--plot" && has_value) parsed.plot_path = args[++i];
-      else if (args[i] == "--json" && has_value) parsed.json_path = args[++i];
-      else return std::nullopt;
+      if (args[i] == "--scene" && has_value)
+        parsed.scene_path = args[++i];
+      else if (args[i] == "--recording" && has_value)
+        parsed.recording_path = args[++i];
+      else if (args[i] == "--seconds" && has_value)
+        parsed.seconds = std::stod(args[++i]);
+      else if (args[i] == "--settle-s" && has_value)
+        parsed.settle_s = std::stod(args[++i]);
+      else if (args[i] == "--domain" && has_value)
+        parsed.domain_id = std::stol(args[++i]);
+      else if (args[i] == "--plot" && has_value)
+        parsed.plot_path = args[++i];
+      else if (args[i] == "--json" && has_value)
+        parsed.json_path = args[++i];
+      else
+        return std::nullopt;
     } catch (const std::exception&) {
       return std::nullopt;
     }
   }
-  const bool valid = parsed.scene_path.empty() != parsed.recording_path.empty() && parsed.seconds > 0.0 && parsed.settle_s >= 0.0 &&
-                     parsed.domain_id >= -1 && parsed.domain_id <= 232;
+  const bool valid = parsed.scene_path.empty() != parsed.recording_path.empty() && parsed.seconds > 0.0 &&
+                     parsed.settle_s >= 0.0 && parsed.domain_id >= -1 && parsed.domain_id <= 232;
   return valid ? std::optional<EvaluateArgs>(parsed) : std::nullopt;
 }
 
 nav::station::TimedTip tip_of(const nav::dds::NeedleState& needle) {
-  return {needle.source_time_ns, needle.point_count > 0 ? needle.shape_points_m[needle.point_count - 1] : nav::dds::Vector3{}};
+  return {needle.source_time_ns,
+          needle.point_count > 0 ? needle.shape_points_m[needle.point_count - 1] : nav::dds::Vector3{}};
 }
 
 /// Receives the scene's predictions, needle states and truth for `seconds` (or until SIGINT/SIGTERM).
@@ -61,10 +70,11 @@ nav::Result<nav::station::EvaluationInput> receive(const nav::station::Scene& sc
   auto needles = std::make_unique<nav::dds::RingSink<nav::dds::NeedleState, 64>>();
   auto truths = std::make_unique<nav::dds::RingSink<nav::dds::GroundTruth, 256>>();
   auto node =
-      nav::station::make_station_node(scene.topics.domain_id, "navtool_evaluate", nav::station::topic_names(scene.topics), scene.network,
-                                      nav::station::Role::tool);
+      nav::station::make_station_node(scene.topics.domain_id, "navtool_evaluate",
+                                      nav::station::topic_names(scene.topics), scene.network, nav::station::Role::tool);
   if (!node.ok()) return node.error();
-  for (const nav::Status& status : {node.value()->subscribe(*predictions), node.value()->subscribe(*needles), node.value()->subscribe(*truths)})
+  for (const nav::Status& status :
+       {node.value()->subscribe(*predictions), node.value()->subscribe(*needles), node.value()->subscribe(*truths)})
     if (!status.ok()) return status.error();
   nav::dds::install_stop_handlers();
   nav::station::EvaluationInput input;
@@ -81,8 +91,9 @@ nav::Result<nav::station::EvaluationInput> receive(const nav::station::Scene& sc
     clock.sleep_until_ns(clock.now_ns() + 2 * nav::kNsPerMs);
   }
   const nav::dds::BoundaryCounts counts = node.value()->boundary_counts();
-  std::printf("received %zu predictions, %zu needle states, %zu truths (dropped at the boundary: %s)\n", input.predictions.size(),
-              input.needle_tips.size(), input.truths.size(), nav::dds::drops_by_reason(counts).c_str());
+  std::printf("received %zu predictions, %zu needle states, %zu truths (dropped at the boundary: %s)\n",
+              input.predictions.size(), input.needle_tips.size(), input.truths.size(),
+              nav::dds::drops_by_reason(counts).c_str());
   return input;
 }
 
@@ -90,7 +101,8 @@ nav::Result<nav::station::EvaluationInput> receive(const nav::station::Scene& sc
 template <typename Sample, typename Sink>
 bool take_if_of(const nav::dds::RecordedSample& record, Sample& sample, Sink sink) {
   if (record.topic != nav::dds::topic_of<Sample>()) return true;
-  if (nav::dds::decode_sample(record.payload.data(), record.payload.size(), sample) != nav::dds::SampleFault::none) return false;
+  if (nav::dds::decode_sample(record.payload.data(), record.payload.size(), sample) != nav::dds::SampleFault::none)
+    return false;
   sink(sample);
   return true;
 }
@@ -99,7 +111,9 @@ bool take_if_of(const nav::dds::RecordedSample& record, Sample& sample, Sink sin
 nav::Result<nav::station::EvaluationInput> read_recording(const std::string& path) {
   auto reader = nav::dds::RecordingReader::open(path);
   if (!reader.ok()) return reader.error();
-  if (reader.value()->damage()) std::fprintf(stderr, "navtool evaluate: %s; reading its intact part\n", reader.value()->damage()->describe().c_str());
+  if (reader.value()->damage())
+    std::fprintf(stderr, "navtool evaluate: %s; reading its intact part\n",
+                 reader.value()->damage()->describe().c_str());
   nav::station::EvaluationInput input;
   auto needle = std::make_unique<nav::dds::NeedleState>();
   nav::dds::TargetPrediction prediction;
@@ -112,17 +126,18 @@ nav::Result<nav::station::EvaluationInput> read_recording(const std::string& pat
       continue;
     }
     const TimeNs received_ns = record.value().receive_time_ns;
-    const bool decoded = take_if_of(record.value(), prediction,
-                                    [&](auto p) {
-                                      p.receive_time_ns = received_ns;  // when the recorder took it
-                                      input.predictions.push_back(p);
-                                    }) &&
-                         take_if_of(record.value(), *needle, [&](const auto& n) { input.needle_tips.push_back(tip_of(n)); }) &&
-                         take_if_of(record.value(), truth, [&](const auto& t) { input.truths.push_back(t); });
+    const bool decoded =
+        take_if_of(record.value(), prediction,
+                   [&](auto p) {
+                     p.receive_time_ns = received_ns;  // when the recorder took it
+                     input.predictions.push_back(p);
+                   }) &&
+        take_if_of(record.value(), *needle, [&](const auto& n) { input.needle_tips.push_back(tip_of(n)); }) &&
+        take_if_of(record.value(), truth, [&](const auto& t) { input.truths.push_back(t); });
     damaged += decoded ? 0 : 1;
   }
-  std::printf("read %zu predictions, %zu needle states, %zu truths from %s (%zu records damaged)\n", input.predictions.size(),
-              input.needle_tips.size(), input.truths.size(), path.c_str(), damaged);
+  std::printf("read %zu predictions, %zu needle states, %zu truths from %s (%zu records damaged)\n",
+              input.predictions.size(), input.needle_tips.size(), input.truths.size(), path.c_str(), damaged);
   return input;
 }
 
@@ -137,9 +152,10 @@ bool write_text(const std::string& path, const std::string& text) {
 int evaluate(const std::vector<std::string>& args) {
   const std::optional<EvaluateArgs> parsed = parse(args);
   if (!parsed) {
-    std::fputs("usage: navtool evaluate (--scene FILE [--seconds S] [--domain D] | --recording FILE.navrec) [--settle-s S]"
-               " [--plot FILE.svg] [--json FILE]\n",
-               stderr);
+    std::fputs(
+        "usage: navtool evaluate (--scene FILE [--seconds S] [--domain D] | --recording FILE.navrec) [--settle-s S]"
+        " [--plot FILE.svg] [--json FILE]\n",
+        stderr);
     return exit_bad_input;
   }
   nav::Result<nav::station::EvaluationInput> input = nav::Error{.message = ""};
@@ -163,10 +179,14 @@ int evaluate(const std::vector<std::string>& args) {
   std::printf("%s", nav::station::format_evaluation(evaluation, settle_ns).c_str());
   bool written = true;
   if (!parsed->plot_path.empty())
-    written = write_text(parsed->plot_path, nav::station::error_plot_svg("station prediction error against the truth", evaluation.series));
-  if (!parsed->json_path.empty()) written = write_text(parsed->json_path, nav::station::evaluation_json(evaluation)) && written;
+    written = write_text(parsed->plot_path,
+                         nav::station::error_plot_svg("station prediction error against the truth", evaluation.series));
+  if (!parsed->json_path.empty())
+    written = write_text(parsed->json_path, nav::station::evaluation_json(evaluation)) && written;
   if (evaluation.tumour_now_count == 0) {
-    std::fprintf(stderr, "navtool evaluate: no prediction had a truth to compare: are a station and navdevice sim running on this domain?\n");
+    std::fprintf(stderr,
+                 "navtool evaluate: no prediction had a truth to compare: are a station and navdevice sim running on "
+                 "this domain?\n");
     return exit_failure;
   }
   return written ? exit_ok : exit_failure;

@@ -13,14 +13,17 @@ constexpr const char* kUsage =
     "  navtool mesh make (--liver | --surface FILE [--unit mm|cm|m] | --labels FILE) --size H_M --out FILE.vtu\n"
     "  navtool record --out FILE [--duration-s S] [--scene FILE] [--domain D] [--local-address A] [--peer A]...\n"
     "  navtool replay FILE [--as-fast-as-possible] [--scene FILE] [--domain D] [--local-address A] [--peer A]...\n"
-    "  navtool evaluate (--scene FILE [--seconds S] [--domain D] | --recording FILE.navrec) [--settle-s S] [--plot F.svg] [--json F]\n"
+    "  navtool evaluate (--scene FILE [--seconds S] [--domain D] | --recording FILE.navrec) [--settle-s S] [--plot "
+    "F.svg] [--json F]\n"
     "  navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --method modes|modal-derivatives|pod\n"
     "                 --r R --force linear|corotational|stvk|stvk-cubic [--samples M] [--seed S] --out FILE [--json]\n"
     "  navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --extend LOWER.navrb --r R\n"
     "                 [--load-scale S] [--samples M] [--seed S] --out FILE [--json]   (the next rung of a ladder)\n"
-    "  navtool calib pivot (--poses FILE.csv | --recording FILE.navrec) [--tool NAME|ID] [--urdf FILE [--out FILE] [--joint J]]\n"
+    "  navtool calib pivot (--poses FILE.csv | --recording FILE.navrec) [--tool NAME|ID] [--urdf FILE [--out FILE] "
+    "[--joint J]]\n"
     "  navtool calib handeye --marker-poses FILE.csv --camera-poses FILE.csv [--tool NAME] [--urdf FILE ...]\n"
-    "  navtool calib register --model-points F.csv --tracked-points F.csv [--surface F --unit U --surface-points F.csv]\n"
+    "  navtool calib register --model-points F.csv --tracked-points F.csv [--surface F --unit U --surface-points "
+    "F.csv]\n"
     "                         [--urdf FILE ...]\n"
     "  navtool calib camera --images DIR --tag-size S_M --pitch P_M --cols C --rows R --out FILE [--k3 0|1]\n"
     "  navtool calib probe --recording F.mha --phantom DEVICESET.xml [--validation F.mha] [--probe T] [--reference T]\n"
@@ -40,7 +43,8 @@ int main(int argc, char** argv) {
   if (!args.empty() && args[0] == "reduce") return navtool::reduce({args.begin() + 1, args.end()});
   if (!args.empty() && (args[0] == "record" || args[0] == "replay")) return navtool::record_replay(args);
   if (!args.empty() && args[0] == "evaluate") return navtool::evaluate(args);
-  if (args.size() >= 2 && args[0] == "security" && args[1] == "init") return navtool::security_init({args.begin() + 2, args.end()});
+  if (args.size() >= 2 && args[0] == "security" && args[1] == "init")
+    return navtool::security_init({args.begin() + 2, args.end()});
   if (args.size() >= 2 && args[0] == "calib") {
     const std::vector<std::string> calib_args(args.begin() + 2, args.end());
     if (args[1] == "pivot") return navtool::calib_pivot(calib_args);

@@ -51,15 +51,22 @@ bool parse(const std::vector<std::string>& args, bool recording, DdsToolArgs& pa
         parsed.network.domain_id = static_cast<std::uint32_t>(domain);
       } else if (args[i] == "--scene" && has_value) {
         if (!take_scene(args[++i], parsed)) return false;
-      }
-      else if (args[i] == "--local-address" && has_value) parsed.network.local_address = args[++i];
-      else if (args[i] == "--peer" && has_value) parsed.network.peer_addresses.push_back(args[++i]);
-      else if (recording && args[i] == "--out" && has_value) parsed.file = args[++i];
-      else if (recording && args[i] == "--duration-s" && has_value) parsed.duration_s = std::stod(args[++i]);
-      else if (!recording && args[i] == "--as-fast-as-possible") parsed.as_fast_as_possible = true;
-      else if (!recording && args[i] == "--wait-for-readers-s" && has_value) parsed.wait_for_readers_s = std::stod(args[++i]);
-      else if (!recording && parsed.file.empty() && args[i].rfind("--", 0) != 0) parsed.file = args[i];
-      else return false;
+      } else if (args[i] == "--local-address" && has_value)
+        parsed.network.local_address = args[++i];
+      else if (args[i] == "--peer" && has_value)
+        parsed.network.peer_addresses.push_back(args[++i]);
+      else if (recording && args[i] == "--out" && has_value)
+        parsed.file = args[++i];
+      else if (recording && args[i] == "--duration-s" && has_value)
+        parsed.duration_s = std::stod(args[++i]);
+      else if (!recording && args[i] == "--as-fast-as-possible")
+        parsed.as_fast_as_possible = true;
+      else if (!recording && args[i] == "--wait-for-readers-s" && has_value)
+        parsed.wait_for_readers_s = std::stod(args[++i]);
+      else if (!recording && parsed.file.empty() && args[i].rfind("--", 0) != 0)
+        parsed.file = args[i];
+      else
+        return false;
     } catch (const std::exception&) {
       return false;
     }
@@ -119,10 +126,12 @@ int replay(const DdsToolArgs& args) {
     std::fprintf(stderr, "navtool replay: %s\n", node.error().describe().c_str());
     return exit_bad_input;
   }
-  const auto pace = args.as_fast_as_possible ? nav::dds::ReplayPace::as_fast_as_possible : nav::dds::ReplayPace::recorded;
+  const auto pace =
+      args.as_fast_as_possible ? nav::dds::ReplayPace::as_fast_as_possible : nav::dds::ReplayPace::recorded;
   const auto wait_for_readers_ns = static_cast<nav::TimeNs>(args.wait_for_readers_s * 1e9);
   const nav::dds::ReplayReport report = nav::dds::replay(*recording.value(), *node.value(), pace, wait_for_readers_ns);
-  if (report.first_damage) std::fprintf(stderr, "navtool replay: skipped: %s\n", report.first_damage->describe().c_str());
+  if (report.first_damage)
+    std::fprintf(stderr, "navtool replay: skipped: %s\n", report.first_damage->describe().c_str());
   std::printf("replayed %zu samples, skipped %zu\n", report.published, report.skipped);
   if (!report.acknowledged) std::fprintf(stderr, "navtool replay: some reliable samples were not acknowledged\n");
   return recording.value()->damage() || report.skipped > 0 ? exit_failure : exit_ok;
@@ -134,8 +143,10 @@ int record_replay(const std::vector<std::string>& args) {
   DdsToolArgs parsed;
   const bool recording = !args.empty() && args[0] == "record";
   if (args.empty() || !parse(args, recording, parsed)) {
-    std::fputs(recording ? "usage: navtool record --out FILE [--duration-s S] [--scene FILE] [--domain D] [--local-address A] [--peer A]...\n"
-                         : "usage: navtool replay FILE [--as-fast-as-possible] [--wait-for-readers-s S] [--scene FILE] [--domain D] [--local-address A] [--peer A]...\n",
+    std::fputs(recording ? "usage: navtool record --out FILE [--duration-s S] [--scene FILE] [--domain D] "
+                           "[--local-address A] [--peer A]...\n"
+                         : "usage: navtool replay FILE [--as-fast-as-possible] [--wait-for-readers-s S] [--scene FILE] "
+                           "[--domain D] [--local-address A] [--peer A]...\n",
                stderr);
     return exit_bad_input;
   }

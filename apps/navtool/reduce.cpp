@@ -46,8 +46,8 @@ constexpr const char* kReduceUsage =
 /// The command line of reduce.
 struct ReduceArgs {
   std::string liver_dir, mesh_file, out;
-  std::string extend;        ///< the lower rung's artifact, or empty
-  double load_scale = 1.0;   ///< of the training's needle forces and diaphragm displacements
+  std::string extend;       ///< the lower rung's artifact, or empty
+  double load_scale = 1.0;  ///< of the training's needle forces and diaphragm displacements
   int tets = 22019;
   nav::LengthUnit unit = nav::LengthUnit::metre;
   nav::ReductionOptions reduction;
@@ -64,11 +64,13 @@ struct Named {
 };
 
 constexpr Named<nav::ReducedBasisSource> kMethods[] = {
-    {"modes", nav::ReducedBasisSource::linear_modes}, {"modal-derivatives", nav::ReducedBasisSource::modal_derivatives},
+    {"modes", nav::ReducedBasisSource::linear_modes},
+    {"modal-derivatives", nav::ReducedBasisSource::modal_derivatives},
     {"pod", nav::ReducedBasisSource::pod}};
-constexpr Named<nav::ReducedForceKind> kForces[] = {
-    {"linear", nav::ReducedForceKind::linear}, {"corotational", nav::ReducedForceKind::corotational_cubature},
-    {"stvk", nav::ReducedForceKind::stvk_cubature}, {"stvk-cubic", nav::ReducedForceKind::stvk_cubic_polynomial}};
+constexpr Named<nav::ReducedForceKind> kForces[] = {{"linear", nav::ReducedForceKind::linear},
+                                                    {"corotational", nav::ReducedForceKind::corotational_cubature},
+                                                    {"stvk", nav::ReducedForceKind::stvk_cubature},
+                                                    {"stvk-cubic", nav::ReducedForceKind::stvk_cubic_polynomial}};
 
 template <typename T, std::size_t N>
 const Named<T>* find_name(const Named<T> (&table)[N], const std::string& name) {
@@ -120,7 +122,8 @@ std::optional<ReduceArgs> parse_args(const std::vector<std::string>& args) {
       if (!unit) return fail("unknown unit '" + args[i] + "' (mm, cm or m)");
       parsed.unit = *unit;
     } else if (a == "--tets") {
-      if (!parse_number(args[++i], parsed.tets) || parsed.tets < 100) return fail("--tets wants a count of at least 100");
+      if (!parse_number(args[++i], parsed.tets) || parsed.tets < 100)
+        return fail("--tets wants a count of at least 100");
     } else if (a == "--r") {
       if (!parse_number(args[++i], parsed.reduction.basis_size) || parsed.reduction.basis_size < 1)
         return fail("--r wants a positive basis size, not '" + args[i] + "'");
@@ -137,15 +140,18 @@ std::optional<ReduceArgs> parse_args(const std::vector<std::string>& args) {
     } else if (a == "--force") {
       parsed.force = args[++i];
       const auto* force = find_name(kForces, parsed.force);
-      if (force == nullptr) return fail("unknown --force '" + parsed.force + "' (linear, corotational, stvk or stvk-cubic)");
+      if (force == nullptr)
+        return fail("unknown --force '" + parsed.force + "' (linear, corotational, stvk or stvk-cubic)");
       parsed.reduction.force_kind = force->value;
     } else {
       return fail("unexpected argument '" + a + "'");
     }
   }
   if (parsed.liver_dir.empty() == parsed.mesh_file.empty()) return fail("give either --liver-dir or --mesh");
-  if (!parsed.extend.empty() && !parsed.method.empty()) return fail("--extend takes its method from the lower artifact: drop --method");
-  if (parsed.extend.empty() && (parsed.method.empty() || parsed.force.empty())) return fail("--method and --force are required");
+  if (!parsed.extend.empty() && !parsed.method.empty())
+    return fail("--extend takes its method from the lower artifact: drop --method");
+  if (parsed.extend.empty() && (parsed.method.empty() || parsed.force.empty()))
+    return fail("--method and --force are required");
   if (parsed.out.empty()) return fail("--out is required");
   return parsed;
 }
@@ -164,8 +170,8 @@ struct Training {
 /// Solves the training loads. A widened training (load_scale above 1) goes beyond what the
 /// full order may solve (elements invert under a 2x diaphragm move on liverFine): there a load
 /// whose solve fails is left out and named, and only none solved at all is an error.
-nav::Result<Training> solve_training(const nav::TetMesh& mesh, const nav::TissueScene& scene, std::span<const nav::TrainingLoad> loads,
-                                     double load_scale) {
+nav::Result<Training> solve_training(const nav::TetMesh& mesh, const nav::TissueScene& scene,
+                                     std::span<const nav::TrainingLoad> loads, double load_scale) {
   const auto start = std::chrono::steady_clock::now();
   Training t;
   if (!(load_scale > 1.0)) {
@@ -180,11 +186,13 @@ nav::Result<Training> solve_training(const nav::TetMesh& mesh, const nav::Tissue
         continue;
       }
       nav::Snapshots& s = t.snapshots;
-      s.displacements_m.insert(s.displacements_m.end(), one.value().displacements_m.begin(), one.value().displacements_m.end());
+      s.displacements_m.insert(s.displacements_m.end(), one.value().displacements_m.begin(),
+                               one.value().displacements_m.end());
       s.count += one.value().count;
       s.total_steps += one.value().total_steps;
     }
-    if (t.snapshots.count == 0) return nav::Error{.message = "no training load converged at --load-scale " + std::to_string(load_scale)};
+    if (t.snapshots.count == 0)
+      return nav::Error{.message = "no training load converged at --load-scale " + std::to_string(load_scale)};
   }
   t.seconds = seconds_since(start);
   return t;
@@ -216,21 +224,27 @@ void print_report(const ReduceArgs& args, const nav::TetMesh& mesh, const nav::R
   if (args.json) {
     std::string extension;
     if (lower_r > 0)
-      extension = "\"lower\": \"" + args.extend + "\", \"lower_r\": " + std::to_string(lower_r) + ", \"extension_energy_fraction\": [" +
-                  values(own, basis.column_values.size()) + "], ";
-    std::printf("{\"out\": \"%s\", \"method\": \"%s\", \"force\": \"%s\", \"nodes\": %zu, \"tetrahedra\": %zu, \"r\": %d, %s"
-                "\"training_loads\": %d, \"load_scale\": %.6g, \"skipped_loads\": [%s], \"%s\": [%s], \"cubature_samples\": %zu, "
-                "\"training_residual_bound\": %.6g, \"training_s\": %.2f, \"reduction_s\": %.2f}\n",
-                args.out.c_str(), args.method.c_str(), args.force.c_str(), mesh.nodes_m.size(), mesh.tets.size(), basis.basis_size,
-                extension.c_str(), training.snapshots.count, args.load_scale, skipped.c_str(),
-                pod ? "captured_energy_fraction" : "mode_frequency_hz", values(0, own).c_str(), basis.sample_tets.size(),
-                basis.training_residual_bound, training.seconds, reduction_s);
+      extension = "\"lower\": \"" + args.extend + "\", \"lower_r\": " + std::to_string(lower_r) +
+                  ", \"extension_energy_fraction\": [" + values(own, basis.column_values.size()) + "], ";
+    std::printf(
+        "{\"out\": \"%s\", \"method\": \"%s\", \"force\": \"%s\", \"nodes\": %zu, \"tetrahedra\": %zu, \"r\": %d, %s"
+        "\"training_loads\": %d, \"load_scale\": %.6g, \"skipped_loads\": [%s], \"%s\": [%s], \"cubature_samples\": "
+        "%zu, "
+        "\"training_residual_bound\": %.6g, \"training_s\": %.2f, \"reduction_s\": %.2f}\n",
+        args.out.c_str(), args.method.c_str(), args.force.c_str(), mesh.nodes_m.size(), mesh.tets.size(),
+        basis.basis_size, extension.c_str(), training.snapshots.count, args.load_scale, skipped.c_str(),
+        pod ? "captured_energy_fraction" : "mode_frequency_hz", values(0, own).c_str(), basis.sample_tets.size(),
+        basis.training_residual_bound, training.seconds, reduction_s);
     return;
   }
   std::printf("mesh: %zu nodes, %zu tetrahedra; %d training loads (scale %g) solved in %.1f s; reduction in %.1f s\n",
-              mesh.nodes_m.size(), mesh.tets.size(), training.snapshots.count, args.load_scale, training.seconds, reduction_s);
-  if (!skipped.empty()) std::printf("left out (the full order does not solve them at this scale): %s\n", skipped.c_str());
-  if (lower_r > 0) std::printf("extends %s: its %d columns first, then %d new\n", args.extend.c_str(), lower_r, basis.basis_size - lower_r);
+              mesh.nodes_m.size(), mesh.tets.size(), training.snapshots.count, args.load_scale, training.seconds,
+              reduction_s);
+  if (!skipped.empty())
+    std::printf("left out (the full order does not solve them at this scale): %s\n", skipped.c_str());
+  if (lower_r > 0)
+    std::printf("extends %s: its %d columns first, then %d new\n", args.extend.c_str(), lower_r,
+                basis.basis_size - lower_r);
   std::printf("%-6s %s\n", "mode", pod ? "captured energy (cumulative)" : "frequency (Hz; 0: modal derivative)");
   for (std::size_t k = 0; k < basis.column_values.size(); ++k) {
     if (k == own) std::printf("%-6s %s\n", "mode", "captured energy of what the lower rung misses (cumulative)");
@@ -251,12 +265,12 @@ nav::Result<nav::ReducedBasis> load_lower(ReduceArgs& args, const nav::TetMesh& 
   if (!lower.ok()) return nav::Error{.message = "--extend: " + lower.error().describe()};
   const nav::ReducedBasis& b = lower.value();
   if (args.reduction.basis_size <= b.basis_size)
-    return nav::Error{.message = "--r " + std::to_string(args.reduction.basis_size) + " must be above the " + std::to_string(b.basis_size) +
-                          " columns of the lower rung " + args.extend};
+    return nav::Error{.message = "--r " + std::to_string(args.reduction.basis_size) + " must be above the " +
+                                 std::to_string(b.basis_size) + " columns of the lower rung " + args.extend};
   const std::string force = name_of(kForces, b.force_kind);
   if (!args.force.empty() && args.force != force)
-    return nav::Error{.message = "--force " + args.force + " differs from the lower rung's (" + force + ", " + args.extend +
-                          "): the rungs of a ladder share one element law"};
+    return nav::Error{.message = "--force " + args.force + " differs from the lower rung's (" + force + ", " +
+                                 args.extend + "): the rungs of a ladder share one element law"};
   args.force = force;
   args.method = name_of(kMethods, b.source);
   args.reduction.force_kind = b.force_kind;
@@ -299,15 +313,17 @@ int reduce(const std::vector<std::string>& args) {
   const auto start = std::chrono::steady_clock::now();
   const nav::Snapshots& s = training.value().snapshots;
   const nav::TissueSolverOptions solver = nav::reduction_solver_options(parsed->reduction.force_kind);
-  auto basis = lower ? nav::extend_basis(mesh, scene, solver, *lower, parsed->reduction.basis_size, s.displacements_m, s.count)
-               : parsed->reduction.source == nav::ReducedBasisSource::pod
-                   ? nav::make_pod_basis(mesh, scene, solver, parsed->reduction, s.displacements_m, s.count)
-                   : nav::make_modal_basis(mesh, scene, solver, parsed->reduction);
+  auto basis =
+      lower ? nav::extend_basis(mesh, scene, solver, *lower, parsed->reduction.basis_size, s.displacements_m, s.count)
+      : parsed->reduction.source == nav::ReducedBasisSource::pod
+          ? nav::make_pod_basis(mesh, scene, solver, parsed->reduction, s.displacements_m, s.count)
+          : nav::make_modal_basis(mesh, scene, solver, parsed->reduction);
   if (!basis.ok()) {
     std::fprintf(stderr, "navtool reduce: basis: %s\n", basis.error().describe().c_str());
     return exit_failure;
   }
-  const auto reduced = nav::add_force_reduction(mesh, scene, solver, parsed->reduction, s.displacements_m, s.count, basis.value());
+  const auto reduced =
+      nav::add_force_reduction(mesh, scene, solver, parsed->reduction, s.displacements_m, s.count, basis.value());
   if (!reduced.ok()) {
     std::fprintf(stderr, "navtool reduce: force reduction: %s\n", reduced.error().describe().c_str());
     return exit_failure;

@@ -4,9 +4,9 @@
 // their owner only. The files fit a scene's `security:` section with `{role}` paths:
 //   DIR/ca.pem, DIR/ca_key.pem, DIR/governance.p7s (governance.xml, its text),
 //   DIR/ROLE/certificate.pem, DIR/ROLE/private_key.pem, DIR/ROLE/permissions.p7s (.xml).
+#include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
-#include <fcntl.h>
 
 #include <cstdio>
 #include <ctime>
@@ -51,7 +51,8 @@ bool openssl(const std::vector<std::string>& args, const std::string& log) {
 /// The XML list of `topics` by their names in `names`.
 std::string topic_list(const std::vector<nav::dds::Topic>& topics, const nav::dds::TopicNames& names) {
   std::string xml;
-  for (const nav::dds::Topic topic : topics) xml += "            <topic>" + std::string(nav::dds::topic_name(topic, names)) + "</topic>\n";
+  for (const nav::dds::Topic topic : topics)
+    xml += "            <topic>" + std::string(nav::dds::topic_name(topic, names)) + "</topic>\n";
   return xml;
 }
 
@@ -66,7 +67,9 @@ std::string governance_xml() {
          "<dds xmlns:xsi=\"http://www.w3.org/2001/XMLSchema-instance\">\n"
          "  <domain_access_rules>\n"
          "    <domain_rule>\n"
-         "      " + domains_xml() + "\n"
+         "      " +
+         domains_xml() +
+         "\n"
          "      <allow_unauthenticated_participants>false</allow_unauthenticated_participants>\n"
          "      <enable_join_access_control>true</enable_join_access_control>\n"
          "      <discovery_protection_kind>ENCRYPT</discovery_protection_kind>\n"
@@ -93,17 +96,24 @@ std::string permissions_xml(Role role, const nav::dds::TopicNames& names, const 
   const nav::station::RoleTopics topics = nav::station::role_topics(role);
   const std::string name = nav::station::role_name(role);
   std::string rule = "      <allow_rule>\n        " + domains_xml() + "\n";
-  if (!topics.publish.empty()) rule += "        <publish>\n          <topics>\n" + topic_list(topics.publish, names) + "          </topics>\n        </publish>\n";
+  if (!topics.publish.empty())
+    rule += "        <publish>\n          <topics>\n" + topic_list(topics.publish, names) +
+            "          </topics>\n        </publish>\n";
   if (!topics.subscribe.empty())
-    rule += "        <subscribe>\n          <topics>\n" + topic_list(topics.subscribe, names) + "          </topics>\n        </subscribe>\n";
+    rule += "        <subscribe>\n          <topics>\n" + topic_list(topics.subscribe, names) +
+            "          </topics>\n        </subscribe>\n";
   rule += "      </allow_rule>\n";
   return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
          "<dds xmlns:xsi=\"http://www.w3.org/2001/XMLSchema-instance\">\n"
          "  <permissions>\n"
-         "    <grant name=\"" + name + "\">\n"
-         "      <subject_name>CN=" + name + "</subject_name>\n"
-         "      <validity><not_before>" + std::string(kValidFrom) + "</not_before><not_after>" + valid_until + "</not_after></validity>\n" +
-         rule +
+         "    <grant name=\"" +
+         name +
+         "\">\n"
+         "      <subject_name>CN=" +
+         name +
+         "</subject_name>\n"
+         "      <validity><not_before>" +
+         std::string(kValidFrom) + "</not_before><not_after>" + valid_until + "</not_after></validity>\n" + rule +
          "      <default>DENY</default>\n"
          "    </grant>\n"
          "  </permissions>\n"
@@ -112,14 +122,15 @@ std::string permissions_xml(Role role, const nav::dds::TopicNames& names, const 
 
 /// Signs `xml_path` with the CA into `p7s_path` (S/MIME, as DDS Security reads it).
 bool sign(const fs::path& dir, const fs::path& xml_path, const fs::path& p7s_path, const std::string& log) {
-  return openssl({"smime", "-sign", "-in", xml_path.string(), "-text", "-out", p7s_path.string(), "-signer", (dir / "ca.pem").string(),
-                  "-inkey", (dir / "ca_key.pem").string()},
+  return openssl({"smime", "-sign", "-in", xml_path.string(), "-text", "-out", p7s_path.string(), "-signer",
+                  (dir / "ca.pem").string(), "-inkey", (dir / "ca_key.pem").string()},
                  log);
 }
 
 /// An EC P-256 key at `path`, readable by its owner only.
 bool make_key(const fs::path& path, const std::string& log) {
-  if (!openssl({"genpkey", "-algorithm", "EC", "-pkeyopt", "ec_paramgen_curve:P-256", "-out", path.string()}, log)) return false;
+  if (!openssl({"genpkey", "-algorithm", "EC", "-pkeyopt", "ec_paramgen_curve:P-256", "-out", path.string()}, log))
+    return false;
   std::error_code error;
   fs::permissions(path, fs::perms::owner_read | fs::perms::owner_write, error);
   return !error;
@@ -144,10 +155,14 @@ int security_init(const std::vector<std::string>& args) {
   for (std::size_t i = 0; understood && i < args.size(); ++i) {
     const bool has_value = i + 1 < args.size();
     try {
-      if (args[i] == "--scene" && has_value) scene_path = args[++i];
-      else if (args[i] == "--days" && has_value) days = std::stoi(args[++i]);
-      else if (dir_text.empty() && args[i].rfind("--", 0) != 0) dir_text = args[i];
-      else understood = false;
+      if (args[i] == "--scene" && has_value)
+        scene_path = args[++i];
+      else if (args[i] == "--days" && has_value)
+        days = std::stoi(args[++i]);
+      else if (dir_text.empty() && args[i].rfind("--", 0) != 0)
+        dir_text = args[i];
+      else
+        understood = false;
     } catch (const std::exception&) {
       understood = false;
     }
@@ -181,8 +196,8 @@ int security_init(const std::vector<std::string>& args) {
   const std::string valid_until = std::to_string(1900 + today.tm_year + days / 365 + 1) + "-01-01T00:00:00";
 
   if (!make_key(dir / "ca_key.pem", log)) return fail("the CA's key", log);
-  if (!openssl({"req", "-new", "-x509", "-sha256", "-key", (dir / "ca_key.pem").string(), "-out", (dir / "ca.pem").string(), "-days",
-                days_text, "-subj", "/CN=navrt station CA"},
+  if (!openssl({"req", "-new", "-x509", "-sha256", "-key", (dir / "ca_key.pem").string(), "-out",
+                (dir / "ca.pem").string(), "-days", days_text, "-subj", "/CN=navrt station CA"},
                log))
     return fail("the CA's certificate", log);
   if (const nav::Status written = nav::write_text_file((dir / "governance.xml").string(), governance_xml()); !written)
@@ -195,22 +210,30 @@ int security_init(const std::vector<std::string>& args) {
     fs::create_directories(folder, error);
     const fs::path request = folder / "request.csr";
     if (error || !make_key(folder / "private_key.pem", log)) return fail("the " + name + " key", log);
-    if (!openssl({"req", "-new", "-sha256", "-key", (folder / "private_key.pem").string(), "-out", request.string(), "-subj", "/CN=" + name}, log) ||
-        !openssl({"x509", "-req", "-sha256", "-in", request.string(), "-CA", (dir / "ca.pem").string(), "-CAkey", (dir / "ca_key.pem").string(),
-                  "-set_serial", std::to_string(2 + static_cast<int>(role)), "-days", days_text, "-out", (folder / "certificate.pem").string()},
+    if (!openssl({"req", "-new", "-sha256", "-key", (folder / "private_key.pem").string(), "-out", request.string(),
+                  "-subj", "/CN=" + name},
+                 log) ||
+        !openssl({"x509", "-req", "-sha256", "-in", request.string(), "-CA", (dir / "ca.pem").string(), "-CAkey",
+                  (dir / "ca_key.pem").string(), "-set_serial", std::to_string(2 + static_cast<int>(role)), "-days",
+                  days_text, "-out", (folder / "certificate.pem").string()},
                  log))
       return fail("the " + name + " certificate", log);
     fs::remove(request, error);
-    if (const nav::Status written = nav::write_text_file((folder / "permissions.xml").string(), permissions_xml(role, names, valid_until)); !written)
+    if (const nav::Status written =
+            nav::write_text_file((folder / "permissions.xml").string(), permissions_xml(role, names, valid_until));
+        !written)
       return fail(written.error());
-    if (!sign(dir, folder / "permissions.xml", folder / "permissions.p7s", log)) return fail("signing the " + name + " permissions", log);
+    if (!sign(dir, folder / "permissions.xml", folder / "permissions.p7s", log))
+      return fail("signing the " + name + " permissions", log);
   }
   fs::remove(log, error);
   const nav::station::SecuritySettings scene = nav::station::security_folder(dir_text);
-  std::printf("navtool security init: a CA, the governance and the identities of station, devices, display and tool in %s\n"
-              "scene:\n  security:\n    ca: %s\n    governance: %s\n    certificate: %s\n    private_key: %s\n    permissions: %s\n",
-              dir_text.c_str(), scene.ca.c_str(), scene.governance.c_str(), scene.certificate.c_str(), scene.private_key.c_str(),
-              scene.permissions.c_str());
+  std::printf(
+      "navtool security init: a CA, the governance and the identities of station, devices, display and tool in %s\n"
+      "scene:\n  security:\n    ca: %s\n    governance: %s\n    certificate: %s\n    private_key: %s\n    permissions: "
+      "%s\n",
+      dir_text.c_str(), scene.ca.c_str(), scene.governance.c_str(), scene.certificate.c_str(),
+      scene.private_key.c_str(), scene.permissions.c_str());
   return exit_ok;
 }
 

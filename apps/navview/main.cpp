@@ -22,11 +22,13 @@ using nav::dds::LatestSink;
 
 /// The newest sample of each displayed stream, filled by the DDS listeners.
 struct Subscriptions {
-  std::unique_ptr<LatestSink<nav::dds::UltrasoundFrame>> frame = std::make_unique<LatestSink<nav::dds::UltrasoundFrame>>();
+  std::unique_ptr<LatestSink<nav::dds::UltrasoundFrame>> frame =
+      std::make_unique<LatestSink<nav::dds::UltrasoundFrame>>();
   std::unique_ptr<LatestSink<nav::dds::NeedleState>> needle = std::make_unique<LatestSink<nav::dds::NeedleState>>();
   std::unique_ptr<LatestSink<nav::dds::TargetPrediction>> prediction =
       std::make_unique<LatestSink<nav::dds::TargetPrediction>>();
-  std::unique_ptr<LatestSink<nav::dds::DeformedSurface>> surface = std::make_unique<LatestSink<nav::dds::DeformedSurface>>();
+  std::unique_ptr<LatestSink<nav::dds::DeformedSurface>> surface =
+      std::make_unique<LatestSink<nav::dds::DeformedSurface>>();
   std::unique_ptr<LatestSink<nav::dds::StationHealth>> health = std::make_unique<LatestSink<nav::dds::StationHealth>>();
 
   nav::Status subscribe(nav::dds::DdsNode& node) {
@@ -82,7 +84,8 @@ int run(const NavviewArgs& args) {
   auto node = nav::dds::DdsNode::create(network, qos);
   if (!node) return fail("DDS", node.error());
   Subscriptions subscriptions;
-  if (const nav::Status subscribed = subscriptions.subscribe(*node.value()); !subscribed) return fail("DDS", subscribed.error());
+  if (const nav::Status subscribed = subscriptions.subscribe(*node.value()); !subscribed)
+    return fail("DDS", subscribed.error());
 
   nav::dds::install_stop_handlers();
   nav::view::Composer composer(args.composite, std::move(triangles));
@@ -97,7 +100,8 @@ int run(const NavviewArgs& args) {
     if (args.duration_ns > 0 && clock.now_ns() - start_ns >= args.duration_ns) break;
     if (!subscriptions.update()) continue;
     const nav::view::StationStatus status = subscriptions.status();
-    if (const nav::Status shown_ok = output.value()->show(composer.render(subscriptions.inputs(), &status)); !shown_ok) {
+    if (const nav::Status shown_ok = output.value()->show(composer.render(subscriptions.inputs(), &status));
+        !shown_ok) {
       return fail("output", shown_ok.error());
     }
     if (args.count > 0 && ++shown >= args.count) break;

@@ -34,25 +34,34 @@ bool parse_args(const std::vector<std::string>& args, bool display_available, Na
     if (i + 1 >= args.size()) return false;
     const std::string& value = args[++i];
     try {
-      if (flag == "--out-dir") parsed.out_dir = value;
-      else if (flag == "--period-ms") period_ms = std::stod(value);
-      else if (flag == "--count") parsed.count = std::stoull(value);
-      else if (flag == "--duration-s") duration_s = std::stod(value);
-      else if (flag == "--surface-mesh") parsed.surface_mesh = value;
-      else if (flag == "--panel-height") parsed.composite.panel_height_px = std::stoi(value);
-      else if (flag == "--azimuth-deg") parsed.composite.view_azimuth_deg = std::stod(value);
-      else if (flag == "--elevation-deg") parsed.composite.view_elevation_deg = std::stod(value);
-      else if (flag == "--scene") parsed.scene_path = value;
+      if (flag == "--out-dir")
+        parsed.out_dir = value;
+      else if (flag == "--period-ms")
+        period_ms = std::stod(value);
+      else if (flag == "--count")
+        parsed.count = std::stoull(value);
+      else if (flag == "--duration-s")
+        duration_s = std::stod(value);
+      else if (flag == "--surface-mesh")
+        parsed.surface_mesh = value;
+      else if (flag == "--panel-height")
+        parsed.composite.panel_height_px = std::stoi(value);
+      else if (flag == "--azimuth-deg")
+        parsed.composite.view_azimuth_deg = std::stod(value);
+      else if (flag == "--elevation-deg")
+        parsed.composite.view_elevation_deg = std::stod(value);
+      else if (flag == "--scene")
+        parsed.scene_path = value;
       else if (flag == "--domain") {
         parsed.network.domain_id = static_cast<std::uint32_t>(std::stoul(value));
         parsed.domain_given = true;
-      }
-      else if (flag == "--local-address") parsed.network.local_address = value;
-      else if (flag == "--peer") parsed.network.peer_addresses.push_back(value);
+      } else if (flag == "--local-address")
+        parsed.network.local_address = value;
+      else if (flag == "--peer")
+        parsed.network.peer_addresses.push_back(value);
       else if (flag == "--topic") {
         if (!rename_topic(value, parsed.topic_names)) return false;
-      }
-      else if (flag == "--unit") {
+      } else if (flag == "--unit") {
         const auto unit = nav::parse_length_unit(value);
         if (!unit) return false;
         parsed.surface_mesh_unit = *unit;

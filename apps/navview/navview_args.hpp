@@ -16,16 +16,16 @@ namespace navview {
 struct NavviewArgs {
   nav::dds::NetworkConfig network;
   nav::view::CompositeOptions composite;
-  bool headless = false;                 // default: true when $DISPLAY is unset
-  std::string out_dir = ".";             // headless: where the PNG files go
-  nav::TimeNs period_ns = 0;             // between two renders; default 1 s headless, 33 ms in a window
-  std::uint64_t count = 0;               // stop after this many images (0: no limit)
-  nav::TimeNs duration_ns = 0;           // stop after this long (0: until SIGINT/SIGTERM or the window closes)
-  std::string surface_mesh;              // .obj with the surface's triangles (empty: draw vertices)
+  bool headless = false;        // default: true when $DISPLAY is unset
+  std::string out_dir = ".";    // headless: where the PNG files go
+  nav::TimeNs period_ns = 0;    // between two renders; default 1 s headless, 33 ms in a window
+  std::uint64_t count = 0;      // stop after this many images (0: no limit)
+  nav::TimeNs duration_ns = 0;  // stop after this long (0: until SIGINT/SIGTERM or the window closes)
+  std::string surface_mesh;     // .obj with the surface's triangles (empty: draw vertices)
   nav::LengthUnit surface_mesh_unit = nav::LengthUnit::metre;
-  nav::dds::TopicNames topic_names{};    // --topic DEFAULT=NAME renames a topic (empty: its default name)
-  std::string scene_path;                // --scene: the scene's domain, topics, network and security (as a display)
-  bool domain_given = false;             // --domain: wins over the scene's
+  nav::dds::TopicNames topic_names{};  // --topic DEFAULT=NAME renames a topic (empty: its default name)
+  std::string scene_path;              // --scene: the scene's domain, topics, network and security (as a display)
+  bool domain_given = false;           // --domain: wins over the scene's
 };
 
 inline constexpr const char* kUsage =

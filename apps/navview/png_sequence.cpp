@@ -30,7 +30,8 @@ nav::Result<std::unique_ptr<ImageOutput>> open_png_sequence(const std::string& d
   std::error_code error;
   std::filesystem::create_directories(directory, error);
   if (error || !std::filesystem::is_directory(directory)) {
-    return nav::Error{.message = "cannot create the output directory: " + error.message(), .file = directory, .field = "--out-dir"};
+    return nav::Error{
+        .message = "cannot create the output directory: " + error.message(), .file = directory, .field = "--out-dir"};
   }
   return std::unique_ptr<ImageOutput>(new PngSequence(directory));
 }

@@ -16,7 +16,10 @@ namespace {
 class X11Window final : public ImageOutput {
  public:
   X11Window(Display* display, Window window, Atom delete_message)
-      : display_(display), window_(window), delete_message_(delete_message), gc_(XCreateGC(display, window, 0, nullptr)) {}
+      : display_(display),
+        window_(window),
+        delete_message_(delete_message),
+        gc_(XCreateGC(display, window, 0, nullptr)) {}
 
   ~X11Window() override {
     release_image();
@@ -40,7 +43,8 @@ class X11Window final : public ImageOutput {
     for (int y = 0; y < image.rows; ++y) {
       const std::uint8_t* bgr = image.ptr<std::uint8_t>(y);
       std::uint32_t* out = &pixels_[static_cast<std::size_t>(y) * static_cast<std::size_t>(image.cols)];
-      for (int x = 0; x < image.cols; ++x, bgr += 3) out[x] = (std::uint32_t{bgr[2]} << 16) | (std::uint32_t{bgr[1]} << 8) | bgr[0];
+      for (int x = 0; x < image.cols; ++x, bgr += 3)
+        out[x] = (std::uint32_t{bgr[2]} << 16) | (std::uint32_t{bgr[1]} << 8) | bgr[0];
     }
     paint();
     return nav::Done{};

@@ -31,8 +31,8 @@ LoopFigures figures_of(const std::string& output) {
   LoopFigures f;
   const std::size_t at = output.find("figures: ");
   if (at == std::string::npos ||
-      std::sscanf(output.c_str() + at, "figures: %lld %lld %lld %lf %lf %lf %lf %d %d", &f.misses, &f.tracker_samples, &f.tumour_points,
-                  &f.now_mm, &f.ahead_mm, &f.marker_mm, &f.tip_mm, &f.finite, &f.degraded) != 9)
+      std::sscanf(output.c_str() + at, "figures: %lld %lld %lld %lf %lf %lf %lf %d %d", &f.misses, &f.tracker_samples,
+                  &f.tumour_points, &f.now_mm, &f.ahead_mm, &f.marker_mm, &f.tip_mm, &f.finite, &f.degraded) != 9)
     ADD_FAILURE() << "no figures line";
   return f;
 }
@@ -43,16 +43,17 @@ TEST(InstalledPackage, StationSoftwareFindsItBuildsAgainstItAndRunsTheOperatingL
   std::filesystem::remove_all(prefix);
   std::filesystem::remove_all(build);
 
-  const auto install = run_command("cmake --install " + quoted(NAV_BUILD_DIR) + " --prefix " + quoted(prefix) + " 2>&1");
+  const auto install =
+      run_command("cmake --install " + quoted(NAV_BUILD_DIR) + " --prefix " + quoted(prefix) + " 2>&1");
   ASSERT_EQ(install.exit_code, 0) << install.output;
   EXPECT_TRUE(std::filesystem::exists(prefix + "/include/nav/loop/operating_loop.hpp"));
 
   const std::string flags = std::string("-Wall -Wextra -Wpedantic -Werror ") + NAV_SANITIZE_FLAGS;
-  const auto configure = run_command(
-      "cmake -S " + quoted(std::string(NAV_SOURCE_DIR) + "/apps/embedding") + " -B " + quoted(build) +
-      " -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=" + quoted(prefix) + " -DCMAKE_CXX_COMPILER=" +
-      quoted(NAV_CXX_COMPILER) + " -DCMAKE_CXX_FLAGS=" + quoted(flags) + " -DCMAKE_EXE_LINKER_FLAGS=" +
-      quoted(NAV_SANITIZE_FLAGS) + " 2>&1");
+  const auto configure =
+      run_command("cmake -S " + quoted(std::string(NAV_SOURCE_DIR) + "/apps/embedding") + " -B " + quoted(build) +
+                  " -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=" + quoted(prefix) +
+                  " -DCMAKE_CXX_COMPILER=" + quoted(NAV_CXX_COMPILER) + " -DCMAKE_CXX_FLAGS=" + quoted(flags) +
+                  " -DCMAKE_EXE_LINKER_FLAGS=" + quoted(NAV_SANITIZE_FLAGS) + " 2>&1");
   ASSERT_EQ(configure.exit_code, 0) << configure.output;
   const auto compile = run_command("cmake --build " + quoted(build) + " -j2 2>&1");
   ASSERT_EQ(compile.exit_code, 0) << compile.output;

@@ -4,16 +4,16 @@
 // data played into the station by navdevice plus.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
-#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string>
 #include <thread>
 #include <vector>
-#include <string>
 
 #include "dds/child_process.hpp"
 #include "station/scene_text.hpp"
@@ -39,7 +39,8 @@ bool wait_for_text(const ChildProcess& process, const std::string& text, std::ch
 /// (its URDF by absolute path), in a file.
 std::string renamed_demo_scene() {
   std::string text = movable_demo_text();
-  for (std::size_t at = text.find(": nav/"); at != std::string::npos; at = text.find(": nav/", at)) text.replace(at, 6, ": site_b/");
+  for (std::size_t at = text.find(": nav/"); at != std::string::npos; at = text.find(": nav/", at))
+    text.replace(at, 6, ": site_b/");
   const std::string tracker = "    kind: simulated\n    rate_hz: 60";  // and its tools by ids of its own
   text = edited(text, tracker, tracker + "\n    tools: {needle: 11, probe: 12, respiratory: 13}");
   const std::string path = temporary_path("site_b.yaml");
@@ -50,8 +51,10 @@ std::string renamed_demo_scene() {
 /// The demo scene with its scanner a PLUS recording at `recording`, in a file.
 std::string plus_scene(const std::string& recording) {
   const std::string path = temporary_path("plus_scene.yaml");
-  std::ofstream(path) << edited(movable_demo_text(), "  ultrasound:\n    kind: simulated\n    rate_hz: 20\n    target_noise_m: 0.001\n    seed: 2",
-                                "  ultrasound:\n    kind: plus\n    recording: " + recording);
+  std::ofstream(path) << edited(
+      movable_demo_text(),
+      "  ultrasound:\n    kind: simulated\n    rate_hz: 20\n    target_noise_m: 0.001\n    seed: 2",
+      "  ultrasound:\n    kind: plus\n    recording: " + recording);
   return path;
 }
 
@@ -66,13 +69,15 @@ TEST(LiveStation, TheStationOnDdsFromTheSimulatedPatientIsEvaluatedLiveAndFromIt
   ASSERT_TRUE(patient.started());
   // The patient simulates its world first (seconds), then waits for a station.
   ASSERT_TRUE(wait_for_text(patient, "waiting up to", std::chrono::seconds(300))) << patient.log();
-  ChildProcess recorder({kBin + "/navtool", "record", "--out", recording, "--duration-s", "60", "--scene", scene, "--domain", domain},
-                        temporary_path("live_record.log"));
+  ChildProcess recorder(
+      {kBin + "/navtool", "record", "--out", recording, "--duration-s", "60", "--scene", scene, "--domain", domain},
+      temporary_path("live_record.log"));
   ChildProcess evaluation({kBin + "/navtool", "evaluate", "--scene", scene, "--seconds", "14", "--domain", domain},
                           temporary_path("live_evaluate.log"));
   const std::string figures_path = temporary_path("live_station.json");
-  ChildProcess station({kBin + "/navstation", "--scene", scene, "--live", "--seconds", "8", "--domain", domain, "--json", figures_path},
-                       temporary_path("live_station.log"));
+  ChildProcess station(
+      {kBin + "/navstation", "--scene", scene, "--live", "--seconds", "8", "--domain", domain, "--json", figures_path},
+      temporary_path("live_station.log"));
   ASSERT_TRUE(recorder.started() && evaluation.started() && station.started());
 
   const std::optional<int> station_exit = station.wait(std::chrono::seconds(120));
@@ -80,7 +85,8 @@ TEST(LiveStation, TheStationOnDdsFromTheSimulatedPatientIsEvaluatedLiveAndFromIt
   const std::optional<int> evaluation_exit = evaluation.wait(std::chrono::seconds(60));
   recorder.signal(SIGTERM);
   const std::optional<int> recorder_exit = recorder.wait(std::chrono::seconds(30));
-  std::printf("%s\n%s\n%s\n%s", patient.log().c_str(), station.log().c_str(), evaluation.log().c_str(), recorder.log().c_str());
+  std::printf("%s\n%s\n%s\n%s", patient.log().c_str(), station.log().c_str(), evaluation.log().c_str(),
+              recorder.log().c_str());
   ASSERT_EQ(station_exit, 0);
   ASSERT_EQ(patient_exit, 0);
   ASSERT_EQ(evaluation_exit, 0);
@@ -113,7 +119,8 @@ TEST(LiveStation, TheStationOnDdsFromTheSimulatedPatientIsEvaluatedLiveAndFromIt
   EXPECT_LE(number_after(evaluated, "needle tip "), 15.0);
 
   // The recording of the session gives the same evaluation, within what the recorder missed.
-  ChildProcess from_recording({kBin + "/navtool", "evaluate", "--recording", recording}, temporary_path("live_evaluate_recording.log"));
+  ChildProcess from_recording({kBin + "/navtool", "evaluate", "--recording", recording},
+                              temporary_path("live_evaluate_recording.log"));
   ASSERT_EQ(from_recording.wait(std::chrono::seconds(60)), 0) << from_recording.log();
   std::printf("%s", from_recording.log().c_str());
   EXPECT_NEAR(number_after(from_recording.log(), "tumour now "), live_now_mm, 0.2);
@@ -121,7 +128,8 @@ TEST(LiveStation, TheStationOnDdsFromTheSimulatedPatientIsEvaluatedLiveAndFromIt
   // The station replays the session from its recording on a simulated clock: twice, the same bits.
   std::string hashes[2];
   for (std::string& hash : hashes) {
-    ChildProcess replay({kBin + "/navstation", "--scene", scene, "--replay", recording}, temporary_path("live_replay.log"));
+    ChildProcess replay({kBin + "/navstation", "--scene", scene, "--replay", recording},
+                        temporary_path("live_replay.log"));
     ASSERT_EQ(replay.wait(std::chrono::seconds(120)), 0) << replay.log();
     const std::string log = replay.log();
     std::printf("%s", log.c_str());
@@ -142,12 +150,14 @@ std::string registered_scene() {
   const std::string station_urdf = example_scene_path("../../../calibration/urdf/station.urdf");
   const std::string joint_origin = "<child link=\"liver_model\"/>\n    <origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>";
   const std::string urdf = temporary_path("registered_station.urdf");
-  std::ofstream(urdf) << edited(file_text(station_urdf), joint_origin,
-                                "<child link=\"liver_model\"/>\n    <origin xyz=\"0.01 -0.2 0.3\" rpy=\"0.2 0 1.5707963267948966\"/>");
+  std::ofstream(urdf) << edited(
+      file_text(station_urdf), joint_origin,
+      "<child link=\"liver_model\"/>\n    <origin xyz=\"0.01 -0.2 0.3\" rpy=\"0.2 0 1.5707963267948966\"/>");
   const std::string tracker = "    kind: simulated\n    rate_hz: 60";
   const std::string text = edited(edited(movable_demo_text(), station_urdf, urdf), tracker,
-                                  tracker + "\n    tools: {needle: 1, probe: 2, respiratory: 3, reference: 4}"
-                                            "\n    tracker_from_reference: {xyz: [0.3, -0.2, 1.1], rpy: [0.4, -0.3, 2.0]}");
+                                  tracker +
+                                      "\n    tools: {needle: 1, probe: 2, respiratory: 3, reference: 4}"
+                                      "\n    tracker_from_reference: {xyz: [0.3, -0.2, 1.1], rpy: [0.4, -0.3, 2.0]}");
   const std::string path = temporary_path("registered.yaml");
   std::ofstream(path) << text;
   return path;
@@ -169,7 +179,8 @@ LiveRun run_patient_station_evaluation(const std::string& scene, const std::stri
   // The evaluation listens until the station and the patient are done (it scores on SIGTERM).
   ChildProcess evaluation({kBin + "/navtool", "evaluate", "--scene", scene, "--seconds", "600", "--domain", domain},
                           temporary_path(label + "_evaluate.log"));
-  std::vector<std::string> station_command{kBin + "/navstation", "--scene", scene, "--live", "--seconds", "6", "--domain", domain};
+  std::vector<std::string> station_command{kBin + "/navstation", "--scene", scene,      "--live",
+                                           "--seconds",          "6",       "--domain", domain};
   station_command.insert(station_command.end(), station_args.begin(), station_args.end());
   ChildProcess station(station_command, temporary_path(label + "_station.log"));
   const std::optional<int> station_exit = station.wait(std::chrono::seconds(300));
@@ -208,7 +219,8 @@ TEST(LiveStation, ASecuredSceneRunsItsStationDevicesDisplayAndEvaluationEachOnIt
   const std::string scene = temporary_path("secured.yaml");
   const std::string section = made.output.substr(made.output.find("  security:\n") + 2);  // as navtool prints it
   std::ofstream(scene) << movable_demo_text() << section;
-  const LiveRun run = run_patient_station_evaluation(scene, "179", "secured", {"--images", temporary_path("secured_navview")});
+  const LiveRun run =
+      run_patient_station_evaluation(scene, "179", "secured", {"--images", temporary_path("secured_navview")});
   ASSERT_FALSE(::testing::Test::HasFailure());
   const std::string& log = run.station_log;
   const std::string& evaluated = run.evaluation_log;
@@ -255,8 +267,9 @@ TEST(LiveStation, APatientKilledMidRunDegradesTheStationWhichKeepsItsLoopAndReco
   ASSERT_TRUE(wait_for_text(first, "navdevice sim: 3 s", std::chrono::seconds(60))) << first.log();
   first.signal(SIGKILL);  // no goodbye: its writers vanish with the process
   first.wait(std::chrono::seconds(10));
-  ChildProcess second({kBin + "/navdevice", "sim", "--scene", kDemoScene, "--seconds", "6", "--domain", domain, "--no-wait"},
-                      temporary_path("returning_patient.log"));
+  ChildProcess second(
+      {kBin + "/navdevice", "sim", "--scene", kDemoScene, "--seconds", "6", "--domain", domain, "--no-wait"},
+      temporary_path("returning_patient.log"));
   const std::optional<int> station_exit = station.wait(std::chrono::seconds(120));
   const std::optional<int> second_exit = second.wait(std::chrono::seconds(60));
   const std::string log = station.log();
@@ -269,7 +282,8 @@ TEST(LiveStation, APatientKilledMidRunDegradesTheStationWhichKeepsItsLoopAndReco
   // kill until it came back), flagged; good again after, well before the run's end.
   const std::vector<Period> periods = degraded_periods(log, "needle input degraded:");
   ASSERT_GE(periods.size(), 2u) << log;
-  const auto outage = std::find_if(periods.begin() + 1, periods.end(), [](const Period& p) { return p.to_s - p.from_s > 1.0; });
+  const auto outage =
+      std::find_if(periods.begin() + 1, periods.end(), [](const Period& p) { return p.to_s - p.from_s > 1.0; });
   ASSERT_NE(outage, periods.end()) << "no degraded stretch longer than 1 s after the start";
   EXPECT_NE(outage->flags.find("_input"), std::string::npos) << outage->flags;
   EXPECT_LT(outage->to_s, 13.0) << "the station did not recover when the patient came back";
@@ -299,7 +313,8 @@ TEST(LiveStation, TheDemoRunsItsPatientAndItsEvaluationAsChildProcessesAtTheDemo
   const std::string images = temporary_path("demo_children_images");
   std::filesystem::remove_all(images);
   std::remove(svg.c_str());
-  ChildProcess demo({kBin + "/navstation", "--demo", "--seconds", "5", "--domain", "175", "--logs", logs, "--plot", svg, "--images", images},
+  ChildProcess demo({kBin + "/navstation", "--demo", "--seconds", "5", "--domain", "175", "--logs", logs, "--plot", svg,
+                     "--images", images},
                     temporary_path("demo_children.log"));
   const std::optional<int> exit_code = demo.wait(std::chrono::seconds(300));
   const std::string log = demo.log();
@@ -308,7 +323,8 @@ TEST(LiveStation, TheDemoRunsItsPatientAndItsEvaluationAsChildProcessesAtTheDemo
   // Its children: the patient and the evaluation, each with its log; navview for the images.
   // The patient is stopped with the demo, or has ended its own seconds first (a slow host).
   const std::string patient = file_text(logs + "/patient.log");
-  EXPECT_TRUE(patient.find("navdevice sim: stopped") != std::string::npos || patient.find("navdevice sim: done after") != std::string::npos)
+  EXPECT_TRUE(patient.find("navdevice sim: stopped") != std::string::npos ||
+              patient.find("navdevice sim: done after") != std::string::npos)
       << patient;
   EXPECT_GE(number_after(log, "samples accepted "), 300.0);
   EXPECT_NE(log.find("dropped at the boundary: none"), std::string::npos);
@@ -327,7 +343,8 @@ TEST(LiveStation, TheDemoUnderLoadKeepsItsDeadlinesItsMemoryAndItsSamples) {
   // A short soak: the demo for 20 s with a load on the I/O core (navdevice load: frames filtered
   // and poses and frames on DDS at 4 x the demo's device rates), judged with generous budgets
   // (a shared host) and every figure printed.
-  ChildProcess demo({kBin + "/navstation", "--demo", "--seconds", "20", "--load", "4", "--domain", "170", "--logs", temporary_path("soak_logs")},
+  ChildProcess demo({kBin + "/navstation", "--demo", "--seconds", "20", "--load", "4", "--domain", "170", "--logs",
+                     temporary_path("soak_logs")},
                     temporary_path("soak.log"));
   const std::optional<int> exit_code = demo.wait(std::chrono::seconds(600));
   const std::string log = demo.log();
@@ -357,14 +374,16 @@ TEST(LiveStation, TheDemoUnderLoadKeepsItsDeadlinesItsMemoryAndItsSamples) {
 TEST(LiveStation, StoppingTheDemoStopsItsChildrenAndKillingItEndsThem) {
   for (const int signal_number : {SIGTERM, SIGKILL}) {
     const std::string domain = signal_number == SIGTERM ? "176" : "177";
-    ChildProcess demo({kBin + "/navstation", "--demo", "--seconds", "12", "--domain", domain, "--logs", temporary_path("demo_stopped_logs" + domain)},
+    ChildProcess demo({kBin + "/navstation", "--demo", "--seconds", "12", "--domain", domain, "--logs",
+                       temporary_path("demo_stopped_logs" + domain)},
                       temporary_path("demo_stopped" + domain + ".log"));
     ASSERT_TRUE(wait_for_text(demo, "then running 12.0 s", std::chrono::seconds(300))) << demo.log();
     const std::string started = demo.log();
     // The patient plays once it has found the running station: 2 s of its world, then the stop.
     const std::string patient_log = temporary_path("demo_stopped_logs" + domain) + "/patient.log";
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-    while (file_text(patient_log).find("navdevice sim: 2 s") == std::string::npos && std::chrono::steady_clock::now() < deadline)
+    while (file_text(patient_log).find("navdevice sim: 2 s") == std::string::npos &&
+           std::chrono::steady_clock::now() < deadline)
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     const auto patient = static_cast<long>(number_after(started, "navdevice sim (pid "));
     const auto evaluation = static_cast<long>(number_after(started, "navtool evaluate (pid "));
@@ -387,15 +406,18 @@ TEST(LiveStation, TheSimulatedPatientNamesWhatIsWrong) {
   EXPECT_EQ(usage.wait(std::chrono::seconds(30)), 2);
   EXPECT_NE(usage.log().find("usage: navdevice sim --scene FILE"), std::string::npos) << usage.log();
   // A domain id outside 0..232 (or -1, the scene's) is a usage error, for every tool of a session.
-  for (const std::vector<std::string>& command : {std::vector<std::string>{kBin + "/navdevice", "sim", "--scene", kDemoScene, "--domain", "-3"},
-                                                  {kBin + "/navtool", "evaluate", "--scene", kDemoScene, "--domain", "-3"},
-                                                  {kBin + "/navtool", "record", "--out", temporary_path("x.navrec"), "--domain", "-3"},
-                                                  {kBin + "/navtool", "record", "--out", temporary_path("x.navrec"), "--domain", "233"}}) {
+  for (const std::vector<std::string>& command :
+       {std::vector<std::string>{kBin + "/navdevice", "sim", "--scene", kDemoScene, "--domain", "-3"},
+        {kBin + "/navtool", "evaluate", "--scene", kDemoScene, "--domain", "-3"},
+        {kBin + "/navtool", "record", "--out", temporary_path("x.navrec"), "--domain", "-3"},
+        {kBin + "/navtool", "record", "--out", temporary_path("x.navrec"), "--domain", "233"}}) {
     ChildProcess refused(command, temporary_path("domain_refused.log"));
-    EXPECT_EQ(refused.wait(std::chrono::seconds(30)), 2) << command[1] << " " << command.back() << "\n" << refused.log();
+    EXPECT_EQ(refused.wait(std::chrono::seconds(30)), 2) << command[1] << " " << command.back() << "\n"
+                                                         << refused.log();
   }
 
-  ChildProcess missing({kBin + "/navdevice", "sim", "--scene", "/nonexistent/scene.yaml"}, temporary_path("navdevice_missing.log"));
+  ChildProcess missing({kBin + "/navdevice", "sim", "--scene", "/nonexistent/scene.yaml"},
+                       temporary_path("navdevice_missing.log"));
   EXPECT_EQ(missing.wait(std::chrono::seconds(30)), 1);
   EXPECT_NE(missing.log().find("navdevice sim: "), std::string::npos) << missing.log();
   EXPECT_NE(missing.log().find("/nonexistent/scene.yaml"), std::string::npos) << missing.log();
@@ -409,8 +431,9 @@ TEST(LiveStation, TheSimulatedPatientNamesWhatIsWrong) {
   EXPECT_EQ(real.log().find("simulating"), std::string::npos) << real.log();
 
   // No station runs on its domain: it says so and gives up, after its wait.
-  ChildProcess alone({kBin + "/navdevice", "sim", "--scene", kDemoScene, "--seconds", "1", "--domain", "172", "--wait-s", "0.5"},
-                     temporary_path("navdevice_alone.log"));
+  ChildProcess alone(
+      {kBin + "/navdevice", "sim", "--scene", kDemoScene, "--seconds", "1", "--domain", "172", "--wait-s", "0.5"},
+      temporary_path("navdevice_alone.log"));
   EXPECT_EQ(alone.wait(std::chrono::seconds(300)), 1);
   EXPECT_NE(alone.log().find("no station ran on this domain within"), std::string::npos) << alone.log();
 }
@@ -420,11 +443,13 @@ struct PlusRunLogs {
   std::string station, player;
 };
 
-PlusRunLogs run_station_on_plus(const std::string& scene, const std::string& domain, const std::string& name, std::vector<std::string> station_flags) {
+PlusRunLogs run_station_on_plus(const std::string& scene, const std::string& domain, const std::string& name,
+                                std::vector<std::string> station_flags) {
   std::vector<std::string> command{kBin + "/navstation", "--scene", scene, "--live", "--domain", domain};
   command.insert(command.end(), station_flags.begin(), station_flags.end());
   ChildProcess station(command, temporary_path(name + "_station.log"));
-  ChildProcess player({kBin + "/navdevice", "plus", "--scene", scene, "--domain", domain}, temporary_path(name + "_player.log"));
+  ChildProcess player({kBin + "/navdevice", "plus", "--scene", scene, "--domain", domain},
+                      temporary_path(name + "_player.log"));
   EXPECT_TRUE(station.started() && player.started());
   const std::optional<int> player_exit = player.wait(std::chrono::seconds(120));
   const std::optional<int> station_exit = station.wait(std::chrono::seconds(120));
@@ -445,7 +470,8 @@ TEST(LiveStation, TheShippedRealLiverSceneRunsItsLadderOnItsArtifactsFromThePlus
   const std::string scene = example_scene_path("liver_reduced.yaml");
   const std::string lower = example_scene_path("../../../build/liver_fine.navrb");
   const std::string upper = example_scene_path("../../../build/liver_fine_r32.navrb");
-  const CommandRun reduced = run_command(kBin + "/navtool reduce --liver-dir " + liver_dir + " --method pod --r 20 --force corotational --out " + lower + " 2>&1");
+  const CommandRun reduced = run_command(kBin + "/navtool reduce --liver-dir " + liver_dir +
+                                         " --method pod --r 20 --force corotational --out " + lower + " 2>&1");
   ASSERT_EQ(reduced.exit_code, 0) << reduced.output;
   const CommandRun extended = run_command(kBin + "/navtool reduce --liver-dir " + liver_dir + " --extend " + lower +
                                           " --r 32 --load-scale 3 --samples 160 --out " + upper + " 2>&1");
@@ -468,19 +494,24 @@ TEST(LiveStation, APlusRecordingPlaysIntoTheStationFrameByFrame) {
   // The probe's calibration from PLUS's own fCal recordings (navtool calib probe): its joint
   // in the station's URDF, its pixel spacing the scene's (the recording says 1 x 1 mm).
   const std::string urdf = temporary_path("plus_calibrated.urdf");
-  const CommandRun calibrated = run_command(kBin + "/navtool calib probe --recording " + shared_data_path("plus/fCal_Test_Calibration_3NWires_fCal2.0.igs.mha") +
-                                            " --phantom " + shared_data_path("plus/PlusDeviceSet_fCal_Sim_SpatialCalibration_2.0.xml") + " --urdf " +
-                                            example_scene_path("../../../calibration/urdf/station.urdf") + " --out " + urdf + " 2>&1");
+  const CommandRun calibrated =
+      run_command(kBin + "/navtool calib probe --recording " +
+                  shared_data_path("plus/fCal_Test_Calibration_3NWires_fCal2.0.igs.mha") + " --phantom " +
+                  shared_data_path("plus/PlusDeviceSet_fCal_Sim_SpatialCalibration_2.0.xml") + " --urdf " +
+                  example_scene_path("../../../calibration/urdf/station.urdf") + " --out " + urdf + " 2>&1");
   ASSERT_EQ(calibrated.exit_code, 0) << calibrated.output;
   const double spacing_x_mm = number_after(calibrated.output, "pixel spacing ");
   const double spacing_y_mm = number_after(calibrated.output.substr(calibrated.output.find("pixel spacing ")), " x ");
   ASSERT_GT(spacing_x_mm, 0.05);
-  std::string text = edited(file_text(plus_scene(recording)), "urdf: " + example_scene_path("../../../calibration/urdf/station.urdf"), "urdf: " + urdf);
+  std::string text = edited(file_text(plus_scene(recording)),
+                            "urdf: " + example_scene_path("../../../calibration/urdf/station.urdf"), "urdf: " + urdf);
   text = edited(text, "recording: " + recording,
-                "recording: " + recording + "\n    pixel_spacing_mm: [" + std::to_string(spacing_x_mm) + ", " + std::to_string(spacing_y_mm) + "]");
+                "recording: " + recording + "\n    pixel_spacing_mm: [" + std::to_string(spacing_x_mm) + ", " +
+                    std::to_string(spacing_y_mm) + "]");
   const std::string scene = temporary_path("plus_calibrated.yaml");
   std::ofstream(scene) << text;
-  const PlusRunLogs logs = run_station_on_plus(scene, "174", "plus", {"--seconds", "6", "--images", temporary_path("plus_navview")});
+  const PlusRunLogs logs =
+      run_station_on_plus(scene, "174", "plus", {"--seconds", "6", "--images", temporary_path("plus_navview")});
   // The recording's 21 frames of 820 x 616 at the calibration's spacing, its probe and stylus
   // tracks (tools 2 and 1), at its own 1.8 s of intervals; every one reaches the station and
   // none is refused; navview beside it draws them.
@@ -491,7 +522,7 @@ TEST(LiveStation, APlusRecordingPlaysIntoTheStationFrameByFrame) {
   EXPECT_NE(played.find("21 of 21 frames played"), std::string::npos);
   EXPECT_GE(number_after(played, "done after "), 1.7);
   const std::string& log = logs.station;
-  EXPECT_EQ(number_after(log, "ultrasound: "), 21.0);  // frames taken by the image processing
+  EXPECT_EQ(number_after(log, "ultrasound: "), 21.0);       // frames taken by the image processing
   EXPECT_EQ(number_after(log, "samples accepted "), 63.0);  // 42 poses and 21 frames
   EXPECT_NE(log.find("dropped at the boundary: none"), std::string::npos);
   EXPECT_GE(number_after(log, "navview: "), 1.0);  // images written
@@ -502,25 +533,31 @@ TEST(LiveStation, ThePlusPlayerNamesWhatIsWrong) {
   EXPECT_EQ(usage.wait(std::chrono::seconds(30)), 2);
   EXPECT_NE(usage.log().find("usage: navdevice plus --scene FILE"), std::string::npos) << usage.log();
 
-  ChildProcess simulated({kBin + "/navdevice", "plus", "--scene", kDemoScene, "--no-wait"}, temporary_path("plus_simulated.log"));
+  ChildProcess simulated({kBin + "/navdevice", "plus", "--scene", kDemoScene, "--no-wait"},
+                         temporary_path("plus_simulated.log"));
   EXPECT_EQ(simulated.wait(std::chrono::seconds(30)), 1);
-  EXPECT_NE(simulated.log().find("navdevice plus: " + kDemoScene + ": devices.ultrasound is not a PLUS recording"), std::string::npos)
+  EXPECT_NE(simulated.log().find("navdevice plus: " + kDemoScene + ": devices.ultrasound is not a PLUS recording"),
+            std::string::npos)
       << simulated.log();
 
   const std::string absent = plus_scene("/nonexistent/session.mha");
-  ChildProcess missing({kBin + "/navdevice", "plus", "--scene", absent, "--no-wait"}, temporary_path("plus_missing.log"));
+  ChildProcess missing({kBin + "/navdevice", "plus", "--scene", absent, "--no-wait"},
+                       temporary_path("plus_missing.log"));
   EXPECT_EQ(missing.wait(std::chrono::seconds(30)), 1);
   EXPECT_NE(missing.log().find("/nonexistent/session.mha"), std::string::npos) << missing.log();
 
   const std::string recording = shared_data_path("plus/SpinePhantomFreehand.igs.mha");
   NAV_REQUIRE_SHARED_DATA(recording);
   const std::string scene = plus_scene(recording);
-  ChildProcess no_track({kBin + "/navdevice", "plus", "--scene", scene, "--no-wait", "--transform", "NeedleToTracker=needle"},
-                        temporary_path("plus_no_track.log"));
+  ChildProcess no_track(
+      {kBin + "/navdevice", "plus", "--scene", scene, "--no-wait", "--transform", "NeedleToTracker=needle"},
+      temporary_path("plus_no_track.log"));
   EXPECT_EQ(no_track.wait(std::chrono::seconds(30)), 1);
-  EXPECT_NE(no_track.log().find("the recording has no transform 'NeedleToTracker'"), std::string::npos) << no_track.log();
-  ChildProcess no_role({kBin + "/navdevice", "plus", "--scene", scene, "--no-wait", "--transform", "ProbeToTracker=camera"},
-                       temporary_path("plus_no_role.log"));
+  EXPECT_NE(no_track.log().find("the recording has no transform 'NeedleToTracker'"), std::string::npos)
+      << no_track.log();
+  ChildProcess no_role(
+      {kBin + "/navdevice", "plus", "--scene", scene, "--no-wait", "--transform", "ProbeToTracker=camera"},
+      temporary_path("plus_no_role.log"));
   EXPECT_EQ(no_role.wait(std::chrono::seconds(30)), 1);
   EXPECT_NE(no_role.log().find("unknown role 'camera'"), std::string::npos) << no_role.log();
 }

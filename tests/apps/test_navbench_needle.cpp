@@ -63,17 +63,20 @@ TEST(NavbenchNeedle, QuickRunWritesRecordsAndForceProfile) {
   const std::filesystem::path json = nav::testing::temporary_path("navbench_needle_quick.json");
   const std::filesystem::path svg = json.parent_path() / "navbench_needle_quick_force_profile.svg";
   std::filesystem::remove(svg);
-  const auto run = nav::testing::run_command(nav::testing::executable_path("navbench") + " needle --quick --json " + json.string() + " 2>&1");
+  const auto run = nav::testing::run_command(nav::testing::executable_path("navbench") + " needle --quick --json " +
+                                             json.string() + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::string text = nav::testing::file_text(json.string());
   const std::vector<Record> records = records_of(text);
-  ASSERT_EQ(records.size(), static_cast<std::size_t>(std::count(text.begin(), text.end(), '{'))) << "a record the pattern did not read";
+  ASSERT_EQ(records.size(), static_cast<std::size_t>(std::count(text.begin(), text.end(), '{')))
+      << "a record the pattern did not read";
 
   for (int elements : {20, 30, 40}) {
     EXPECT_EQ(count_of(records, "needle_alone", elements, 0), 1) << elements;
     EXPECT_EQ(count_of(records, "coupled_reduced_liver", elements, 8), 1) << elements;
     EXPECT_EQ(count_of(records, "coupled_reduced_liver", elements, 16), 1) << elements;
-    EXPECT_GE(count_of(records, "coupled_reduced_liver", elements, 32), 2) << elements;  // the baseline kernels and 10 sweeps at least
+    EXPECT_GE(count_of(records, "coupled_reduced_liver", elements, 32), 2)
+        << elements;  // the baseline kernels and 10 sweeps at least
   }
   for (int points : {8, 16, 32}) EXPECT_EQ(count_of(records, "needle_constraints", 30, points), 1) << points;
   EXPECT_EQ(count_of(records, "needle_constraints", 20, 32), 1);
@@ -81,7 +84,8 @@ TEST(NavbenchNeedle, QuickRunWritesRecordsAndForceProfile) {
   std::map<int, std::vector<const Record*>> liver_32_at_default_sweeps;  // by element count
   int full_order = 0, at_10_sweeps = 0;
   for (const Record& r : records) {
-    SCOPED_TRACE(r.name + " " + std::to_string(r.elements) + " elements, " + std::to_string(r.points) + " points, " + r.kernel_isa);
+    SCOPED_TRACE(r.name + " " + std::to_string(r.elements) + " elements, " + std::to_string(r.points) + " points, " +
+                 r.kernel_isa);
     EXPECT_TRUE(std::isfinite(r.median_us) && r.median_us > 0.0);
     EXPECT_GE(r.p99_us, r.median_us);
     EXPECT_TRUE(r.residual_m >= 0.0 && r.residual_m < 10e-6);  // the solver's bound on the constraint laws
@@ -90,8 +94,10 @@ TEST(NavbenchNeedle, QuickRunWritesRecordsAndForceProfile) {
       EXPECT_TRUE(r.ratio == 1 || r.ratio == 10);
     }
     if (r.name == "coupled_reduced_liver" && r.points == 32) {
-      if (r.sweeps == 10) ++at_10_sweeps;
-      else liver_32_at_default_sweeps[r.elements].push_back(&r);
+      if (r.sweeps == 10)
+        ++at_10_sweeps;
+      else
+        liver_32_at_default_sweeps[r.elements].push_back(&r);
     }
   }
   EXPECT_EQ(full_order, 2);
@@ -99,7 +105,8 @@ TEST(NavbenchNeedle, QuickRunWritesRecordsAndForceProfile) {
   for (const auto& [elements, variants] : liver_32_at_default_sweeps) {
     ASSERT_FALSE(variants.empty());
     EXPECT_EQ(variants.front()->kernel_isa, "baseline");
-    for (const Record* r : variants) EXPECT_EQ(r->residual_text, variants.front()->residual_text) << elements << " elements, " << r->kernel_isa;
+    for (const Record* r : variants)
+      EXPECT_EQ(r->residual_text, variants.front()->residual_text) << elements << " elements, " << r->kernel_isa;
   }
 
   ASSERT_TRUE(std::filesystem::exists(svg));
@@ -108,5 +115,6 @@ TEST(NavbenchNeedle, QuickRunWritesRecordsAndForceProfile) {
   std::size_t curves = 0;
   for (std::size_t at = plot.find("<polyline"); at != std::string::npos; at = plot.find("<polyline", at + 1)) ++curves;
   EXPECT_EQ(curves, 4u);
-  for (const char* legend : {">total<", ">stiffness (capsule)<", ">cutting<", ">shaft friction<"}) EXPECT_NE(plot.find(legend), std::string::npos) << legend;
+  for (const char* legend : {">total<", ">stiffness (capsule)<", ">cutting<", ">shaft friction<"})
+    EXPECT_NE(plot.find(legend), std::string::npos) << legend;
 }

@@ -31,7 +31,8 @@ std::vector<Record> records_of(const std::string& json) {
     const std::string line = json.substr(at, json.find('}', at) - at);
     const std::size_t model = line.find("\"model\": \"") + 10;
     records.push_back({line.substr(model, line.find('"', model) - model), nav::testing::number_after(line, "\"r\": "),
-                       nav::testing::number_after(line, "\"step_us_median\": "), nav::testing::number_after(line, "\"error_rms_m\": "),
+                       nav::testing::number_after(line, "\"step_us_median\": "),
+                       nav::testing::number_after(line, "\"error_rms_m\": "),
                        nav::testing::number_after(line, "\"error_rms_pct\": "),
                        nav::testing::number_after(line, "\"error_rms_vs_corotational_pct\": ")});
   }
@@ -71,7 +72,8 @@ TEST(NavbenchTradeoff, QuickRunWritesRecordsAndParetoPlot) {
   for (const char* field : {"\"r\"", "\"sampled_elements\"", "\"tetrahedra\"", "\"step_us_median\"", "\"step_us_p99\"",
                             "\"error_rms_m\"", "\"error_max_m\"", "\"target_error_m\"", "\"memory_bytes\""})
     EXPECT_EQ(count_of(records, field), record_count) << field;
-  for (const char* model : {"\"linear_full\"", "\"corotational_full\"", "\"pod_corotational\"", "\"pod_linear\"", "\"modes_linear\""})
+  for (const char* model :
+       {"\"linear_full\"", "\"corotational_full\"", "\"pod_corotational\"", "\"pod_linear\"", "\"modes_linear\""})
     EXPECT_NE(records.find(model), std::string::npos) << model;
   EXPECT_EQ(records.find("nan"), std::string::npos);
   EXPECT_EQ(records.find("inf"), std::string::npos);
@@ -103,7 +105,7 @@ TEST(NavbenchTradeoff, QuickRunWritesRecordsAndParetoPlot) {
   const std::string plot = nav::testing::file_text(svg.string());
   EXPECT_EQ(plot.rfind("<svg", 0), 0u);
   EXPECT_NE(plot.find("</svg>"), std::string::npos);
-  EXPECT_EQ(count_of(plot, "class=\"pareto\""), 1u);  // one mesh in the quick run: one front
+  EXPECT_EQ(count_of(plot, "class=\"pareto\""), 1u);                  // one mesh in the quick run: one front
   EXPECT_EQ(count_of(plot, "(Pareto front)"), pareto_count(parsed));  // the front of the records' own figures
   EXPECT_GE(count_of(plot, "<title>"), record_count);
 }

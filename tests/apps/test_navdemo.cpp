@@ -40,13 +40,15 @@ TEST(Navdemo, SolvesTheLiverWithTheNeoHookeanModelAndShowsTheLinearRungsError) {
     EXPECT_LT(error_mm, max_mm);
   }
   // The probe pushes the tumour further than gravity alone.
-  EXPECT_GT(nav::testing::number_after(probe, "tumour displacement "), nav::testing::number_after(gravity, "tumour displacement "));
+  EXPECT_GT(nav::testing::number_after(probe, "tumour displacement "),
+            nav::testing::number_after(gravity, "tumour displacement "));
 
   auto mesh = nav::load_vtu_tet_mesh(vtu, nav::LengthUnit::metre);
   ASSERT_TRUE(mesh.ok()) << mesh.error().describe();
   EXPECT_GT(mesh.value().tets.size(), 4000u);
   const std::string text = nav::testing::file_text(vtu);
-  for (const char* field : {"\"displacement_m_gravity\"", "\"linear_error_m_gravity_probe\"", "\"linear_von_mises_stress_pa_gravity\""})
+  for (const char* field :
+       {"\"displacement_m_gravity\"", "\"linear_error_m_gravity_probe\"", "\"linear_von_mises_stress_pa_gravity\""})
     EXPECT_NE(text.find(field), std::string::npos) << field;
 }
 

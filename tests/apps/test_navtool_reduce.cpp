@@ -43,15 +43,17 @@ std::vector<double> json_array(const std::string& text, const std::string& key) 
   return values;
 }
 
-#define LIVER_OR_SKIP(dir)                                                                                      \
-  const std::string dir = nav::testing::shared_data_path("liver");                                             \
+#define LIVER_OR_SKIP(dir)                                         \
+  const std::string dir = nav::testing::shared_data_path("liver"); \
   NAV_REQUIRE_SHARED_DATA(dir + "/liver-smoothUV.obj")
 
 TEST(NavtoolReduce, PodArtifactReportsEnergyAndCubatureAndLoadsForItsMeshOnly) {
   LIVER_OR_SKIP(dir);
   const std::string out = nav::testing::temporary_path("reduce_pod.navrb");
-  const auto run = navtool("reduce --liver-dir " + dir + " --tets 1000 --method pod --r 12 --force corotational --samples 40 --out " +
-                           out + " --json", "2>/dev/null");
+  const auto run =
+      navtool("reduce --liver-dir " + dir +
+                  " --tets 1000 --method pod --r 12 --force corotational --samples 40 --out " + out + " --json",
+              "2>/dev/null");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::vector<double> energy = json_array(run.output, "captured_energy_fraction");
   ASSERT_EQ(energy.size(), 12u) << run.output;
@@ -82,12 +84,14 @@ TEST(NavtoolReduce, PodArtifactReportsEnergyAndCubatureAndLoadsForItsMeshOnly) {
 TEST(NavtoolReduce, VibrationModesReportAscendingFrequencies) {
   LIVER_OR_SKIP(dir);
   const std::string out = nav::testing::temporary_path("reduce_modes.navrb");
-  const auto table = navtool("reduce --liver-dir " + dir + " --tets 1000 --method modes --r 6 --force linear --out " + out);
+  const auto table =
+      navtool("reduce --liver-dir " + dir + " --tets 1000 --method modes --r 6 --force linear --out " + out);
   ASSERT_EQ(table.exit_code, 0) << table.output;
   EXPECT_NE(table.output.find("frequency (Hz"), std::string::npos) << table.output;
   EXPECT_NE(table.output.find("written: " + out), std::string::npos);
-  const auto run = navtool("reduce --liver-dir " + dir + " --tets 1000 --method modes --r 6 --force linear --out " + out +
-                           " --json", "2>/dev/null");
+  const auto run =
+      navtool("reduce --liver-dir " + dir + " --tets 1000 --method modes --r 6 --force linear --out " + out + " --json",
+              "2>/dev/null");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::vector<double> hz = json_array(run.output, "mode_frequency_hz");
   ASSERT_EQ(hz.size(), 6u) << run.output;
@@ -103,9 +107,12 @@ TEST(NavtoolReduce, ExtendKeepsTheLowerColumnsAndMakesALadderWithoutTransferLoss
   const std::string lower = nav::testing::temporary_path("reduce_lower.navrb");
   const std::string upper = nav::testing::temporary_path("reduce_upper.navrb");
   const std::string mesh_args = "reduce --liver-dir " + dir + " --tets 500 ";
-  const auto made = navtool(mesh_args + "--method pod --r 6 --force corotational --samples 30 --out " + lower, "2>/dev/null");
+  const auto made =
+      navtool(mesh_args + "--method pod --r 6 --force corotational --samples 30 --out " + lower, "2>/dev/null");
   ASSERT_EQ(made.exit_code, 0) << made.output;
-  const auto run = navtool(mesh_args + "--extend " + lower + " --r 10 --samples 30 --load-scale 3 --out " + upper + " --json", "2>/dev/null");
+  const auto run =
+      navtool(mesh_args + "--extend " + lower + " --r 10 --samples 30 --load-scale 3 --out " + upper + " --json",
+              "2>/dev/null");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("\"lower_r\": 6"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("\"r\": 10"), std::string::npos) << run.output;
@@ -144,8 +151,8 @@ TEST(NavtoolReduce, ExtendKeepsTheLowerColumnsAndMakesALadderWithoutTransferLoss
 
   const nav::TissueScene scene = nav::liver_reduction_scene(mesh);
   const std::vector<nav::ReducedRungSpec> rungs{{small.value(), {}}, {big.value(), {}}};
-  const auto ladder = nav::make_reduced_ladder_model(mesh, scene, nav::reduction_solver_options(nav::ReducedForceKind::corotational_cubature),
-                                                     rungs, false, {});
+  const auto ladder = nav::make_reduced_ladder_model(
+      mesh, scene, nav::reduction_solver_options(nav::ReducedForceKind::corotational_cubature), rungs, false, {});
   ASSERT_TRUE(ladder.ok()) << ladder.error().describe();
   EXPECT_LT(ladder.value().transfer_loss(0), 1e-9);
 
@@ -155,8 +162,10 @@ TEST(NavtoolReduce, ExtendKeepsTheLowerColumnsAndMakesALadderWithoutTransferLoss
     std::string arguments, expected;
   } cases[] = {
       {"reduce --mesh " + cube + " --unit m --extend " + lower + " --r 10 --out " + upper, "belongs to another mesh"},
-      {mesh_args + "--extend " + lower + " --r 6 --out " + upper, "--r 6 must be above the 6 columns of the lower rung " + lower},
-      {mesh_args + "--extend " + lower + " --r 8 --force linear --out " + upper, "--force linear differs from the lower rung's"},
+      {mesh_args + "--extend " + lower + " --r 6 --out " + upper,
+       "--r 6 must be above the 6 columns of the lower rung " + lower},
+      {mesh_args + "--extend " + lower + " --r 8 --force linear --out " + upper,
+       "--force linear differs from the lower rung's"},
   };
   for (const auto& c : cases) {
     const auto refused = navtool(c.arguments);
@@ -177,20 +186,25 @@ TEST(NavtoolReduce, AWidenedTrainingLeavesOutAndNamesTheLoadsTheFullOrderCannotS
   const std::string lower = nav::testing::temporary_path("reduce_wide_lower.navrb");
   const std::string upper = nav::testing::temporary_path("reduce_wide_upper.navrb");
   const std::string mesh_args = "reduce --liver-dir " + dir + " --tets 500 ";
-  const auto made = navtool(mesh_args + "--method pod --r 6 --force corotational --samples 30 --out " + lower + " --json", "2>/dev/null");
+  const auto made = navtool(
+      mesh_args + "--method pod --r 6 --force corotational --samples 30 --out " + lower + " --json", "2>/dev/null");
   ASSERT_EQ(made.exit_code, 0) << made.output;
   EXPECT_NE(made.output.find("\"skipped_loads\": []"), std::string::npos) << made.output;
   // 12 times the needle forces and diaphragm displacements: the diaphragm moves (6 cm) invert
   // elements of the full order; they are left out, the rest trains the upper rung.
-  const auto run = navtool(mesh_args + "--extend " + lower + " --r 10 --samples 30 --load-scale 12 --out " + upper + " --json", "2>/dev/null");
+  const auto run =
+      navtool(mesh_args + "--extend " + lower + " --r 10 --samples 30 --load-scale 12 --out " + upper + " --json",
+              "2>/dev/null");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::size_t at = run.output.find("\"skipped_loads\": [");
   ASSERT_NE(at, std::string::npos) << run.output;
   const std::string skipped = run.output.substr(at, run.output.find(']', at) - at);
   EXPECT_NE(skipped.find("\"diaphragm 0\""), std::string::npos) << run.output;
-  const auto left_out = static_cast<int>(std::count(skipped.begin(), skipped.end(), '"')) / 2 - 1;  // less the key's own quotes
+  const auto left_out =
+      static_cast<int>(std::count(skipped.begin(), skipped.end(), '"')) / 2 - 1;  // less the key's own quotes
   const auto& fractions = nav::StaticSolveOptions{}.snapshot_fractions;
-  EXPECT_EQ(json_int(run.output, "training_loads"), json_int(made.output, "training_loads") - left_out * static_cast<int>(fractions.size()));
+  EXPECT_EQ(json_int(run.output, "training_loads"),
+            json_int(made.output, "training_loads") - left_out * static_cast<int>(fractions.size()));
   const nav::TetMesh mesh = nav::load_liver_mesh(dir, 500).value();
   const auto big = nav::load_reduced_basis(upper, &mesh);
   ASSERT_TRUE(big.ok()) << big.error().describe();

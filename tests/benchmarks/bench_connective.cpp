@@ -20,7 +20,8 @@ void BM_FrameTissueStep(benchmark::State& state) {
   scene.layout = nav::make_grid_layout(grid).value();
   scene.material = {1e5, 0.45, 1100.0};
   for (std::size_t f = 0; f < scene.layout.frames_m.size(); ++f)
-    if (scene.layout.frames_m[f][2] > 0.01 * (n - 1) - 1e-9) scene.supports.fixed_frames.push_back(static_cast<std::int32_t>(f));
+    if (scene.layout.frames_m[f][2] > 0.01 * (n - 1) - 1e-9)
+      scene.supports.fixed_frames.push_back(static_cast<std::int32_t>(f));
   nav::FrameTissueOptions options;
   options.solver = state.range(2) == 0 ? nav::FrameSolver::cg_block_jacobi : nav::FrameSolver::banded_cholesky;
   options.rayleigh_mass_per_s = 1.0;
@@ -32,13 +33,21 @@ void BM_FrameTissueStep(benchmark::State& state) {
   }
   state.counters["frames"] = static_cast<double>(model.frame_count());
   state.counters["points"] = static_cast<double>(model.point_count());
-  state.counters["s_per_point_step"] = benchmark::Counter(static_cast<double>(model.point_count()),
-                                                      benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["s_per_point_step"] =
+      benchmark::Counter(static_cast<double>(model.point_count()),
+                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 BENCHMARK(BM_FrameTissueStep)
     ->ArgNames({"n", "gauss", "banded"})
-    ->Args({3, 2, 0})->Args({4, 2, 0})->Args({5, 2, 0})->Args({6, 2, 0})->Args({4, 3, 0})->Args({6, 3, 0})
-    ->Args({3, 2, 1})->Args({4, 2, 1})->Args({5, 2, 1})
+    ->Args({3, 2, 0})
+    ->Args({4, 2, 0})
+    ->Args({5, 2, 0})
+    ->Args({6, 2, 0})
+    ->Args({4, 3, 0})
+    ->Args({6, 3, 0})
+    ->Args({3, 2, 1})
+    ->Args({4, 2, 1})
+    ->Args({5, 2, 1})
     ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -45,7 +45,8 @@ void timed_batches(benchmark::State& state, Call&& call) {
 /// A full 64-sample track of 1 kHz samples ending at `newest_ns`.
 nav::PoseTrack filled_track(nav::TimeNs newest_ns) {
   nav::PoseTrack track = nav::PoseTrack::create({}).value();
-  for (nav::TimeNs t = newest_ns - 63 * nav::kNsPerMs; t <= newest_ns; t += nav::kNsPerMs) track.push({t, moving_pose(t)});
+  for (nav::TimeNs t = newest_ns - 63 * nav::kNsPerMs; t <= newest_ns; t += nav::kNsPerMs)
+    track.push({t, moving_pose(t)});
   return track;
 }
 
@@ -73,7 +74,8 @@ BENCHMARK(BM_PoseTrackSampleAtInterpolated);
 void BM_PoseTrackSampleAtExtrapolated(benchmark::State& state) {
   const nav::TimeNs newest_ns = nav::kNsPerSecond;
   const nav::PoseTrack track = filled_track(newest_ns);
-  timed_batches(state, [&](std::int64_t i) { benchmark::DoNotOptimize(track.sample_at(newest_ns + 1 + i % 20'000'000)); });
+  timed_batches(state,
+                [&](std::int64_t i) { benchmark::DoNotOptimize(track.sample_at(newest_ns + 1 + i % 20'000'000)); });
 }
 BENCHMARK(BM_PoseTrackSampleAtExtrapolated);
 

@@ -30,7 +30,8 @@ void BM_NeedleAlone(benchmark::State& state) {
 BENCHMARK(BM_NeedleAlone)->Arg(20)->Arg(30)->Arg(40)->Unit(benchmark::kMicrosecond);
 
 void BM_NeedleWithPathConstraints(benchmark::State& state) {
-  const nav::NeedleTissueModel model = nav::make_needle_tissue_model(needle(static_cast<int>(state.range(1))), capsule_and_parenchyma(0.004)).value();
+  const nav::NeedleTissueModel model =
+      nav::make_needle_tissue_model(needle(static_cast<int>(state.range(1))), capsule_and_parenchyma(0.004)).value();
   nav::NeedleTissueData data = nav::make_needle_tissue_data(model, {}).value();
   double x = 0.0;
   while (data.report.active_path_points < state.range(0)) drive_base_to(model, data, x += 1e-3);
@@ -38,7 +39,8 @@ void BM_NeedleWithPathConstraints(benchmark::State& state) {
   int tick = 0;
   for (auto _ : state) {
     const int phase = tick % 40;
-    inputs.needle.base.position_m = {x + 2e-5 * (phase < 20 ? phase - 10 : 30 - phase), 1e-3 * std::sin(1e-2 * tick), 0.0};
+    inputs.needle.base.position_m = {x + 2e-5 * (phase < 20 ? phase - 10 : 30 - phase), 1e-3 * std::sin(1e-2 * tick),
+                                     0.0};
     ++tick;
     nav::step(model, data, inputs);
     benchmark::DoNotOptimize(data.slot_forces.data());
@@ -92,6 +94,14 @@ BENCHMARK(BM_NeedleInReducedLiverKernels)->ArgsProduct({{20, 30, 40}, {1, 2, 3}}
 void BM_NeedleInReducedLiverSweeps(benchmark::State& state) {
   run_in_reduced_liver(state, 32, 30, nav::KernelIsa::best, static_cast<int>(state.range(0)));
 }
-BENCHMARK(BM_NeedleInReducedLiverSweeps)->Arg(8)->Arg(10)->Arg(12)->Arg(15)->Arg(20)->Arg(30)->Iterations(4000)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_NeedleInReducedLiverSweeps)
+    ->Arg(8)
+    ->Arg(10)
+    ->Arg(12)
+    ->Arg(15)
+    ->Arg(20)
+    ->Arg(30)
+    ->Iterations(4000)
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

@@ -54,7 +54,7 @@ struct Liver {
   nav::EmbeddedLiver liver = nav::make_embedded_liver(nav::kEmbeddedLiverElementSizeM);
   nav::TissueScene scene;
   nav::ObservedPoint tumour;
-  double surface_above_tumour_m = -1e9;  ///< the highest boundary node within 5 mm of the tumour's vertical
+  double surface_above_tumour_m = -1e9;             ///< the highest boundary node within 5 mm of the tumour's vertical
   std::vector<double> snapshots, needle_snapshots;  ///< training, without and with the needle's loads
   int snapshot_count = 0, needle_snapshot_count = 0;
   Liver() {
@@ -67,11 +67,13 @@ struct Liver {
     for (const std::int32_t node : boundary.mesh_node_of_vertex) on_boundary[static_cast<std::size_t>(node)] = 1;
     const nav::Point3& centre = liver.tumour_centre_m;
     for (std::size_t n = 0; n < liver.mesh.nodes_m.size(); ++n)
-      if (on_boundary[n] != 0 && std::hypot(liver.mesh.nodes_m[n][0] - centre[0], liver.mesh.nodes_m[n][1] - centre[1]) < 0.005)
+      if (on_boundary[n] != 0 &&
+          std::hypot(liver.mesh.nodes_m[n][0] - centre[0], liver.mesh.nodes_m[n][1] - centre[1]) < 0.005)
         surface_above_tumour_m = std::max(surface_above_tumour_m, liver.mesh.nodes_m[n][2]);
     for (std::size_t n = 0; n < liver.mesh.nodes_m.size(); ++n)
       if (on_boundary[n] != 0 && liver.mesh.nodes_m[n][2] > top_m - 0.02 &&
-          !std::binary_search(liver.attachment_nodes.begin(), liver.attachment_nodes.end(), static_cast<std::int32_t>(n)))
+          !std::binary_search(liver.attachment_nodes.begin(), liver.attachment_nodes.end(),
+                              static_cast<std::int32_t>(n)))
         scene.prescribed_nodes.push_back(static_cast<std::int32_t>(n));
     const auto located = nav::locate_in_tets(liver.mesh, liver.tumour_centre_m, "tumour_centre_m").value();
     tumour = {liver.mesh.tets[static_cast<std::size_t>(located.first)], located.second};
@@ -143,14 +145,18 @@ nav::ReductionOptions reduction(int r) {
 
 /// The needle base's frame in its marker's: the needle points down the marker's -z.
 nav::RigidPose needle_marker_from_base() {
-  return {Eigen::Vector3d::Zero(), Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * std::numbers::pi, Eigen::Vector3d::UnitY()))};
+  return {Eigen::Vector3d::Zero(),
+          Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * std::numbers::pi, Eigen::Vector3d::UnitY()))};
 }
 
 /// r vibration modes of the liver with corotational cubature trained on `snapshots`.
 nav::ReducedBasis trained_modes(int r, const std::vector<double>& snapshots, int snapshot_count) {
   const Liver& l = liver();
   nav::ReducedBasis basis = nav::make_modal_basis(l.liver.mesh, l.scene, training_solver(), reduction(r)).value();
-  if (!nav::add_force_reduction(l.liver.mesh, l.scene, training_solver(), reduction(r), snapshots, snapshot_count, basis).ok()) std::abort();
+  if (!nav::add_force_reduction(l.liver.mesh, l.scene, training_solver(), reduction(r), snapshots, snapshot_count,
+                                basis)
+           .ok())
+    std::abort();
   return basis;
 }
 
@@ -198,10 +204,14 @@ nav::OperatingLoopModel loop_model(int r, bool with_needle) {
   const Liver& l = liver();
   const nav::ReducedBasis basis = with_needle ? trained_modes(r, l.needle_snapshots, l.needle_snapshot_count)
                                               : trained_modes(r, l.snapshots, l.snapshot_count);
-  nav::ReducedModel reduced = nav::make_reduced_model(l.liver.mesh, l.scene, training_solver(), basis, reduced_options()).value();
+  nav::ReducedModel reduced =
+      nav::make_reduced_model(l.liver.mesh, l.scene, training_solver(), basis, reduced_options()).value();
   nav::ReducedKalmanModel filter = tumour_filter(basis, reduced);
-  if (!with_needle) return nav::make_operating_loop_model(std::move(reduced), std::move(filter), loop_options()).value();
-  return nav::make_operating_loop_model(std::move(reduced), std::move(filter), loop_options(), needle_options(), l.liver.mesh).value();
+  if (!with_needle)
+    return nav::make_operating_loop_model(std::move(reduced), std::move(filter), loop_options()).value();
+  return nav::make_operating_loop_model(std::move(reduced), std::move(filter), loop_options(), needle_options(),
+                                        l.liver.mesh)
+      .value();
 }
 
 /// The needle's loop on a ladder: rung 0 r modes trained without the needle's loads, rung 1
@@ -211,8 +221,10 @@ nav::OperatingLoopModel ladder_loop_model(int r) {
   const Liver& l = liver();
   const nav::ReducedBasis small = trained_modes(r, l.snapshots, l.snapshot_count);
   nav::ReducedBasis big = nav::extend_basis(l.liver.mesh, l.scene, training_solver(), small, r + 8, l.needle_snapshots,
-                                            l.needle_snapshot_count).value();
-  if (!nav::add_force_reduction(l.liver.mesh, l.scene, training_solver(), reduction(r + 8), l.needle_snapshots, l.needle_snapshot_count, big)
+                                            l.needle_snapshot_count)
+                              .value();
+  if (!nav::add_force_reduction(l.liver.mesh, l.scene, training_solver(), reduction(r + 8), l.needle_snapshots,
+                                l.needle_snapshot_count, big)
            .ok())
     std::abort();
   const nav::ReducedRungSpec rungs[] = {{small, reduced_options()}, {big, reduced_options()}};
@@ -222,7 +234,8 @@ nav::OperatingLoopModel ladder_loop_model(int r) {
   escalation.de_escalation_residual = 0.2;
   const nav::ReducedLadderModel ladder =
       nav::make_reduced_ladder_model(l.liver.mesh, l.scene, training_solver(), rungs, false, escalation).value();
-  std::vector<nav::ReducedKalmanModel> filters{tumour_filter(small, ladder.reduced_rung(0)), tumour_filter(big, ladder.reduced_rung(1))};
+  std::vector<nav::ReducedKalmanModel> filters{tumour_filter(small, ladder.reduced_rung(0)),
+                                               tumour_filter(big, ladder.reduced_rung(1))};
   const nav::OperatingLoopNeedleOptions needle = needle_options();
   return nav::make_operating_loop_model(ladder, std::move(filters), loop_options(), &needle, &l.liver.mesh).value();
 }
@@ -239,7 +252,8 @@ nav::RigidPose needle_beside(TimeNs now) {
 nav::RigidPose needle_inserted(TimeNs now) {
   const Liver& l = liver();
   const double lowered_m = std::min(0.002 * 1e-9 * static_cast<double>(now), 0.04);
-  const Eigen::Vector3d base_m{l.liver.tumour_centre_m[0], l.liver.tumour_centre_m[1], l.surface_above_tumour_m + 0.155 - lowered_m};
+  const Eigen::Vector3d base_m{l.liver.tumour_centre_m[0], l.liver.tumour_centre_m[1],
+                               l.surface_above_tumour_m + 0.155 - lowered_m};
   const nav::RigidPose base_from_marker = nav::inverse(needle_marker_from_base());
   return nav::compose({base_m, needle_marker_from_base().rotation}, base_from_marker);
 }
@@ -248,7 +262,9 @@ nav::RigidPose needle_inserted(TimeNs now) {
 void report(benchmark::State& state, const std::string& name, std::vector<double>& us) {
   if (us.empty()) return;
   std::sort(us.begin(), us.end());
-  const auto quantile = [&](std::size_t per_thousand) { return us[std::min(us.size() - 1, (us.size() * per_thousand) / 1000)]; };
+  const auto quantile = [&](std::size_t per_thousand) {
+    return us[std::min(us.size() - 1, (us.size() * per_thousand) / 1000)];
+  };
   double sum = 0.0, sum_squares = 0.0;
   for (const double x : us) sum += x, sum_squares += x * x;
   const double mean = sum / static_cast<double>(us.size());
@@ -256,7 +272,8 @@ void report(benchmark::State& state, const std::string& name, std::vector<double
   state.counters[name + "_us_p99"] = quantile(990);
   state.counters[name + "_us_p999"] = quantile(999);
   state.counters[name + "_us_max"] = us.back();
-  state.counters[name + "_us_jitter"] = std::sqrt(std::max(0.0, sum_squares / static_cast<double>(us.size()) - mean * mean));
+  state.counters[name + "_us_jitter"] =
+      std::sqrt(std::max(0.0, sum_squares / static_cast<double>(us.size()) - mean * mean));
 }
 
 double elapsed_us(std::chrono::steady_clock::time_point start) {
@@ -279,7 +296,8 @@ void run_loop(benchmark::State& state, const nav::OperatingLoopModel& model, nav
   const auto one_tick = [&](bool timed) {
     if (now % (20 * kNsPerMs) == 0) {
       nav::push_needle_pose(model, data, {now, needle_at(now)});
-      nav::push_probe_pose(model, data, {now, {{tumour[0], tumour[1], tumour[2] + 0.08}, Eigen::Quaterniond::Identity()}});
+      nav::push_probe_pose(model, data,
+                           {now, {{tumour[0], tumour[1], tumour[2] + 0.08}, Eigen::Quaterniond::Identity()}});
     }
     if (now % (25 * kNsPerMs) == 0) {
       const double z = 0.1 + 0.006 * std::sin(2.0 * std::numbers::pi * 1e-9 * static_cast<double>(now) / 2.0);
@@ -344,8 +362,20 @@ void BM_OperatingLoopLadderNeedleTick(benchmark::State& state) {
   run_loop(state, ladder_loop_model(static_cast<int>(state.range(0))), needle_inserted_later);
 }
 
-BENCHMARK(BM_OperatingLoopTick)->Arg(8)->Arg(16)->Arg(32)->Arg(64)->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(20000);
-BENCHMARK(BM_OperatingLoopNeedleTick)->Arg(16)->Arg(64)->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(20000);
+BENCHMARK(BM_OperatingLoopTick)
+    ->Arg(8)
+    ->Arg(16)
+    ->Arg(32)
+    ->Arg(64)
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond)
+    ->Iterations(20000);
+BENCHMARK(BM_OperatingLoopNeedleTick)
+    ->Arg(16)
+    ->Arg(64)
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond)
+    ->Iterations(20000);
 BENCHMARK(BM_OperatingLoopLadderNeedleTick)->Arg(16)->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(20000);
 
 }  // namespace

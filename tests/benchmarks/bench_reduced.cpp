@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
+#include "liver_fine_modes.hpp"
 #include "nav/reduced/reduced_model.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "nav/tissue/liver_scenes.hpp"
-#include "liver_fine_modes.hpp"
 
 namespace {
 
@@ -39,7 +39,8 @@ nav::ReducedBasis truncated(const Liver& l, int r, int m, nav::ReducedForceKind 
   basis.basis.resize(3 * l.mesh.nodes_m.size() * static_cast<std::size_t>(r));
   basis.column_values.resize(static_cast<std::size_t>(r));
   for (int s = 0; s < m && kind != nav::ReducedForceKind::linear; ++s) {
-    basis.sample_tets.push_back(static_cast<std::int32_t>(static_cast<std::size_t>(s) * l.mesh.tets.size() / static_cast<std::size_t>(m)));
+    basis.sample_tets.push_back(
+        static_cast<std::int32_t>(static_cast<std::size_t>(s) * l.mesh.tets.size() / static_cast<std::size_t>(m)));
     basis.sample_weights.push_back(static_cast<double>(l.mesh.tets.size()) / m);
   }
   return basis;
@@ -60,7 +61,8 @@ void run_step(benchmark::State& state, nav::ReducedForceKind kind, bool frozen) 
   nav::ReducedSolverOptions options;
   options.frozen_tangent = frozen;
   options.step_s = 0.001;
-  auto model = nav::make_reduced_model(liver()->mesh, liver()->scene, nav::TissueSolverOptions{}, truncated(*liver(), r, m, kind), options);
+  auto model = nav::make_reduced_model(liver()->mesh, liver()->scene, nav::TissueSolverOptions{},
+                                       truncated(*liver(), r, m, kind), options);
   if (!model.ok()) {
     state.SkipWithError(model.error().describe().c_str());
     return;
@@ -81,8 +83,12 @@ void run_step(benchmark::State& state, nav::ReducedForceKind kind, bool frozen) 
   state.counters["memory_kb"] = static_cast<double>(model.value().memory_bytes()) / 1024.0;
 }
 
-void BM_ReducedCorotationalFrozen(benchmark::State& s) { run_step(s, nav::ReducedForceKind::corotational_cubature, true); }
-void BM_ReducedCorotationalTangent(benchmark::State& s) { run_step(s, nav::ReducedForceKind::corotational_cubature, false); }
+void BM_ReducedCorotationalFrozen(benchmark::State& s) {
+  run_step(s, nav::ReducedForceKind::corotational_cubature, true);
+}
+void BM_ReducedCorotationalTangent(benchmark::State& s) {
+  run_step(s, nav::ReducedForceKind::corotational_cubature, false);
+}
 void BM_ReducedLinear(benchmark::State& s) { run_step(s, nav::ReducedForceKind::linear, true); }
 
 /// 2000 nodes spread over the mesh (the 1603 surface nodes are among them on liverFine).
@@ -102,7 +108,8 @@ void run_reconstruction(benchmark::State& state, Reconstruct&& reconstruct) {
   }
   const int r = static_cast<int>(state.range(0));
   auto model = nav::make_reduced_model(liver()->mesh, liver()->scene, nav::TissueSolverOptions{},
-                                       truncated(*liver(), r, 0, nav::ReducedForceKind::linear), {}).value();
+                                       truncated(*liver(), r, 0, nav::ReducedForceKind::linear), {})
+                   .value();
   auto data = nav::make_reduced_data(model).value();
   nav::TissueInputs inputs;
   for (int i = 0; i < 10; ++i) nav::step(model, data, inputs);
@@ -124,18 +131,20 @@ void run_reconstruction(benchmark::State& state, Reconstruct&& reconstruct) {
 /// reconstruct_displacements_m on a list of nodes (the basis rows, row-major).
 void BM_ReconstructNodes(benchmark::State& state) {
   const std::vector<std::int32_t> nodes = display_nodes();
-  run_reconstruction(state, [&](const nav::ReducedModel& model, const nav::ReducedData& data, std::vector<double>& out) {
-    nav::reconstruct_displacements_m(model, data, nodes, out);
-  });
+  run_reconstruction(state,
+                     [&](const nav::ReducedModel& model, const nav::ReducedData& data, std::vector<double>& out) {
+                       nav::reconstruct_displacements_m(model, data, nodes, out);
+                     });
 }
 
 /// reconstruct_display_m on a display set of the same nodes (panels built once).
 void BM_ReconstructDisplay(benchmark::State& state) {
   std::optional<nav::ReducedDisplaySet> display;
-  run_reconstruction(state, [&](const nav::ReducedModel& model, const nav::ReducedData& data, std::vector<double>& out) {
-    if (!display) display = nav::make_reduced_display_set(model, display_nodes()).value();
-    nav::reconstruct_display_m(model, data, *display, out);
-  });
+  run_reconstruction(state,
+                     [&](const nav::ReducedModel& model, const nav::ReducedData& data, std::vector<double>& out) {
+                       if (!display) display = nav::make_reduced_display_set(model, display_nodes()).value();
+                       nav::reconstruct_display_m(model, data, *display, out);
+                     });
 }
 
 /// r = 8, 16, 32, 64 at m = 64 and 128 and at the cubature sizes ECSW reaches on liverFine
@@ -152,7 +161,14 @@ void reconstruction_cases(benchmark::internal::Benchmark* b) {
 
 BENCHMARK(BM_ReducedCorotationalFrozen)->Apply(cubature_cases);
 BENCHMARK(BM_ReducedCorotationalTangent)->Apply(cubature_cases);
-BENCHMARK(BM_ReducedLinear)->Args({8, 0})->Args({16, 0})->Args({32, 0})->Args({64, 0})->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(3000);
+BENCHMARK(BM_ReducedLinear)
+    ->Args({8, 0})
+    ->Args({16, 0})
+    ->Args({32, 0})
+    ->Args({64, 0})
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond)
+    ->Iterations(3000);
 BENCHMARK(BM_ReconstructNodes)->Apply(reconstruction_cases);
 BENCHMARK(BM_ReconstructDisplay)->Apply(reconstruction_cases);
 

@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
+#include "liver_fine_modes.hpp"
 #include "nav/reduced/reduced_ladder.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "nav/tissue/liver_scenes.hpp"
-#include "liver_fine_modes.hpp"
 
 namespace {
 

@@ -87,17 +87,35 @@ using nav::ElementRotation;
 using nav::Integrator;
 using nav::LinearSolver;
 
-void BM_CorotationalImplicitLdltWarped1(benchmark::State& s) { run_case(s, {ElementRotation::corotational, Integrator::implicit_euler, LinearSolver::ldlt_warped, 1}); }
-void BM_CorotationalImplicitLdltWarped3(benchmark::State& s) { run_case(s, {ElementRotation::corotational, Integrator::implicit_euler, LinearSolver::ldlt_warped, 3}); }
-void BM_CorotationalImplicitCgBlockJacobi20(benchmark::State& s) { run_case(s, {ElementRotation::corotational, Integrator::implicit_euler, LinearSolver::cg_block_jacobi, 20}); }
-void BM_CorotationalImplicitCgJacobi20(benchmark::State& s) { run_case(s, {ElementRotation::corotational, Integrator::implicit_euler, LinearSolver::cg_jacobi, 20}); }
-void BM_CorotationalQuasiStaticLdltWarped1(benchmark::State& s) { run_case(s, {ElementRotation::corotational, Integrator::quasi_static, LinearSolver::ldlt_warped, 1}); }
-void BM_CorotationalExplicit(benchmark::State& s) { run_case(s, {ElementRotation::corotational, Integrator::explicit_central_difference, LinearSolver::ldlt_warped, 1}); }
-void BM_LinearImplicitLdlt(benchmark::State& s) { run_case(s, {ElementRotation::none, Integrator::implicit_euler, LinearSolver::ldlt_warped, 1}); }
-void BM_LinearExplicit(benchmark::State& s) { run_case(s, {ElementRotation::none, Integrator::explicit_central_difference, LinearSolver::ldlt_warped, 1}); }
+void BM_CorotationalImplicitLdltWarped1(benchmark::State& s) {
+  run_case(s, {ElementRotation::corotational, Integrator::implicit_euler, LinearSolver::ldlt_warped, 1});
+}
+void BM_CorotationalImplicitLdltWarped3(benchmark::State& s) {
+  run_case(s, {ElementRotation::corotational, Integrator::implicit_euler, LinearSolver::ldlt_warped, 3});
+}
+void BM_CorotationalImplicitCgBlockJacobi20(benchmark::State& s) {
+  run_case(s, {ElementRotation::corotational, Integrator::implicit_euler, LinearSolver::cg_block_jacobi, 20});
+}
+void BM_CorotationalImplicitCgJacobi20(benchmark::State& s) {
+  run_case(s, {ElementRotation::corotational, Integrator::implicit_euler, LinearSolver::cg_jacobi, 20});
+}
+void BM_CorotationalQuasiStaticLdltWarped1(benchmark::State& s) {
+  run_case(s, {ElementRotation::corotational, Integrator::quasi_static, LinearSolver::ldlt_warped, 1});
+}
+void BM_CorotationalExplicit(benchmark::State& s) {
+  run_case(s, {ElementRotation::corotational, Integrator::explicit_central_difference, LinearSolver::ldlt_warped, 1});
+}
+void BM_LinearImplicitLdlt(benchmark::State& s) {
+  run_case(s, {ElementRotation::none, Integrator::implicit_euler, LinearSolver::ldlt_warped, 1});
+}
+void BM_LinearExplicit(benchmark::State& s) {
+  run_case(s, {ElementRotation::none, Integrator::explicit_central_difference, LinearSolver::ldlt_warped, 1});
+}
 
 // The SOFA anchor: liverFine.vtu (22019 tetrahedra), implicit corotational, reused warped factor.
-void BM_SofaAnchorScene(benchmark::State& s) { run_case(s, {ElementRotation::corotational, Integrator::implicit_euler, LinearSolver::ldlt_warped, 1}); }
+void BM_SofaAnchorScene(benchmark::State& s) {
+  run_case(s, {ElementRotation::corotational, Integrator::implicit_euler, LinearSolver::ldlt_warped, 1});
+}
 
 void sizes(benchmark::internal::Benchmark* b) {
   b->Arg(1000)->Arg(5000)->Arg(22019)->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(40);

@@ -60,7 +60,9 @@ struct DdsLink {
 
 void report(benchmark::State& state, std::vector<TimeNs>& latencies_ns) {
   std::sort(latencies_ns.begin(), latencies_ns.end());
-  const auto at = [&](double q) { return static_cast<double>(latencies_ns[static_cast<std::size_t>(q * (latencies_ns.size() - 1))]) * 1e-3; };
+  const auto at = [&](double q) {
+    return static_cast<double>(latencies_ns[static_cast<std::size_t>(q * (latencies_ns.size() - 1))]) * 1e-3;
+  };
   state.counters["p50_us"] = at(0.5);
   state.counters["p99_us"] = at(0.99);
   state.counters["max_us"] = at(1.0);
@@ -88,7 +90,8 @@ void BM_NdiTxToDds(benchmark::State& state) { ndi_latency(state, ndi::ReplyForma
 void BM_AprilTagFrameToDds(benchmark::State& state) {
   DdsLink link(183);
   const CameraIntrinsics camera;
-  auto tracker = std::move(AprilTagTracker::create(camera, 0.05, {TagBody{1, {{7, Eigen::Isometry3d::Identity()}}}})).value();
+  auto tracker =
+      std::move(AprilTagTracker::create(camera, 0.05, {TagBody{1, {{7, Eigen::Isometry3d::Identity()}}}})).value();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, -1, 0.2).normalized()).toRotationMatrix();
   pose.translation() = Eigen::Vector3d(0.01, -0.02, 0.3);
@@ -126,7 +129,8 @@ void BM_SimulatedTrackerToDds(benchmark::State& state) {
 struct FrameLink {
   std::unique_ptr<dds::DdsNode> device;
   std::unique_ptr<dds::DdsNode> station;
-  std::unique_ptr<dds::RingSink<dds::UltrasoundFrame, 4>> frames = std::make_unique<dds::RingSink<dds::UltrasoundFrame, 4>>();
+  std::unique_ptr<dds::RingSink<dds::UltrasoundFrame, 4>> frames =
+      std::make_unique<dds::RingSink<dds::UltrasoundFrame, 4>>();
   std::unique_ptr<dds::RingSink<dds::ToolPose, 64>> poses = std::make_unique<dds::RingSink<dds::ToolPose, 64>>();
   std::unique_ptr<dds::UltrasoundFrame> received = std::make_unique<dds::UltrasoundFrame>();
 
@@ -202,8 +206,9 @@ void BM_CaptureSourceFrameToDds(benchmark::State& state) {
   ultrasound::BmodeSimulator simulator(ultrasound::BmodeGeometry{}, ultrasound::default_bmode_scene(), 5);
   for (int i = 0; i < kClipFrames; ++i) {
     cv::Mat frame(256, 256, CV_8UC1);
-    simulator.render(ultrasound::plane_through_tumour(simulator.geometry(), ultrasound::default_bmode_scene(), 1e-3 * i, 0.04),
-                     frame.data);
+    simulator.render(
+        ultrasound::plane_through_tumour(simulator.geometry(), ultrasound::default_bmode_scene(), 1e-3 * i, 0.04),
+        frame.data);
     char name[32];
     std::snprintf(name, sizeof name, "frame_%03d.png", i);
     cv::imwrite((folder / name).string(), frame);

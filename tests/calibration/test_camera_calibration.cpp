@@ -60,8 +60,9 @@ TEST(CameraCalibration, IntrinsicsFromAprilTagBoardFrames) {
   auto detector = trackers::AprilTagTracker::create(trackers::CameraIntrinsics{}, kTagSize_m, {});
   ASSERT_TRUE(detector.ok());
   const std::vector<Eigen::Isometry3d> poses{
-      view_pose(25, 0, {0.0, 0.0, 0.35}),     view_pose(-25, 10, {0.02, 0.01, 0.33}), view_pose(0, 30, {-0.02, 0.0, 0.36}),
-      view_pose(10, -30, {0.01, -0.02, 0.3}), view_pose(-20, -20, {0.05, 0.03, 0.4}), view_pose(30, 25, {-0.04, -0.03, 0.38})};
+      view_pose(25, 0, {0.0, 0.0, 0.35}),     view_pose(-25, 10, {0.02, 0.01, 0.33}),
+      view_pose(0, 30, {-0.02, 0.0, 0.36}),   view_pose(10, -30, {0.01, -0.02, 0.3}),
+      view_pose(-20, -20, {0.05, 0.03, 0.4}), view_pose(30, 25, {-0.04, -0.03, 0.38})};
   std::vector<PlanarView> views;
   for (std::size_t i = 0; i < poses.size(); ++i) {
     views.push_back(board_view(*detector.value(), poses[i], 100 + i));
@@ -70,9 +71,9 @@ TEST(CameraCalibration, IntrinsicsFromAprilTagBoardFrames) {
   auto result = calibrate_camera(views);
   ASSERT_TRUE(result.ok()) << result.error().describe();
   const CameraCalibration& c = result.value();
-  std::printf("camera: fx %.2f (%.2f) fy %.2f (%.2f) cx %.2f (%.2f) cy %.2f (%.2f) px, RMS %.3f px, %zu views\n", c.fx_px,
-              kTruth.fx_px, c.fy_px, kTruth.fy_px, c.cx_px, kTruth.cx_px, c.cy_px, kTruth.cy_px, c.rms_reprojection_px,
-              views.size());
+  std::printf("camera: fx %.2f (%.2f) fy %.2f (%.2f) cx %.2f (%.2f) cy %.2f (%.2f) px, RMS %.3f px, %zu views\n",
+              c.fx_px, kTruth.fx_px, c.fy_px, kTruth.fy_px, c.cx_px, kTruth.cx_px, c.cy_px, kTruth.cy_px,
+              c.rms_reprojection_px, views.size());
   EXPECT_NEAR(c.fx_px / kTruth.fx_px, 1.0, 0.005);
   EXPECT_NEAR(c.fy_px / kTruth.fy_px, 1.0, 0.005);
   EXPECT_NEAR(c.cx_px, kTruth.cx_px, 2.0);
@@ -91,9 +92,10 @@ TEST(CameraCalibration, LensDistortionFromAprilTagBoardFrames) {
   ASSERT_TRUE(detector.ok());
   // Boards tilted and moved towards the image's edges and corners, where the lens acts most.
   const std::vector<Eigen::Isometry3d> poses{
-      view_pose(25, 0, {0.0, 0.0, 0.33}),       view_pose(-25, 10, {0.08, 0.06, 0.33}), view_pose(0, 30, {-0.09, 0.05, 0.34}),
-      view_pose(10, -30, {0.08, -0.06, 0.3}),   view_pose(-20, -20, {-0.08, -0.06, 0.33}), view_pose(30, 25, {0.0, -0.07, 0.3}),
-      view_pose(-15, 20, {0.10, 0.0, 0.32}),    view_pose(20, -15, {-0.10, 0.01, 0.32})};
+      view_pose(25, 0, {0.0, 0.0, 0.33}),        view_pose(-25, 10, {0.08, 0.06, 0.33}),
+      view_pose(0, 30, {-0.09, 0.05, 0.34}),     view_pose(10, -30, {0.08, -0.06, 0.3}),
+      view_pose(-20, -20, {-0.08, -0.06, 0.33}), view_pose(30, 25, {0.0, -0.07, 0.3}),
+      view_pose(-15, 20, {0.10, 0.0, 0.32}),     view_pose(20, -15, {-0.10, 0.01, 0.32})};
   std::vector<PlanarView> views;
   for (std::size_t i = 0; i < poses.size(); ++i) {
     views.push_back(board_view(*detector.value(), poses[i], 300 + i, camera));
@@ -103,10 +105,10 @@ TEST(CameraCalibration, LensDistortionFromAprilTagBoardFrames) {
   ASSERT_TRUE(result.ok()) << result.error().describe();
   const CameraCalibration& c = result.value();
   const LensDistortion& d = c.distortion;
-  std::printf("camera: fx %.2f (%.2f) fy %.2f (%.2f) cx %.2f (%.2f) cy %.2f (%.2f) px, RMS %.3f px\n", c.fx_px, kTruth.fx_px,
-              c.fy_px, kTruth.fy_px, c.cx_px, kTruth.cx_px, c.cy_px, kTruth.cy_px, c.rms_reprojection_px);
-  std::printf("lens: k1 %.4f (%.4f) k2 %.4f (%.4f) p1 %.5f (%.5f) p2 %.5f (%.5f)\n", d.k1, kLens.k1, d.k2, kLens.k2, d.p1,
-              kLens.p1, d.p2, kLens.p2);
+  std::printf("camera: fx %.2f (%.2f) fy %.2f (%.2f) cx %.2f (%.2f) cy %.2f (%.2f) px, RMS %.3f px\n", c.fx_px,
+              kTruth.fx_px, c.fy_px, kTruth.fy_px, c.cx_px, kTruth.cx_px, c.cy_px, kTruth.cy_px, c.rms_reprojection_px);
+  std::printf("lens: k1 %.4f (%.4f) k2 %.4f (%.4f) p1 %.5f (%.5f) p2 %.5f (%.5f)\n", d.k1, kLens.k1, d.k2, kLens.k2,
+              d.p1, kLens.p1, d.p2, kLens.p2);
   EXPECT_NEAR(c.fx_px / kTruth.fx_px, 1.0, 0.005);
   EXPECT_NEAR(c.fy_px / kTruth.fy_px, 1.0, 0.005);
   EXPECT_NEAR(c.cx_px, kTruth.cx_px, 2.0);
@@ -129,16 +131,19 @@ TEST(CameraCalibration, NavtoolCalibCameraReadsAnImageFolder) {
   std::filesystem::remove_all(folder);
   std::filesystem::create_directories(folder);
   const std::vector<Eigen::Isometry3d> poses{view_pose(25, 0, {0.0, 0.0, 0.35}), view_pose(-25, 10, {0.02, 0.01, 0.33}),
-                                             view_pose(0, 30, {-0.02, 0.0, 0.36}), view_pose(10, -30, {0.01, -0.02, 0.3})};
+                                             view_pose(0, 30, {-0.02, 0.0, 0.36}),
+                                             view_pose(10, -30, {0.01, -0.02, 0.3})};
   for (std::size_t i = 0; i < poses.size(); ++i) {
     std::vector<trackers::TagRendering> tags;
     for (int id = 0; id < 12; ++id) tags.push_back({id, poses[i] * board_from_tag(id)});
     const std::string file = folder + "/view_" + std::to_string(i) + ".pgm";
-    ASSERT_TRUE(trackers::write_pgm(file, trackers::render_tags(tags, kTagSize_m, kTruth, 640, 480, 2.0, 200 + i)).ok());
+    ASSERT_TRUE(
+        trackers::write_pgm(file, trackers::render_tags(tags, kTagSize_m, kTruth, 640, 480, 2.0, 200 + i)).ok());
   }
   const std::string out = nav::testing::temporary_path("calib_camera_intrinsics.txt");
-  const auto run = nav::testing::run_command(nav::testing::executable_path("navtool") + " calib camera --images " + folder +
-                                             " --tag-size 0.03 --pitch 0.04 --cols 4 --rows 3 --out " + out + " 2>&1");
+  const auto run =
+      nav::testing::run_command(nav::testing::executable_path("navtool") + " calib camera --images " + folder +
+                                " --tag-size 0.03 --pitch 0.04 --cols 4 --rows 3 --out " + out + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   std::ifstream intrinsics(out);
   std::string header;
@@ -153,8 +158,9 @@ TEST(CameraCalibration, NavtoolCalibCameraReadsAnImageFolder) {
   EXPECT_GT(rms, 0.0);
   EXPECT_LT(rms, 0.5);
   EXPECT_NE(run.output.find("k1 "), std::string::npos) << run.output;
-  const auto bad = nav::testing::run_command(nav::testing::executable_path("navtool") + " calib camera --images " + folder +
-                                             " --tag-size zero --pitch 0.04 --cols 4 --rows 3 --out " + out + " 2>&1");
+  const auto bad =
+      nav::testing::run_command(nav::testing::executable_path("navtool") + " calib camera --images " + folder +
+                                " --tag-size zero --pitch 0.04 --cols 4 --rows 3 --out " + out + " 2>&1");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.output.find("--tag-size"), std::string::npos) << bad.output;
 }

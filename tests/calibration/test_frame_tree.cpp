@@ -26,8 +26,9 @@ Transform pose(double angle_rad, const Eigen::Vector3d& axis, const Eigen::Vecto
 
 TEST(FrameTree, LoadsTheStationFrames) {
   const FrameTree tree = load_station();
-  const std::vector<std::string> expected{"camera",       "camera_marker",   "image_plane", "liver_model",   "needle_base", "needle_marker",
-                                          "needle_tip",   "probe_marker",    "reference_marker", "tracker"};
+  const std::vector<std::string> expected{"camera",           "camera_marker", "image_plane", "liver_model",
+                                          "needle_base",      "needle_marker", "needle_tip",  "probe_marker",
+                                          "reference_marker", "tracker"};
   EXPECT_EQ(tree.frames(), expected);
   ASSERT_NE(tree.joint("needle_base_to_tip"), nullptr);
   EXPECT_FALSE(tree.joint("needle_base_to_tip")->tracked);
@@ -58,7 +59,7 @@ TEST(FrameTree, TimesOutsideTheBufferedSpanAreErrors) {
   auto late = tree.lookup("tracker", "image_plane", 2001);
   ASSERT_FALSE(late.ok());
   EXPECT_NE(late.error().describe().find("outside the buffered span [1000, 2000]"), std::string::npos);
-  EXPECT_FALSE(tree.lookup("tracker", "needle_tip", 1500).ok());  // needle never tracked
+  EXPECT_FALSE(tree.lookup("tracker", "needle_tip", 1500).ok());         // needle never tracked
   auto static_chain = tree.lookup("needle_tip", "needle_marker", 1500);  // no tracked joint between them
   ASSERT_TRUE(static_chain.ok()) << static_chain.error().describe();
   EXPECT_NEAR(static_chain.value().translation().z(), 0.15, 1e-12);  // the marker seen from the tip, 0.15 m up its -z
@@ -100,7 +101,8 @@ TEST(FrameTree, BadFilesNameTheFileAndTheElement) {
   ASSERT_FALSE(revolute.ok());
   EXPECT_EQ(revolute.error().field, "joint k");
   auto unknown_link = FrameTree::parse(
-      "<robot name='r'><link name='a'/><joint name='k' type='fixed'><parent link='a'/><child link='zz'/></joint></robot>",
+      "<robot name='r'><link name='a'/><joint name='k' type='fixed'><parent link='a'/><child "
+      "link='zz'/></joint></robot>",
       "u.urdf");
   ASSERT_FALSE(unknown_link.ok());
   EXPECT_EQ(unknown_link.error().field, "joint k");

@@ -23,7 +23,8 @@ PoseLists hand_eye_poses(std::mt19937_64& rng, const Transform& marker_from_came
   const Transform tracker_from_target = transform(random_rotation(rng, 1.0), {0.1, 0.2, -1.0});
   PoseLists lists;
   for (std::size_t i = 0; i < count; ++i) {
-    const Transform marker = transform(random_rotation(rng, 0.8), Eigen::Vector3d(0.0, 0.0, -0.6) + gaussian_vector(rng, 0.1));
+    const Transform marker =
+        transform(random_rotation(rng, 0.8), Eigen::Vector3d(0.0, 0.0, -0.6) + gaussian_vector(rng, 0.1));
     Transform camera = (marker * marker_from_camera).inverse() * tracker_from_target;
     camera.linear() = camera.linear() * random_rotation(rng, rotation_noise_rad);
     camera.translation() += gaussian_vector(rng, translation_noise_m);
@@ -67,7 +68,8 @@ TEST(HandEyeCalibration, DegenerateMotionsAreRefused) {
   EXPECT_FALSE(hand_eye_calibration(two, two).ok());
   std::vector<Transform> markers, cameras;  // every motion about the z axis
   for (int i = 0; i < 6; ++i) {
-    markers.push_back(transform(Eigen::AngleAxisd(0.3 * i, Eigen::Vector3d::UnitZ()).toRotationMatrix(), {0.01 * i, 0, 0}));
+    markers.push_back(
+        transform(Eigen::AngleAxisd(0.3 * i, Eigen::Vector3d::UnitZ()).toRotationMatrix(), {0.01 * i, 0, 0}));
     cameras.push_back(markers.back().inverse());
   }
   auto parallel = hand_eye_calibration(markers, cameras);

@@ -31,8 +31,8 @@ TEST(NavtoolCalib, PivotWritesTheTipJoint) {
   const std::string csv = temporary_path("calib_pivot_poses.csv");
   const std::string out = temporary_path("calib_pivot_station.urdf");
   ASSERT_TRUE(write_pose_csv(csv, poses).ok());
-  const auto run = run_command(executable_path("navtool") + " calib pivot --poses " + csv +
-                               " --tool needle --urdf " + kStationUrdf + " --out " + out + " 2>&1");
+  const auto run = run_command(executable_path("navtool") + " calib pivot --poses " + csv + " --tool needle --urdf " +
+                               kStationUrdf + " --out " + out + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   auto tree = FrameTree::load(out);
   ASSERT_TRUE(tree.ok()) << tree.error().describe();
@@ -68,10 +68,11 @@ TEST(NavtoolCalib, HandEyeWritesTheCameraJoint) {
 TEST(NavtoolCalib, RegisterWritesTheModelJoint) {
   std::mt19937_64 rng(43);
   const Transform truth = transform(random_rotation(rng, 1.0), {0.1, -0.05, 0.02});
-  std::ofstream model(temporary_path("calib_register_model.csv")), tracked(temporary_path("calib_register_tracked.csv"));
+  std::ofstream model(temporary_path("calib_register_model.csv")),
+      tracked(temporary_path("calib_register_tracked.csv"));
   model << "# x_m,y_m,z_m\n";
-  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.1, 0, 0.01), Eigen::Vector3d(0, 0.1, 0.02),
-                                  Eigen::Vector3d(0.05, 0.05, 0.08)}) {
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0.1, 0, 0.01),
+                                   Eigen::Vector3d(0, 0.1, 0.02), Eigen::Vector3d(0.05, 0.05, 0.08)}) {
     const Eigen::Vector3d q = truth * p;
     model << p.x() << "," << p.y() << "," << p.z() << "\n";
     tracked.precision(17);
@@ -80,10 +81,10 @@ TEST(NavtoolCalib, RegisterWritesTheModelJoint) {
   model.close();
   tracked.close();
   const std::string out = temporary_path("calib_register_station.urdf");
-  const auto run = run_command(executable_path("navtool") + " calib register --model-points " +
-                               temporary_path("calib_register_model.csv") + " --tracked-points " +
-                               temporary_path("calib_register_tracked.csv") + " --urdf " + kStationUrdf + " --out " + out +
-                               " 2>&1");
+  const auto run =
+      run_command(executable_path("navtool") + " calib register --model-points " +
+                  temporary_path("calib_register_model.csv") + " --tracked-points " +
+                  temporary_path("calib_register_tracked.csv") + " --urdf " + kStationUrdf + " --out " + out + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   auto tree = FrameTree::load(out);
   ASSERT_TRUE(tree.ok());

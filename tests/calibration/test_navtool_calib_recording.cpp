@@ -44,7 +44,8 @@ std::size_t record_pivoting_needle(const std::string& path, const Eigen::Vector3
   dds::NetworkConfig network;
   network.domain_id = 171;
   network.participant_name = "nav_test_calib_recording";
-  auto recorder = Result<std::unique_ptr<dds::Recorder>>(Error{.message = "not created"});  // outlives the node that fills it
+  auto recorder =
+      Result<std::unique_ptr<dds::Recorder>>(Error{.message = "not created"});  // outlives the node that fills it
   auto tracker = dds::DdsNode::create(network);
   auto recorder_node = dds::DdsNode::create(network);
   if (!tracker.ok() || !recorder_node.ok()) return 0;
@@ -99,7 +100,8 @@ TEST(NavtoolCalibRecording, PivotFromADdsRecordingFindsTheTip) {
   EXPECT_NEAR(joint->record->residual_m, std::sqrt(3.0) * 0.05e-3, 0.02e-3);
 
   // The static probe alone has no rotation: a clear error, not a number.
-  const auto probe = run_command(executable_path("navtool") + " calib pivot --recording " + recording + " --tool 2 2>&1");
+  const auto probe =
+      run_command(executable_path("navtool") + " calib pivot --recording " + recording + " --tool 2 2>&1");
   EXPECT_NE(probe.exit_code, 0);
   EXPECT_NE(probe.output.find("calib_pivot.navrec"), std::string::npos) << probe.output;
 }
@@ -110,8 +112,8 @@ TEST(NavtoolCalibRecording, BadRecordingOptionsAreNamed) {
   const auto bad = run_command(executable_path("navtool") + " calib pivot --recording " + not_recording + " 2>&1");
   EXPECT_NE(bad.exit_code, 0);
   EXPECT_NE(bad.output.find("calib_not_a_recording.navrec"), std::string::npos) << bad.output;
-  const auto both = run_command(executable_path("navtool") + " calib pivot --recording " + not_recording +
-                                " --poses x.csv 2>&1");
+  const auto both =
+      run_command(executable_path("navtool") + " calib pivot --recording " + not_recording + " --poses x.csv 2>&1");
   EXPECT_NE(both.exit_code, 0);
   EXPECT_NE(both.output.find("exactly one"), std::string::npos) << both.output;
 }

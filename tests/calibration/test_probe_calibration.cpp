@@ -38,7 +38,7 @@ NWirePattern fcal_top_pattern() {
 double worst_image_error_m(const ProbeCalibration& a, const ProbeCalibration& b) {
   double worst = 0.0;
   for (const Eigen::Vector2d& pixel : {Eigen::Vector2d(0, 0), Eigen::Vector2d(819, 0), Eigen::Vector2d(0, 615),
-                                      Eigen::Vector2d(819, 615), Eigen::Vector2d(410, 308)}) {
+                                       Eigen::Vector2d(819, 615), Eigen::Vector2d(410, 308)}) {
     worst = std::max(worst, (probe_point(a, pixel) - probe_point(b, pixel)).norm());
   }
   return worst;
@@ -64,10 +64,11 @@ TEST(NWirePhantom, ReadsTheFcalDefinitionAndRejectsBrokenOnes) {
     EXPECT_NEAR(phantom.value().reference_from_phantom.translation().x(), 0.0156642, 1e-12);
     EXPECT_NEAR(phantom.value().reference_from_phantom.linear()(1, 0), -0.999834, 1e-12);
   }
-  const std::string wires = "<PhantomDefinition>\n<Pattern Type=\"NWire\">\n"
-                            "<Wire EndPointFront=\"0 0 0\" EndPointBack=\"0 40 0\" />\n"
-                            "<Wire EndPointFront=\"20 0 0\" EndPointBack=\"5 40 0\" />\n"
-                            "<Wire EndPointFront=\"30 0 0\" EndPointBack=\"30 40\" />\n</Pattern>\n</PhantomDefinition>\n";
+  const std::string wires =
+      "<PhantomDefinition>\n<Pattern Type=\"NWire\">\n"
+      "<Wire EndPointFront=\"0 0 0\" EndPointBack=\"0 40 0\" />\n"
+      "<Wire EndPointFront=\"20 0 0\" EndPointBack=\"5 40 0\" />\n"
+      "<Wire EndPointFront=\"30 0 0\" EndPointBack=\"30 40\" />\n</Pattern>\n</PhantomDefinition>\n";
   const auto broken = parse_nwire_phantom(wires, "phantom.xml");
   ASSERT_FALSE(broken.ok());
   EXPECT_EQ(broken.error().line, 5);
@@ -102,7 +103,8 @@ TEST(ProbeCalibration, PointTargetMeetsOneMillimetreWithNoise) {
   ASSERT_TRUE(result.ok()) << result.error().describe();
   const double error_m = worst_image_error_m(result.value().calibration, truth);
   std::printf("point target: worst image error %.3f mm, target error %.3f mm, rms %.3f mm\n", 1e3 * error_m,
-              1e3 * (result.value().target_in_tracker_m - target).norm(), 1e3 * result.value().calibration.rms_residual_m);
+              1e3 * (result.value().target_in_tracker_m - target).norm(),
+              1e3 * result.value().calibration.rms_residual_m);
   EXPECT_LT(error_m, 1e-3);
   EXPECT_NEAR(result.value().calibration.spacing_m.x(), truth.spacing_m.x(), 0.002e-3);
 }
@@ -151,7 +153,8 @@ TEST(NWireCalibration, RealFcalRecordingValidatedOnTheIndependentSet) {
 
   const auto validation = ultrasound::read_plus_sequence(validation_file);
   ASSERT_TRUE(validation.ok());
-  const NWirePoints points = nwire_points(tracked_images(validation.value()), phantom.value(), result.value().correspondence);
+  const NWirePoints points =
+      nwire_points(tracked_images(validation.value()), phantom.value(), result.value().correspondence);
   const ProbeValidation check = validate_probe_calibration(calibration, points.points);
   std::printf("fCal 2.0: %zu/%zu frames segmented, %zu points (%zu outliers), rms %.3f mm, spacing %.4f x %.4f mm\n",
               result.value().frames_segmented, result.value().frames_total, calibration.points, calibration.outliers,
@@ -171,7 +174,8 @@ TEST(NWireCalibration, RealFcalRecordingValidatedOnTheIndependentSet) {
 
 TEST(NWireCalibration, PhantomNotInTheImagesIsAnError) {
   std::vector<std::uint8_t> blank(820 * 616, 0);
-  std::vector<TrackedImage> frames(20, TrackedImage{blank.data(), 820, 616, Transform::Identity(), Transform::Identity()});
+  std::vector<TrackedImage> frames(20,
+                                   TrackedImage{blank.data(), 820, 616, Transform::Identity(), Transform::Identity()});
   NWirePhantom phantom;
   phantom.patterns.push_back(fcal_top_pattern());
   const auto result = nwire_calibration(frames, phantom);

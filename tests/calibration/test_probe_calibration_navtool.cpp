@@ -47,8 +47,9 @@ TEST(NavtoolCalibProbe, RealFcalRecordingWritesTheImageJoint) {
   NAV_REQUIRE_SHARED_DATA(recording);
   NAV_REQUIRE_SHARED_DATA(validation);
   const std::string out = temporary_path("calib_probe_station.urdf");
-  const auto run = run_command(executable_path("navtool") + " calib probe --recording " + recording + " --phantom " + xml +
-                               " --validation " + validation + " --urdf " + kStationUrdf + " --out " + out + " 2>&1");
+  const auto run =
+      run_command(executable_path("navtool") + " calib probe --recording " + recording + " --phantom " + xml +
+                  " --validation " + validation + " --urdf " + kStationUrdf + " --out " + out + " 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("validation: "), std::string::npos) << run.output;
   auto tree = FrameTree::load(out);
@@ -66,7 +67,8 @@ TEST(NavtoolCalibProbe, PhantomNotFoundAndMissingTrackAreErrors) {
   const std::string xml = shared_data_path("plus/PlusDeviceSet_fCal_Sim_SpatialCalibration_2.0.xml");
   NAV_REQUIRE_SHARED_DATA(xml);
   const std::string blank = blank_recording(12, true);
-  const auto not_found = run_command(executable_path("navtool") + " calib probe --recording " + blank + " --phantom " + xml + " 2>&1");
+  const auto not_found =
+      run_command(executable_path("navtool") + " calib probe --recording " + blank + " --phantom " + xml + " 2>&1");
   EXPECT_EQ(not_found.exit_code, 2);
   EXPECT_NE(not_found.output.find("found in 0 of 12 frames"), std::string::npos) << not_found.output;
   const std::string no_reference = blank_recording(12, false);

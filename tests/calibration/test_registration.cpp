@@ -16,7 +16,7 @@ namespace {
 
 using namespace nav::calibration::testing;
 
-const std::vector<Eigen::Vector3d> kFiducials_m{{0.00, 0.00, 0.00}, {0.10, 0.01, 0.00}, {0.02, 0.12, 0.01},
+const std::vector<Eigen::Vector3d> kFiducials_m{{0.00, 0.00, 0.00}, {0.10, 0.01, 0.00},  {0.02, 0.12, 0.01},
                                                 {0.09, 0.10, 0.05}, {-0.03, 0.05, 0.08}, {0.05, -0.04, 0.06}};
 
 TEST(PointRegistration, ExactWithoutNoise) {
@@ -42,7 +42,9 @@ double predicted_tre2(const std::vector<Eigen::Vector3d>& fiducials, const Eigen
   double sum = 0.0;
   for (int k = 0; k < 3; ++k) {
     const Eigen::Vector3d axis = svd.matrixU().col(k);
-    auto distance2 = [&](const Eigen::Vector3d& p) { return (p - mean).squaredNorm() - std::pow((p - mean).dot(axis), 2); };
+    auto distance2 = [&](const Eigen::Vector3d& p) {
+      return (p - mean).squaredNorm() - std::pow((p - mean).dot(axis), 2);
+    };
     double f2 = 0.0;
     for (const auto& p : fiducials) f2 += distance2(p) / static_cast<double>(fiducials.size());
     sum += distance2(target) / f2;
@@ -63,8 +65,9 @@ TEST(PointRegistration, FreAndTreMatchFitzpatrickAcrossNoiseLevels) {
       auto result = register_points(kFiducials_m, measured);
       ASSERT_TRUE(result.ok());
       fre2 += std::pow(result.value().fre_rms_m, 2) / trials;
-      tre2 += std::pow(target_registration_error_m(result.value().target_from_source, {target_m}, {truth * target_m}), 2) /
-              trials;
+      tre2 +=
+          std::pow(target_registration_error_m(result.value().target_from_source, {target_m}, {truth * target_m}), 2) /
+          trials;
     }
     const double fle2 = 3.0 * sigma_m * sigma_m;
     const double n = static_cast<double>(kFiducials_m.size());
@@ -106,7 +109,8 @@ TEST(SurfaceIcp, RegistersTheLiverSurfaceFromNoisyPoints) {
     const auto& tri = liver.triangles[pick(rng)];
     double u = unit(rng), v = unit(rng);
     if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
-    const Eigen::Vector3d on_surface = vertex(tri[0]) + u * (vertex(tri[1]) - vertex(tri[0])) + v * (vertex(tri[2]) - vertex(tri[0]));
+    const Eigen::Vector3d on_surface =
+        vertex(tri[0]) + u * (vertex(tri[1]) - vertex(tri[0])) + v * (vertex(tri[2]) - vertex(tri[0]));
     centroid += on_surface / 300.0;
     points.push_back(points_from_surface * on_surface + gaussian_vector(rng, 0.3e-3));
   }
@@ -115,8 +119,8 @@ TEST(SurfaceIcp, RegistersTheLiverSurfaceFromNoisyPoints) {
   // TRE at the liver's centre (a tumour-like deep target) and at a far surface vertex.
   const Transform recovered = result.value().surface_from_points;
   const Eigen::Vector3d far = vertex(0);
-  const double tre_m = target_registration_error_m(recovered, {points_from_surface * centroid, points_from_surface * far},
-                                                   {centroid, far});
+  const double tre_m = target_registration_error_m(
+      recovered, {points_from_surface * centroid, points_from_surface * far}, {centroid, far});
   std::printf("surface ICP: %d iterations, RMS distance %.3f mm, TRE %.3f mm (0.3 mm/axis point noise)\n",
               result.value().iterations, result.value().rms_distance_m * 1e3, tre_m * 1e3);
   EXPECT_LT(tre_m, 1.0e-3);

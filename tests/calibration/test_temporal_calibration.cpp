@@ -99,7 +99,8 @@ TEST(TemporalCalibration, LineRowOfADrawnLine) {
 
 TEST(TemporalCalibration, RealWaterTankTrackerToVideoLag) {
   const std::string video_path = nav::testing::shared_data_path("plus/WaterTankBottomTranslationVideoBuffer.igs.mha");
-  const std::string tracker_path = nav::testing::shared_data_path("plus/WaterTankBottomTranslationTrackerBuffer.igs.mha");
+  const std::string tracker_path =
+      nav::testing::shared_data_path("plus/WaterTankBottomTranslationTrackerBuffer.igs.mha");
   NAV_REQUIRE_SHARED_DATA(video_path);
   NAV_REQUIRE_SHARED_DATA(tracker_path);
   const auto video = ultrasound::read_plus_sequence(video_path);
@@ -120,14 +121,16 @@ TEST(TemporalCalibration, RealWaterTankTrackerToVideoLag) {
     if (!probe->valid[i] || !reference->valid[i]) continue;
     times.push_back(tracker.value().timestamps_s[i]);
     positions.push_back((ultrasound::rigid_transform_m(reference->matrices_mm[i]).inverse() *
-                         ultrasound::rigid_transform_m(probe->matrices_mm[i])).translation());
+                         ultrasound::rigid_transform_m(probe->matrices_mm[i]))
+                            .translation());
   }
   const auto estimate = estimate_lag(principal_motion(times, positions), line);
   ASSERT_TRUE(estimate.ok()) << estimate.error().describe();
-  std::printf("water tank: %zu frames with the line, %zu tracker samples: video lags the tracker by %.1f ms +- %.1f ms "
-              "(r = %.3f, %zu stretches)\n",
-              line.times_s.size(), times.size(), 1e3 * estimate.value().lag_s, 1e3 * estimate.value().uncertainty_s,
-              estimate.value().correlation, estimate.value().segments_used);
+  std::printf(
+      "water tank: %zu frames with the line, %zu tracker samples: video lags the tracker by %.1f ms +- %.1f ms "
+      "(r = %.3f, %zu stretches)\n",
+      line.times_s.size(), times.size(), 1e3 * estimate.value().lag_s, 1e3 * estimate.value().uncertainty_s,
+      estimate.value().correlation, estimate.value().segments_used);
   EXPECT_GT(line.times_s.size(), 150u);
   EXPECT_GT(std::abs(estimate.value().correlation), 0.9);
   EXPECT_LT(estimate.value().uncertainty_s, 0.02);

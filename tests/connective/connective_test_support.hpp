@@ -29,8 +29,8 @@ inline std::vector<std::int32_t> frames_where(const FrameLayout& layout, int axi
 }
 
 /// The scene of `layout` with the given material and supports.
-inline FrameTissueScene scene_of(const FrameLayout& layout, const ElasticMaterial& material, FrameSupports supports = {},
-                                 Point3 gravity_m_s2 = {0.0, 0.0, 0.0}) {
+inline FrameTissueScene scene_of(const FrameLayout& layout, const ElasticMaterial& material,
+                                 FrameSupports supports = {}, Point3 gravity_m_s2 = {0.0, 0.0, 0.0}) {
   FrameTissueScene scene;
   scene.layout = layout;
   scene.material = material;

@@ -29,7 +29,8 @@ Block make_block(bool geometric) {
   FrameGrid grid = block_grid({3, 3, 2}, {0.01, 0.012, 0.02});
   FrameTissueOptions options;
   options.geometric_stiffness = geometric;
-  FrameTissueModel model = make_frame_tissue_model(scene_of(make_grid_layout(grid).value(), kMaterial), options).value();
+  FrameTissueModel model =
+      make_frame_tissue_model(scene_of(make_grid_layout(grid).value(), kMaterial), options).value();
   FrameTissueData data = make_frame_tissue_data(model).value();
   return {std::move(model), std::move(data)};
 }
@@ -60,7 +61,8 @@ TEST(FrameKinematics, ShapeFunctionsArePartitionsOfUnity) {
     for (std::size_t s = 0; s < layout.points_m.size(); ++s) {
       double sum = 0.0;
       Point3 gradient{};
-      for (auto k = static_cast<std::size_t>(layout.neighbour_offsets[s]); k < static_cast<std::size_t>(layout.neighbour_offsets[s + 1]); ++k) {
+      for (auto k = static_cast<std::size_t>(layout.neighbour_offsets[s]);
+           k < static_cast<std::size_t>(layout.neighbour_offsets[s + 1]); ++k) {
         sum += layout.weights[k];
         for (int a = 0; a < 3; ++a) gradient[a] += layout.weight_gradients_per_m[k][a];
       }
@@ -70,7 +72,8 @@ TEST(FrameKinematics, ShapeFunctionsArePartitionsOfUnity) {
     double volume_m3 = 0.0;
     for (double v : layout.volumes_m3) volume_m3 += v;
     double expected_m3 = 1.0;
-    for (int d = 0; d < 3; ++d) expected_m3 *= grid.counts[d] > 1 ? (grid.counts[d] - 1) * grid.spacing_m[d] : sampled.extent_m[d];
+    for (int d = 0; d < 3; ++d)
+      expected_m3 *= grid.counts[d] > 1 ? (grid.counts[d] - 1) * grid.spacing_m[d] : sampled.extent_m[d];
     EXPECT_NEAR(volume_m3, expected_m3, 1e-12 * expected_m3 + 1e-18);
   }
 }
@@ -177,7 +180,8 @@ TEST(FrameKinematics, TangentAwayFromRestIsSymmetricAndReportsWhatItLeavesOut) {
     Block block = make_block(geometric);
     deform(block.data, 1.0);
     // A 10 % stretch along x on top of the random deformation: the stress is tensile.
-    for (std::size_t f = 0; f < static_cast<std::size_t>(block.model.frame_count()); ++f) block.data.positions_m[3 * f] *= 1.1;
+    for (std::size_t f = 0; f < static_cast<std::size_t>(block.model.frame_count()); ++f)
+      block.data.positions_m[3 * f] *= 1.1;
     errors[geometric ? 1 : 0] = tangent_error(block);
     const std::size_t dofs = 6 * static_cast<std::size_t>(block.model.frame_count());
     std::vector<double> a(dofs), b(dofs), ka(dofs), kb(dofs), forces(dofs);
@@ -194,8 +198,9 @@ TEST(FrameKinematics, TangentAwayFromRestIsSymmetricAndReportsWhatItLeavesOut) {
     for (std::size_t k = 0; k < dofs; ++k) aka += a[k] * ka[k];
     EXPECT_GT(aka, 0.0);
   }
-  std::printf("relative tangent error under a 10 %% stretch and 0.2 rad turns: material only %.3f, with geometric %.3f\n",
-              errors[0], errors[1]);
+  std::printf(
+      "relative tangent error under a 10 %% stretch and 0.2 rad turns: material only %.3f, with geometric %.3f\n",
+      errors[0], errors[1]);
   EXPECT_LT(errors[1], errors[0]);
   EXPECT_LT(errors[1], 0.5);
 }

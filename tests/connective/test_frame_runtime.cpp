@@ -14,10 +14,10 @@
 namespace nav {
 namespace {
 
+using testing::bits_hash;
 using testing::block_grid;
 using testing::frames_where;
 using testing::scene_of;
-using testing::bits_hash;
 
 /// A 2 x 2 x 3 cm ligament hanging from its top face (fixed), its bottom face driven.
 FrameTissueScene ligament(double youngs_modulus_pa) {
@@ -42,13 +42,16 @@ std::vector<double> driven_at(const FrameTissueModel& model, int k) {
   const double phase = std::sin(0.2 * k);
   for (std::int32_t f : model.driven_frames())
     for (int a = 0; a < 3; ++a)
-      positions.push_back(model.rest_positions_m()[3 * static_cast<std::size_t>(f) + a] + (a == 0 ? 0.004 * phase : a == 2 ? -0.003 * phase : 0.0));
+      positions.push_back(model.rest_positions_m()[3 * static_cast<std::size_t>(f) + a] + (a == 0   ? 0.004 * phase
+                                                                                           : a == 2 ? -0.003 * phase
+                                                                                                    : 0.0));
   return positions;
 }
 
 bool finite(const FrameTissueData& data) {
-  for (std::span<const double> values : {std::span<const double>(data.positions_m), std::span<const double>(data.orientations_wxyz),
-                                         std::span<const double>(data.velocities)})
+  for (std::span<const double> values :
+       {std::span<const double>(data.positions_m), std::span<const double>(data.orientations_wxyz),
+        std::span<const double>(data.velocities)})
     for (double v : values)
       if (!std::isfinite(v)) return false;
   return true;
@@ -102,7 +105,8 @@ TEST(FrameRuntime, BothSolversAgree) {
 }
 
 TEST(FrameRuntime, BadInputsAreRefusedWithTheStateUntouched) {
-  const FrameTissueModel model = make_frame_tissue_model(ligament(5e4), dynamic_options(FrameSolver::cg_block_jacobi)).value();
+  const FrameTissueModel model =
+      make_frame_tissue_model(ligament(5e4), dynamic_options(FrameSolver::cg_block_jacobi)).value();
   FrameTissueData data = make_frame_tissue_data(model).value();
   step(model, data, {});
   const std::uint64_t before = bits_hash({data.positions_m, data.orientations_wxyz, data.velocities});
@@ -123,7 +127,8 @@ TEST(FrameRuntime, BadInputsAreRefusedWithTheStateUntouched) {
   too_many.frame_forces = many;
   FrameTissueInputs infinite_scale;
   infinite_scale.load_scale = std::numeric_limits<double>::infinity();
-  for (const FrameTissueInputs* inputs : {&nan_position, &wrong_count, &zero_rotation, &bad_frame, &too_many, &infinite_scale}) {
+  for (const FrameTissueInputs* inputs :
+       {&nan_position, &wrong_count, &zero_rotation, &bad_frame, &too_many, &infinite_scale}) {
     data.health.clear_all();
     step(model, data, *inputs);
     EXPECT_TRUE(data.health.has(HealthFlag::bad_sample));
@@ -164,12 +169,13 @@ TEST(FrameExtremes, SoftAndStiffLigamentsStayFiniteAndSagAsExpected) {
   for (double modulus_pa : {1e3, 1e5, 1e7}) {
     FrameTissueScene scene = ligament(modulus_pa);
     scene.supports.driven_frames.clear();
-    const FrameTissueModel model = make_frame_tissue_model(scene, dynamic_options(FrameSolver::cg_block_jacobi)).value();
+    const FrameTissueModel model =
+        make_frame_tissue_model(scene, dynamic_options(FrameSolver::cg_block_jacobi)).value();
     FrameTissueData data = make_frame_tissue_data(model).value();
     for (int k = 0; k < 100; ++k) step(model, data, {});
     const double sag_m = largest_motion_m(model, data), scale_m = 1100.0 * 9.81 * 0.03 * 0.03 / modulus_pa;
-    std::printf("E %.0e Pa: sag %.3e m (rho g L^2 / E = %.3e m), health %u, CG residual %.1e\n", modulus_pa, sag_m, scale_m,
-                data.health.bits(), data.report.solver_relative_residual);
+    std::printf("E %.0e Pa: sag %.3e m (rho g L^2 / E = %.3e m), health %u, CG residual %.1e\n", modulus_pa, sag_m,
+                scale_m, data.health.bits(), data.report.solver_relative_residual);
     EXPECT_TRUE(finite(data));
     EXPECT_FALSE(data.health.has(HealthFlag::non_finite_state));
     EXPECT_GT(sag_m, 0.1 * scale_m);
@@ -194,13 +200,16 @@ TEST(FrameExtremes, NearlyCollinearFramesAndFarPointsStayFinite) {
   far.weight_gradients_per_m = {{-100.0, 0.0, 0.0}, {100.0, 0.0, 0.0}};
   FrameTissueScene far_scene = scene_of(far, {5e4, 0.4, 1100.0}, {{0}, {}, {}, false}, {0.0, 0.0, -9.81});
   for (const FrameTissueScene* scene : {&collinear, &far_scene}) {
-    const FrameTissueModel model = make_frame_tissue_model(*scene, dynamic_options(FrameSolver::cg_block_jacobi)).value();
+    const FrameTissueModel model =
+        make_frame_tissue_model(*scene, dynamic_options(FrameSolver::cg_block_jacobi)).value();
     FrameTissueData data = make_frame_tissue_data(model).value();
-    const FrameForce push[] = {{static_cast<std::int32_t>(model.frame_count() - 1), {0.0, 1e-3, 0.0}, {1e-6, 0.0, 0.0}}};
+    const FrameForce push[] = {
+        {static_cast<std::int32_t>(model.frame_count() - 1), {0.0, 1e-3, 0.0}, {1e-6, 0.0, 0.0}}};
     FrameTissueInputs inputs;
     inputs.frame_forces = push;
     for (int k = 0; k < 50; ++k) step(model, data, inputs);
-    std::printf("%s: largest motion %.3e m, health %u\n", scene == &collinear ? "nearly collinear frames" : "point 14 m from its frames",
+    std::printf("%s: largest motion %.3e m, health %u\n",
+                scene == &collinear ? "nearly collinear frames" : "point 14 m from its frames",
                 largest_motion_m(model, data), data.health.bits());
     EXPECT_TRUE(finite(data));
     EXPECT_FALSE(data.health.has(HealthFlag::non_finite_state));
@@ -225,7 +234,8 @@ TEST(FrameExtremes, CordTakesAHalfTurnAndSharesItAlongItsFrames) {
   supports.driven_frames = {9};
   supports.hold_driven_rotations = true;
   FrameTissueOptions options = dynamic_options(FrameSolver::banded_cholesky);
-  const FrameTissueModel model = make_frame_tissue_model(scene_of(layout, {1e5, 0.3, 1000.0}, supports), options).value();
+  const FrameTissueModel model =
+      make_frame_tissue_model(scene_of(layout, {1e5, 0.3, 1000.0}, supports), options).value();
   FrameTissueData data = make_frame_tissue_data(model).value();
   const std::vector<double> end_m(model.rest_positions_m().begin() + 27, model.rest_positions_m().begin() + 30);
   for (int k = 1; k <= 150; ++k) {
@@ -261,8 +271,9 @@ TEST(FrameExtremes, MembraneHoldsItsLoadWithCoplanarPoints) {
   FrameSupports supports;
   supports.fixed_frames = frames_where(layout, 0, 0.0);
   for (std::int32_t f : frames_where(layout, 0, 1.2)) supports.fixed_frames.push_back(f);
-  const FrameTissueModel model =
-      make_frame_tissue_model(scene_of(layout, {25e3, 0.3, 1000.0}, supports), dynamic_options(FrameSolver::cg_block_jacobi)).value();
+  const FrameTissueModel model = make_frame_tissue_model(scene_of(layout, {25e3, 0.3, 1000.0}, supports),
+                                                         dynamic_options(FrameSolver::cg_block_jacobi))
+                                     .value();
   FrameTissueData data = make_frame_tissue_data(model).value();
   std::vector<FrameForce> loads;
   for (std::int32_t f : frames_where(layout, 0, 0.6)) loads.push_back({f, {0.0, 0.0, -300.0 / 7.0}, {}});
@@ -270,8 +281,8 @@ TEST(FrameExtremes, MembraneHoldsItsLoadWithCoplanarPoints) {
   inputs.frame_forces = loads;
   for (int k = 0; k < 200; ++k) step(model, data, inputs);
   const double centre_drop_m = -(data.positions_m[3 * static_cast<std::size_t>(loads[3].frame) + 2]);
-  std::printf("membrane: %lld points, centre drop %.3f m, health %u\n", static_cast<long long>(model.point_count()), centre_drop_m,
-              data.health.bits());
+  std::printf("membrane: %lld points, centre drop %.3f m, health %u\n", static_cast<long long>(model.point_count()),
+              centre_drop_m, data.health.bits());
   // A string of stiffness EA = E 0.6 m 0.05 m (no bending) pulled down at its middle by P
   // drops d with 2 EA (sqrt(1 + (d / 0.6)^2) - 1) sin = P: about 0.50 m.
   double low = 0.0, high = 2.0;

@@ -34,7 +34,8 @@ Beam beam(Point3 size_m, std::array<int, 3> frames) {
 }
 
 /// Quasi-static load ramp: `ramp` steps of growing load, then `settle` at full load.
-void solve_static(const FrameTissueModel& model, FrameTissueData& data, int ramp, int settle, FrameTissueInputs inputs = {}) {
+void solve_static(const FrameTissueModel& model, FrameTissueData& data, int ramp, int settle,
+                  FrameTissueInputs inputs = {}) {
   for (int k = 0; k < ramp + settle; ++k) {
     inputs.load_scale = std::min(1.0, (k + 1.0) / ramp);
     step(model, data, inputs);
@@ -56,7 +57,8 @@ FrameTissueOptions static_options() {
 }
 
 /// Vertical deflection of the centre of the free end of a clamped beam under its own weight.
-double cantilever_tip_deflection_m(Point3 size_m, std::array<int, 3> frames, const ElasticMaterial& material, int ramp, int settle) {
+double cantilever_tip_deflection_m(Point3 size_m, std::array<int, 3> frames, const ElasticMaterial& material, int ramp,
+                                   int settle) {
   const Beam b = beam(size_m, frames);
   FrameSupports supports;
   supports.fixed_frames = frames_where(b.layout, 0, 0.0);
@@ -80,8 +82,8 @@ TEST(FrameVerification, SteelCantileverConvergesToEulerBernoulli) {
   for (std::array<int, 3> frames : {std::array<int, 3>{25, 2, 2}, {25, 3, 3}, {25, 5, 5}}) {
     const double tip_m = cantilever_tip_deflection_m({16.0, 0.5, 0.5}, frames, steel, 1, 2);
     const double error = std::abs(tip_m / euler_bernoulli_m - 1.0);
-    std::printf("steel cantilever %2d x %d x %d frames: tip %.5f m, Euler-Bernoulli %.5f m, error %.2f %%\n", frames[0], frames[1],
-                frames[2], tip_m, euler_bernoulli_m, 100.0 * error);
+    std::printf("steel cantilever %2d x %d x %d frames: tip %.5f m, Euler-Bernoulli %.5f m, error %.2f %%\n", frames[0],
+                frames[1], frames[2], tip_m, euler_bernoulli_m, 100.0 * error);
     EXPECT_LT(error, previous);
     previous = error;
   }
@@ -111,7 +113,8 @@ double soft_beam_tet_deflection_m(double element_m, int steps) {
   EXPECT_TRUE(data.health.healthy()) << data.health.bits();
   double deflection_m = 0.0, count = 0.0;
   for (std::int32_t node : testing::nodes_where(mesh, 0, 16.0)) {
-    deflection_m += mesh.nodes_m[static_cast<std::size_t>(node)][2] - data.positions_m[3 * static_cast<std::size_t>(node) + 2];
+    deflection_m +=
+        mesh.nodes_m[static_cast<std::size_t>(node)][2] - data.positions_m[3 * static_cast<std::size_t>(node) + 2];
     count += 1.0;
   }
   return deflection_m / count;
@@ -126,9 +129,10 @@ TEST(FrameVerification, SoftBeamMatchesTheTetrahedralStVenantKirchhoffBeam) {
   const double reference_m = fine_m + (fine_m - coarse_m) / (1.5 * 1.5 - 1.0);
   const ElasticMaterial soft{40e3, 0.3, 5.0 / 16.0};
   const double frames_m = cantilever_tip_deflection_m({16.0, 1.0, 1.0}, {21, 3, 3}, soft, 20, 20);
-  std::printf("soft beam tip deflection: StVK tetrahedra %.4f m (6144), %.4f m (20736), extrapolated %.4f m; "
-              "frames 21 x 3 x 3 %.4f m, difference %.2f %%\n",
-              coarse_m, fine_m, reference_m, frames_m, 100.0 * (frames_m / reference_m - 1.0));
+  std::printf(
+      "soft beam tip deflection: StVK tetrahedra %.4f m (6144), %.4f m (20736), extrapolated %.4f m; "
+      "frames 21 x 3 x 3 %.4f m, difference %.2f %%\n",
+      coarse_m, fine_m, reference_m, frames_m, 100.0 * (frames_m / reference_m - 1.0));
   EXPECT_NEAR(frames_m, reference_m, 0.02 * reference_m);
 }
 
@@ -143,17 +147,21 @@ TEST(FrameVerification, TractionTestWithinThePapersTolerance) {
   grid.axes = {{{0.0, 1.0, 0.0}, {0.0, 0.0, 1.0}, {1.0, 0.0, 0.0}}};
   grid.counts = {5, 5, 7};
   grid.spacing_m = {0.5, 0.5, 1.0};
-  const FrameLayout layout = make_grid_layout(grid, [](const Point3& p) { return p[1] * p[1] + p[2] * p[2] <= 1.0; }).value();
+  const FrameLayout layout =
+      make_grid_layout(grid, [](const Point3& p) { return p[1] * p[1] + p[2] * p[2] <= 1.0; }).value();
   FrameSupports supports;
   for (std::int32_t f : frames_where(layout, 0, 0.0)) {
     const Point3& p = layout.frames_m[static_cast<std::size_t>(f)];
-    if (p[1] == 0.0 && p[2] == 0.0) supports.fixed_frames.push_back(f);
-    else supports.driven_frames.push_back(f);
+    if (p[1] == 0.0 && p[2] == 0.0)
+      supports.fixed_frames.push_back(f);
+    else
+      supports.driven_frames.push_back(f);
   }
   supports.hold_driven_rotations = true;
   for (std::int32_t f : frames_where(layout, 0, 6.0)) supports.driven_frames.push_back(f);
   supports.driven_axes.assign(supports.driven_frames.size(), {true, false, false});
-  const FrameTissueModel model = make_frame_tissue_model(scene_of(layout, {1e6, 0.3, 1000.0}, supports), static_options()).value();
+  const FrameTissueModel model =
+      make_frame_tissue_model(scene_of(layout, {1e6, 0.3, 1000.0}, supports), static_options()).value();
   FrameTissueData data = make_frame_tissue_data(model).value();
   std::vector<double> pulled_m;
   for (std::int32_t f : supports.driven_frames)
@@ -173,8 +181,8 @@ TEST(FrameVerification, TractionTestWithinThePapersTolerance) {
     const Point3 rest{1.5 * (k + 1), std::cos(angles_rad[k]), std::sin(angles_rad[k])};
     const Point3 now = material_point_m(model, data, grid_point_neighbours(grid, layout, rest).value(), rest);
     const double contraction_m = -((now[1] - rest[1]) * rest[1] + (now[2] - rest[2]) * rest[2]);
-    std::printf("traction test point %s: radial contraction %.5f mm, expected %.5f mm, error %.2f %%\n", names[k], 1e3 * contraction_m,
-                1e3 * expected_m, 100.0 * (contraction_m / expected_m - 1.0));
+    std::printf("traction test point %s: radial contraction %.5f mm, expected %.5f mm, error %.2f %%\n", names[k],
+                1e3 * contraction_m, 1e3 * expected_m, 100.0 * (contraction_m / expected_m - 1.0));
     EXPECT_NEAR(contraction_m, expected_m, 0.007 * expected_m);
   }
 }

@@ -35,7 +35,8 @@ std::vector<LigamentSpec> two_ligaments() {
 OrganLigaments ligaments(double youngs_modulus_pa, bool stabilise) {
   FrameTissueOptions options;
   options.rayleigh_mass_per_s = 1.0;
-  return make_organ_ligaments(liver().mesh, two_ligaments(), {youngs_modulus_pa, 0.45, 1100.0}, options, {0.0, 0.0, -9.81}, stabilise)
+  return make_organ_ligaments(liver().mesh, two_ligaments(), {youngs_modulus_pa, 0.45, 1100.0}, options,
+                              {0.0, 0.0, -9.81}, stabilise)
       .value();
 }
 
@@ -54,7 +55,8 @@ TEST(OrganAttachment, MappingCarriesAffineMotionsAndKeepsTheTotalForce) {
   gather_attachment_positions(held.attachment, moved, driven);
   for (std::size_t d = 0; d < held.attachment.corners.size(); ++d) {
     const auto f = static_cast<std::size_t>(held.model.driven_frames()[d]);
-    const Point3 rest{held.model.rest_positions_m()[3 * f], held.model.rest_positions_m()[3 * f + 1], held.model.rest_positions_m()[3 * f + 2]};
+    const Point3 rest{held.model.rest_positions_m()[3 * f], held.model.rest_positions_m()[3 * f + 1],
+                      held.model.rest_positions_m()[3 * f + 2]};
     for (int a = 0; a < 3; ++a) EXPECT_NEAR(driven[3 * d + static_cast<std::size_t>(a)], affine(rest, a), 1e-12);
   }
   std::vector<double> forces(driven.size());
@@ -106,7 +108,8 @@ TetFemModel liver_model(const OrganAttachment& attachment, bool fixed) {
 /// is given by its node positions (3 per node, refreshed by `positions()`) and its step.
 /// Returns the heap allocations made by the coupled steps (none is allowed).
 template <class Positions, class Advance>
-std::size_t step_held(const OrganLigaments& held, int steps, Positions positions, Advance advance, HealthFlags& health) {
+std::size_t step_held(const OrganLigaments& held, int steps, Positions positions, Advance advance,
+                      HealthFlags& health) {
   FrameTissueData ligament = make_frame_tissue_data(held.model).value();
   AttachmentBuffers buffers = make_attachment_buffers(held.attachment);
   TissueInputs inputs;
@@ -128,11 +131,14 @@ std::vector<double> settle(const OrganLigaments* held, const TetFemModel& model,
   if (held == nullptr) {
     for (int k = 0; k < steps; ++k) advance({});
   } else {
-    EXPECT_EQ(step_held(*held, steps, [&] { return std::span<const double>(data.positions_m); }, advance, health), 0u);
+    EXPECT_EQ(step_held(
+                  *held, steps, [&] { return std::span<const double>(data.positions_m); }, advance, health),
+              0u);
   }
   health.merge(data.health);
   std::vector<double> displacement(data.positions_m.size());
-  for (std::size_t i = 0; i < displacement.size(); ++i) displacement[i] = data.positions_m[i] - model.rest_positions_m()[i];
+  for (std::size_t i = 0; i < displacement.size(); ++i)
+    displacement[i] = data.positions_m[i] - model.rest_positions_m()[i];
   return displacement;
 }
 
@@ -149,8 +155,10 @@ TEST(OrganAttachment, StiffLigamentsHoldTheLiverLikeFixedNodes) {
   const std::vector<double> held = settle(&stiff, liver_model(stiff.attachment, false), 60, held_health);
   std::vector<double> difference(fixed.size());
   for (std::size_t i = 0; i < fixed.size(); ++i) difference[i] = held[i] - fixed[i];
-  std::printf("liver under gravity, 0.6 s: fixed nodes %.2f mm, 10 MPa ligaments %.2f mm, largest difference %.2f mm (k_s %.0f N/m)\n",
-              1e3 * largest(fixed), 1e3 * largest(held), 1e3 * largest(difference), stiff.attachment.spring_stiffness_n_m);
+  std::printf(
+      "liver under gravity, 0.6 s: fixed nodes %.2f mm, 10 MPa ligaments %.2f mm, largest difference %.2f mm (k_s %.0f "
+      "N/m)\n",
+      1e3 * largest(fixed), 1e3 * largest(held), 1e3 * largest(difference), stiff.attachment.spring_stiffness_n_m);
   EXPECT_FALSE(held_health.has(HealthFlag::non_finite_state));
   EXPECT_LT(largest(difference), 0.1 * largest(fixed));
 }
@@ -160,9 +168,10 @@ TEST(OrganAttachment, StabilisedCouplingStaysBoundedWherePlainStaggeringDiverges
   HealthFlags plain_health, stabilised_health;
   const OrganLigaments plain = ligaments(2e5, false), stabilised = ligaments(2e5, true);
   const std::vector<double> diverging = settle(&plain, liver_model(plain.attachment, false), 25, plain_health);
-  const std::vector<double> bounded = settle(&stabilised, liver_model(stabilised.attachment, false), 25, stabilised_health);
-  std::printf("200 kPa ligaments after 25 steps: plain staggering %.3g m (health %u), stabilised %.2f mm (health %u)\n", largest(diverging),
-              plain_health.bits(), 1e3 * largest(bounded), stabilised_health.bits());
+  const std::vector<double> bounded =
+      settle(&stabilised, liver_model(stabilised.attachment, false), 25, stabilised_health);
+  std::printf("200 kPa ligaments after 25 steps: plain staggering %.3g m (health %u), stabilised %.2f mm (health %u)\n",
+              largest(diverging), plain_health.bits(), 1e3 * largest(bounded), stabilised_health.bits());
   EXPECT_LT(largest(bounded), 0.05);
   EXPECT_FALSE(stabilised_health.has(HealthFlag::non_finite_state));
   EXPECT_TRUE(largest(diverging) > 1.0 || plain_health.has(HealthFlag::non_finite_state));
@@ -179,7 +188,8 @@ std::vector<double> attachment_snapshots(const TetFemModel& statics, const Organ
     TissueInputs inputs;
     inputs.point_forces = forces;
     step(statics, data, inputs);
-    for (std::size_t i = 0; i < data.positions_m.size(); ++i) snapshots.push_back(data.positions_m[i] - statics.rest_positions_m()[i]);
+    for (std::size_t i = 0; i < data.positions_m.size(); ++i)
+      snapshots.push_back(data.positions_m[i] - statics.rest_positions_m()[i]);
     ++count;
   };
   solve({});
@@ -224,7 +234,9 @@ TEST(OrganAttachment, LigamentsHoldTheReducedLiverAsTheyHoldTheFullOrderOne) {
     for (std::size_t i = 0; i < positions_m.size(); ++i) positions_m[i] = full.rest_positions_m()[i] + reduced_m[i];
     return std::span<const double>(positions_m);
   };
-  EXPECT_EQ(step_held(held, 60, positions, [&](const TissueInputs& inputs) { step(reduced, data, inputs); }, reduced_health), 0u);
+  EXPECT_EQ(step_held(
+                held, 60, positions, [&](const TissueInputs& inputs) { step(reduced, data, inputs); }, reduced_health),
+            0u);
   reduced_health.merge(data.health);
   positions();
 
@@ -234,8 +246,10 @@ TEST(OrganAttachment, LigamentsHoldTheReducedLiverAsTheyHoldTheFullOrderOne) {
     largest_difference_m = std::max(largest_difference_m, std::abs(reduced_m[i] - full_m[i]));
   }
   const double rms_m = std::sqrt(squared_m2 / static_cast<double>(full_m.size() / 3));
-  std::printf("liver held by 1 MPa ligaments, 0.6 s, linear quasi-static: full order %.2f mm, reduced (r = 48) %.2f mm, difference RMS %.3f mm, largest %.2f mm\n",
-              1e3 * largest(full_m), 1e3 * largest(reduced_m), 1e3 * rms_m, 1e3 * largest_difference_m);
+  std::printf(
+      "liver held by 1 MPa ligaments, 0.6 s, linear quasi-static: full order %.2f mm, reduced (r = 48) %.2f mm, "
+      "difference RMS %.3f mm, largest %.2f mm\n",
+      1e3 * largest(full_m), 1e3 * largest(reduced_m), 1e3 * rms_m, 1e3 * largest_difference_m);
   EXPECT_EQ(reduced_health.bits(), 0u);
   EXPECT_FALSE(full_health.has(HealthFlag::non_finite_state));
   EXPECT_LT(rms_m, 0.05 * largest(full_m));

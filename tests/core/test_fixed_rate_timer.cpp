@@ -52,8 +52,8 @@ TEST(FixedRateTimer, TicksOnAbsoluteDeadlinesWithoutDrift) {
 TEST(FixedRateTimer, LateWithinAPeriodRunsLateButSkipsNothing) {
   SimulatedClock clock(0);
   FixedRateTimer timer(clock, kNsPerMs, 0);
-  timer.wait_next_tick();          // tick 0 at 0
-  clock.advance_ns(1'400'000);     // the step overran by 0.4 ms
+  timer.wait_next_tick();       // tick 0 at 0
+  clock.advance_ns(1'400'000);  // the step overran by 0.4 ms
   const Tick tick = timer.wait_next_tick();
   EXPECT_EQ(tick.index, 1);
   EXPECT_EQ(tick.lateness_ns, 400'000);
@@ -63,10 +63,10 @@ TEST(FixedRateTimer, LateWithinAPeriodRunsLateButSkipsNothing) {
 TEST(FixedRateTimer, SkipsWholeMissedPeriodsAndCountsThem) {
   SimulatedClock clock(0);
   FixedRateTimer timer(clock, kNsPerMs, 0);
-  timer.wait_next_tick();           // tick 0
-  clock.advance_ns(3'500'000);      // stalled for 3.5 periods
+  timer.wait_next_tick();       // tick 0
+  clock.advance_ns(3'500'000);  // stalled for 3.5 periods
   const Tick tick = timer.wait_next_tick();
-  EXPECT_EQ(tick.skipped, 2);       // deadlines 1 and 2 passed over
+  EXPECT_EQ(tick.skipped, 2);  // deadlines 1 and 2 passed over
   EXPECT_EQ(tick.index, 3);
   EXPECT_EQ(tick.deadline_ns, 3 * kNsPerMs);
   EXPECT_EQ(timer.deadline_misses(), 1);
@@ -112,9 +112,11 @@ TEST(FixedRateTimer, HoldsOneKilohertzOnTheRealClock) {
   std::sort(lateness_ns.begin(), lateness_ns.end());
   const double median_us = lateness_ns[kTicks / 2] / 1e3;
   const double p99_us = lateness_ns[kTicks * 99 / 100] / 1e3;
-  std::printf("1 kHz timer: %d ticks and %lld periods skipped in %.2f ms, wake-up lateness median %.1f us, p99 %.1f us, max %.1f us\n",
-              kTicks, static_cast<long long>(skipped), static_cast<double>(tick.woke_ns - first_deadline_ns) / kNsPerMs + 1.0, median_us,
-              p99_us, lateness_ns.back() / 1e3);
+  std::printf(
+      "1 kHz timer: %d ticks and %lld periods skipped in %.2f ms, wake-up lateness median %.1f us, p99 %.1f us, max "
+      "%.1f us\n",
+      kTicks, static_cast<long long>(skipped), static_cast<double>(tick.woke_ns - first_deadline_ns) / kNsPerMs + 1.0,
+      median_us, p99_us, lateness_ns.back() / 1e3);
   EXPECT_LT(median_us, 2000.0);
 }
 

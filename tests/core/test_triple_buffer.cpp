@@ -37,8 +37,8 @@ TEST(TripleBuffer, ReaderGetsTheLatestPublishedValueOnce) {
   buffer.write(2);
   buffer.write(3);
   EXPECT_TRUE(buffer.update());
-  EXPECT_EQ(buffer.read(), 3);   // the latest, not the oldest
-  EXPECT_FALSE(buffer.update()); // nothing newer
+  EXPECT_EQ(buffer.read(), 3);    // the latest, not the oldest
+  EXPECT_FALSE(buffer.update());  // nothing newer
   EXPECT_EQ(buffer.read(), 3);
   buffer.write_slot() = 4;
   buffer.publish();

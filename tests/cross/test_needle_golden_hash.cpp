@@ -28,8 +28,8 @@ TEST(NeedleGoldenHash, InsertionThroughTwoLayersWithASwingingBase) {
     step(model, data, inputs);
   }
   ASSERT_EQ(data.report.punctures, 2);
-  const std::uint64_t hash = testing::bits_hash({data.needle.positions_m, data.needle.rotations_wxyz,
-                                                   data.needle.velocities_m_s, data.row_forces});
+  const std::uint64_t hash = testing::bits_hash(
+      {data.needle.positions_m, data.needle.rotations_wxyz, data.needle.velocities_m_s, data.row_forces});
   std::printf("needle state hash after 1500 steps: 0x%016" PRIx64 "\n", hash);
   EXPECT_EQ(hash, 0x338d4f12fc92e10dULL);
 }

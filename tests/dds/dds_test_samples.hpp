@@ -49,7 +49,8 @@ inline std::unique_ptr<UltrasoundFrame> make_frame(std::uint32_t width_px, std::
   frame->height_px = height_px;
   frame->pixel_spacing_m = {2e-4, 2e-4};
   frame->depth_m = 0.12;
-  for (std::size_t i = 0; i < frame->pixel_count(); ++i) frame->pixels[i] = static_cast<std::uint8_t>(i * 7 + i / width_px);
+  for (std::size_t i = 0; i < frame->pixel_count(); ++i)
+    frame->pixels[i] = static_cast<std::uint8_t>(i * 7 + i / width_px);
   return frame;
 }
 

@@ -19,8 +19,10 @@ namespace {
 std::pair<std::optional<int>, std::string> record_briefly(const std::string& shell_command_prefix) {
   const std::string out = ::testing::TempDir() + "environment_" + std::to_string(getpid()) + ".navrec";
   const std::string log = ::testing::TempDir() + "environment_" + std::to_string(getpid()) + ".log";
-  nav::testing::ChildProcess tool(
-      {"/bin/sh", "-c", shell_command_prefix + " exec " + NAV_BIN_DIR + "/navtool record --out " + out + " --duration-s 0.2 --domain 123"}, log);
+  nav::testing::ChildProcess tool({"/bin/sh", "-c",
+                                   shell_command_prefix + " exec " + NAV_BIN_DIR + "/navtool record --out " + out +
+                                       " --duration-s 0.2 --domain 123"},
+                                  log);
   const std::optional<int> exit_code = tool.wait(std::chrono::seconds(60));
   std::remove(out.c_str());
   return {exit_code, tool.log()};

@@ -52,7 +52,8 @@ TEST(DdsHandoff, BothSidesOfTheBuffersAllocateNothing) {
 struct LoopRecord {
   std::int64_t ticks = 0;
   std::int64_t ticks_during_stall = 0;
-  std::int64_t skipped_during_stall = 0;  ///< periods passed over in the stall, up to the first tick after it (the host held the loop)
+  std::int64_t skipped_during_stall =
+      0;  ///< periods passed over in the stall, up to the first tick after it (the host held the loop)
   bool ticked_after_stall = false;
   std::int64_t fresh_poses_during_stall = 0;
   TimeNs max_work_ns = 0;
@@ -130,19 +131,22 @@ TEST(DdsHandoff, StalledIoThreadNeverSlowsTheRealTimeLoop) {
   tracker_thread.join();
   io_thread.join();
 
-  std::printf("ticks %lld, during the 100 ms stall %lld (%lld periods skipped) with %lld fresh poses; max tick work %.1f us; "
-              "deadline misses %lld; outbox dropped %llu\n",
-              static_cast<long long>(record.ticks), static_cast<long long>(record.ticks_during_stall),
-              static_cast<long long>(record.skipped_during_stall), static_cast<long long>(record.fresh_poses_during_stall),
-              record.max_work_ns / 1e3,
-              static_cast<long long>(deadline_misses), static_cast<unsigned long long>(dropped_by_outbox));
+  std::printf(
+      "ticks %lld, during the 100 ms stall %lld (%lld periods skipped) with %lld fresh poses; max tick work %.1f us; "
+      "deadline misses %lld; outbox dropped %llu\n",
+      static_cast<long long>(record.ticks), static_cast<long long>(record.ticks_during_stall),
+      static_cast<long long>(record.skipped_during_stall), static_cast<long long>(record.fresh_poses_during_stall),
+      record.max_work_ns / 1e3, static_cast<long long>(deadline_misses),
+      static_cast<unsigned long long>(dropped_by_outbox));
   ASSERT_NE(stall_end_ns.load(), 0) << "the I/O thread never stalled";
   EXPECT_EQ(record.ticks, kTicks);
   // Every period of the stall ticked, or skipped while the host held the whole process (a
   // virtual machine's host may): then no tick's work was long, checked below.
-  EXPECT_GE(record.ticks_during_stall + record.skipped_during_stall, 90) << "the loop lost its rate while the I/O thread stalled";
+  EXPECT_GE(record.ticks_during_stall + record.skipped_during_stall, 90)
+      << "the loop lost its rate while the I/O thread stalled";
   ASSERT_GE(record.ticks_during_stall, 10) << "the host left the loop too little of the stall to judge it";
-  EXPECT_GE(4 * record.fresh_poses_during_stall, record.ticks_during_stall) << "poses stopped reaching the core during the stall";
+  EXPECT_GE(4 * record.fresh_poses_during_stall, record.ticks_during_stall)
+      << "poses stopped reaching the core during the stall";
   EXPECT_LT(record.max_work_ns, 20 * kNsPerMs) << "a tick waited (for the stalled I/O thread?)";
   EXPECT_GT(dropped_by_outbox, 0u) << "the outbox should have refused outputs while nobody drained it";
   EXPECT_TRUE(display_heard);

@@ -4,10 +4,10 @@
 // navstation and navtool record (std::terminate). Each is a counted `malformed` refusal here:
 // in the decoder alone, in a reader of this process fed over UDP by a participant of "another
 // vendor", and in a running navtool record and navstation, which finish with their summaries.
-// A needle pose at 1e300 m is refused as implausible. A sample stamped far ahead of its arrival is refused by a reader that holds its stream to an
-// arrival window, and never becomes the stream's time reference (which once made every later
-// sample "backwards"). A participant killed with SIGKILL leaves its shared-memory segment
-// behind; the next one to start removes it.
+// A needle pose at 1e300 m is refused as implausible. A sample stamped far ahead of its arrival is refused by a reader
+// that holds its stream to an arrival window, and never becomes the stream's time reference (which once made every
+// later sample "backwards"). A participant killed with SIGKILL leaves its shared-memory segment behind; the next one to
+// start removes it.
 #include <gtest/gtest.h>
 #include <sys/file.h>
 
@@ -24,8 +24,8 @@
 
 #include "child_process.hpp"
 #include "dds_test_samples.hpp"
-#include "nav/dds/checked_type.hpp"
 #include "nav/core/clock.hpp"
+#include "nav/dds/checked_type.hpp"
 #include "nav/dds/dds_node.hpp"
 #include "nav/dds/pose_inbox.hpp"
 #include "nav/dds/recording_file.hpp"
@@ -42,7 +42,6 @@ using nav::testing::ChildProcess;
 const std::string kNavtool = std::string(NAV_BIN_DIR) + "/navtool";
 const std::string kNavstation = std::string(NAV_BIN_DIR) + "/navstation";
 using Payload = std::vector<std::uint8_t>;
-
 
 /// Payloads made from the valid encoding `valid`, none of which a station may take.
 std::vector<std::pair<std::string, Payload>> crafted_payloads(const Payload& valid) {
@@ -170,7 +169,8 @@ TEST(DdsHostileSamples, AFutureStampIsRefusedAndDoesNotBlindThePosesOrFramesAfte
   }));
   const BoundaryCounts w = windowed.value()->boundary_counts(), u = unguarded.value()->boundary_counts();
   std::printf("with the window: %s, %llu accepted; without: %s, %llu accepted\n", drops_by_reason(w).c_str(),
-              static_cast<unsigned long long>(w.accepted), drops_by_reason(u).c_str(), static_cast<unsigned long long>(u.accepted));
+              static_cast<unsigned long long>(w.accepted), drops_by_reason(u).c_str(),
+              static_cast<unsigned long long>(u.accepted));
   EXPECT_EQ(w.time_out_of_window, 2u);  // the future pose and the future frame, nothing else
   EXPECT_EQ(w.accepted, 2u * (kLegitimate - 1));
   EXPECT_EQ(windowed_frames->size(), static_cast<std::size_t>(kLegitimate - 1));
@@ -206,7 +206,8 @@ TEST(DdsHostileSamples, AReaderCountsCraftedPayloadsFromAForeignParticipantAndKe
   ASSERT_TRUE(wait_until([&] { return foreign.matched() >= 1; }));
 
   constexpr int kRounds = 5;
-  const std::size_t crafted = send_rounds(foreign, [](TimeNs time_ns) { return make_pose(7, time_ns); }, kRounds);
+  const std::size_t crafted = send_rounds(
+      foreign, [](TimeNs time_ns) { return make_pose(7, time_ns); }, kRounds);
   // The last valid pose is the last sample written: nothing can replace it before it is taken.
   std::vector<ToolPose> taken;
   ASSERT_TRUE(wait_until(
@@ -244,11 +245,14 @@ TEST(DdsHostileSamples, NavtoolRecordKeepsRecordingThroughCraftedPayloads) {
   RawPayloadWriter<ToolPose> foreign_poses(191);
   RawPayloadWriter<UltrasoundFrame> foreign_frames(191);
   ASSERT_TRUE(foreign_poses.ready() && foreign_frames.ready());
-  ASSERT_TRUE(wait_until([&] { return foreign_poses.matched() >= 1 && foreign_frames.matched() >= 1; }, std::chrono::seconds(30)));
+  ASSERT_TRUE(wait_until([&] { return foreign_poses.matched() >= 1 && foreign_frames.matched() >= 1; },
+                         std::chrono::seconds(30)));
 
   constexpr int kRounds = 4;
-  const std::size_t crafted = send_rounds(foreign_poses, [](TimeNs time_ns) { return make_pose(7, time_ns); }, kRounds) +
-                              send_rounds(foreign_frames, [](TimeNs time_ns) { return *make_frame(64, 48, time_ns); }, kRounds);
+  const std::size_t crafted = send_rounds(
+                                  foreign_poses, [](TimeNs time_ns) { return make_pose(7, time_ns); }, kRounds) +
+                              send_rounds(
+                                  foreign_frames, [](TimeNs time_ns) { return *make_frame(64, 48, time_ns); }, kRounds);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));  // the last samples reach the file
   recorder.signal(SIGTERM);
   const std::optional<int> exit_code = recorder.wait(std::chrono::seconds(30));
@@ -285,8 +289,9 @@ TEST(DdsHostileSamples, NavstationRunsThroughCraftedAndFutureStampedSamplesAndCo
   RawPayloadWriter<UltrasoundFrame> foreign_frames(192);
   ASSERT_TRUE(foreign_poses.ready() && foreign_frames.ready());
   // The station joins once it has built its scene and simulated its world (seconds).
-  ASSERT_TRUE(wait_until([&] { return station.ended() || (foreign_poses.matched() >= 1 && foreign_frames.matched() >= 1); },
-                         std::chrono::seconds(300)));
+  ASSERT_TRUE(
+      wait_until([&] { return station.ended() || (foreign_poses.matched() >= 1 && foreign_frames.matched() >= 1); },
+                 std::chrono::seconds(300)));
   // And a participant that keeps every rule but stamps needle poses and frames a million
   // seconds ahead, every 100 ms.
   auto stamper = DdsNode::create(local_network(192));
@@ -329,8 +334,8 @@ TEST(DdsHostileSamples, NavstationRunsThroughCraftedAndFutureStampedSamplesAndCo
   EXPECT_EQ(nav::testing::number_after(inputs, "probe "), 0.0) << inputs;
   EXPECT_EQ(nav::testing::number_after(inputs, "respiratory "), 0.0) << inputs;
   EXPECT_GE(nav::testing::number_after(inputs, "ultrasound "), 20.0) << inputs;
-  // The simulated devices' poses (60 Hz for 3 markers, 5 s, less the time the processes take to find each other) and frames (20 Hz) still arrive
-  // and are used: none is refused as older than the future stamps.
+  // The simulated devices' poses (60 Hz for 3 markers, 5 s, less the time the processes take to find each other) and
+  // frames (20 Hz) still arrive and are used: none is refused as older than the future stamps.
   EXPECT_EQ(output.find("time_backwards"), std::string::npos);
   EXPECT_GE(nav::testing::number_after(output, "127.0.0.1): "), 250.0);
   EXPECT_GE(nav::testing::number_after(output, "ultrasound: "), 30.0);
@@ -343,7 +348,8 @@ std::set<std::string> segment_locks_of(pid_t pid) {
   std::error_code ignored;
   for (const auto& fd : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/fd", ignored)) {
     const std::string target = std::filesystem::read_symlink(fd.path(), ignored).string();
-    if (target.starts_with("/dev/shm/fastrtps_") && !target.starts_with("/dev/shm/fastrtps_port") && target.ends_with("_el"))
+    if (target.starts_with("/dev/shm/fastrtps_") && !target.starts_with("/dev/shm/fastrtps_port") &&
+        target.ends_with("_el"))
       locks.insert(target);
   }
   return locks;
@@ -359,7 +365,8 @@ bool held(const std::string& path) {
 }
 
 TEST(DdsHostileSamples, TheSegmentOfAKilledParticipantIsRemovedWhenTheNextOneStarts) {
-  ChildProcess recorder({kNavtool, "record", "--out", nav::testing::temporary_path("killed.navrec"), "--duration-s", "120", "--domain", "193"},
+  ChildProcess recorder({kNavtool, "record", "--out", nav::testing::temporary_path("killed.navrec"), "--duration-s",
+                         "120", "--domain", "193"},
                         nav::testing::temporary_path("killed_record.log"));
   ASSERT_TRUE(wait_until([&] { return !segment_locks_of(recorder.pid()).empty(); }, std::chrono::seconds(30)));
   // Its lock files are opened, then locked: once it has settled, it holds every one.
@@ -386,7 +393,9 @@ TEST(DdsHostileSamples, CleanupKeepsSegmentsInUseOrJustCreatedAndOtherFiles) {
   std::filesystem::create_directories(folder);
   const auto make = [&](const std::string& name, bool age) {
     std::ofstream(folder / name) << "x";
-    if (age) std::filesystem::last_write_time(folder / name, std::filesystem::file_time_type::clock::now() - std::chrono::minutes(5));
+    if (age)
+      std::filesystem::last_write_time(folder / name,
+                                       std::filesystem::file_time_type::clock::now() - std::chrono::minutes(5));
   };
   for (const char* id : {"00112233445566aa", "00112233445566bb", "00112233445566cc"}) {
     make(std::string("fastrtps_") + id, true);

@@ -44,10 +44,12 @@ TEST(DdsParticipantQos, DefaultsAreLoopbackUdpPlusSharedMemoryWithUnicastDiscove
   const auto& transport = qos.value().transport();
   EXPECT_FALSE(transport.use_builtin_transports);
   ASSERT_EQ(transport.user_transports.size(), 2u);
-  const auto udp = std::dynamic_pointer_cast<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(transport.user_transports[0]);
+  const auto udp =
+      std::dynamic_pointer_cast<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(transport.user_transports[0]);
   ASSERT_NE(udp, nullptr);
   EXPECT_EQ(udp->interfaceWhiteList, std::vector<std::string>{"127.0.0.1"});
-  const auto shm = std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(transport.user_transports[1]);
+  const auto shm =
+      std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(transport.user_transports[1]);
   ASSERT_NE(shm, nullptr);
   EXPECT_EQ(shm->segment_size(), 8u << 20);
 
@@ -102,7 +104,8 @@ int in_own_network_namespace(Check check) {
   if (child == 0) {
     if (unshare(CLONE_NEWNET) != 0) _exit(2);
     if (std::system("ip link add navdown0 type veth peer name navdown1 && ip addr add 10.209.0.1/24 dev navdown0 && "
-                    "ip link set navdown0 up") != 0) _exit(2);
+                    "ip link set navdown0 up") != 0)
+      _exit(2);
     _exit(check() ? 0 : 1);
   }
   int status = 0;
@@ -142,9 +145,10 @@ TEST(DdsParticipantQos, AnAddressOnAnInterfaceThatIsNotRunningIsRefusedNotDroppe
     const auto qos = make_participant_qos(config);
     const auto node = DdsNode::create(config);
     std::fprintf(stderr, "refused: %s\n", qos.ok() ? "(accepted)" : qos.error().message.c_str());
-    return !qos.ok() && qos.error().field == "local_address" && qos.error().message.find("navdown0") != std::string::npos &&
-           qos.error().message.find("no carrier") != std::string::npos &&
-           !node.ok() && node.error().field == "local_address";
+    return !qos.ok() && qos.error().field == "local_address" &&
+           qos.error().message.find("navdown0") != std::string::npos &&
+           qos.error().message.find("no carrier") != std::string::npos && !node.ok() &&
+           node.error().field == "local_address";
   });
   if (down == 2) GTEST_SKIP() << "no network namespace or veth pair here";
   EXPECT_EQ(down, 0);
@@ -251,13 +255,14 @@ TEST(DdsTopicQos, FramesAreBestEffortKeepLastTwoThroughDataSharing) {
 
 TEST(DdsTopicQos, OutputsAreReliableLatestOnlyAndHealthIsTransientLocal) {
   const TopicQosOptions options;
-  for (const Topic topic : {Topic::needle_state, Topic::target_prediction, Topic::deformed_surface, Topic::station_health}) {
+  for (const Topic topic :
+       {Topic::needle_state, Topic::target_prediction, Topic::deformed_surface, Topic::station_health}) {
     const auto writer = writer_qos(topic, options);
     EXPECT_EQ(writer.reliability().kind, fdds::RELIABLE_RELIABILITY_QOS) << topic_name(topic);
     EXPECT_EQ(writer.history().kind, fdds::KEEP_LAST_HISTORY_QOS) << topic_name(topic);
     EXPECT_EQ(writer.history().depth, 1) << topic_name(topic);
-    const auto durability = topic == Topic::station_health ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS
-                                                           : fdds::VOLATILE_DURABILITY_QOS;
+    const auto durability =
+        topic == Topic::station_health ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
     EXPECT_EQ(writer.durability().kind, durability) << topic_name(topic);
     EXPECT_EQ(reader_qos(topic, options).durability().kind, durability) << topic_name(topic);
     EXPECT_EQ(reader_qos(topic, options).reliability().kind, fdds::RELIABLE_RELIABILITY_QOS) << topic_name(topic);

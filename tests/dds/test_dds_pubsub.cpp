@@ -89,7 +89,8 @@ TEST(DdsPubSub, OutboxOutputsReachTheDisplayWithHealthCounters) {
   ASSERT_TRUE(nodes.reader->subscribe(*predictions).ok());
   ASSERT_TRUE(nodes.reader->subscribe(*surfaces).ok());
   ASSERT_TRUE(nodes.reader->subscribe(*health).ok());
-  for (const Topic topic : {Topic::needle_state, Topic::target_prediction, Topic::deformed_surface, Topic::station_health}) {
+  for (const Topic topic :
+       {Topic::needle_state, Topic::target_prediction, Topic::deformed_surface, Topic::station_health}) {
     ASSERT_TRUE(nodes.writer->wait_for_match(topic, 1, kMatchTimeoutNs)) << topic_name(topic);
   }
   StationHealth late_health;
@@ -144,10 +145,18 @@ TEST(DdsPubSub, BadSamplesAreDroppedCountedAndPublishedInHealth) {
       return counted(station.boundary_counts()) >= 1;
     });
   };
-  EXPECT_TRUE(sent_until_counted([&] { nan_pose.source_time_ns = ++time_ns; tracker.write(nan_pose); },
-                                 [](const BoundaryCounts& c) { return c.non_finite; }));
-  EXPECT_TRUE(sent_until_counted([&] { tilted.source_time_ns = ++time_ns; tracker.write(tilted); },
-                                 [](const BoundaryCounts& c) { return c.non_unit_quaternion; }));
+  EXPECT_TRUE(sent_until_counted(
+      [&] {
+        nan_pose.source_time_ns = ++time_ns;
+        tracker.write(nan_pose);
+      },
+      [](const BoundaryCounts& c) { return c.non_finite; }));
+  EXPECT_TRUE(sent_until_counted(
+      [&] {
+        tilted.source_time_ns = ++time_ns;
+        tracker.write(tilted);
+      },
+      [](const BoundaryCounts& c) { return c.non_unit_quaternion; }));
   EXPECT_TRUE(sent_until_counted([&] { tracker.write(make_pose(9, ++time_ns)); },
                                  [](const BoundaryCounts& c) { return c.unknown_tool; }));
   EXPECT_TRUE(sent_until_counted(
@@ -157,8 +166,12 @@ TEST(DdsPubSub, BadSamplesAreDroppedCountedAndPublishedInHealth) {
         tracker.write(make_pose(1, time_ns - 5));
       },
       [](const BoundaryCounts& c) { return c.time_backwards; }));
-  EXPECT_TRUE(sent_until_counted([&] { frame->source_time_ns = ++time_ns; tracker.write(*frame); },
-                                 [](const BoundaryCounts& c) { return c.wrong_size; }));
+  EXPECT_TRUE(sent_until_counted(
+      [&] {
+        frame->source_time_ns = ++time_ns;
+        tracker.write(*frame);
+      },
+      [](const BoundaryCounts& c) { return c.wrong_size; }));
   // Nothing bad got through: the inbox holds a good pose, the frame ring nothing.
   ASSERT_TRUE(inbox.update(0));
   EXPECT_TRUE(std::isfinite(inbox.latest(0).position_m[0]));
@@ -180,9 +193,11 @@ TEST(DdsPubSub, BadSamplesAreDroppedCountedAndPublishedInHealth) {
   ASSERT_TRUE(outbox->health.try_push(make_health(time_ns)));
   constexpr TimeNs kPublishedAtNs = 100 * kNsPerSecond;
   constexpr auto bad_sample = static_cast<std::uint32_t>(HealthFlag::bad_sample);
-  const auto needle = static_cast<std::size_t>(StationInput::needle), probe = static_cast<std::size_t>(StationInput::probe),
+  const auto needle = static_cast<std::size_t>(StationInput::needle),
+             probe = static_cast<std::size_t>(StationInput::probe),
              ultrasound = static_cast<std::size_t>(StationInput::ultrasound);
-  const PerInput<std::uint64_t> refused{inbox.refused(0), 0, 0, refused_as_invalid(station.boundary_counts(Topic::ultrasound_frame))};
+  const PerInput<std::uint64_t> refused{inbox.refused(0), 0, 0,
+                                        refused_as_invalid(station.boundary_counts(Topic::ultrasound_frame))};
   publisher.publish(*outbox, station, kPublishedAtNs, refused);
   StationHealth received;
   ASSERT_TRUE(wait_until([&] { return health->try_pop(received); }));
@@ -217,7 +232,9 @@ TEST(DdsPubSub, BadSamplesAreDroppedCountedAndPublishedInHealth) {
   EXPECT_EQ(station.boundary_counts(Topic::tool_pose).unknown_tool, counts.unknown_tool);
   EXPECT_EQ(station.boundary_counts(Topic::tool_pose).wrong_size, 0u);
   EXPECT_EQ(station.boundary_counts(Topic::ultrasound_frame).wrong_size, counts.wrong_size);
-  EXPECT_EQ(station.boundary_counts(Topic::ultrasound_frame).accepted + station.boundary_counts(Topic::tool_pose).accepted, counts.accepted);
+  EXPECT_EQ(
+      station.boundary_counts(Topic::ultrasound_frame).accepted + station.boundary_counts(Topic::tool_pose).accepted,
+      counts.accepted);
   EXPECT_GE(received.boundary.non_finite, 1u);
   EXPECT_GE(received.boundary.non_unit_quaternion, 1u);
   EXPECT_GE(received.boundary.unknown_tool, 1u);

@@ -17,7 +17,6 @@ namespace {
 
 using namespace testing;
 
-
 /// Writes one record of `sample` with receive time source + 1000.
 template <typename Sample>
 void append(RecordingWriter& writer, const Sample& sample) {
@@ -34,7 +33,8 @@ std::vector<std::uint64_t> write_five_poses(const std::string& path) {
   EXPECT_TRUE(writer.value()->close().ok());
   auto reader = RecordingReader::open(path);
   std::vector<std::uint64_t> offsets;
-  for (std::size_t i = 0; i < reader.value()->record_count(); ++i) offsets.push_back(reader.value()->read(i).value().offset);
+  for (std::size_t i = 0; i < reader.value()->record_count(); ++i)
+    offsets.push_back(reader.value()->read(i).value().offset);
   return offsets;
 }
 
@@ -57,8 +57,9 @@ TEST(DdsRecording, EveryTopicRoundTripsWithItsTimes) {
   EXPECT_TRUE(reader.value()->indexed());
   EXPECT_FALSE(reader.value()->damage().has_value());
   ASSERT_EQ(reader.value()->record_count(), kTopicCount);
-  const Topic topics[] = {Topic::tool_pose,        Topic::ultrasound_frame, Topic::needle_state, Topic::target_prediction,
-                          Topic::deformed_surface, Topic::station_health,   Topic::ground_truth};
+  const Topic topics[] = {Topic::tool_pose,         Topic::ultrasound_frame, Topic::needle_state,
+                          Topic::target_prediction, Topic::deformed_surface, Topic::station_health,
+                          Topic::ground_truth};
   static_assert(std::size(topics) == kTopicCount, "every topic is recorded");
   for (std::size_t i = 0; i < kTopicCount; ++i) {
     auto record = reader.value()->read(i);
@@ -128,7 +129,8 @@ TEST(DdsRecording, RecordedPosesReplayOntoDdsUnchanged) {
   const std::string path = nav::testing::temporary_path("nav_dds_round_trip.navrec");
   std::vector<TimeNs> sent_ns;
   {
-    auto recorder = Result<std::unique_ptr<Recorder>>(Error{.message = "not created"});  // outlives the node that fills it
+    auto recorder =
+        Result<std::unique_ptr<Recorder>>(Error{.message = "not created"});  // outlives the node that fills it
     auto tracker = DdsNode::create(local_network(111));
     auto recorder_node = DdsNode::create(local_network(111));
     ASSERT_TRUE(tracker.ok() && recorder_node.ok());

@@ -111,7 +111,7 @@ TEST(DdsSampleChecks, PoseInboxRefusesUnknownToolsAndKeepsTimeOrderPerTool) {
   EXPECT_EQ(inbox.offer(make_pose(3, 200)), SampleFault::none);
   EXPECT_EQ(inbox.offer(make_pose(8, 100)), SampleFault::none);  // another tool: its own order
   EXPECT_EQ(inbox.offer(make_pose(3, 150)), SampleFault::time_backwards);
-  EXPECT_EQ(inbox.accepted(), 2u);  // the refused ones not counted
+  EXPECT_EQ(inbox.accepted(), 2u);                               // the refused ones not counted
   EXPECT_EQ(inbox.offer(make_pose(3, 250)), SampleFault::none);  // replaces the one at 200 before it is taken
   EXPECT_EQ(inbox.accepted(), 3u);
   ASSERT_TRUE(inbox.update(0));
@@ -186,7 +186,8 @@ TEST(DdsSampleChecks, CountersAddUpByReason) {
   EXPECT_STREQ(sample_fault_name(SampleFault::non_unit_quaternion), "non_unit_quaternion");
   EXPECT_EQ(counts.implausible_pose, 1u);
   EXPECT_EQ(drops_by_reason(counts),
-            "malformed 1, wrong_size 1, non_finite 1, non_unit_quaternion 1, time_backwards 2, unknown_tool 1, implausible_pose 1, "
+            "malformed 1, wrong_size 1, non_finite 1, non_unit_quaternion 1, time_backwards 2, unknown_tool 1, "
+            "implausible_pose 1, "
             "buffer_full 1");
   EXPECT_EQ(refused_as_invalid(counts), 8u);  // all but the full buffer
   EXPECT_EQ(drops_by_reason(BoundaryCounts{.accepted = 5}), "none");

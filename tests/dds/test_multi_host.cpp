@@ -14,8 +14,8 @@
 #include <cerrno>
 #include <cstdio>
 #include <filesystem>
-#include <optional>
 #include <fstream>
+#include <optional>
 #include <sstream>
 
 #include "child_process.hpp"
@@ -59,7 +59,8 @@ void remove_stale_namespaces(const std::string& ip) {
   std::istringstream names(run(ip + " netns list").value_or(""));
   for (std::string name; names >> name;) {
     if (name.rfind(kNamespacePrefix, 0) != 0 || name.size() < 2) continue;
-    const std::string digits = name.substr(std::string(kNamespacePrefix).size(), name.size() - 1 - std::string(kNamespacePrefix).size());
+    const std::string digits =
+        name.substr(std::string(kNamespacePrefix).size(), name.size() - 1 - std::string(kNamespacePrefix).size());
     if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) continue;
     if (kill(static_cast<pid_t>(std::stol(digits)), 0) != 0 && errno == ESRCH) run(ip + " netns delete " + name);
   }
@@ -92,9 +93,7 @@ class TwoHosts {
     }
     veth_b_ = veth_b;
     // The link carries only once both ends are up; Fast DDS skips an interface without carrier.
-    const bool up = testing::wait_until([&] {
-      return link_up(host_a_, veth_a) && link_up(host_b_, veth_b);
-    });
+    const bool up = testing::wait_until([&] { return link_up(host_a_, veth_a) && link_up(host_b_, veth_b); });
     if (!up) failure_ = "waiting for the veth link's carrier";
   }
   ~TwoHosts() {
@@ -159,7 +158,8 @@ void write_scene_recording(const std::string& path) {
   const auto append = [&](auto& sample, TimeNs time_ns) {
     sample.source_time_ns = time_ns;
     ASSERT_TRUE(encode_sample(sample, bytes));
-    ASSERT_TRUE(writer.value()->append(topic_of<std::remove_reference_t<decltype(sample)>>(), time_ns, time_ns, bytes).ok());
+    ASSERT_TRUE(
+        writer.value()->append(topic_of<std::remove_reference_t<decltype(sample)>>(), time_ns, time_ns, bytes).ok());
   };
   for (TimeNs round = 1; round <= 100; ++round) {
     const TimeNs time_ns = round * 20 * kNsPerMs;
@@ -182,16 +182,35 @@ TEST_F(DdsMultiHost, NavviewOnOneHostShowsWhatNavtoolReplaysOnAnother) {
   write_scene_triangles_obj(base + "_square.obj");
   const std::uint64_t received_before = hosts.bytes_received_by_b();
 
-  ChildProcess navview(hosts.in_b({std::string(NAV_BIN_DIR) + "/navview", "--headless", "--out-dir", out_dir.string(),
-                                   "--period-ms", "50", "--duration-s", "120", "--surface-mesh", base + "_square.obj",
-                                   "--unit", "mm", "--panel-height", std::to_string(kPanelHeightPx), "--azimuth-deg", "0",
-                                   "--elevation-deg", "0", "--domain", "165", "--local-address", kAddressB, "--peer",
+  ChildProcess navview(hosts.in_b({std::string(NAV_BIN_DIR) + "/navview",
+                                   "--headless",
+                                   "--out-dir",
+                                   out_dir.string(),
+                                   "--period-ms",
+                                   "50",
+                                   "--duration-s",
+                                   "120",
+                                   "--surface-mesh",
+                                   base + "_square.obj",
+                                   "--unit",
+                                   "mm",
+                                   "--panel-height",
+                                   std::to_string(kPanelHeightPx),
+                                   "--azimuth-deg",
+                                   "0",
+                                   "--elevation-deg",
+                                   "0",
+                                   "--domain",
+                                   "165",
+                                   "--local-address",
+                                   kAddressB,
+                                   "--peer",
                                    kAddressA}),
                        base + "_navview.log");
-  ChildProcess player(hosts.in_a({std::string(NAV_BIN_DIR) + "/navtool", "replay", base + ".navrec",
-                                  "--wait-for-readers-s", "30", "--domain", "165", "--local-address", kAddressA, "--peer",
-                                  kAddressB}),
-                      base + "_replay.log");
+  ChildProcess player(
+      hosts.in_a({std::string(NAV_BIN_DIR) + "/navtool", "replay", base + ".navrec", "--wait-for-readers-s", "30",
+                  "--domain", "165", "--local-address", kAddressA, "--peer", kAddressB}),
+      base + "_replay.log");
   EXPECT_EQ(player.wait(std::chrono::seconds(120)), 0) << player.log();
   std::string matching_png;
   EXPECT_TRUE(testing::wait_until(
@@ -203,7 +222,8 @@ TEST_F(DdsMultiHost, NavviewOnOneHostShowsWhatNavtoolReplaysOnAnother) {
         return !matching_png.empty();
       },
       std::chrono::seconds(10)))
-      << png_files(out_dir).size() << " PNG files, none shows the scene\n" << navview.log();
+      << png_files(out_dir).size() << " PNG files, none shows the scene\n"
+      << navview.log();
   navview.signal(SIGTERM);
   EXPECT_EQ(navview.wait(std::chrono::seconds(30)), 0) << navview.log();
 
@@ -230,14 +250,18 @@ TEST_F(DdsMultiHost, AnEvaluationOnOneHostSeesALiveStationAndItsPatientOnAnother
   const std::string bin = NAV_BIN_DIR;
   const std::uint64_t received_before = hosts.bytes_received_by_b();
 
-  ChildProcess patient(hosts.in_a({bin + "/navdevice", "sim", "--scene", scene_a, "--seconds", "6", "--domain", "166"}), base + "_patient.log");
-  ASSERT_TRUE(testing::wait_until([&] { return patient.log().find("waiting up to") != std::string::npos || patient.ended(); },
-                                  std::chrono::seconds(300)))
+  ChildProcess patient(hosts.in_a({bin + "/navdevice", "sim", "--scene", scene_a, "--seconds", "6", "--domain", "166"}),
+                       base + "_patient.log");
+  ASSERT_TRUE(
+      testing::wait_until([&] { return patient.log().find("waiting up to") != std::string::npos || patient.ended(); },
+                          std::chrono::seconds(300)))
       << patient.log();
-  ChildProcess evaluation(hosts.in_b({bin + "/navtool", "evaluate", "--scene", scene_b, "--seconds", "14", "--domain", "166"}),
-                          base + "_evaluate.log");
-  ChildProcess station(hosts.in_a({bin + "/navstation", "--scene", scene_a, "--live", "--seconds", "7", "--domain", "166"}),
-                       base + "_station.log");
+  ChildProcess evaluation(
+      hosts.in_b({bin + "/navtool", "evaluate", "--scene", scene_b, "--seconds", "14", "--domain", "166"}),
+      base + "_evaluate.log");
+  ChildProcess station(
+      hosts.in_a({bin + "/navstation", "--scene", scene_a, "--live", "--seconds", "7", "--domain", "166"}),
+      base + "_station.log");
   const std::optional<int> station_exit = station.wait(std::chrono::seconds(120));
   const std::optional<int> patient_exit = patient.wait(std::chrono::seconds(60));
   const std::optional<int> evaluation_exit = evaluation.wait(std::chrono::seconds(60));

@@ -23,7 +23,6 @@ using nav::testing::ChildProcess;
 const std::string kNavtool = std::string(NAV_BIN_DIR) + "/navtool";
 constexpr auto kProcessTimeout = std::chrono::seconds(60);
 
-
 /// Every record of a recording, by (topic, source time), as its CDR payload.
 using RecordedPayloads = std::map<std::pair<Topic, TimeNs>, std::vector<std::uint8_t>>;
 
@@ -115,8 +114,9 @@ TEST(NavtoolRecordReplay, TruncatedRecordingPlaysItsIntactPartAndNamesTheOffset)
   }
   std::filesystem::resize_file(input, fourth_record_offset + 10);
   // Nobody listens on this domain: a short wait for readers keeps the test quick.
-  ChildProcess player({kNavtool, "replay", input, "--as-fast-as-possible", "--wait-for-readers-s", "0.1", "--domain", "161"},
-                      nav::testing::temporary_path("navtool_cli_truncated.log"));
+  ChildProcess player(
+      {kNavtool, "replay", input, "--as-fast-as-possible", "--wait-for-readers-s", "0.1", "--domain", "161"},
+      nav::testing::temporary_path("navtool_cli_truncated.log"));
   EXPECT_EQ(player.wait(kProcessTimeout), 1) << player.log();
   const std::string log = player.log();
   EXPECT_NE(log.find("byte offset " + std::to_string(fourth_record_offset)), std::string::npos) << log;

@@ -27,9 +27,16 @@ TEST(NavviewHeadless, WritesPngsOfWhatItReceives) {
   std::filesystem::remove_all(out_dir);
   const std::string square_obj = out_dir.string() + "_square.obj";
   write_scene_triangles_obj(square_obj);
-  ChildProcess navview({kNavview, "--headless", "--out-dir", out_dir.string(), "--period-ms", "50", "--duration-s", "120",
-                        "--surface-mesh", square_obj, "--unit", "mm", "--panel-height", std::to_string(kPanelHeightPx),
-                        "--azimuth-deg", "0", "--elevation-deg", "0", "--domain", "162"},
+  ChildProcess navview({kNavview,          "--headless",
+                        "--out-dir",       out_dir.string(),
+                        "--period-ms",     "50",
+                        "--duration-s",    "120",
+                        "--surface-mesh",  square_obj,
+                        "--unit",          "mm",
+                        "--panel-height",  std::to_string(kPanelHeightPx),
+                        "--azimuth-deg",   "0",
+                        "--elevation-deg", "0",
+                        "--domain",        "162"},
                        out_dir.string() + ".log");
   ASSERT_TRUE(navview.started());
 

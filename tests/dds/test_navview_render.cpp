@@ -42,7 +42,8 @@ TEST(NavviewRender, NeedleIsDrawnAlongItsPathAndNowhereElse) {
         << "row " << y;
   }
   EXPECT_EQ(image.at<cv::Vec3b>(expected::kNeedleBottom.y + 4, expected::kNeedleTop.x),
-            cv::Vec3b(kFrameGray, kFrameGray, kFrameGray)) << "beyond the tip";
+            cv::Vec3b(kFrameGray, kFrameGray, kFrameGray))
+      << "beyond the tip";
 }
 
 TEST(NavviewRender, TargetAndItsUncertaintyEllipseAreWhereTheCovarianceSays) {
@@ -69,8 +70,15 @@ TEST(NavviewRender, EllipseFollowsACorrelatedCovariance) {
   const auto frame = scene_frame();
   dds::TargetPrediction prediction = scene_prediction();
   const double major_m2 = 25e-6, minor_m2 = 4e-6;  // x spacing 1 mm: 1 px = 1e-3 m
-  prediction.covariance_m2 = {0.5 * (major_m2 + minor_m2), 0.5 * (major_m2 - minor_m2), 0,
-                              0.5 * (major_m2 - minor_m2), 0.5 * (major_m2 + minor_m2), 0, 0, 0, 1e-6};
+  prediction.covariance_m2 = {0.5 * (major_m2 + minor_m2),
+                              0.5 * (major_m2 - minor_m2),
+                              0,
+                              0.5 * (major_m2 - minor_m2),
+                              0.5 * (major_m2 + minor_m2),
+                              0,
+                              0,
+                              0,
+                              1e-6};
   frame->pixel_spacing_m = {1e-3, 1e-3};
   const PanelEllipse ellipse = uncertainty_ellipse(FramePanelMapping::for_frame(*frame, kPanelHeightPx), prediction);
   EXPECT_NEAR(ellipse.major_axis_angle_deg, 45.0, 1e-9);
@@ -120,16 +128,16 @@ TEST(NavviewRender, NearerTriangleHidesTheFartherWhateverTheirOrder) {
   surface->vertex_count = 7;
   const float s60 = 0.8660254f, c60 = 0.5f;
   const std::array<std::array<float, 3>, 7> vertices = {{{-0.1f, -0.1f, -0.05f},
-                                                          {0.1f, -0.1f, -0.05f},
-                                                          {0.1f, 0.1f, -0.05f},
-                                                          {-0.1f, 0.1f, -0.05f},
-                                                          {-0.04f * c60, -0.04f, 0.05f - 0.04f * s60},
-                                                          {0.04f * c60, -0.04f, 0.05f + 0.04f * s60},
-                                                          {0.0f, 0.04f, 0.05f}}};
+                                                         {0.1f, -0.1f, -0.05f},
+                                                         {0.1f, 0.1f, -0.05f},
+                                                         {-0.1f, 0.1f, -0.05f},
+                                                         {-0.04f * c60, -0.04f, 0.05f - 0.04f * s60},
+                                                         {0.04f * c60, -0.04f, 0.05f + 0.04f * s60},
+                                                         {0.0f, 0.04f, 0.05f}}};
   std::copy(vertices.begin(), vertices.end(), surface->vertex_positions_m.begin());
   const cv::Scalar tilted = palette::kSurface * (0.3 + 0.7 * 0.5);
-  for (const SurfaceTriangles& triangles : {SurfaceTriangles{{0, 1, 2}, {0, 2, 3}, {4, 5, 6}},
-                                            SurfaceTriangles{{4, 5, 6}, {0, 1, 2}, {0, 2, 3}}}) {
+  for (const SurfaceTriangles& triangles :
+       {SurfaceTriangles{{0, 1, 2}, {0, 2, 3}, {4, 5, 6}}, SurfaceTriangles{{4, 5, 6}, {0, 1, 2}, {0, 2, 3}}}) {
     Composer composer(scene_options(), triangles);
     const cv::Mat& image = composer.render({nullptr, nullptr, nullptr, surface.get()});
     const cv::Mat panel = image(cv::Rect(image.cols - kPanelHeightPx, 0, kPanelHeightPx, kPanelHeightPx));
@@ -153,7 +161,8 @@ TEST(NavviewRender, TheStationsHealthIsABandGreenOnlyWhileItRunsHealthy) {
   const cv::Mat& degraded = composer.render({}, &status);
   EXPECT_TRUE(near_colour(band_colour(degraded), palette::kStatusDegraded, 0));
   int text_pixels = 0;  // the band says it in white
-  for (int x = 0; x < degraded.cols; ++x) text_pixels += near_colour(degraded.at<cv::Vec3b>(degraded.rows - 11, x), palette::kText, 60) ? 1 : 0;
+  for (int x = 0; x < degraded.cols; ++x)
+    text_pixels += near_colour(degraded.at<cv::Vec3b>(degraded.rows - 11, x), palette::kText, 60) ? 1 : 0;
   EXPECT_GT(text_pixels, 20);
   EXPECT_EQ(band_colour(composer.render({})), cv::Vec3b(0, 0, 0));  // no health yet: no band
 }
@@ -254,7 +263,8 @@ TEST(NavviewPng, DamagedFileIsRefusedWithTheChunkOffset) {
   EXPECT_EQ(intact.value().at<std::uint8_t>(15, 15), 7);
   std::vector<std::uint8_t> bytes = file_bytes(path);
   bytes[33 + 10] ^= 0x40;  // inside the IDAT data
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  std::ofstream(path, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   const auto damaged = read_png(path);
   ASSERT_FALSE(damaged.ok());
   EXPECT_NE(damaged.error().describe().find("CRC mismatch at byte offset 33"), std::string::npos)

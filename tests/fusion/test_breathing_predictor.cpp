@@ -10,8 +10,8 @@
 #include <random>
 #include <vector>
 
-#include "nav/fusion/breathing_predictor.hpp"
 #include "fusion/step_repeat.hpp"
+#include "nav/fusion/breathing_predictor.hpp"
 #include "support/allocation_guard.hpp"
 
 namespace nav {
@@ -34,14 +34,10 @@ struct LujanBreathing {
     const double c = std::cos(kPi * seconds(t_ns) / period_s);
     return z0_m - b_m * c * c * c * c;
   }
-  double phase_rad(TimeNs t_ns) const {
-    return std::fmod(2.0 * kPi * seconds(t_ns) / period_s + kPi, 2.0 * kPi);
-  }
+  double phase_rad(TimeNs t_ns) const { return std::fmod(2.0 * kPi * seconds(t_ns) / period_s + kPi, 2.0 * kPi); }
 };
 
-double wrapped_difference(double a_rad, double b_rad) {
-  return std::remainder(a_rad - b_rad, 2.0 * kPi);
-}
+double wrapped_difference(double a_rad, double b_rad) { return std::remainder(a_rad - b_rad, 2.0 * kPi); }
 
 BreathingPredictor make_predictor(const BreathingPredictorOptions& options = {}) {
   auto predictor = BreathingPredictor::create(options);
@@ -75,8 +71,8 @@ PredictionErrors run_lujan(const LujanBreathing& breathing, double noise_m, Time
     sum_squares += error_m * error_m;
     ++count;
     errors.max_m = std::max(errors.max_m, std::abs(error_m));
-    errors.max_phase_rad = std::max(errors.max_phase_rad,
-                                    std::abs(wrapped_difference(estimate.phase_rad, breathing.phase_rad(t + kHorizonNs))));
+    errors.max_phase_rad = std::max(
+        errors.max_phase_rad, std::abs(wrapped_difference(estimate.phase_rad, breathing.phase_rad(t + kHorizonNs))));
     errors.max_period_s = std::max(errors.max_period_s, std::abs(estimate.period_s - breathing.period_s));
     errors.amplitude_m = estimate.amplitude_m;
     EXPECT_GE(estimate.phase_rad, 0.0);
@@ -183,7 +179,7 @@ TEST(BreathingPredictor, RestartsAfterAPersistentClockStepBack) {
     EXPECT_TRUE(predictor.push(t - step_back_ns, breathing.displacement_m(t)).has(HealthFlag::clock_went_backwards));
   EXPECT_TRUE(predictor.push(t - step_back_ns, breathing.displacement_m(t)).healthy());
   const BreathingEstimate restarted = predictor.predict(t - step_back_ns, kHorizonNs);
-  EXPECT_FALSE(restarted.ready);  // a fresh history, still too short to fit
+  EXPECT_FALSE(restarted.ready);                              // a fresh history, still too short to fit
   EXPECT_NEAR(restarted.period_s, breathing.period_s, 1e-9);  // but the period is kept
   const TimeNs resumed_ns = t;
   for (t += kSamplePeriodNs; t < resumed_ns + 5 * kNsPerSecond; t += kSamplePeriodNs)

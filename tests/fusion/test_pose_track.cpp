@@ -10,8 +10,8 @@
 #include <random>
 #include <vector>
 
-#include "nav/fusion/pose_track.hpp"
 #include "fusion/step_repeat.hpp"
+#include "nav/fusion/pose_track.hpp"
 #include "support/allocation_guard.hpp"
 
 namespace nav {
@@ -64,7 +64,8 @@ TEST(RigidPose, ComposeAndInverseMatchEigenIsometries) {
 TEST(PoseTrack, InterpolationIsExactForConstantRateMotion) {
   PoseTrack track = make_track();
   TimeNs t = kStartNs;
-  for (int i = 0; i < 40; ++i, t += (8 + i % 3) * kNsPerMs) ASSERT_TRUE(track.push({t, constant_rate_pose(t)}).healthy());
+  for (int i = 0; i < 40; ++i, t += (8 + i % 3) * kNsPerMs)
+    ASSERT_TRUE(track.push({t, constant_rate_pose(t)}).healthy());
   double worst_position_m = 0.0;
   double worst_angle_rad = 0.0;
   for (TimeNs query_ns = kStartNs; query_ns < t - 10 * kNsPerMs; query_ns += 1'234'567) {
@@ -72,10 +73,12 @@ TEST(PoseTrack, InterpolationIsExactForConstantRateMotion) {
     ASSERT_TRUE(query.flags.healthy());
     ASSERT_FALSE(query.degraded);
     ASSERT_FALSE(query.extrapolated);
-    worst_position_m = std::max(worst_position_m, (query.pose.position_m - constant_rate_pose(query_ns).position_m).norm());
+    worst_position_m =
+        std::max(worst_position_m, (query.pose.position_m - constant_rate_pose(query_ns).position_m).norm());
     worst_angle_rad = std::max(worst_angle_rad, angle_between(query.pose, constant_rate_pose(query_ns)));
   }
-  std::printf("interpolation: worst position error %.3g m, worst angle error %.3g rad\n", worst_position_m, worst_angle_rad);
+  std::printf("interpolation: worst position error %.3g m, worst angle error %.3g rad\n", worst_position_m,
+              worst_angle_rad);
   EXPECT_LT(worst_position_m, 1e-12);
   EXPECT_LT(worst_angle_rad, 1e-12);
 }
@@ -227,7 +230,8 @@ TEST(PoseTrack, PersistentClockStepBackIsReacquired) {
   const TimeNs back_ns = last_ns - 2 * kNsPerSecond;  // the time stamps stepped 2 s back and go on from there
   for (int i = 0; i < 2; ++i) {
     const TimeNs t = back_ns + i * kNsPerMs;
-    EXPECT_TRUE(track.push({t, constant_rate_pose(last_ns + (i + 1) * kNsPerMs)}).has(HealthFlag::clock_went_backwards));
+    EXPECT_TRUE(
+        track.push({t, constant_rate_pose(last_ns + (i + 1) * kNsPerMs)}).has(HealthFlag::clock_went_backwards));
   }
   EXPECT_TRUE(track.push({back_ns + 2 * kNsPerMs, constant_rate_pose(last_ns + 3 * kNsPerMs)}).healthy());
   EXPECT_EQ(track.size(), 1u);
@@ -316,7 +320,7 @@ TEST(PoseTrack, StepsNeverAllocateAndRepeatBitwise) {
   EXPECT_EQ(push_flags(1201), 0u);
   EXPECT_NE(query_flags(2100) & static_cast<std::uint32_t>(HealthFlag::stale_input), 0u);
   EXPECT_EQ(push_flags(3001), static_cast<std::uint32_t>(HealthFlag::pose_jump_rejected));
-  EXPECT_EQ(push_flags(3002), 0u);  // re-acquired
+  EXPECT_EQ(push_flags(3002), 0u);             // re-acquired
   EXPECT_EQ(first[1500 * kPerTick + 1], 0.0);  // not degraded between faults
   EXPECT_EQ(first[2100 * kPerTick + 1], 1.0);  // degraded in the dropout
   EXPECT_EQ(first[first.size() - kPerTick], 0.0);

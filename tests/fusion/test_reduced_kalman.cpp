@@ -50,7 +50,8 @@ PointRows point_rows(const BeamScene& beam, const ReducedBasis& basis, const Obs
     const auto node = static_cast<Eigen::Index>(p.nodes[static_cast<std::size_t>(a)]);
     out.h += p.weights[static_cast<std::size_t>(a)] * u.middleRows(3 * node, 3);
     for (int c = 0; c < 3; ++c)
-      out.rest[c] += p.weights[static_cast<std::size_t>(a)] * beam.mesh.nodes_m[static_cast<std::size_t>(node)][static_cast<std::size_t>(c)];
+      out.rest[c] += p.weights[static_cast<std::size_t>(a)] *
+                     beam.mesh.nodes_m[static_cast<std::size_t>(node)][static_cast<std::size_t>(c)];
   }
   return out;
 }
@@ -77,7 +78,8 @@ struct StaticSetup {
     const auto tet = beam.mesh.tets[beam.mesh.tets.size() / 2];
     points = {observed_node(static_cast<std::int32_t>(beam.mesh.nodes_m.size() - 1)),
               ObservedPoint{{tet[0], tet[1], tet[2], tet[3]}, {0.1, 0.2, 0.3, 0.4}}};
-    for (int i = 0; i < 6; ++i) reduced_data.q[static_cast<std::size_t>(i)] = 1e-4 * (i + 1) * (i % 2 == 0 ? 1.0 : -1.0);
+    for (int i = 0; i < 6; ++i)
+      reduced_data.q[static_cast<std::size_t>(i)] = 1e-4 * (i + 1) * (i % 2 == 0 ? 1.0 : -1.0);
   }
 };
 
@@ -118,7 +120,8 @@ TEST(ReducedKalman, ConstantTruthWithoutProcessNoiseEqualsBatchInformationForm) 
   const Eigen::VectorXd batch_dq = batch_covariance * information_vector;
   const Eigen::Map<const Eigen::VectorXd> dq(data.correction.data(), r);
   EXPECT_LT((dq - batch_dq).norm(), 1e-9 * batch_dq.norm());
-  EXPECT_LT((covariance_of(data, r) - batch_covariance).cwiseAbs().maxCoeff(), 1e-9 * batch_covariance.cwiseAbs().maxCoeff());
+  EXPECT_LT((covariance_of(data, r) - batch_covariance).cwiseAbs().maxCoeff(),
+            1e-9 * batch_covariance.cwiseAbs().maxCoeff());
   // The estimate converges to the truth within its own covariance.
   const Eigen::VectorXd error = dq - dq_true;
   EXPECT_LT(error.dot(information * error), 30.0);  // chi-square, 6 dof: p = 4e-5
@@ -137,7 +140,9 @@ TEST(ReducedKalman, GaussMarkovCorrectionEqualsTextbookDenseFilter) {
   // The reference: x = a x + w, Q = (1 - a^2) S; z = x0 + H (q + x); standard gain and Joseph form.
   const double a = std::exp(-s.reduced.options().step_s / options.correlation_time_s);
   Eigen::VectorXd stationary(r);
-  for (int i = 0; i < r; ++i) stationary[i] = options.correction_std[static_cast<std::size_t>(i)] * options.correction_std[static_cast<std::size_t>(i)];
+  for (int i = 0; i < r; ++i)
+    stationary[i] =
+        options.correction_std[static_cast<std::size_t>(i)] * options.correction_std[static_cast<std::size_t>(i)];
   Eigen::MatrixXd p = stationary.asDiagonal();
   Eigen::VectorXd x = Eigen::VectorXd::Zero(r), q_model(r);
   for (int i = 0; i < r; ++i) q_model[i] = s.reduced_data.q[static_cast<std::size_t>(i)];
@@ -172,7 +177,8 @@ TEST(ReducedKalman, GaussMarkovCorrectionEqualsTextbookDenseFilter) {
   for (int c = 0; c < 3; ++c) {
     EXPECT_NEAR(estimate.position_m[static_cast<std::size_t>(c)], expected[c], 1e-12);
     for (int e = 0; e < 3; ++e)
-      EXPECT_NEAR(estimate.covariance_m2[static_cast<std::size_t>(3 * c + e)], expected_covariance(c, e), 1e-9 * expected_covariance.norm());
+      EXPECT_NEAR(estimate.covariance_m2[static_cast<std::size_t>(3 * c + e)], expected_covariance(c, e),
+                  1e-9 * expected_covariance.norm());
   }
 }
 
@@ -195,7 +201,7 @@ TEST(ReducedKalman, GatesOutliersAndRefusesBadSamplesWithTheStateUntouched) {
   expect_refused(0, {p[0], p[1], p[2] + 0.05}, 10);  // 5 cm off: far outside the gate
   EXPECT_GT(data.last_mahalanobis_squared, model.gate_chi_square);
   expect_refused(0, {p[0], std::numeric_limits<double>::quiet_NaN(), p[2]}, 10);
-  expect_refused(2, p, 10);   // no such point
+  expect_refused(2, p, 10);  // no such point
   expect_refused(-1, p, 10);
   EXPECT_EQ(data.rejected_updates, 4);
   data.health.clear_all();
@@ -209,7 +215,8 @@ TEST(ReducedKalman, GatesOutliersAndRefusesBadSamplesWithTheStateUntouched) {
   // Init-time errors name their field.
   ReducedKalmanOptions wrong = options;
   wrong.correction_std.pop_back();
-  EXPECT_EQ(make_reduced_kalman_model(s.beam.mesh, s.basis, s.reduced, s.points, wrong).error().field, "correction_std");
+  EXPECT_EQ(make_reduced_kalman_model(s.beam.mesh, s.basis, s.reduced, s.points, wrong).error().field,
+            "correction_std");
   std::vector<ObservedPoint> outside = s.points;
   outside[1].weights[0] = 0.5;
   EXPECT_EQ(make_reduced_kalman_model(s.beam.mesh, s.basis, s.reduced, outside, options).error().field, "points[1]");
@@ -234,11 +241,14 @@ struct BeamCase {
       const auto& x = model_beam.mesh.nodes_m[n];
       const double d = std::hypot(x[0] - 0.03, x[1] - 0.01, x[2] - 0.01);
       if (d < best) best = d, target = static_cast<std::int32_t>(n);
-      if (x[0] > 0.04 - 1e-9 && std::abs(x[1] - 0.01) < 1e-9 && std::abs(x[2] - 0.02) < 1e-9) tip = static_cast<std::int32_t>(n);
+      if (x[0] > 0.04 - 1e-9 && std::abs(x[1] - 0.01) < 1e-9 && std::abs(x[2] - 0.02) < 1e-9)
+        tip = static_cast<std::int32_t>(n);
     }
   }
   TissueInputs inputs(int step) {
-    force = {tip, {0.0, 0.004 * std::sin(2.0 * std::numbers::pi * step * kStepS / 2.0), 0.006 * std::sin(2.0 * std::numbers::pi * step * kStepS / 3.0)}};
+    force = {tip,
+             {0.0, 0.004 * std::sin(2.0 * std::numbers::pi * step * kStepS / 2.0),
+              0.006 * std::sin(2.0 * std::numbers::pi * step * kStepS / 3.0)}};
     TissueInputs in;
     in.load_scale = std::min(1.0, 0.1 * (step + 1));
     in.point_forces = std::span<const PointForce>(&force, 1);
@@ -287,7 +297,8 @@ struct ReducedCase {
     basis = make_modal_basis(beam.model_beam.mesh, beam.model_beam.scene, solver, options).value();
     const TetFemModel full = make_tet_fem_model(beam.model_beam.mesh, beam.model_beam.scene, solver).value();
     const auto snapshots = testing::full_order_snapshots(full, 60, 6, [&](int i) { return beam.inputs(i); });
-    EXPECT_TRUE(add_force_reduction(beam.model_beam.mesh, beam.model_beam.scene, solver, options, snapshots, 10, basis).ok());
+    EXPECT_TRUE(
+        add_force_reduction(beam.model_beam.mesh, beam.model_beam.scene, solver, options, snapshots, 10, basis).ok());
     ReducedSolverOptions reduced_options;
     reduced_options.integrator = ReducedIntegrator::quasi_static;
     reduced_options.step_s = kStepS;
@@ -309,7 +320,7 @@ const ReducedCase& reduced_case() {
 ReducedKalmanOptions beam_options(const ReducedBasis& basis) {
   ReducedKalmanOptions o;
   o.correction_std = correction_std_from_training(basis, 1.0);  // the error may be as large as the envelope
-  o.correlation_time_s = 2.0;  // the loads change over seconds
+  o.correlation_time_s = 2.0;                                   // the loads change over seconds
   o.observation_std_m = 0.001;
   return o;
 }
@@ -340,10 +351,13 @@ FilterRun run_filter() {
       const auto si = static_cast<std::size_t>(i);
       step(c.reduced, reduced, beam.inputs(i));
       predict(model.value(), data, reduced);
-      for (int k = 0; k < 3; ++k) open_loop[si][static_cast<std::size_t>(k)] = data.model_points_m[static_cast<std::size_t>(k)];
-      if (i % kObserveEvery == 0) update(model.value(), data, 0, c.observations[si], static_cast<TimeNs>(i) * 20'000'000);
+      for (int k = 0; k < 3; ++k)
+        open_loop[si][static_cast<std::size_t>(k)] = data.model_points_m[static_cast<std::size_t>(k)];
+      if (i % kObserveEvery == 0)
+        update(model.value(), data, 0, c.observations[si], static_cast<TimeNs>(i) * 20'000'000);
       estimates[si] = estimate_point(model.value(), data, 0);
-      for (int k = 0; k < 3; ++k) trace[3 * si + static_cast<std::size_t>(k)] = estimates[si].position_m[static_cast<std::size_t>(k)];
+      for (int k = 0; k < 3; ++k)
+        trace[3 * si + static_cast<std::size_t>(k)] = estimates[si].position_m[static_cast<std::size_t>(k)];
     }
     run.allocations = guard.allocations();
   }
@@ -361,7 +375,8 @@ FilterRun run_filter() {
     run.nees.push_back(e.dot(cov.llt().solve(e)));
   }
   EXPECT_TRUE(data.health.healthy()) << data.health.bits();
-  std::printf("accepted %lld, rejected %lld\n", static_cast<long long>(data.accepted_updates), static_cast<long long>(data.rejected_updates));
+  std::printf("accepted %lld, rejected %lld\n", static_cast<long long>(data.accepted_updates),
+              static_cast<long long>(data.rejected_updates));
   return run;
 }
 
@@ -383,9 +398,13 @@ TEST(ReducedKalman, SofterFullOrderTruthSeenThroughOneMillimetreNoise) {
   int samples = 0;
   for (std::size_t i = settled; i < run.nees.size(); i += kObserveEvery, ++samples) nees_sum += run.nees[i];
   const double nees_mean = nees_sum / samples, dof = 3.0 * samples;
-  const auto quantile = [&](double z) { return dof * std::pow(1.0 - 2.0 / (9.0 * dof) + z * std::sqrt(2.0 / (9.0 * dof)), 3.0) / samples; };
-  std::printf("target error RMS: open loop %.3f mm, filtered %.3f mm (largest open-loop %.3f mm); mean NEES %.2f over %d updates (99 %% band %.2f to %.2f)\n",
-              1e3 * open_rms, 1e3 * filtered_rms, 1e3 * open_max, nees_mean, samples, quantile(-2.576), quantile(2.576));
+  const auto quantile = [&](double z) {
+    return dof * std::pow(1.0 - 2.0 / (9.0 * dof) + z * std::sqrt(2.0 / (9.0 * dof)), 3.0) / samples;
+  };
+  std::printf(
+      "target error RMS: open loop %.3f mm, filtered %.3f mm (largest open-loop %.3f mm); mean NEES %.2f over %d "
+      "updates (99 %% band %.2f to %.2f)\n",
+      1e3 * open_rms, 1e3 * filtered_rms, 1e3 * open_max, nees_mean, samples, quantile(-2.576), quantile(2.576));
   EXPECT_LT(filtered_rms, 0.5 * open_rms);
   EXPECT_LT(filtered_rms, 0.8e-3);
   EXPECT_GT(nees_mean, quantile(-2.576));

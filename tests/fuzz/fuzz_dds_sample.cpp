@@ -33,13 +33,27 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::uint8_t* payload = data + 1;
   const std::size_t payload_size = size - 1;
   switch (data[0] % kTopicCount) {
-    case 0: decode_as<ToolPose>(payload, payload_size); break;
-    case 1: decode_as<UltrasoundFrame>(payload, payload_size); break;
-    case 2: decode_as<NeedleState>(payload, payload_size); break;
-    case 3: decode_as<TargetPrediction>(payload, payload_size); break;
-    case 4: decode_as<DeformedSurface>(payload, payload_size); break;
-    case 5: decode_as<StationHealth>(payload, payload_size); break;
-    default: decode_as<GroundTruth>(payload, payload_size); break;
+    case 0:
+      decode_as<ToolPose>(payload, payload_size);
+      break;
+    case 1:
+      decode_as<UltrasoundFrame>(payload, payload_size);
+      break;
+    case 2:
+      decode_as<NeedleState>(payload, payload_size);
+      break;
+    case 3:
+      decode_as<TargetPrediction>(payload, payload_size);
+      break;
+    case 4:
+      decode_as<DeformedSurface>(payload, payload_size);
+      break;
+    case 5:
+      decode_as<StationHealth>(payload, payload_size);
+      break;
+    default:
+      decode_as<GroundTruth>(payload, payload_size);
+      break;
   }
   return 0;
 }

@@ -16,7 +16,8 @@ namespace {
 
 using namespace nav::dds;
 
-bool write_seed(const std::filesystem::path& path, std::uint8_t topic, const std::vector<std::uint8_t>& payload, std::size_t size) {
+bool write_seed(const std::filesystem::path& path, std::uint8_t topic, const std::vector<std::uint8_t>& payload,
+                std::size_t size) {
   std::ofstream file(path, std::ios::binary);
   file.put(static_cast<char>(topic));
   file.write(reinterpret_cast<const char*>(payload.data()), static_cast<std::streamsize>(size));
@@ -34,7 +35,8 @@ bool write_seeds(const std::filesystem::path& folder, const Sample& sample) {
   bool written = write_seed(folder / (stem + "_half"), topic, bytes, bytes.size() / 2);
   for (std::uint8_t id = 0; id <= 0x0b; ++id) {
     bytes[1] = id;
-    written = write_seed(folder / (stem + "_encapsulation" + std::to_string(id)), topic, bytes, bytes.size()) && written;
+    written =
+        write_seed(folder / (stem + "_encapsulation" + std::to_string(id)), topic, bytes, bytes.size()) && written;
   }
   bytes[0] = 0x01;
   return write_seed(folder / (stem + "_first_byte_1"), topic, bytes, bytes.size()) && written;

@@ -26,7 +26,8 @@ nav::ultrasound::PlusSequence two_frames(std::uint32_t width_px, std::uint32_t h
   }
   nav::ultrasound::TransformTrack probe;
   probe.name = "ProbeToTracker";
-  probe.matrices_mm = {{1, 0, 0, 10, 0, 1, 0, 20, 0, 0, 1, 30, 0, 0, 0, 1}, {0, -1, 0, 1, 1, 0, 0, 2, 0, 0, 1, 3, 0, 0, 0, 1}};
+  probe.matrices_mm = {{1, 0, 0, 10, 0, 1, 0, 20, 0, 0, 1, 30, 0, 0, 0, 1},
+                       {0, -1, 0, 1, 1, 0, 0, 2, 0, 0, 1, 3, 0, 0, 0, 1}};
   probe.valid = {1, 0};
   sequence.transforms.push_back(probe);
   return sequence;
@@ -45,11 +46,13 @@ bool write_fuzz_seeds(const std::filesystem::path& folder) {
   const std::string nrrd =
       "NRRD0004\n# a raw NRRD sequence\ndimension: 3\nencoding: raw\nsizes: 2 2 1\ntype: uint8\n"
       "ultrasound image orientation:=MF\nSeq_Frame0000_ProbeToTrackerTransform:=1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1\n"
-      "Seq_Frame0000_ProbeToTrackerTransformStatus:=OK\nSeq_Frame0000_Timestamp:=1.25\nSeq_Frame0000_Status:=OK\n\nabcd";
-  const bool ok = write_text(folder / "raw.mha", nav::ultrasound::format_plus_sequence(frames, false)) &&
-                  write_text(folder / "compressed.mha", nav::ultrasound::format_plus_sequence(frames, true)) &&
-                  write_text(folder / "tracker_only.mha", nav::ultrasound::format_plus_sequence(two_frames(0, 0), false)) &&
-                  write_text(folder / "raw.nrrd", nrrd);
+      "Seq_Frame0000_ProbeToTrackerTransformStatus:=OK\nSeq_Frame0000_Timestamp:=1.25\nSeq_Frame0000_Status:="
+      "OK\n\nabcd";
+  const bool ok =
+      write_text(folder / "raw.mha", nav::ultrasound::format_plus_sequence(frames, false)) &&
+      write_text(folder / "compressed.mha", nav::ultrasound::format_plus_sequence(frames, true)) &&
+      write_text(folder / "tracker_only.mha", nav::ultrasound::format_plus_sequence(two_frames(0, 0), false)) &&
+      write_text(folder / "raw.nrrd", nrrd);
   if (!ok) {
     std::fprintf(stderr, "cannot write the seeds into %s\n", folder.c_str());
     return false;

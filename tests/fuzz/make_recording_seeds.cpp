@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "fuzz/seed_generator.hpp"
 #include "dds/dds_test_samples.hpp"
+#include "fuzz/seed_generator.hpp"
 #include "nav/dds/recording_file.hpp"
 #include "nav/dds/sample_codec.hpp"
 

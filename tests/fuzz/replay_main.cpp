@@ -19,7 +19,8 @@ namespace fs = std::filesystem;
 
 /// The files named by `argument`: itself, or the regular files of the folder, sorted.
 std::vector<fs::path> inputs_of(const fs::path& argument) {
-  if (!fs::is_directory(argument)) return fs::exists(argument) ? std::vector<fs::path>{argument} : std::vector<fs::path>{};
+  if (!fs::is_directory(argument))
+    return fs::exists(argument) ? std::vector<fs::path>{argument} : std::vector<fs::path>{};
   std::vector<fs::path> files;
   for (const auto& entry : fs::directory_iterator(argument))
     if (entry.is_regular_file()) files.push_back(entry.path());

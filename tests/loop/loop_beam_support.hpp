@@ -20,7 +20,8 @@ inline const Eigen::Vector3d kDiaphragmPerMarker{0.25, 0.0, 1.2};
 
 /// The marker's displacement along the tracker's z at time t, for a breath `depth` times the nominal one.
 inline double marker_m(TimeNs t, double depth) {
-  return kMarkerMeanM + depth * kMarkerAmplitudeM * std::sin(2.0 * std::numbers::pi * static_cast<double>(t) * 1e-9 / kBreathingPeriodS);
+  return kMarkerMeanM + depth * kMarkerAmplitudeM *
+                            std::sin(2.0 * std::numbers::pi * static_cast<double>(t) * 1e-9 / kBreathingPeriodS);
 }
 
 /// The diaphragm's displacement that goes with marker_m.
@@ -45,8 +46,8 @@ inline std::int32_t nearest_node(const TetMesh& mesh, const Point3& point) {
 /// load_scale(i) at step i, every `step_ns`: returns `node`'s position after every step, and
 /// appends every snapshot_every-th step's displacements from rest to `snapshots` (if given).
 template <class Depth, class LoadScale>
-std::vector<Point3> breathe(const TetFemModel& full, TimeNs step_ns, Depth depth, LoadScale load_scale, int steps, std::int32_t node,
-                            std::vector<double>* snapshots, int snapshot_every) {
+std::vector<Point3> breathe(const TetFemModel& full, TimeNs step_ns, Depth depth, LoadScale load_scale, int steps,
+                            std::int32_t node, std::vector<double>* snapshots, int snapshot_every) {
   auto data = make_tet_fem_data(full).value();
   const auto rest = full.rest_positions_m();
   std::vector<Point3> out;

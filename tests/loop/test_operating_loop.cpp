@@ -19,11 +19,11 @@
 #include <random>
 #include <vector>
 
+#include "loop/loop_beam_support.hpp"
 #include "nav/core/clock.hpp"
 #include "nav/loop/operating_loop.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
-#include "loop/loop_beam_support.hpp"
 #include "support/allocation_guard.hpp"
 #include "tissue/tissue_test_support.hpp"
 
@@ -31,21 +31,22 @@ namespace nav {
 namespace {
 
 constexpr double kModelYoungsPa = 10.0e3, kTruthYoungsPa = 7.0e3;
-constexpr int kTissueEvery = 20;                       // 50 Hz liver steps on the 1 kHz tick
+constexpr int kTissueEvery = 20;  // 50 Hz liver steps on the 1 kHz tick
 constexpr double kStepS = 0.02;
 constexpr TimeNs kTick = kNsPerMs, kStep = 20 * kNsPerMs;
-constexpr TimeNs kLatency = 100 * kNsPerMs;            // five liver steps
+constexpr TimeNs kLatency = 100 * kNsPerMs;  // five liver steps
 constexpr TimeNs kDuration = 8 * kNsPerSecond;
-constexpr TimeNs kSettled = 5 * kNsPerSecond;          // breathing fitted (from 4.1 s), filter converged
-constexpr TimeNs kFaultAt = 5 * kNsPerSecond;           // faults start once everything is healthy
-constexpr double kTrainingAmplitude = 2.5;  // of the nominal breath
+constexpr TimeNs kSettled = 5 * kNsPerSecond;  // breathing fitted (from 4.1 s), filter converged
+constexpr TimeNs kFaultAt = 5 * kNsPerSecond;  // faults start once everything is healthy
+constexpr double kTrainingAmplitude = 2.5;     // of the nominal breath
 constexpr double kDeepBreath = 5.0;
 using testing::diaphragm_at;
 using testing::kDiaphragmPerMarker;
 using testing::kMarkerMeanM;
 using testing::marker_m;
 
-const TissueSolverOptions kQuasiStaticCorotational{.integrator = Integrator::quasi_static, .step_s = kStepS, .cg_iterations = 3};
+const TissueSolverOptions kQuasiStaticCorotational{
+    .integrator = Integrator::quasi_static, .step_s = kStepS, .cg_iterations = 3};
 
 /// The beam, its scene at the model's stiffness, and the tumour node at its centre.
 struct Beam {
@@ -68,8 +69,8 @@ std::vector<Point3> full_order_trajectory(const Beam& beam, double youngs_pa, do
   scene.default_material.youngs_modulus_pa = youngs_pa;
   const TetFemModel full = make_tet_fem_model(beam.mesh, scene, kQuasiStaticCorotational).value();
   return testing::breathe(
-      full, kStep, [&](TimeNs) { return amplitude_factor; }, [](int i) { return std::min(1.0, 0.2 * (i + 1)); }, steps, node, snapshots,
-      snapshot_every);
+      full, kStep, [&](TimeNs) { return amplitude_factor; }, [](int i) { return std::min(1.0, 0.2 * (i + 1)); }, steps,
+      node, snapshots, snapshot_every);
 }
 
 /// The loop's model (built once per process) and the truth of the tumour at every liver step.
@@ -80,14 +81,18 @@ struct LoopSetup {
   RigidPose registration;     // model_from_tracker
   LoopSetup() {
     const TissueSolverOptions& solver = kQuasiStaticCorotational;
-    const ReductionOptions reduction{.source = ReducedBasisSource::linear_modes, .force_kind = ReducedForceKind::corotational_cubature,
-                                     .basis_size = 10, .max_cubature_samples = 32};
+    const ReductionOptions reduction{.source = ReducedBasisSource::linear_modes,
+                                     .force_kind = ReducedForceKind::corotational_cubature,
+                                     .basis_size = 10,
+                                     .max_cubature_samples = 32};
     ReducedBasis basis = make_modal_basis(beam.mesh, beam.scene, solver, reduction).value();
     std::vector<double> snapshots;  // training: the model's own material over one breath, 2.5 times as deep
     full_order_trajectory(beam, kModelYoungsPa, kTrainingAmplitude, 100, beam.tumour, &snapshots, 5);
     const Status trained = add_force_reduction(beam.mesh, beam.scene, solver, reduction, snapshots, 20, basis);
     EXPECT_TRUE(trained.ok()) << trained.error().describe();
-    const ReducedSolverOptions reduced_options{.integrator = ReducedIntegrator::quasi_static, .step_s = kStepS, .newton_iterations = 2,
+    const ReducedSolverOptions reduced_options{.integrator = ReducedIntegrator::quasi_static,
+                                               .step_s = kStepS,
+                                               .newton_iterations = 2,
                                                .frozen_tangent = false};
     ReducedModel reduced = make_reduced_model(beam.mesh, beam.scene, solver, basis, reduced_options).value();
     ReducedKalmanOptions filter_options;
@@ -112,7 +117,8 @@ struct LoopSetup {
     auto built = make_operating_loop_model(std::move(reduced), std::move(filter), o);
     EXPECT_TRUE(built.ok()) << built.error().describe();
     loop = std::move(built).value();
-    truth = full_order_trajectory(beam, kTruthYoungsPa, 1.0, static_cast<int>((kDuration + kLatency) / kStep) + 2, beam.tumour, nullptr, 1);
+    truth = full_order_trajectory(beam, kTruthYoungsPa, 1.0, static_cast<int>((kDuration + kLatency) / kStep) + 2,
+                                  beam.tumour, nullptr, 1);
   }
   /// The true tumour at any time (linear between liver steps).
   Point3 truth_at(TimeNs t) const {
@@ -149,7 +155,7 @@ struct Script {
   TimeNs clock_back_at = -1;                        // that tick reads the clock 5 ms early
   TimeNs ultrasound_gap_from = -1, ultrasound_gap_to = -1;
   TimeNs deep_breath_from = -1, deep_breath_to = -1;  // the marker moves kDeepBreath times as far
-  int observation_burst_at_tick = -1;               // 12 observations arrive in one tick
+  int observation_burst_at_tick = -1;                 // 12 observations arrive in one tick
 };
 
 struct ScriptedRun {
@@ -175,11 +181,13 @@ ScriptedRun run(const Script& script) {
     const TimeNs now = clock.now_ns();
     while (next_needle + 10 * kNsPerMs <= now) {  // 50 Hz, delivered 10 ms after measurement
       if (!in_gap(next_needle, script.needle_gap_from, script.needle_gap_to)) {
-        RigidPose model_pose{true_tip_m(next_needle) - kNeedleRotation * s.loop.options.needle_tip_in_marker_m, kNeedleRotation};
+        RigidPose model_pose{true_tip_m(next_needle) - kNeedleRotation * s.loop.options.needle_tip_in_marker_m,
+                             kNeedleRotation};
         if (next_needle == script.nan_needle_at) model_pose.position_m[1] = std::numeric_limits<double>::quiet_NaN();
         push_needle_pose(s.loop, data, {next_needle, compose(tracker_from_model, model_pose)});
         const double sweep_rad = 0.3 * std::sin(static_cast<double>(next_needle) * 1e-9);
-        const RigidPose probe{{0.04, 0.01, 0.05}, Eigen::Quaterniond(Eigen::AngleAxisd(sweep_rad, Eigen::Vector3d::UnitY()))};
+        const RigidPose probe{{0.04, 0.01, 0.05},
+                              Eigen::Quaterniond(Eigen::AngleAxisd(sweep_rad, Eigen::Vector3d::UnitY()))};
         push_probe_pose(s.loop, data, {next_needle, compose(tracker_from_model, probe)});
       }
       next_needle += 20 * kNsPerMs;
@@ -198,7 +206,8 @@ ScriptedRun run(const Script& script) {
       next_observation += 50 * kNsPerMs;
     }
     if (static_cast<int>(out.ticks.size()) == script.observation_burst_at_tick)
-      for (int k = 0; k < 12; ++k) push_tumour_observation(data, now - 20 * kNsPerMs + k, s.truth_at(now - 20 * kNsPerMs));
+      for (int k = 0; k < 12; ++k)
+        push_tumour_observation(data, now - 20 * kNsPerMs + k, s.truth_at(now - 20 * kNsPerMs));
     tick(s.loop, data, now == script.clock_back_at ? now - 5 * kNsPerMs : now);
     out.ticks.push_back(data.outputs);
     clock.advance_ns(kTick);
@@ -233,11 +242,13 @@ TEST(OperatingLoop, AssimilationLowersTheTumourErrorAndTheLookAheadBeatsNow) {
   const auto ahead = [](const OperatingLoopOutputs& o) { return o.tumour_ahead_m; };
   const int latency_steps = static_cast<int>(kLatency / kStep);
   const double filtered = rms_against_truth(with, now, 0), open_loop = rms_against_truth(without, now, 0);
-  const double ahead_error = rms_against_truth(with, ahead, latency_steps), now_as_ahead = rms_against_truth(with, now, latency_steps);
-  std::printf("tumour RMS error from %.1f s: open loop %.3f mm, assimilated %.3f mm; at now + %lld ms: look-ahead %.3f mm, "
-              "current estimate %.3f mm\n",
-              1e-9 * static_cast<double>(kSettled), 1e3 * open_loop, 1e3 * filtered, static_cast<long long>(kLatency / kNsPerMs),
-              1e3 * ahead_error, 1e3 * now_as_ahead);
+  const double ahead_error = rms_against_truth(with, ahead, latency_steps),
+               now_as_ahead = rms_against_truth(with, now, latency_steps);
+  std::printf(
+      "tumour RMS error from %.1f s: open loop %.3f mm, assimilated %.3f mm; at now + %lld ms: look-ahead %.3f mm, "
+      "current estimate %.3f mm\n",
+      1e-9 * static_cast<double>(kSettled), 1e3 * open_loop, 1e3 * filtered,
+      static_cast<long long>(kLatency / kNsPerMs), 1e3 * ahead_error, 1e3 * now_as_ahead);
   // Measured: open loop 1.67 mm, assimilated 0.70 mm; look-ahead 0.70 mm, current estimate 1.11 mm.
   EXPECT_LT(filtered, 0.5 * open_loop);
   EXPECT_LT(filtered, 0.8e-3);
@@ -246,9 +257,9 @@ TEST(OperatingLoop, AssimilationLowersTheTumourErrorAndTheLookAheadBeatsNow) {
   // Nominal run, once settled: every input healthy, nothing degraded.
   for (TimeNs t = kSettled; t <= kDuration; t += kTick) {
     const OperatingLoopOutputs& o = with.ticks[at(t)];
-    ASSERT_FALSE(o.degraded) << t << " needle " << o.needle.flags.bits() << " probe " << o.probe.flags.bits() << " breathing "
-                             << o.respiratory.flags.bits() << " ultrasound " << o.ultrasound.flags.bits() << " tissue "
-                             << o.tissue.bits() << " loop " << o.loop.bits();
+    ASSERT_FALSE(o.degraded) << t << " needle " << o.needle.flags.bits() << " probe " << o.probe.flags.bits()
+                             << " breathing " << o.respiratory.flags.bits() << " ultrasound "
+                             << o.ultrasound.flags.bits() << " tissue " << o.tissue.bits() << " loop " << o.loop.bits();
   }
   // Without observations the ultrasound is missing and the output says so.
   EXPECT_TRUE(without.ticks.back().ultrasound.flags.has(HealthFlag::missing_input));
@@ -263,7 +274,8 @@ TEST(OperatingLoop, NeedleTipIsExactUnderLatencyAndRegistration) {
     const Eigen::Vector3d tip = true_tip_m(t), tip_ahead = true_tip_m(t + kLatency);
     worst_m = std::max({worst_m, error_m(o.needle_tip_m, {tip[0], tip[1], tip[2]}),
                         error_m(o.needle_tip_ahead_m, {tip_ahead[0], tip_ahead[1], tip_ahead[2]})});
-    worst_distance_m = std::max(worst_distance_m, std::abs(o.tip_to_tumour_m - error_m(o.needle_tip_m, o.tumour_now_m)));
+    worst_distance_m =
+        std::max(worst_distance_m, std::abs(o.tip_to_tumour_m - error_m(o.needle_tip_m, o.tumour_now_m)));
     EXPECT_LT(o.needle.age_ns, 35 * kNsPerMs);  // 20 ms period plus 10 ms delivery plus a tick
   }
   EXPECT_LT(worst_m, 1e-9);  // constant-velocity extrapolation is exact
@@ -273,7 +285,8 @@ TEST(OperatingLoop, NeedleTipIsExactUnderLatencyAndRegistration) {
 /// Every output of every tick is finite.
 void expect_finite(const ScriptedRun& r) {
   for (const OperatingLoopOutputs& o : r.ticks) {
-    ASSERT_TRUE(finite(o.tumour_now_m) && finite(o.tumour_ahead_m) && finite(o.needle_tip_m) && finite(o.needle_tip_ahead_m));
+    ASSERT_TRUE(finite(o.tumour_now_m) && finite(o.tumour_ahead_m) && finite(o.needle_tip_m) &&
+                finite(o.needle_tip_ahead_m));
     ASSERT_TRUE(std::isfinite(o.tip_to_tumour_m) && std::isfinite(trace(o.tumour_now_covariance_m2)));
   }
 }
@@ -398,7 +411,8 @@ std::vector<double> flatten(const ScriptedRun& r) {
     v.insert(v.end(), {o.tip_to_tumour_m, o.tip_to_tumour_ahead_m, o.breathing_phase_rad});
     for (const InputStatus* input : {&o.needle, &o.probe, &o.respiratory, &o.ultrasound})
       v.insert(v.end(), {static_cast<double>(input->flags.bits()), static_cast<double>(input->age_ns)});
-    v.insert(v.end(), {static_cast<double>(o.tissue.bits()), static_cast<double>(o.loop.bits()), o.degraded ? 1.0 : 0.0});
+    v.insert(v.end(),
+             {static_cast<double>(o.tissue.bits()), static_cast<double>(o.loop.bits()), o.degraded ? 1.0 : 0.0});
     v.insert(v.end(), o.liver_q.begin(), o.liver_q.end());
   }
   return v;
@@ -448,7 +462,8 @@ TEST(OperatingLoop, BuildErrorsNameTheirField) {
   EXPECT_EQ(wrong.error().field, "operating_loop.tissue_every_ticks");
   o = s.loop.options;
   o.model_from_tracker.rotation.coeffs() *= 2.0;
-  EXPECT_EQ(make_operating_loop_model(s.loop.rungs[0].reduced, s.loop.rungs[0].filter, o).error().field, "operating_loop.model_from_tracker");
+  EXPECT_EQ(make_operating_loop_model(s.loop.rungs[0].reduced, s.loop.rungs[0].filter, o).error().field,
+            "operating_loop.model_from_tracker");
   EXPECT_EQ(s.loop.lookahead_steps, 5);
 }
 

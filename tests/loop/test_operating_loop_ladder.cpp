@@ -19,11 +19,11 @@
 #include <numbers>
 #include <vector>
 
+#include "loop/loop_beam_support.hpp"
 #include "nav/core/clock.hpp"
 #include "nav/loop/operating_loop.hpp"
 #include "nav/reduced/reduced_ladder_basis.hpp"
 #include "nav/reduced/reduction.hpp"
-#include "loop/loop_beam_support.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 #include "needle/needle_coupling_support.hpp"
 #include "support/allocation_guard.hpp"
@@ -55,11 +55,14 @@ template <class Depth>
 std::vector<Point3> breathe(const TetMesh& mesh, const TissueScene& scene, Depth depth, int steps, std::int32_t node,
                             std::vector<double>* snapshots, int snapshot_every) {
   const TetFemModel full = make_tet_fem_model(mesh, scene, kSolver).value();
-  return testing::breathe(full, kStep, depth, [](int) { return 1.0; }, steps, node, snapshots, snapshot_every);
+  return testing::breathe(
+      full, kStep, depth, [](int) { return 1.0; }, steps, node, snapshots, snapshot_every);
 }
 
 ReductionOptions reduction(int r) {
-  return {.source = ReducedBasisSource::pod, .force_kind = ReducedForceKind::corotational_cubature, .basis_size = r,
+  return {.source = ReducedBasisSource::pod,
+          .force_kind = ReducedForceKind::corotational_cubature,
+          .basis_size = r,
           .max_cubature_samples = 48};
 }
 
@@ -70,8 +73,8 @@ struct LadderSetup {
   TissueScene scene;
   std::int32_t tumour = 0;
   ReducedBasis small, big;
-  ReducedSolverOptions solver{.integrator = ReducedIntegrator::quasi_static, .step_s = kStepS, .newton_iterations = 2,
-                              .frozen_tangent = false};
+  ReducedSolverOptions solver{
+      .integrator = ReducedIntegrator::quasi_static, .step_s = kStepS, .newton_iterations = 2, .frozen_tangent = false};
   ReducedLadderModel ladder{nullptr};  ///< escalation allowed, stepping down after 25 fitting steps
   std::vector<ReducedKalmanModel> filters;
   OperatingLoopOptions options;
@@ -84,8 +87,10 @@ struct LadderSetup {
     scene.max_point_forces = 32;
     tumour = testing::nearest_node(mesh, {0.04, 0.01, 0.01});
     std::vector<double> nominal, deep;  // one breath each, every 5th step
-    breathe(mesh, scene, [](TimeNs) { return 2.5; }, 100, tumour, &nominal, 5);
-    breathe(mesh, scene, [](TimeNs) { return 7.0; }, 100, tumour, &deep, 5);
+    breathe(
+        mesh, scene, [](TimeNs) { return 2.5; }, 100, tumour, &nominal, 5);
+    breathe(
+        mesh, scene, [](TimeNs) { return 7.0; }, 100, tumour, &deep, 5);
     small = make_pod_basis(mesh, scene, kSolver, reduction(kSmallR), nominal, 20).value();
     train(small, nominal);
     big = extend_basis(mesh, scene, kSolver, small, kBigR, deep, 20).value();
@@ -98,7 +103,8 @@ struct LadderSetup {
       filter_options.correlation_time_s = 2.0;
       filter_options.observation_std_m = 0.001;
       const ObservedPoint points[] = {observed_node(tumour)};
-      filters.push_back(make_reduced_kalman_model(mesh, basis, ladder.reduced_rung(rung), points, filter_options).value());
+      filters.push_back(
+          make_reduced_kalman_model(mesh, basis, ladder.reduced_rung(rung), points, filter_options).value());
     }
     options.tick_period_ns = kTick;
     options.tissue_every_ticks = kTissueEvery;
@@ -141,8 +147,8 @@ struct LoopRun {
 };
 
 /// The breathing marker read every 10 ms without delay (at every liver step the loop's
-/// diaphragm is then the truth's, and the tumour error is the model's) and, when `observe`, the true tumour seen at 20 Hz (30 ms
-/// to segment, noise-free), the loop ticked at 1 kHz.
+/// diaphragm is then the truth's, and the tumour error is the model's) and, when `observe`, the true tumour seen at 20
+/// Hz (30 ms to segment, noise-free), the loop ticked at 1 kHz.
 LoopRun run(const OperatingLoopModel& model, bool observe) {
   const LadderSetup& s = setup();
   OperatingLoopData data = make_operating_loop_data(model).value();
@@ -151,9 +157,11 @@ LoopRun run(const OperatingLoopModel& model, bool observe) {
   TimeNs next_observation = 0;
   testing::AllocationGuard guard;
   for (TimeNs now = 0; now <= kDuration; now += kTick) {
-    if (now % (10 * kNsPerMs) == 0) push_respiratory_sample(model, data, now, {0.02, -0.01, marker_m(now, depth_at(now))});
+    if (now % (10 * kNsPerMs) == 0)
+      push_respiratory_sample(model, data, now, {0.02, -0.01, marker_m(now, depth_at(now))});
     for (; next_observation + 30 * kNsPerMs <= now; next_observation += 50 * kNsPerMs)
-      if (observe) push_tumour_observation(data, next_observation, s.truth[static_cast<std::size_t>(next_observation / kStep)]);
+      if (observe)
+        push_tumour_observation(data, next_observation, s.truth[static_cast<std::size_t>(next_observation / kStep)]);
     tick(model, data, now);
     out.ticks.push_back(data.outputs);
   }
@@ -215,10 +223,12 @@ TEST(OperatingLoopLadder, EscalatesOnDeepBreathsAndStepsBackDown) {
   // Accuracy while escalated, against staying on rung 0 (open loop: no observation).
   const double escalated_m = rms_error_m(ladder, static_cast<TimeNs>(up) * kTick, static_cast<TimeNs>(down) * kTick);
   const double stayed_m = rms_error_m(flat, static_cast<TimeNs>(up) * kTick, static_cast<TimeNs>(down) * kTick);
-  std::printf("escalated at %.2f s, stepped down at %.2f s; tumour error while escalated %.4f mm RMS (rung 0 alone %.4f mm); "
-              "largest step change at the switch up %.4f mm (truth %.4f mm, rung 0 error %.4f mm), down %.4f mm (truth %.4f mm)\n",
-              1e-3 * static_cast<double>(up), 1e-3 * static_cast<double>(down), 1e3 * escalated_m, 1e3 * stayed_m, 1e3 * up_change_m,
-              1e3 * up_truth_m, 1e3 * rung0_error_m, 1e3 * down_change_m, 1e3 * down_truth_m);
+  std::printf(
+      "escalated at %.2f s, stepped down at %.2f s; tumour error while escalated %.4f mm RMS (rung 0 alone %.4f mm); "
+      "largest step change at the switch up %.4f mm (truth %.4f mm, rung 0 error %.4f mm), down %.4f mm (truth %.4f "
+      "mm)\n",
+      1e-3 * static_cast<double>(up), 1e-3 * static_cast<double>(down), 1e3 * escalated_m, 1e3 * stayed_m,
+      1e3 * up_change_m, 1e3 * up_truth_m, 1e3 * rung0_error_m, 1e3 * down_change_m, 1e3 * down_truth_m);
   EXPECT_LT(escalated_m, 0.25 * stayed_m);
   EXPECT_LE(up_change_m, 1.05 * up_truth_m + rung0_error_m);
   EXPECT_LE(down_change_m, 1.05 * down_truth_m + 0.02 * 1e-3);
@@ -256,11 +266,13 @@ TEST(OperatingLoopLadder, CarriesTheFilterExactlyBetweenNestedRungs) {
   const int n = kSmallR, m = kBigR;
   for (int i = 0; i < n; ++i) {
     small.correction[static_cast<std::size_t>(i)] = 0.1 * (i + 1);
-    for (int j = 0; j < n; ++j) small.covariance[static_cast<std::size_t>(i * n + j)] = (i == j ? 2.0 : 0.0) + 0.1 / (1 + i + j);
+    for (int j = 0; j < n; ++j)
+      small.covariance[static_cast<std::size_t>(i * n + j)] = (i == j ? 2.0 : 0.0) + 0.1 / (1 + i + j);
   }
   small.accepted_updates = 7;
   const OperatingLoopRung& upper = model.rungs[1];
-  carry_filter(model.rungs[0].filter, small, upper.filter, big, upper.up_from_below, upper.unseen_prior, data.transfer_workspace);
+  carry_filter(model.rungs[0].filter, small, upper.filter, big, upper.up_from_below, upper.unseen_prior,
+               data.transfer_workspace);
   double worst = 0.0;
   for (int i = 0; i < m; ++i) {
     const double dq = i < n ? small.correction[static_cast<std::size_t>(i)] : 0.0;
@@ -269,7 +281,8 @@ TEST(OperatingLoopLadder, CarriesTheFilterExactlyBetweenNestedRungs) {
       double expected = 0.0;
       if (i < n && j < n) expected = small.covariance[static_cast<std::size_t>(i * n + j)];
       if (i >= n && i == j) expected = upper.filter.prior_variance[static_cast<std::size_t>(i)];
-      worst = std::max(worst, std::abs(big.covariance[static_cast<std::size_t>(i * m + j)] - expected) / (1.0 + std::abs(expected)));
+      worst = std::max(
+          worst, std::abs(big.covariance[static_cast<std::size_t>(i * m + j)] - expected) / (1.0 + std::abs(expected)));
     }
   }
   EXPECT_LT(worst, 1e-9);
@@ -278,7 +291,8 @@ TEST(OperatingLoopLadder, CarriesTheFilterExactlyBetweenNestedRungs) {
   std::vector<double> before(small.covariance.begin(), small.covariance.end());
   carry_filter(upper.filter, big, model.rungs[0].filter, back, upper.down_to_below, {}, data.transfer_workspace);
   double round_trip = 0.0;
-  for (std::size_t k = 0; k < before.size(); ++k) round_trip = std::max(round_trip, std::abs(back.covariance[k] - before[k]));
+  for (std::size_t k = 0; k < before.size(); ++k)
+    round_trip = std::max(round_trip, std::abs(back.covariance[k] - before[k]));
   EXPECT_LT(round_trip, 1e-9);
 }
 
@@ -291,9 +305,10 @@ TEST(OperatingLoopLadder, NeverAllocatesAndRepeatsBitwise) {
   ASSERT_EQ(a.ticks.size(), b.ticks.size());
   int mismatches = 0;
   for (std::size_t k = 0; k < a.ticks.size(); ++k)
-    mismatches += std::memcmp(&a.ticks[k].tumour_now_m, &b.ticks[k].tumour_now_m, sizeof(Point3)) != 0 ||
-                  std::memcmp(a.ticks[k].liver_q.data(), b.ticks[k].liver_q.data(), sizeof(double) * kLoopMaxBasisSize) != 0 ||
-                  a.ticks[k].liver_rung != b.ticks[k].liver_rung;
+    mismatches +=
+        std::memcmp(&a.ticks[k].tumour_now_m, &b.ticks[k].tumour_now_m, sizeof(Point3)) != 0 ||
+        std::memcmp(a.ticks[k].liver_q.data(), b.ticks[k].liver_q.data(), sizeof(double) * kLoopMaxBasisSize) != 0 ||
+        a.ticks[k].liver_rung != b.ticks[k].liver_rung;
   EXPECT_EQ(mismatches, 0);
 }
 
@@ -310,8 +325,9 @@ LoopRun run_with_needle(const OperatingLoopModel& model, const RigidPose& marker
     if (now % (4 * kNsPerMs) == 0) {
       const double lowered_m = std::clamp(0.02 * 1e-9 * static_cast<double>(now - 100 * kNsPerMs), 0.0, 0.016);
       const NeedlePose p = testing::needle_above(0.04, 0.01, 0.02, lowered_m);
-      const RigidPose base{{p.position_m[0], p.position_m[1], p.position_m[2]},
-                           Eigen::Quaterniond(p.rotation_wxyz[0], p.rotation_wxyz[1], p.rotation_wxyz[2], p.rotation_wxyz[3])};
+      const RigidPose base{
+          {p.position_m[0], p.position_m[1], p.position_m[2]},
+          Eigen::Quaterniond(p.rotation_wxyz[0], p.rotation_wxyz[1], p.rotation_wxyz[2], p.rotation_wxyz[3])};
       push_needle_pose(model, data, {now, compose(base, marker_from_base)});
     }
     tick(model, data, now);
@@ -330,9 +346,11 @@ TEST(OperatingLoopLadder, ANeedlePushEscalatesAndTheNeedleIsCarriedAlong) {
   const LadderSetup& s = setup();
   OperatingLoopNeedleOptions needle;
   needle.scene = testing::top_face_layer(0.04, 0.01, 0.02, 0.003);
-  needle.marker_from_base = {{0.0, 0.0, -0.01}, Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * std::numbers::pi, Eigen::Vector3d::UnitY()))};
+  needle.marker_from_base = {{0.0, 0.0, -0.01},
+                             Eigen::Quaterniond(Eigen::AngleAxisd(0.5 * std::numbers::pi, Eigen::Vector3d::UnitY()))};
   const OperatingLoopModel ladder = make_operating_loop_model(s.ladder, s.filters, s.options, &needle, &s.mesh).value();
-  const OperatingLoopModel one = make_operating_loop_model(s.ladder.reduced_rung(0), s.filters[0], s.options, needle, s.mesh).value();
+  const OperatingLoopModel one =
+      make_operating_loop_model(s.ladder.reduced_rung(0), s.filters[0], s.options, needle, s.mesh).value();
   const TimeNs duration = 900 * kNsPerMs;
   const LoopRun a = run_with_needle(ladder, needle.marker_from_base, duration);
   const LoopRun b = run_with_needle(one, needle.marker_from_base, duration);
@@ -346,22 +364,28 @@ TEST(OperatingLoopLadder, ANeedlePushEscalatesAndTheNeedleIsCarriedAlong) {
     mismatches += std::memcmp(&a.ticks[k].needle_tip_m, &b.ticks[k].needle_tip_m, sizeof(Point3)) != 0 ||
                   std::memcmp(&a.ticks[k].tumour_now_m, &b.ticks[k].tumour_now_m, sizeof(Point3)) != 0;
   EXPECT_EQ(mismatches, 0);
-  ASSERT_GT(a.ticks[up].needle_shape.tip_depth_m + a.ticks[up].needle_shape.tip_force_n[2], 0.0) << "escalated before contact";
+  ASSERT_GT(a.ticks[up].needle_shape.tip_depth_m + a.ticks[up].needle_shape.tip_force_n[2], 0.0)
+      << "escalated before contact";
   // The tip and its force across the switch against their largest tick-to-tick change before it.
   double tip_before_m = 0.0, force_before_n = 0.0;
   for (std::size_t k = up - 40; k < up; ++k) {
     tip_before_m = std::max(tip_before_m, distance_m(a.ticks[k].needle_tip_m, a.ticks[k - 1].needle_tip_m));
-    force_before_n = std::max(force_before_n, distance_m(a.ticks[k].needle_shape.tip_force_n, a.ticks[k - 1].needle_shape.tip_force_n));
+    force_before_n = std::max(force_before_n,
+                              distance_m(a.ticks[k].needle_shape.tip_force_n, a.ticks[k - 1].needle_shape.tip_force_n));
   }
   const double tip_switch_m = distance_m(a.ticks[up].needle_tip_m, a.ticks[up - 1].needle_tip_m);
-  const double force_switch_n = distance_m(a.ticks[up].needle_shape.tip_force_n, a.ticks[up - 1].needle_shape.tip_force_n);
+  const double force_switch_n =
+      distance_m(a.ticks[up].needle_shape.tip_force_n, a.ticks[up - 1].needle_shape.tip_force_n);
   const OperatingLoopOutputs& last = a.ticks.back();
-  std::printf("needle push: escalated at %.3f s (tip depth %.2f mm); tip moved %.4f mm over the switch (largest before %.4f mm), "
-              "tip force changed %.4f N (largest before %.4f N); at the end rung %d, %d puncture(s), tip force %.3f N "
-              "(one-rung loop: %d, %.3f N)\n",
-              1e-3 * static_cast<double>(up), 1e3 * a.ticks[up].needle_shape.tip_depth_m, 1e3 * tip_switch_m, 1e3 * tip_before_m,
-              force_switch_n, force_before_n, last.liver_rung, last.needle_shape.punctures, last.needle_shape.tip_force_n[2],
-              b.ticks.back().needle_shape.punctures, b.ticks.back().needle_shape.tip_force_n[2]);
+  std::printf(
+      "needle push: escalated at %.3f s (tip depth %.2f mm); tip moved %.4f mm over the switch (largest before %.4f "
+      "mm), "
+      "tip force changed %.4f N (largest before %.4f N); at the end rung %d, %d puncture(s), tip force %.3f N "
+      "(one-rung loop: %d, %.3f N)\n",
+      1e-3 * static_cast<double>(up), 1e3 * a.ticks[up].needle_shape.tip_depth_m, 1e3 * tip_switch_m,
+      1e3 * tip_before_m, force_switch_n, force_before_n, last.liver_rung, last.needle_shape.punctures,
+      last.needle_shape.tip_force_n[2], b.ticks.back().needle_shape.punctures,
+      b.ticks.back().needle_shape.tip_force_n[2]);
   EXPECT_LE(tip_switch_m, 2.0 * tip_before_m);
   EXPECT_LE(force_switch_n, 2.0 * force_before_n + 0.01);
   EXPECT_EQ(last.needle_shape.punctures, 1);

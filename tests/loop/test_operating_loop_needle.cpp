@@ -19,12 +19,12 @@
 #include <numbers>
 #include <vector>
 
+#include "loop/loop_beam_support.hpp"
 #include "nav/core/clock.hpp"
 #include "nav/loop/operating_loop.hpp"
 #include "nav/needle/coupled_needle_step.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "needle/needle_coupling_support.hpp"
-#include "loop/loop_beam_support.hpp"
 #include "support/allocation_guard.hpp"
 #include "tissue/tissue_test_support.hpp"
 
@@ -63,9 +63,12 @@ struct LoopSetup {
     scene.prescribed_nodes = testing::nodes_where(mesh, 0, 0.08);
     scene.max_point_forces = 32;
     tumour = testing::nearest_node(mesh, {0.04, 0.01, 0.01});
-    const TissueSolverOptions solver{.rotation = ElementRotation::none, .integrator = Integrator::quasi_static, .step_s = kStepS,
+    const TissueSolverOptions solver{.rotation = ElementRotation::none,
+                                     .integrator = Integrator::quasi_static,
+                                     .step_s = kStepS,
                                      .cg_iterations = 1};
-    const ReductionOptions reduction{.source = ReducedBasisSource::linear_modes, .force_kind = ReducedForceKind::linear, .basis_size = 12};
+    const ReductionOptions reduction{
+        .source = ReducedBasisSource::linear_modes, .force_kind = ReducedForceKind::linear, .basis_size = 12};
     const ReducedBasis basis = make_modal_basis(mesh, scene, solver, reduction).value();
     ReducedSolverOptions reduced_options;
     reduced_options.integrator = ReducedIntegrator::quasi_static;
@@ -111,7 +114,8 @@ RigidPose true_base(TimeNs t) {
 }
 
 double marker_m(TimeNs t) {
-  return kMarkerMeanM + kMarkerAmplitudeM * std::sin(2.0 * std::numbers::pi * 1e-9 * static_cast<double>(t) / kBreathingPeriodS);
+  return kMarkerMeanM +
+         kMarkerAmplitudeM * std::sin(2.0 * std::numbers::pi * 1e-9 * static_cast<double>(t) / kBreathingPeriodS);
 }
 
 /// What a run changes from the nominal push (times in ns; -1: not used).
@@ -130,7 +134,9 @@ struct ScriptedRun {
 /// The scripted run; only the loop's calls are inside the allocation guard.
 ScriptedRun run(const Script& script, const OperatingLoopModel* model_override = nullptr) {
   const LoopSetup& s = setup();
-  const OperatingLoopModel& model = model_override != nullptr ? *model_override : script.needle ? s.with_needle : s.without_needle;
+  const OperatingLoopModel& model = model_override != nullptr ? *model_override
+                                    : script.needle           ? s.with_needle
+                                                              : s.without_needle;
   OperatingLoopData data = make_operating_loop_data(model).value();
   ScriptedRun out;
   out.ticks.reserve(static_cast<std::size_t>(script.duration_ns / kTick) + 1);
@@ -154,7 +160,9 @@ ScriptedRun run(const Script& script, const OperatingLoopModel* model_override =
 }
 
 std::size_t at(TimeNs t) { return static_cast<std::size_t>(t / kTick); }
-double distance_m(const Point3& a, const Eigen::Vector3d& b) { return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
+double distance_m(const Point3& a, const Eigen::Vector3d& b) {
+  return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+}
 /// Whether t is within 10 ms after the push starts or stops (where extrapolation lags).
 bool after_a_kink(TimeNs t) {
   const auto stop = kPushFrom + static_cast<TimeNs>(kPushTravelM / kPushSpeedMPerS * 1e9);
@@ -182,9 +190,11 @@ TEST(OperatingLoopNeedle, EqualsTheStandaloneCoupledNeedleBitwise) {
   // The independent reference: the stand-alone coupled needle on the same reduced liver,
   // stepped with the base poses the loop published and, every 10th tick, the diaphragm it used.
   const ReducedCoupledNeedleModel reference =
-      make_coupled_needle_model(s.needle.parameters, s.needle.scene, s.with_needle.rungs[0].reduced, s.mesh, s.needle.max_point_forces, kTissueEvery)
+      make_coupled_needle_model(s.needle.parameters, s.needle.scene, s.with_needle.rungs[0].reduced, s.mesh,
+                                s.needle.max_point_forces, kTissueEvery)
           .value();
-  ReducedCoupledNeedleData data = make_coupled_needle_data(reference, to_needle_pose(r.ticks[first].needle_shape.base_pose)).value();
+  ReducedCoupledNeedleData data =
+      make_coupled_needle_data(reference, to_needle_pose(r.ticks[first].needle_shape.base_pose)).value();
   int node_mismatches = 0, q_mismatches = 0, compared_steps = 0;
   double worst_base_m = 0.0;
   for (std::size_t k = 0; k < r.ticks.size(); ++k) {
@@ -198,7 +208,8 @@ TEST(OperatingLoopNeedle, EqualsTheStandaloneCoupledNeedleBitwise) {
       TissueInputs inputs;
       inputs.prescribed_displacement_m = o.diaphragm_m;
       step_tissue(reference, data, inputs);
-      for (std::size_t j = 0; j < data.tissue.q.size(); ++j) q_mismatches += o.liver_q[j] != data.tissue.q[j];  // no observation: dq = 0
+      for (std::size_t j = 0; j < data.tissue.q.size(); ++j)
+        q_mismatches += o.liver_q[j] != data.tissue.q[j];  // no observation: dq = 0
       ++compared_steps;
     }
     if (k < first) continue;
@@ -213,8 +224,9 @@ TEST(OperatingLoopNeedle, EqualsTheStandaloneCoupledNeedleBitwise) {
     const TimeNs t = static_cast<TimeNs>(k) * kTick;
     if (k >= first + 20 && !after_a_kink(t)) worst_base_m = std::max(worst_base_m, base_error_m(o, t));
   }
-  std::printf("%d liver steps compared; the needle punctured %d time(s); published base within %.2e m of the tracked one\n",
-              compared_steps, r.ticks.back().needle_shape.punctures, worst_base_m);
+  std::printf(
+      "%d liver steps compared; the needle punctured %d time(s); published base within %.2e m of the tracked one\n",
+      compared_steps, r.ticks.back().needle_shape.punctures, worst_base_m);
   EXPECT_EQ(r.ticks.back().needle_shape.punctures, 1);  // the comparison covers the puncture
   EXPECT_EQ(node_mismatches, 0);
   EXPECT_EQ(q_mismatches, 0);
@@ -244,11 +256,13 @@ TEST(OperatingLoopNeedle, PushingTheNeedleDeformsTheLiverAndResists) {
   // force (up to the needle's inertia and damping over 1 ms steps).
   const double holder_at_largest_n = largest->needle_shape.base_force_n[2];
   std::printf(
-      "tumour estimate moved %.3f mm down (%.3f mm sideways, %.3f mm down at now + latency) by the needle; largest tip force "
-      "against the insertion %.3f N; tip depth %.2f mm; holder force then %.3f N, at the end (%.3f, %.3f, %.3f) N; ticks with needle flags %d\n",
-      1e3 * moved_down_m, 1e3 * moved_sideways_m, 1e3 * (end_rigid.tumour_ahead_m[2] - end.tumour_ahead_m[2]), largest_resisting_n,
-      1e3 * end.needle_shape.tip_depth_m, holder_at_largest_n, end.needle_shape.base_force_n[0], end.needle_shape.base_force_n[1],
-      end.needle_shape.base_force_n[2], flagged_ticks);
+      "tumour estimate moved %.3f mm down (%.3f mm sideways, %.3f mm down at now + latency) by the needle; largest tip "
+      "force "
+      "against the insertion %.3f N; tip depth %.2f mm; holder force then %.3f N, at the end (%.3f, %.3f, %.3f) N; "
+      "ticks with needle flags %d\n",
+      1e3 * moved_down_m, 1e3 * moved_sideways_m, 1e3 * (end_rigid.tumour_ahead_m[2] - end.tumour_ahead_m[2]),
+      largest_resisting_n, 1e3 * end.needle_shape.tip_depth_m, holder_at_largest_n, end.needle_shape.base_force_n[0],
+      end.needle_shape.base_force_n[1], end.needle_shape.base_force_n[2], flagged_ticks);
   EXPECT_EQ(flagged_ticks, 0);  // a nominal insertion: no refused pose, the solver within its bound
   EXPECT_GT(moved_down_m, 1e-4);
   EXPECT_LT(moved_sideways_m, 0.2 * moved_down_m);
@@ -258,7 +272,7 @@ TEST(OperatingLoopNeedle, PushingTheNeedleDeformsTheLiverAndResists) {
   EXPECT_NEAR(ahead_down_m, moved_down_m, 0.1 * moved_down_m);
   EXPECT_GT(largest_resisting_n, 0.1);  // the capsule holds up to f_p = 0.2 N
   EXPECT_LE(largest_resisting_n, 0.2 + 1e-6);
-  EXPECT_GE(most_pushing_n, -1e-9);     // the tissue never pulls the tip in
+  EXPECT_GE(most_pushing_n, -1e-9);  // the tissue never pulls the tip in
   EXPECT_NEAR(holder_at_largest_n, largest_resisting_n, 0.05 * largest_resisting_n);
   EXPECT_GT(end.needle_shape.base_force_n[2], 0.0);  // inserted: cutting and friction still resist
   EXPECT_EQ(end.needle_shape.punctures, 1);
@@ -269,9 +283,12 @@ TEST(OperatingLoopNeedle, PushingTheNeedleDeformsTheLiverAndResists) {
   const Eigen::Vector3d tip(end.needle_tip_m[0], end.needle_tip_m[1], end.needle_tip_m[2]);
   EXPECT_EQ(end.tip_to_tumour_m, distance_m(end.tumour_now_m, tip));
   // Held still at the end, the needle's bend carries over to the tip ahead unchanged.
-  const Eigen::Vector3d bend = tip - Eigen::Vector3d(end_rigid.needle_tip_m[0], end_rigid.needle_tip_m[1], end_rigid.needle_tip_m[2]);
-  EXPECT_LT(distance_m(end.needle_tip_ahead_m, Eigen::Vector3d(end_rigid.needle_tip_ahead_m[0], end_rigid.needle_tip_ahead_m[1],
-                                                               end_rigid.needle_tip_ahead_m[2]) + bend),
+  const Eigen::Vector3d bend =
+      tip - Eigen::Vector3d(end_rigid.needle_tip_m[0], end_rigid.needle_tip_m[1], end_rigid.needle_tip_m[2]);
+  EXPECT_LT(distance_m(end.needle_tip_ahead_m,
+                       Eigen::Vector3d(end_rigid.needle_tip_ahead_m[0], end_rigid.needle_tip_ahead_m[1],
+                                       end_rigid.needle_tip_ahead_m[2]) +
+                           bend),
             1e-12);
 }
 
@@ -286,7 +303,8 @@ std::vector<double> flatten(const ScriptedRun& r) {
     v.insert(v.end(), o.tumour_now_covariance_m2.begin(), o.tumour_now_covariance_m2.end());
     v.insert(v.end(), {o.tip_to_tumour_m, o.tip_to_tumour_ahead_m, o.needle_shape.tip_depth_m,
                        static_cast<double>(o.needle_shape.punctures), static_cast<double>(o.needle_shape.flags.bits()),
-                       static_cast<double>(o.needle.flags.bits()), static_cast<double>(o.tissue.bits()), o.degraded ? 1.0 : 0.0});
+                       static_cast<double>(o.needle.flags.bits()), static_cast<double>(o.tissue.bits()),
+                       o.degraded ? 1.0 : 0.0});
     v.insert(v.end(), o.liver_q.begin(), o.liver_q.end());
   }
   return v;
@@ -309,8 +327,10 @@ TEST(OperatingLoopNeedle, PushAndTickNeverAllocateAndRepeatBitwiseWithAMovedMode
 /// Every needle output of every tick is finite.
 void expect_finite(const ScriptedRun& r) {
   for (const OperatingLoopOutputs& o : r.ticks) {
-    ASSERT_TRUE(finite(o.needle_tip_m) && finite(o.needle_tip_ahead_m) && finite(o.tumour_now_m) && std::isfinite(o.tip_to_tumour_m));
-    ASSERT_TRUE(finite(o.needle_shape.tip_force_n) && finite(o.needle_shape.base_force_n) && std::isfinite(o.needle_shape.tip_depth_m));
+    ASSERT_TRUE(finite(o.needle_tip_m) && finite(o.needle_tip_ahead_m) && finite(o.tumour_now_m) &&
+                std::isfinite(o.tip_to_tumour_m));
+    ASSERT_TRUE(finite(o.needle_shape.tip_force_n) && finite(o.needle_shape.base_force_n) &&
+                std::isfinite(o.needle_shape.tip_depth_m));
     for (const Point3& p : o.needle_shape.centreline_m) ASSERT_TRUE(finite(p));
     for (double q : o.liver_q) ASSERT_TRUE(std::isfinite(q));
   }
@@ -364,7 +384,8 @@ TEST(OperatingLoopNeedle, NanNeedlePoseIsRejectedTheBaseHeldAndRecovered) {
 TEST(OperatingLoopNeedle, BadNeedleDeclarationsAreRefusedByField) {
   const LoopSetup& s = setup();
   const auto field = [&](const OperatingLoopNeedleOptions& needle) {
-    auto built = make_operating_loop_model(s.with_needle.rungs[0].reduced, s.with_needle.rungs[0].filter, s.with_needle.options, needle, s.mesh);
+    auto built = make_operating_loop_model(s.with_needle.rungs[0].reduced, s.with_needle.rungs[0].filter,
+                                           s.with_needle.options, needle, s.mesh);
     return built.ok() ? std::string("(built)") : built.error().field;
   };
   OperatingLoopNeedleOptions n = s.needle;
@@ -386,7 +407,8 @@ TEST(OperatingLoopNeedle, BadNeedleDeclarationsAreRefusedByField) {
   n.scene.layers.clear();
   EXPECT_EQ(field(n), "operating_loop.needle.scene.layers");
   const TetMesh other = testing::box_mesh({0.04, 0.02, kTopM}, 0.01);
-  auto wrong_mesh = make_operating_loop_model(s.with_needle.rungs[0].reduced, s.with_needle.rungs[0].filter, s.with_needle.options, s.needle, other);
+  auto wrong_mesh = make_operating_loop_model(s.with_needle.rungs[0].reduced, s.with_needle.rungs[0].filter,
+                                              s.with_needle.options, s.needle, other);
   ASSERT_FALSE(wrong_mesh.ok());
   EXPECT_EQ(wrong_mesh.error().field, "operating_loop.needle.mesh");
 }

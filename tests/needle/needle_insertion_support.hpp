@@ -5,11 +5,11 @@
 #include <cmath>
 #include <vector>
 
-#include "needle_test_support.hpp"
 #include "nav/needle/gauss_seidel.hpp"
 #include "nav/needle/needle_step.hpp"
 #include "nav/needle/needle_tissue_model.hpp"
 #include "nav/needle/needle_tissue_rows.hpp"
+#include "needle_test_support.hpp"
 
 namespace nav::testing {
 
@@ -43,8 +43,8 @@ inline void drive_to(const NeedleTissueModel& model, NeedleTissueData& data, dou
     x += std::clamp(to_x_m - x, -step_m, step_m);
     inputs.needle.base.position_m = {x, 0.0, 0.0};
     step(model, data, inputs);
-    record.push_back({x, data.report.tip_depth_m, data.report.forces, data.report.residual_m, data.report.active_path_points,
-                      needle_tip_m(data.needle)});
+    record.push_back({x, data.report.tip_depth_m, data.report.forces, data.report.residual_m,
+                      data.report.active_path_points, needle_tip_m(data.needle)});
   }
 }
 
@@ -71,7 +71,8 @@ double violation_after_correction(const NeedleTissueData& data, TissuePosition&&
     const double limit = row_limit_n(rows, r, forces);
     worst = std::max(worst, law_violation_m(rows[r], gaps[r], forces[r], limit));
     if (rows[r].law == RowLaw::coulomb_pair)
-      worst = std::max(worst, coulomb_disk_violation_m(std::span<const double>(gaps).subspan(r, 2), forces.subspan(r, 2), limit));
+      worst = std::max(
+          worst, coulomb_disk_violation_m(std::span<const double>(gaps).subspan(r, 2), forces.subspan(r, 2), limit));
   }
   return worst;
 }
@@ -80,7 +81,8 @@ double violation_after_correction(const NeedleTissueData& data, TissuePosition&&
 inline double violation_after_correction(const NeedleTissueModel& model, const NeedleTissueData& data) {
   return violation_after_correction(data, [&](std::size_t r) {
     const ConstraintRow& row = data.rows[r];
-    return Eigen::Vector3d(row.tissue_point_m + detail::compliant_displacement_m(model, data, row.tissue_point_m, row.tissue_node));
+    return Eigen::Vector3d(row.tissue_point_m +
+                           detail::compliant_displacement_m(model, data, row.tissue_point_m, row.tissue_node));
   });
 }
 

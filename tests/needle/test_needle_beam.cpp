@@ -8,9 +8,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "needle_test_support.hpp"
 #include "nav/needle/needle_step.hpp"
 #include "nav/needle/rotation_vector.hpp"
+#include "needle_test_support.hpp"
 #include "support/allocation_guard.hpp"
 
 namespace nav {
@@ -46,7 +46,8 @@ TEST(NeedleBeam, CantileverTipDeflectionIncludesTimoshenkoShear) {
   inputs.tip_force_n = {0.0, load_n, 0.0};
   step(model, data, inputs);
   const double bending_m = load_n * l * l * l / (3.0 * ei);
-  const double shear_m = load_n * l / (model.section.shear_coefficient * model.section.shear_modulus_pa * model.section.area_m2);
+  const double shear_m =
+      load_n * l / (model.section.shear_coefficient * model.section.shear_modulus_pa * model.section.area_m2);
   const double error = std::abs(needle_tip_m(data).y() - (bending_m + shear_m)) / (bending_m + shear_m);
   std::printf("Timoshenko cantilever, 20 elements: shear share %.2f %%, relative error %.2e\n",
               100.0 * shear_m / (bending_m + shear_m), error);
@@ -75,8 +76,8 @@ TEST(NeedleBeam, EndMomentTwoPiEIOverLRollsTheNeedleIntoACircle) {
     worst_radius = std::max(worst_radius, std::abs((x - centre).norm() - radius_m) / radius_m);
   }
   const double tip_gap = needle_tip_m(data).norm() / l;
-  std::printf("circle: tip back at the base within %.2e L, radius error %.2e, tip direction x %.6f\n", tip_gap, worst_radius,
-              needle_tip_direction(data).x());
+  std::printf("circle: tip back at the base within %.2e L, radius error %.2e, tip direction x %.6f\n", tip_gap,
+              worst_radius, needle_tip_direction(data).x());
   EXPECT_LT(tip_gap, 0.01);
   EXPECT_LT(worst_radius, 0.01);
   EXPECT_GT(needle_tip_direction(data).x(), std::cos(0.01 * 2.0 * std::numbers::pi));
@@ -106,7 +107,8 @@ TEST(NeedleBeam, RotationVectorLogarithmMatchesALongDoubleReferenceAtEveryAngle)
   // (near 0.1 rad), about three axes; the reference is 2 atan2(s, w) / s v in long double.
   double worst = 0.0;
   for (double angle = 1e-9; angle < std::numbers::pi; angle *= 1.07) {
-    for (const Eigen::Vector3d& axis : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0.6, -0.8, 0), Eigen::Vector3d(Eigen::Vector3d(1, 2, -2) / 3.0)}) {
+    for (const Eigen::Vector3d& axis :
+         {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0.6, -0.8, 0), Eigen::Vector3d(Eigen::Vector3d(1, 2, -2) / 3.0)}) {
       const Eigen::Quaterniond q = quaternion_from_rotation_vector(angle * axis);
       const long double s = std::hypot(std::hypot(static_cast<long double>(q.x()), static_cast<long double>(q.y())),
                                        static_cast<long double>(q.z()));
@@ -114,7 +116,8 @@ TEST(NeedleBeam, RotationVectorLogarithmMatchesALongDoubleReferenceAtEveryAngle)
       const Eigen::Vector3d theta = rotation_vector_from_quaternion(q);
       for (int d = 0; d < 3; ++d) {
         const long double reference = scale * static_cast<long double>(q.coeffs()[d]);
-        if (reference != 0.0L) worst = std::max(worst, static_cast<double>(std::abs((theta[d] - reference) / reference)));
+        if (reference != 0.0L)
+          worst = std::max(worst, static_cast<double>(std::abs((theta[d] - reference) / reference)));
       }
     }
   }
@@ -128,7 +131,8 @@ TEST(NeedleBeam, SharedTangentBlocksAndSparseForceTermsGiveTheFullResponseBitFor
     const NeedleModel model = make_needle_model(p).value();
     const BeamStiffness& shared = model.local_stiffness;
     int distinct = 0;
-    for (int b = 0; b < BeamStiffness::kTangentBlocks; ++b) distinct += shared.same_block_as[static_cast<std::size_t>(b)] == b ? 1 : 0;
+    for (int b = 0; b < BeamStiffness::kTangentBlocks; ++b)
+      distinct += shared.same_block_as[static_cast<std::size_t>(b)] == b ? 1 : 0;
     EXPECT_EQ(distinct, 6);  // the translation, rotation and coupling blocks of a and b repeat
     // Every block rotated on its own, every moved freedom's term kept (zeros too).
     BeamStiffness full = shared;
@@ -141,10 +145,12 @@ TEST(NeedleBeam, SharedTangentBlocksAndSparseForceTermsGiveTheFullResponseBitFor
     for (int b = 0; b < BeamStiffness::kTangentBlocks; ++b) full.same_block_as[static_cast<std::size_t>(b)] = b;
     // A bent, stretched and twisted element.
     const double l = model.element_length_m;
-    const BeamEnds ends{Eigen::Vector3d(0.001, -0.002, 0.0005), Eigen::Vector3d(0.001 + 1.01 * l, -0.002 + 0.03 * l, 0.0005 - 0.02 * l),
+    const BeamEnds ends{Eigen::Vector3d(0.001, -0.002, 0.0005),
+                        Eigen::Vector3d(0.001 + 1.01 * l, -0.002 + 0.03 * l, 0.0005 - 0.02 * l),
                         Eigen::Quaterniond(Eigen::AngleAxisd(0.02, Eigen::Vector3d(0.3, 0.4, -0.5).normalized())),
                         Eigen::Quaterniond(Eigen::AngleAxisd(0.05, Eigen::Vector3d(-0.2, 0.9, 0.1).normalized()))};
-    const BeamResponse fast = corotational_beam_response(shared, l, ends), reference = corotational_beam_response(full, l, ends);
+    const BeamResponse fast = corotational_beam_response(shared, l, ends),
+                       reference = corotational_beam_response(full, l, ends);
     EXPECT_GT(fast.forces.norm(), 0.0);
     EXPECT_EQ(fast.forces, reference.forces);
     EXPECT_EQ(fast.tangent_aa, reference.tangent_aa);
@@ -205,7 +211,8 @@ TEST(NeedleBeam, DynamicStepsAllocateNothingAndRepeatBitwise) {
     EXPECT_EQ(guard.allocations(), 0u);
     EXPECT_TRUE(data.health.healthy());
     EXPECT_EQ(data.steps, 200);
-    hash = testing::bits_hash({data.positions_m, data.rotations_wxyz, data.velocities_m_s, data.angular_velocities_rad_s});
+    hash =
+        testing::bits_hash({data.positions_m, data.rotations_wxyz, data.velocities_m_s, data.angular_velocities_rad_s});
   }
   EXPECT_EQ(hashes[0], hashes[1]);
 }

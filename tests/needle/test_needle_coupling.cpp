@@ -61,7 +61,8 @@ TEST(NeedleCoupling, ProbedComplianceIsPositiveAndDecaysOverTheMesh) {
 
 TEST(NeedleCoupling, TheTissueCarriesTheContactForceAsTheProbedCompliancePredicts) {
   const Block block;
-  const CoupledNeedleModel model = make_coupled_needle_model(NeedleParameters{}, top_layer(), block.tissue, 32, 1).value();
+  const CoupledNeedleModel model =
+      make_coupled_needle_model(NeedleParameters{}, top_layer(), block.tissue, 32, 1).value();
   CoupledNeedleData data = make_coupled_needle_data(model, above_block(0.0)).value();
   // Push until the contact force is half f_p, then compare the surface node's displacement
   // (the FEM's answer) with force times the probed compliance (the constraint solver's).
@@ -76,8 +77,10 @@ TEST(NeedleCoupling, TheTissueCarriesTheContactForceAsTheProbedCompliancePredict
   const std::int32_t node = data.interaction.layers[0].contact.node;
   const double pushed_m = -data.displacements_m[3 * static_cast<std::size_t>(node) + 2];
   // The normal (zz) entry of the probed compliance tensor.
-  const double predicted_m = data.interaction.report.contact_force_n * model.interaction.compliance_tensor_m_per_n(2, 2);
-  std::printf("surface pushed %.3f mm by the FEM, %.3f mm predicted by the probed compliance\n", 1e3 * pushed_m, 1e3 * predicted_m);
+  const double predicted_m =
+      data.interaction.report.contact_force_n * model.interaction.compliance_tensor_m_per_n(2, 2);
+  std::printf("surface pushed %.3f mm by the FEM, %.3f mm predicted by the probed compliance\n", 1e3 * pushed_m,
+              1e3 * predicted_m);
   EXPECT_NEAR(pushed_m / predicted_m, 1.0, 0.05);
   EXPECT_TRUE(data.interaction.health.healthy());
 }
@@ -87,15 +90,16 @@ TEST(NeedleCoupling, MultiRateTissueKeepsThePuncture) {
   std::pair<double, double> results[2];
   const int ratios[2] = {1, 10};
   for (int k = 0; k < 2; ++k) {
-    const CoupledNeedleModel model = make_coupled_needle_model(NeedleParameters{}, top_layer(), block.tissue, 32, ratios[k]).value();
+    const CoupledNeedleModel model =
+        make_coupled_needle_model(NeedleParameters{}, top_layer(), block.tissue, 32, ratios[k]).value();
     CoupledNeedleData data = make_coupled_needle_data(model, above_block(0.0)).value();
     results[k] = insert(model, data, 0.012);
     EXPECT_EQ(data.interaction.report.punctures, 1);
     EXPECT_GT(data.interaction.report.active_path_points, 0);
     EXPECT_FALSE(data.interaction.health.has(HealthFlag::non_finite_state));
   }
-  std::printf("puncture after lowering %.2f mm (tissue every tick) and %.2f mm (every 10 ticks)\n", 1e3 * results[0].second,
-              1e3 * results[1].second);
+  std::printf("puncture after lowering %.2f mm (tissue every tick) and %.2f mm (every 10 ticks)\n",
+              1e3 * results[0].second, 1e3 * results[1].second);
   for (const auto& [largest_n, at_m] : results) {
     EXPECT_NEAR(largest_n, kPunctureN, 1e-9);
     EXPECT_GT(at_m, 0.005);  // after the 5 mm gap
@@ -106,7 +110,8 @@ TEST(NeedleCoupling, MultiRateTissueKeepsThePuncture) {
 
 TEST(NeedleCoupling, CoupledTicksAllocateNothingAndRepeatBitwise) {
   const Block block;
-  const CoupledNeedleModel model = make_coupled_needle_model(NeedleParameters{}, top_layer(), block.tissue, 32, 10).value();
+  const CoupledNeedleModel model =
+      make_coupled_needle_model(NeedleParameters{}, top_layer(), block.tissue, 32, 10).value();
   std::uint64_t hashes[2] = {0, 0};
   for (std::uint64_t& hash : hashes) {
     CoupledNeedleData data = make_coupled_needle_data(model, above_block(0.0)).value();

@@ -75,7 +75,8 @@ Eigen::VectorXd enumerate_solution(const Problem& problem) {
     Eigen::VectorXd rhs(n);
     for (int i = 0; i < n; ++i) {
       rhs[i] = -known_gap[unknown[static_cast<std::size_t>(i)]];
-      for (int j = 0; j < n; ++j) a(i, j) = problem.w(unknown[static_cast<std::size_t>(i)], unknown[static_cast<std::size_t>(j)]);
+      for (int j = 0; j < n; ++j)
+        a(i, j) = problem.w(unknown[static_cast<std::size_t>(i)], unknown[static_cast<std::size_t>(j)]);
     }
     if (n > 0) {
       const Eigen::VectorXd solved = a.ldlt().solve(rhs);
@@ -106,8 +107,8 @@ Eigen::VectorXd gauss_seidel(const Problem& problem, int sweeps, double& residua
   const auto m = problem.rows.size();
   std::vector<double> forces(m, 0.0), gaps(m, 0.0);
   std::vector<detail::SweepRow> work(m);
-  residual_m = solve_gauss_seidel(problem.rows, std::span<const double>(problem.w.data(), m * m), m, sweeps, forces, gaps,
-                                  GaussSeidelWorkspace{work, &detail::needle_lane_kernels(KernelIsa::best)});
+  residual_m = solve_gauss_seidel(problem.rows, std::span<const double>(problem.w.data(), m * m), m, sweeps, forces,
+                                  gaps, GaussSeidelWorkspace{work, &detail::needle_lane_kernels(KernelIsa::best)});
   return Eigen::Map<Eigen::VectorXd>(forces.data(), static_cast<Eigen::Index>(m));
 }
 
@@ -133,8 +134,9 @@ TEST(NeedleGaussSeidel, WarmStartFromTheSolutionStaysThere) {
   const auto m = problem.rows.size();
   std::vector<double> forces(exact.data(), exact.data() + m), gaps(m, 0.0);
   std::vector<detail::SweepRow> work(m);
-  const double residual_m = solve_gauss_seidel(problem.rows, std::span<const double>(problem.w.data(), m * m), m, 1, forces, gaps,
-                                               GaussSeidelWorkspace{work, &detail::needle_lane_kernels(KernelIsa::best)});
+  const double residual_m =
+      solve_gauss_seidel(problem.rows, std::span<const double>(problem.w.data(), m * m), m, 1, forces, gaps,
+                         GaussSeidelWorkspace{work, &detail::needle_lane_kernels(KernelIsa::best)});
   for (std::size_t r = 0; r < m; ++r) EXPECT_NEAR(forces[r], exact[static_cast<Eigen::Index>(r)], 1e-12);
   EXPECT_LT(residual_m, 1e-14);
 }

@@ -16,7 +16,7 @@ using testing::drive_to;
 using testing::facing_layer;
 using testing::Sample;
 
-constexpr double kStepM = 2e-5;  // 20 mm/s at 1 kHz
+constexpr double kStepM = 2e-5;      // 20 mm/s at 1 kHz
 constexpr double kSurfaceX = 0.155;  // the needle's tip starts at x = 0.15
 
 NeedleTissueScene plate_scene(double friction_n_m) {
@@ -31,11 +31,13 @@ TEST(NeedleInsertion, PlatePunctureForceRisesToFpThenDropsToTheCuttingPlateau) {
   std::vector<Sample> record;
   drive_to(model, data, 0.02, kStepM, record);
   ASSERT_EQ(data.report.punctures, 1);
-  const auto peak = std::max_element(record.begin(), record.end(),
-                                      [](const Sample& a, const Sample& b) { return a.forces.total_n < b.forces.total_n; });
+  const auto peak = std::max_element(record.begin(), record.end(), [](const Sample& a, const Sample& b) {
+    return a.forces.total_n < b.forces.total_n;
+  });
   // Before the puncture the force is the tissue's stiffness times the depth pushed in.
   const double stiffness_n_m = 1.0 / model.scene.point_compliance_m_per_n;
-  const Sample& halfway = *std::find_if(record.begin(), record.end(), [](const Sample& s) { return s.forces.total_n > 0.5; });
+  const Sample& halfway =
+      *std::find_if(record.begin(), record.end(), [](const Sample& s) { return s.forces.total_n > 0.5; });
   EXPECT_NEAR(halfway.forces.stiffness_n / (stiffness_n_m * halfway.depth_m), 1.0, 0.05);
   EXPECT_NEAR(peak->forces.total_n, 1.0, 0.02);  // f_p
   std::printf("plate: peak %.4f N at depth %.2f mm, plateau %.4f N\n", peak->forces.total_n, 1e3 * peak->depth_m,
@@ -55,10 +57,10 @@ TEST(NeedleInsertion, InsertionRetractionProfileShowsItsPhases) {
   drive_to(model, data, 0.035, kStepM, insert);  // 1: puncture, 2: friction growing with depth
   const double front_depth_m = data.report.tip_depth_m;
   for (int k = 0; k < 200; ++k) drive_to(model, data, 0.035, kStepM, hold);  // 3: hold
-  drive_to(model, data, 0.025, kStepM, retract);   // 4: partial retraction
-  drive_to(model, data, 0.035, kStepM, reinsert);  // 5: re-insertion along the path
-  drive_to(model, data, 0.040, kStepM, deeper);    // ... and beyond the old front
-  drive_to(model, data, -0.01, kStepM, out);       // 6: full retraction
+  drive_to(model, data, 0.025, kStepM, retract);                             // 4: partial retraction
+  drive_to(model, data, 0.035, kStepM, reinsert);                            // 5: re-insertion along the path
+  drive_to(model, data, 0.040, kStepM, deeper);                              // ... and beyond the old front
+  drive_to(model, data, -0.01, kStepM, out);                                 // 6: full retraction
   // 2: friction grows with the inserted length: f_len per unit length, sampled every
   // path spacing (so within one spacing's worth of friction of f_len * depth).
   for (double depth_m : {0.012, 0.018, 0.024, 0.029}) {
@@ -68,8 +70,8 @@ TEST(NeedleInsertion, InsertionRetractionProfileShowsItsPhases) {
     EXPECT_GT(s.forces.friction_n, 0.0);
   }
   EXPECT_GT(insert.back().forces.friction_n, std::find_if(insert.begin(), insert.end(), [](const Sample& x) {
-                                                return x.depth_m > 0.012;
-                                              })->forces.friction_n);
+                                               return x.depth_m > 0.012;
+                                             })->forces.friction_n);
   // The tissue ahead of the tip, compressed by the cutting force, unloads over
   // f_cut * compliance (0.6 mm) when the tip backs off; beyond twice that nothing touches it.
   const double unloaded_m = 2.0 * 0.3 * model.scene.point_compliance_m_per_n;
@@ -148,7 +150,8 @@ TEST(NeedleInsertion, StiffInclusionDeflectsTheNeedleUntilItsOwnPunctureForce) {
     return lateral_m;
   };
   const double steel = lateral_at_inclusion_puncture(200e9), softer = lateral_at_inclusion_puncture(50e9);
-  std::printf("tip deflected %.3f mm (steel) and %.3f mm (E/4) before the inclusion gave way\n", 1e3 * steel, 1e3 * softer);
+  std::printf("tip deflected %.3f mm (steel) and %.3f mm (E/4) before the inclusion gave way\n", 1e3 * steel,
+              1e3 * softer);
   EXPECT_GT(std::abs(steel), 1e-4);
   EXPECT_GT(std::abs(softer), std::abs(steel));  // a more flexible needle deflects more
 }
@@ -179,12 +182,13 @@ TEST(NeedleInsertion, BevelSteeringIsASwitchAndCurvesThePathTowardsTheBevel) {
     // Tip offsets at 5, 20 and 35 mm deep.
     std::vector<double> offsets;
     for (double depth_m : {0.005, 0.02, 0.0349})
-      offsets.push_back(std::find_if(record.begin(), record.end(), [&](const Sample& s) { return s.depth_m > depth_m; })->tip_m.y());
+      offsets.push_back(
+          std::find_if(record.begin(), record.end(), [&](const Sample& s) { return s.depth_m > depth_m; })->tip_m.y());
     return offsets;
   };
   const std::vector<double> straight = lateral_offsets(false), steered = lateral_offsets(true);
-  std::printf("tip lateral offset at 5 / 20 / 35 mm: %.3f / %.3f / %.3f mm with bevel, %.1e without\n", 1e3 * steered[0],
-              1e3 * steered[1], 1e3 * steered[2], straight[2]);
+  std::printf("tip lateral offset at 5 / 20 / 35 mm: %.3f / %.3f / %.3f mm with bevel, %.1e without\n",
+              1e3 * steered[0], 1e3 * steered[1], 1e3 * steered[2], straight[2]);
   for (double y : straight) EXPECT_EQ(y, 0.0);
   // Towards the bevel's open side (+y of the tip frame), and curving: the second 15 mm add
   // more offset than the first.

@@ -78,13 +78,17 @@ MixedProblem mixed_problem(int points, unsigned seed) {
 
 /// Hash of the forces and gaps after `sweeps` sweeps in `isa`'s kernels, and the residual;
 /// W's columns `padding` values apart beyond m, the padding NaN (which must never be read).
-std::uint64_t solved_hash(const MixedProblem& problem, int sweeps, KernelIsa isa, double& residual_m, std::size_t padding = 0) {
+std::uint64_t solved_hash(const MixedProblem& problem, int sweeps, KernelIsa isa, double& residual_m,
+                          std::size_t padding = 0) {
   const std::size_t m = problem.rows.size(), stride = m + padding;
   std::vector<double> w(m * stride, std::nan(""));
-  for (std::size_t j = 0; j < m; ++j) std::copy_n(problem.w.begin() + static_cast<std::ptrdiff_t>(j * m), m, w.begin() + static_cast<std::ptrdiff_t>(j * stride));
+  for (std::size_t j = 0; j < m; ++j)
+    std::copy_n(problem.w.begin() + static_cast<std::ptrdiff_t>(j * m), m,
+                w.begin() + static_cast<std::ptrdiff_t>(j * stride));
   std::vector<double> forces = problem.warm_start, gaps(m, 0.0);
   std::vector<detail::SweepRow> work(m);
-  residual_m = solve_gauss_seidel(problem.rows, w, stride, sweeps, forces, gaps, GaussSeidelWorkspace{work, &detail::needle_lane_kernels(isa)});
+  residual_m = solve_gauss_seidel(problem.rows, w, stride, sweeps, forces, gaps,
+                                  GaussSeidelWorkspace{work, &detail::needle_lane_kernels(isa)});
   return testing::bits_hash({forces, gaps});
 }
 
@@ -116,8 +120,10 @@ TEST(NeedleLaneKernels, EveryVariantSolvesMixedProblemsToTheBaselineBits) {
 std::vector<double> combined_by_definition(const detail::RowCombination& p) {
   std::vector<double> out(p.rows * p.out_stride, 0.0);
   for (std::size_t r = 0; r < p.rows; ++r) {
-    const std::size_t width = p.lower_triangle ? std::min(p.width, (r + detail::kCombinedLanes) / detail::kCombinedLanes * detail::kCombinedLanes)
-                                               : p.width;
+    const std::size_t width =
+        p.lower_triangle
+            ? std::min(p.width, (r + detail::kCombinedLanes) / detail::kCombinedLanes * detail::kCombinedLanes)
+            : p.width;
     for (std::size_t i = 0; i < width; ++i) {
       double v = 0.0;
       for (std::size_t k = 0; k < p.terms; ++k) {
@@ -143,14 +149,15 @@ TEST(NeedleLaneKernels, EveryVariantCombinesRowsToTheDefinitionsBits) {
   int compared = 0;
   for (std::size_t terms : {1, 3, 4, 6, 9})
     for (bool lower : {false, true}) {
-      detail::RowCombination product{rows, terms, stride, coefficients.data(), sources.data(), dense.data(), width, width, lower,
-                                     nullptr, width};
+      detail::RowCombination product{
+          rows, terms, stride, coefficients.data(), sources.data(), dense.data(), width, width, lower, nullptr, width};
       const std::vector<double> expected = combined_by_definition(product);
       for (KernelIsa isa : testing::available_kernel_isas()) {
         std::vector<double> out(rows * width, 0.0);
         product.out = out.data();
         detail::needle_lane_kernels(isa).combine_rows(product);
-        EXPECT_EQ(out, expected) << kernel_isa_name(isa) << ", " << terms << " terms" << (lower ? ", lower triangle" : "");
+        EXPECT_EQ(out, expected) << kernel_isa_name(isa) << ", " << terms << " terms"
+                                 << (lower ? ", lower triangle" : "");
         ++compared;
       }
     }
@@ -229,7 +236,7 @@ TEST(NeedleLaneKernels, EveryVariantFindsTheNearestNodeOfThePlainScan) {
     for (double& u : displacements) u = grid(0.01, 1.0);
     for (int trial = 0; trial < 12; ++trial) {
       std::vector<double> r = rest;
-      if (trial == 3 && nodes > 0) r[0] = std::nan("");              // node 0 at NaN: it stays the answer
+      if (trial == 3 && nodes > 0) r[0] = std::nan("");                // node 0 at NaN: it stays the answer
       if (trial == 4 && nodes > 5) r[3 * (nodes / 2)] = std::nan("");  // a NaN elsewhere never wins
       if (trial == 5 && nodes > 1) r[3 * (nodes - 1)] = std::numeric_limits<double>::infinity();
       detail::NearestNodeQuery q;
@@ -240,7 +247,8 @@ TEST(NeedleLaneKernels, EveryVariantFindsTheNearestNodeOfThePlainScan) {
       for (double& c : q.point_m) c = grid(0.01, 3.0);
       const std::int32_t expected = nearest_by_scan(q);
       int nearest = 0;
-      for (std::size_t n = 0; n < nodes; ++n) nearest += squared_distance(q, n) == squared_distance(q, static_cast<std::size_t>(expected));
+      for (std::size_t n = 0; n < nodes; ++n)
+        nearest += squared_distance(q, n) == squared_distance(q, static_cast<std::size_t>(expected));
       tied += nearest > 1 ? 1 : 0;
       for (KernelIsa isa : testing::available_kernel_isas()) {
         EXPECT_EQ(detail::needle_lane_kernels(isa).nearest_node(q), expected)
@@ -250,7 +258,8 @@ TEST(NeedleLaneKernels, EveryVariantFindsTheNearestNodeOfThePlainScan) {
     }
   }
   EXPECT_GT(tied, 10);  // the first of equals was put to the test
-  std::printf("%d nearest-node scans compared with the plain scan, %d of the queries with tied nearest nodes\n", compared, tied);
+  std::printf("%d nearest-node scans compared with the plain scan, %d of the queries with tied nearest nodes\n",
+              compared, tied);
 }
 
 /// The reduced liver and its approach, built once for the cases of this program.
@@ -273,15 +282,18 @@ std::uint64_t liver_run(KernelIsa isa, int& path_points, int& rows) {
   const LiverFixture& f = liver_fixture();
   NeedleTissueScene scene = liver_capsule(f.approach, kReducedPathSpacingM);
   scene.kernel_isa = isa;
-  const ReducedCoupledNeedleModel model = make_coupled_needle_model(needle(20), scene, f.tissue, f.liver.liver.mesh, 64, 1).value();
+  const ReducedCoupledNeedleModel model =
+      make_coupled_needle_model(needle(20), scene, f.tissue, f.liver.liver.mesh, 64, 1).value();
   ReducedCoupledNeedleData data = make_coupled_needle_data(model, f.approach.base_at(0.0)).value();
   std::uint64_t hash = 0;
   double advanced_m = 0.0;
   const auto tick = [&](const NeedlePose& base) {
     step(model, data, NeedleInputs{base, {}, {}});
-    hash = 31 * hash + testing::bits_hash({data.interaction.needle.positions_m, data.interaction.slot_forces, data.tissue.q});
+    hash = 31 * hash +
+           testing::bits_hash({data.interaction.needle.positions_m, data.interaction.slot_forces, data.tissue.q});
   };
-  while (data.interaction.report.active_path_points < 32 && advanced_m < 0.1) tick(f.approach.base_at(advanced_m += 2e-5));
+  while (data.interaction.report.active_path_points < 32 && advanced_m < 0.1)
+    tick(f.approach.base_at(advanced_m += 2e-5));
   for (int k = 0; k < 200; ++k) tick(f.approach.wobbled_base(advanced_m, k));
   path_points = data.interaction.report.active_path_points;
   rows = data.interaction.row_count;

@@ -10,10 +10,10 @@
 #include <cmath>
 
 #include "nav/needle/reduced_coupling.hpp"
-#include "needle_coupling_support.hpp"
-#include "needle_insertion_support.hpp"
 #include "nav/needle/tissue_coupling.hpp"
 #include "nav/reduced/reduction.hpp"
+#include "needle_coupling_support.hpp"
+#include "needle_insertion_support.hpp"
 #include "support/allocation_guard.hpp"
 #include "tissue/tissue_test_support.hpp"
 
@@ -61,7 +61,9 @@ ReducedModel reduced_slab(const Slab& slab, int r, ReducedForceKind kind, Reduce
 }
 
 /// The needle pointing down (-z) above the top face's centre, 5 mm off it.
-NeedlePose above_slab(double lowered_m) { return testing::needle_above(0.5 * kSideM, 0.5 * kSideM, kDepthM, lowered_m); }
+NeedlePose above_slab(double lowered_m) {
+  return testing::needle_above(0.5 * kSideM, 0.5 * kSideM, kDepthM, lowered_m);
+}
 
 NeedleTissueScene top_layer(double path_spacing_m = 0.003) {
   return testing::top_face_layer(0.5 * kSideM, 0.5 * kSideM, kDepthM, path_spacing_m);
@@ -101,7 +103,8 @@ TEST(NeedleReducedCoupling, ComplianceFactorsEqualTheReducedStepResponse) {
     const int r = factors.value().rank;
     ASSERT_EQ(r, 16);
     const auto rows = [&](std::size_t node) {
-      return Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>>(factors.value().factors.data() + 3 * node * r, 3, r);
+      return Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>>(
+          factors.value().factors.data() + 3 * node * r, 3, r);
     };
     const std::size_t nodes = slab.mesh.nodes_m.size();
     std::vector<double> u(3 * nodes);
@@ -137,11 +140,14 @@ TEST(NeedleReducedCoupling, InsertionPuncturesAndDragsTheTissueAsTheFullOrderCou
   const Slab slab;
   // The same linear tissue twice: exact full order, and its complete reduced basis.
   const TetFemModel full = make_tet_fem_model(slab.mesh, slab.scene, exact_linear_options()).value();
-  const ReducedModel reduced = reduced_slab(slab, slab.free_dofs(), ReducedForceKind::linear, ReducedIntegrator::quasi_static);
-  const CoupledNeedleModel full_model = make_coupled_needle_model(NeedleParameters{}, top_layer(0.01), full, 32, 1).value();
+  const ReducedModel reduced =
+      reduced_slab(slab, slab.free_dofs(), ReducedForceKind::linear, ReducedIntegrator::quasi_static);
+  const CoupledNeedleModel full_model =
+      make_coupled_needle_model(NeedleParameters{}, top_layer(0.01), full, 32, 1).value();
   NeedleTissueScene complete = top_layer(0.01);
   complete.point_compliance_m_per_n = 1e-8;  // a complete basis misses no local compliance
-  const ReducedCoupledNeedleModel reduced_model = make_coupled_needle_model(NeedleParameters{}, complete, reduced, slab.mesh, 32, 1).value();
+  const ReducedCoupledNeedleModel reduced_model =
+      make_coupled_needle_model(NeedleParameters{}, complete, reduced, slab.mesh, 32, 1).value();
   CoupledNeedleData full_data = make_coupled_needle_data(full_model, above_slab(0.0)).value();
   ReducedCoupledNeedleData reduced_data = make_coupled_needle_data(reduced_model, above_slab(0.0)).value();
   const double full_puncture_m = insert(full_model, full_data, 0.0, 0.02);
@@ -149,9 +155,11 @@ TEST(NeedleReducedCoupling, InsertionPuncturesAndDragsTheTissueAsTheFullOrderCou
   int full_points = 0, reduced_points = 0;
   const double full_drag_m = mean_drag_m(full_data.interaction, full_data.displacements_m, full_points);
   const double reduced_drag_m = mean_drag_m(reduced_data.interaction, reduced_data.displacements_m, reduced_points);
-  std::printf("puncture after lowering %.2f mm (full order) and %.2f mm (reduced); path points %d / %d; mean drag along "
-              "the shaft %.3f / %.3f um\n",
-              1e3 * full_puncture_m, 1e3 * reduced_puncture_m, full_points, reduced_points, 1e6 * full_drag_m, 1e6 * reduced_drag_m);
+  std::printf(
+      "puncture after lowering %.2f mm (full order) and %.2f mm (reduced); path points %d / %d; mean drag along "
+      "the shaft %.3f / %.3f um\n",
+      1e3 * full_puncture_m, 1e3 * reduced_puncture_m, full_points, reduced_points, 1e6 * full_drag_m,
+      1e6 * reduced_drag_m);
   EXPECT_EQ(reduced_data.interaction.report.punctures, 1);
   EXPECT_GT(reduced_puncture_m, 0.005);  // after the 5 mm gap
   EXPECT_GT(reduced_points, 0);
@@ -172,8 +180,10 @@ TEST(NeedleReducedCoupling, SignoriniAndCoulombHoldOnTheSteppedReducedTissue) {
   // reduced displacement (and yields locally under its own force), which must satisfy the
   // rows' laws with the corrected needle as the solver predicted through V V^T.
   const Slab slab;
-  const ReducedModel tissue = reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::quasi_static);
-  const ReducedCoupledNeedleModel model = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, 1).value();
+  const ReducedModel tissue =
+      reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::quasi_static);
+  const ReducedCoupledNeedleModel model =
+      make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, 1).value();
   ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
   std::vector<double> before(data.displacements_m.size());
   double worst_m = 0.0;
@@ -191,16 +201,17 @@ TEST(NeedleReducedCoupling, SignoriniAndCoulombHoldOnTheSteppedReducedTissue) {
     if (data.interaction.row_count == 0 || !same_rows) continue;
     const double local = model.interaction.scene.point_compliance_m_per_n;
     worst_m = std::max(worst_m, testing::violation_after_correction(data.interaction, [&](std::size_t r) {
-      const ConstraintRow& row = data.interaction.rows[r];
-      const auto node = 3 * static_cast<std::size_t>(row.tissue_node);
-      Eigen::Vector3d x = row.tissue_point_m;
-      for (int c = 0; c < 3; ++c) x[c] += data.displacements_m[node + c] - before[node + c];
-      for (int k = 0; k < data.interaction.row_count; ++k) {
-        const ConstraintRow& other = data.interaction.rows[static_cast<std::size_t>(k)];
-        if (same_constraint_point(row, other)) x -= local * data.interaction.row_forces[static_cast<std::size_t>(k)] * other.direction;
-      }
-      return x;
-    }));
+                         const ConstraintRow& row = data.interaction.rows[r];
+                         const auto node = 3 * static_cast<std::size_t>(row.tissue_node);
+                         Eigen::Vector3d x = row.tissue_point_m;
+                         for (int c = 0; c < 3; ++c) x[c] += data.displacements_m[node + c] - before[node + c];
+                         for (int k = 0; k < data.interaction.row_count; ++k) {
+                           const ConstraintRow& other = data.interaction.rows[static_cast<std::size_t>(k)];
+                           if (same_constraint_point(row, other))
+                             x -= local * data.interaction.row_forces[static_cast<std::size_t>(k)] * other.direction;
+                         }
+                         return x;
+                       }));
     ++checked;
   }
   std::printf("%d ticks with constraints, largest law violation on the stepped tissue %.2e m\n", checked, worst_m);
@@ -235,29 +246,36 @@ Eigen::MatrixXd dense_compliance(const NeedleTissueModel& model, const NeedleTis
       if (node >= 1 && w != 0.0) h.block<1, 3>(r, 6 * (node - 1)) = w * row.direction.transpose();
     }
     if (row.tissue_node < 0) continue;
-    const double* v = model.compliance_factors.data() + 3 * static_cast<std::size_t>(row.tissue_node) * static_cast<std::size_t>(rank);
-    for (int j = 0; j < rank; ++j) c(r, j) = v[j] * row.direction.x() + v[rank + j] * row.direction.y() + v[2 * rank + j] * row.direction.z();
+    const double* v = model.compliance_factors.data() +
+                      3 * static_cast<std::size_t>(row.tissue_node) * static_cast<std::size_t>(rank);
+    for (int j = 0; j < rank; ++j)
+      c(r, j) = v[j] * row.direction.x() + v[rank + j] * row.direction.y() + v[2 * rank + j] * row.direction.z();
   }
   Eigen::MatrixXd w = h * inverse * h.transpose() + c * c.transpose();
   for (int p = 0; p < data.point_count; ++p)
-    for (int r = data.point_first_row[static_cast<std::size_t>(p)]; r < data.point_first_row[static_cast<std::size_t>(p) + 1]; ++r)
-      for (int s = data.point_first_row[static_cast<std::size_t>(p)]; s < data.point_first_row[static_cast<std::size_t>(p) + 1]; ++s)
-        w(r, s) += model.scene.point_compliance_m_per_n *
-                   data.rows[static_cast<std::size_t>(r)].direction.dot(data.rows[static_cast<std::size_t>(s)].direction);
+    for (int r = data.point_first_row[static_cast<std::size_t>(p)];
+         r < data.point_first_row[static_cast<std::size_t>(p) + 1]; ++r)
+      for (int s = data.point_first_row[static_cast<std::size_t>(p)];
+           s < data.point_first_row[static_cast<std::size_t>(p) + 1]; ++s)
+        w(r, s) += model.scene.point_compliance_m_per_n * data.rows[static_cast<std::size_t>(r)].direction.dot(
+                                                              data.rows[static_cast<std::size_t>(s)].direction);
   return w;
 }
 
 TEST(NeedleReducedCoupling, TheSolversComplianceIsHAInverseHTransposedPlusTheTissuesVVTransposed) {
   const Slab slab;
-  const ReducedModel tissue = reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::quasi_static);
-  const ReducedCoupledNeedleModel model = make_coupled_needle_model(NeedleParameters{}, top_layer(0.001), tissue, slab.mesh, 32, 1).value();
+  const ReducedModel tissue =
+      reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::quasi_static);
+  const ReducedCoupledNeedleModel model =
+      make_coupled_needle_model(NeedleParameters{}, top_layer(0.001), tissue, slab.mesh, 32, 1).value();
   ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
   insert(model, data, 0.0, 0.012);
   const NeedleTissueData& interaction = data.interaction;
   const auto m = static_cast<Eigen::Index>(interaction.row_count);
   ASSERT_GE(interaction.report.active_path_points, 4);
   const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> solver(
-      interaction.compliance.data(), m, m, Eigen::OuterStride<>(static_cast<Eigen::Index>(interaction.compliance_stride)));
+      interaction.compliance.data(), m, m,
+      Eigen::OuterStride<>(static_cast<Eigen::Index>(interaction.compliance_stride)));
   const Eigen::MatrixXd dense = dense_compliance(model.interaction, interaction);
   const double error = (solver - dense).cwiseAbs().maxCoeff() / dense.cwiseAbs().maxCoeff();
   std::printf("%lld rows on %d constraint points: largest difference from the dense W %.2e of its largest entry\n",
@@ -268,17 +286,21 @@ TEST(NeedleReducedCoupling, TheSolversComplianceIsHAInverseHTransposedPlusTheTis
 
 TEST(NeedleReducedCoupling, MultiRateTissueKeepsThePuncture) {
   const Slab slab;
-  const ReducedModel tissue = reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::quasi_static);
+  const ReducedModel tissue =
+      reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::quasi_static);
   double at_m[2] = {0.0, 0.0};
   const int ratios[2] = {1, 10};
   for (int k = 0; k < 2; ++k) {
-    const ReducedCoupledNeedleModel model = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, ratios[k]).value();
+    const ReducedCoupledNeedleModel model =
+        make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, ratios[k]).value();
     ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
     at_m[k] = insert(model, data, 0.0, 0.012);
     int points = 0;
     const double drag_m = mean_drag_m(data.interaction, data.displacements_m, points);
-    std::printf("tissue every %d ticks: puncture after lowering %.2f mm, %d path points, mean drag %.1f um, tissue steps %lld\n",
-                ratios[k], 1e3 * at_m[k], points, 1e6 * drag_m, static_cast<long long>(data.tissue.steps));
+    std::printf(
+        "tissue every %d ticks: puncture after lowering %.2f mm, %d path points, mean drag %.1f um, tissue steps "
+        "%lld\n",
+        ratios[k], 1e3 * at_m[k], points, 1e6 * drag_m, static_cast<long long>(data.tissue.steps));
     EXPECT_EQ(data.interaction.report.punctures, 1);
     EXPECT_GT(points, 0);
     EXPECT_GT(drag_m, 0.0);
@@ -291,8 +313,10 @@ TEST(NeedleReducedCoupling, MultiRateTissueKeepsThePuncture) {
 
 TEST(NeedleReducedCoupling, CoupledTicksAllocateNothingAndRepeatBitwise) {
   const Slab slab;
-  const ReducedModel tissue = reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::implicit_euler);
-  const ReducedCoupledNeedleModel model = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, 3).value();
+  const ReducedModel tissue =
+      reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::implicit_euler);
+  const ReducedCoupledNeedleModel model =
+      make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, 3).value();
   std::uint64_t hashes[2] = {0, 0};
   for (std::uint64_t& hash : hashes) {
     ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();

@@ -49,15 +49,16 @@ TEST(Nnls, AWarmStartFromFewerColumnsFindsTheSameSolutionInFewerIterations) {
     start.head(warm.size()) = warm;
     const detail::NnlsResult result = detail::nnls(a.leftCols(k), b, start);
     ASSERT_TRUE(cold.converged && result.converged) << k << " columns";
-    EXPECT_LT((result.x - cold.x).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + cold.x.cwiseAbs().maxCoeff())) << k << " columns";
+    EXPECT_LT((result.x - cold.x).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + cold.x.cwiseAbs().maxCoeff()))
+        << k << " columns";
     warm = result.x;
     cold_iterations += cold.iterations;
     warm_iterations += result.iterations;
   }
   for (Eigen::Index j = 0; j < warm.size(); ++j) positive += warm[j] > 0.0;
-  std::printf("[ nnls     ] 24 columns grown one at a time: %d outer iterations cold, %d warm; %d positive weights\n", cold_iterations,
-              warm_iterations, positive);
-  EXPECT_GT(positive, 4);                          // a solution with both free and bound weights
+  std::printf("[ nnls     ] 24 columns grown one at a time: %d outer iterations cold, %d warm; %d positive weights\n",
+              cold_iterations, warm_iterations, positive);
+  EXPECT_GT(positive, 4);  // a solution with both free and bound weights
   EXPECT_LT(positive, 24);
   EXPECT_LT(2 * warm_iterations, cold_iterations);  // cold: one per positive weight each time
 }
@@ -118,9 +119,12 @@ Eigen::VectorXd full_projection(const ProjectionCase& c, const TissueSolverOptio
   const Eigen::MatrixXd u = basis_matrix(c.basis);
   const auto n3 = u.rows();
   Eigen::VectorXd displacement = u * c.q;
-  for (int k = 0; k < 3; ++k) displacement += c.d[k] * Eigen::Map<const Eigen::VectorXd>(c.basis.diaphragm_lift.data() + k * n3, n3);
-  std::vector<double> x(static_cast<std::size_t>(n3)), rotations(9 * tables.tets.size(), 0.0), forces(static_cast<std::size_t>(n3), 0.0);
-  for (Eigen::Index i = 0; i < n3; ++i) x[static_cast<std::size_t>(i)] = tables.rest_m[static_cast<std::size_t>(i)] + displacement[i];
+  for (int k = 0; k < 3; ++k)
+    displacement += c.d[k] * Eigen::Map<const Eigen::VectorXd>(c.basis.diaphragm_lift.data() + k * n3, n3);
+  std::vector<double> x(static_cast<std::size_t>(n3)), rotations(9 * tables.tets.size(), 0.0),
+      forces(static_cast<std::size_t>(n3), 0.0);
+  for (Eigen::Index i = 0; i < n3; ++i)
+    x[static_cast<std::size_t>(i)] = tables.rest_m[static_cast<std::size_t>(i)] + displacement[i];
   for (std::size_t e = 0; e < tables.tets.size(); ++e)
     for (int k = 0; k < 3; ++k) rotations[9 * e + 4 * k] = 1.0;
   detail::update_element_rotations(tables, x, rotations);
@@ -134,8 +138,10 @@ Eigen::VectorXd cubature_force(const ProjectionCase& c, const TissueSolverOption
   auto data = make_reduced_data(model).value();
   Eigen::VectorXd force(6);
   const detail::ReducedState state{std::span<const double>(c.q.data(), 6), c.d.data()};
-  detail::evaluate_internal_force(model.tables(), state, {data.sample_displacements, data.sample_rotations, data.sample_tangent_rows, data.monomials},
-                                  std::span<double>(force.data(), 6), {});
+  detail::evaluate_internal_force(
+      model.tables(), state,
+      {data.sample_displacements, data.sample_rotations, data.sample_tangent_rows, data.monomials},
+      std::span<double>(force.data(), 6), {});
   return force;
 }
 
@@ -224,7 +230,8 @@ TEST(ForceReduction, CubicPolynomialEqualsTheDirectStvkProjection) {
   Eigen::VectorXd force(5);
   Eigen::MatrixXd tangent(5, 5);
   const double zero[3] = {0.0, 0.0, 0.0};
-  const detail::ForceScratch scratch{data.sample_displacements, data.sample_rotations, data.sample_tangent_rows, data.monomials};
+  const detail::ForceScratch scratch{data.sample_displacements, data.sample_rotations, data.sample_tangent_rows,
+                                     data.monomials};
   detail::evaluate_internal_force(model.tables(), {std::span<const double>(direct.q.data(), 5), zero}, scratch,
                                   std::span<double>(force.data(), 5), std::span<double>(tangent.data(), 25));
   EXPECT_LT((force - expected).norm(), 1e-10 * expected.norm());
@@ -248,11 +255,13 @@ TEST(ForceReduction, CubicPolynomialNeedsStvkWithoutPenalty) {
   options.force_kind = ReducedForceKind::stvk_cubic_polynomial;
   TissueSolverOptions penalty = c.solver;
   penalty.incompressibility_gain_pa = 1e4;
-  const std::vector<double> snapshots(c.basis.basis.begin(), c.basis.basis.begin() + static_cast<std::ptrdiff_t>(3 * c.beam.mesh.nodes_m.size()));
+  const std::vector<double> snapshots(
+      c.basis.basis.begin(), c.basis.basis.begin() + static_cast<std::ptrdiff_t>(3 * c.beam.mesh.nodes_m.size()));
   EXPECT_EQ(add_force_reduction(c.beam.mesh, c.beam.scene, penalty, options, snapshots, 1, c.basis).error().field,
             "incompressibility_gain_pa");
   c.basis.polynomial_coefficients.pop_back();
-  EXPECT_EQ(make_reduced_model(c.beam.mesh, c.beam.scene, c.solver, c.basis, {}).error().field, "polynomial_coefficients");
+  EXPECT_EQ(make_reduced_model(c.beam.mesh, c.beam.scene, c.solver, c.basis, {}).error().field,
+            "polynomial_coefficients");
 }
 
 }  // namespace

@@ -96,7 +96,8 @@ class ReducedAccuracy : public ::testing::Test {
     s->held_out = make_training_loads(s->mesh, s->scene, options, LoadSet::held_out);
     for (std::size_t k = 0; k < s->held_out.size(); ++k) {
       const std::string& name = s->held_out[k].name;
-      if (name.starts_with("gravity x") || name == "push 0" || name == "needle 0" || name == "diaphragm 0") s->neo_loads.push_back(k);
+      if (name.starts_with("gravity x") || name == "push 0" || name == "needle 0" || name == "diaphragm 0")
+        s->neo_loads.push_back(k);
     }
 
     // First the training set in two halves, one on each core (each load is solved from rest,
@@ -105,12 +106,15 @@ class ReducedAccuracy : public ::testing::Test {
     const std::size_t half = all_training.size() / 2;
     std::optional<Result<Snapshots>> training_first, training_second, corotational;
     run_on_two_threads({
-        {"training, first half", [&] { training_first = solve_static_loads(s->mesh, s->scene, all_training.first(half)); }},
-        {"training, second half", [&] { training_second = solve_static_loads(s->mesh, s->scene, all_training.subspan(half)); }},
+        {"training, first half",
+         [&] { training_first = solve_static_loads(s->mesh, s->scene, all_training.first(half)); }},
+        {"training, second half",
+         [&] { training_second = solve_static_loads(s->mesh, s->scene, all_training.subspan(half)); }},
     });
     s->training = training_first->value();
     const Snapshots& second = training_second->value();
-    s->training.displacements_m.insert(s->training.displacements_m.end(), second.displacements_m.begin(), second.displacements_m.end());
+    s->training.displacements_m.insert(s->training.displacements_m.end(), second.displacements_m.begin(),
+                                       second.displacements_m.end());
     s->training.count += second.count;
     s->training.total_steps += second.total_steps;
 
@@ -119,22 +123,24 @@ class ReducedAccuracy : public ::testing::Test {
     std::vector<std::optional<Result<NeoHookeanSolution>>> neo_hookean(s->neo_loads.size());
     std::vector<ReducedRun> runs(kBasisSizes.size());
     const auto reduced = [&](std::size_t k) {
-      return Task{"reduced model r = " + std::to_string(kBasisSizes[k]), [&, k] { runs[k] = run_of(*s, kBasisSizes[k]); }};
+      return Task{"reduced model r = " + std::to_string(kBasisSizes[k]),
+                  [&, k] { runs[k] = run_of(*s, kBasisSizes[k]); }};
     };
     std::vector<Task> tasks = {reduced(0)};
     for (std::size_t j = 0; j < s->neo_loads.size(); ++j)
       tasks.push_back({"neo-Hookean reference, " + s->held_out[s->neo_loads[j]].name, [&, j] {
-        NeoHookeanOptions reference_options;
-        reference_options.load_increments = 5;
-        const TrainingLoad& load = s->held_out[s->neo_loads[j]];
-        neo_hookean[j] = solve_neo_hookean_static(s->mesh, scene_for_load(s->scene, load), load.inputs(1.0), {}, reference_options);
-      }});
+                         NeoHookeanOptions reference_options;
+                         reference_options.load_increments = 5;
+                         const TrainingLoad& load = s->held_out[s->neo_loads[j]];
+                         neo_hookean[j] = solve_neo_hookean_static(s->mesh, scene_for_load(s->scene, load),
+                                                                   load.inputs(1.0), {}, reference_options);
+                       }});
     tasks.push_back(reduced(1));
     tasks.push_back({"held-out loads (corotational)", [&] {
-      StaticSolveOptions full_load;
-      full_load.snapshot_fractions = {1.0};
-      corotational = solve_static_loads(s->mesh, s->scene, s->held_out, full_load);
-    }});
+                       StaticSolveOptions full_load;
+                       full_load.snapshot_fractions = {1.0};
+                       corotational = solve_static_loads(s->mesh, s->scene, s->held_out, full_load);
+                     }});
     for (std::size_t k = 2; k < kBasisSizes.size(); ++k) tasks.push_back(reduced(k));
     run_on_two_threads(tasks);
 
@@ -164,16 +170,20 @@ class ReducedAccuracy : public ::testing::Test {
     options.basis_size = r;
     options.max_cubature_samples = 256;
     const TissueSolverOptions solver = reduction_solver_options(options.force_kind);
-    ReducedBasis basis = make_pod_basis(s.mesh, s.scene, solver, options, s.training.displacements_m, s.training.count).value();
-    const Status reduced = add_force_reduction(s.mesh, s.scene, solver, options, s.training.displacements_m, s.training.count, basis);
+    ReducedBasis basis =
+        make_pod_basis(s.mesh, s.scene, solver, options, s.training.displacements_m, s.training.count).value();
+    const Status reduced =
+        add_force_reduction(s.mesh, s.scene, solver, options, s.training.displacements_m, s.training.count, basis);
     EXPECT_TRUE(reduced.ok()) << reduced.error().describe();
     ReducedRun run;
     run.cubature_samples = basis.sample_tets.size();
     for (const TrainingLoad& load : s.held_out) {
       const auto u = solve_reduced_static(s.mesh, s.scene, basis, load);
       EXPECT_TRUE(u.ok()) << u.error().describe();
-      if (u.ok()) run.solutions_m.insert(run.solutions_m.end(), u.value().begin(), u.value().end());
-      else run.solutions_m.insert(run.solutions_m.end(), 3 * s.mesh.nodes_m.size(), 0.0);
+      if (u.ok())
+        run.solutions_m.insert(run.solutions_m.end(), u.value().begin(), u.value().end());
+      else
+        run.solutions_m.insert(run.solutions_m.end(), 3 * s.mesh.nodes_m.size(), 0.0);
     }
     return run;
   }
@@ -190,16 +200,16 @@ class ReducedAccuracy : public ::testing::Test {
     double sum_m2 = 0.0;
     for (std::size_t j = 0; j < solution_index.size(); ++j) {
       const std::size_t k = solution_index[j];
-      const auto d = displacement_error(std::span(solutions_m).subspan(k * rows, rows), std::span(reference_m).subspan(j * rows, rows),
-                                        shared_->target);
+      const auto d = displacement_error(std::span(solutions_m).subspan(k * rows, rows),
+                                        std::span(reference_m).subspan(j * rows, rows), shared_->target);
       sum_m2 += d.rms_m * d.rms_m;
       e.reference_max_m = std::max(e.reference_max_m, d.reference_max_m);
       e.target_max_m = std::max(e.target_max_m, d.target_m);
       e.worst_load_pct = std::max(e.worst_load_pct, 100.0 * d.rms_m / d.reference_max_m);
       if (print)
         std::printf("  %-26s max %6.2f mm  rms %.3f mm (%5.2f %%)  largest %.3f mm  target %.3f mm\n",
-                    shared_->held_out[k].name.c_str(), 1e3 * d.reference_max_m, 1e3 * d.rms_m, 100.0 * d.rms_m / d.reference_max_m,
-                    1e3 * d.max_m, 1e3 * d.target_m);
+                    shared_->held_out[k].name.c_str(), 1e3 * d.reference_max_m, 1e3 * d.rms_m,
+                    100.0 * d.rms_m / d.reference_max_m, 1e3 * d.max_m, 1e3 * d.target_m);
     }
     e.rms_m = std::sqrt(sum_m2 / static_cast<double>(solution_index.size()));
     return e;
@@ -219,10 +229,13 @@ Shared* ReducedAccuracy::shared_ = nullptr;
 TEST_F(ReducedAccuracy, R32AgainstFullOrderCorotationalAndNeoHookeanReference) {
   const ReducedRun& run = shared_->runs.at(32);
   const std::vector<double>& reduced = run.solutions_m;
-  std::printf("r = 32, %zu cubature tetrahedra; held-out loads against full-order corotational:\n", run.cubature_samples);
+  std::printf("r = 32, %zu cubature tetrahedra; held-out loads against full-order corotational:\n",
+              run.cubature_samples);
   const SetError e = set_error(reduced, shared_->corotational_m, all_loads(), true);
-  std::printf("set: RMS %.3f mm = %.2f %% of the largest displacement %.2f mm (worst load %.2f %%); target <= %.3f mm\n", 1e3 * e.rms_m,
-              100.0 * e.rms_m / e.reference_max_m, 1e3 * e.reference_max_m, e.worst_load_pct, 1e3 * e.target_max_m);
+  std::printf(
+      "set: RMS %.3f mm = %.2f %% of the largest displacement %.2f mm (worst load %.2f %%); target <= %.3f mm\n",
+      1e3 * e.rms_m, 100.0 * e.rms_m / e.reference_max_m, 1e3 * e.reference_max_m, e.worst_load_pct,
+      1e3 * e.target_max_m);
   EXPECT_LE(e.rms_m, 0.02 * e.reference_max_m);
   EXPECT_LE(e.target_max_m, 1e-3);
 
@@ -231,14 +244,16 @@ TEST_F(ReducedAccuracy, R32AgainstFullOrderCorotationalAndNeoHookeanReference) {
   std::printf("reduced r = 32 against neo-Hookean:\n");
   const SetError neo = set_error(reduced, shared_->neo_hookean_m, shared_->neo_loads, true);
   std::printf("set RMS: full-order %.2f %%, reduced %.2f %% of %.2f mm; reduced target <= %.3f mm\n",
-              100.0 * full.rms_m / full.reference_max_m, 100.0 * neo.rms_m / neo.reference_max_m, 1e3 * neo.reference_max_m,
-              1e3 * neo.target_max_m);
+              100.0 * full.rms_m / full.reference_max_m, 100.0 * neo.rms_m / neo.reference_max_m,
+              1e3 * neo.reference_max_m, 1e3 * neo.target_max_m);
   EXPECT_LE(neo.rms_m, full.rms_m + 0.02 * neo.reference_max_m);
   EXPECT_LE(neo.target_max_m, 1e-3);
 }
 
 TEST_F(ReducedAccuracy, ErrorFallsAsTheBasisGrows) {
-  std::printf("error against r (held-out set, against full-order corotational):\n   r  samples  RMS (%% of max)  worst load %%  target (mm)\n");
+  std::printf(
+      "error against r (held-out set, against full-order corotational):\n   r  samples  RMS (%% of max)  worst load %% "
+      " target (mm)\n");
   std::vector<double> rms;  // by growing r
   for (const auto& [r, run] : shared_->runs) {
     const SetError e = set_error(run.solutions_m, shared_->corotational_m, all_loads(), false);

@@ -65,7 +65,8 @@ void expect_identical(const ReducedBasis& a, const ReducedBasis& b) {
 
 TEST(ReducedArtifact, FileRoundTripIsBitExact) {
   const TetMesh mesh = testing::box_mesh({0.02, 0.02, 0.04}, 0.01);
-  for (const ReducedForceKind kind : {ReducedForceKind::corotational_cubature, ReducedForceKind::stvk_cubic_polynomial}) {
+  for (const ReducedForceKind kind :
+       {ReducedForceKind::corotational_cubature, ReducedForceKind::stvk_cubic_polynomial}) {
     const ReducedBasis basis = synthetic_basis(mesh, 4, kind);
     const std::string path = testing::temporary_path("reduced_round_trip.navrb");
     ASSERT_TRUE(save_reduced_basis(path, basis).ok());
@@ -124,8 +125,9 @@ TEST(ReducedArtifact, ErrorsNameFileAndCause) {
   header[52] ^= 0x01;  // training residual bound: covered by the whole-file checksum only
   EXPECT_NE(message(header).find("whole-file checksum mismatch"), std::string::npos) << message(header);
   EXPECT_NE(message(header).find("basis.navrb"), std::string::npos);
-  EXPECT_NE(load_reduced_basis(testing::temporary_path("no_such.navrb"), nullptr).error().describe().find("no_such.navrb"),
-            std::string::npos);
+  EXPECT_NE(
+      load_reduced_basis(testing::temporary_path("no_such.navrb"), nullptr).error().describe().find("no_such.navrb"),
+      std::string::npos);
 }
 
 TEST(ReducedArtifact, InconsistentDimensionsAreRefused) {
@@ -134,7 +136,8 @@ TEST(ReducedArtifact, InconsistentDimensionsAreRefused) {
   basis.column_values.pop_back();
   const auto decoded = decode_reduced_basis(encode_reduced_basis(basis), "dims.navrb", &mesh);
   ASSERT_FALSE(decoded.ok());
-  EXPECT_NE(decoded.error().describe().find("inconsistent dimensions"), std::string::npos) << decoded.error().describe();
+  EXPECT_NE(decoded.error().describe().find("inconsistent dimensions"), std::string::npos)
+      << decoded.error().describe();
   EXPECT_EQ(decoded.error().field, "column_values");
 }
 

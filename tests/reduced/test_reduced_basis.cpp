@@ -62,7 +62,8 @@ DenseSystem dense_system(const BeamScene& beam) {
   for (Eigen::Index i = 0; i < n; ++i) {
     system.mass(i, i) = mass[system.free_dofs[static_cast<std::size_t>(i)]];
     for (Eigen::Index j = 0; j < n; ++j)
-      system.stiffness(i, j) = stiffness(system.free_dofs[static_cast<std::size_t>(i)], system.free_dofs[static_cast<std::size_t>(j)]);
+      system.stiffness(i, j) =
+          stiffness(system.free_dofs[static_cast<std::size_t>(i)], system.free_dofs[static_cast<std::size_t>(j)]);
   }
   return system;
 }
@@ -83,7 +84,8 @@ TEST(ReducedBasis, LanczosModesMatchADenseGeneralizedEigenSolver) {
     const double expected = reference.eigenvalues()[j];
     EXPECT_NEAR(basis.value().column_values[static_cast<std::size_t>(j)], expected, 1e-8 * expected) << j;
     Eigen::VectorXd mode(static_cast<Eigen::Index>(dense.free_dofs.size()));
-    for (std::size_t k = 0; k < dense.free_dofs.size(); ++k) mode[static_cast<Eigen::Index>(k)] = basis_column(basis.value(), j)[dense.free_dofs[k]];
+    for (std::size_t k = 0; k < dense.free_dofs.size(); ++k)
+      mode[static_cast<Eigen::Index>(k)] = basis_column(basis.value(), j)[dense.free_dofs[k]];
     double captured = 0.0;
     for (Eigen::Index k = 0; k < reference.eigenvalues().size(); ++k)
       if (std::abs(reference.eigenvalues()[k] - expected) < 1e-3 * expected)
@@ -109,7 +111,8 @@ TEST(ReducedBasis, ModeEnergiesMatchTheFullOrderModel) {
   for (int j = 0; j < options.basis_size; ++j) {
     const double w2 = basis.value().column_values[static_cast<std::size_t>(j)];
     const Eigen::VectorXd phi = basis_column(basis.value(), j);
-    for (std::size_t k = 0; k < rest.size(); ++k) data.positions_m[k] = rest[k] + kAmplitude * phi[static_cast<Eigen::Index>(k)];
+    for (std::size_t k = 0; k < rest.size(); ++k)
+      data.positions_m[k] = rest[k] + kAmplitude * phi[static_cast<Eigen::Index>(k)];
     EXPECT_NEAR(elastic_energy_j(model, data) / (kAmplitude * kAmplitude), 0.5 * w2, 1e-8 * w2) << j;
     EXPECT_NEAR(phi.dot(mass.cwiseProduct(phi)), 1.0, 1e-10);
   }
@@ -148,9 +151,11 @@ TEST(ReducedBasis, CantileverFirstBendingFrequencyMatchesEulerBernoulli) {
   const auto basis = make_modal_basis(beam.mesh, beam.scene, linear_options(), options);
   ASSERT_TRUE(basis.ok()) << basis.error().describe();
   const double inertia = kSide * kSide * kSide * kSide / 12.0;
-  const double euler_bernoulli = 1.875104 * 1.875104 * std::sqrt(5.0e3 * inertia / (1000.0 * kSide * kSide * std::pow(kLength, 4)));
+  const double euler_bernoulli =
+      1.875104 * 1.875104 * std::sqrt(5.0e3 * inertia / (1000.0 * kSide * kSide * std::pow(kLength, 4)));
   const double measured = std::sqrt(basis.value().column_values[0]);
-  std::printf("first bending: %.4f rad/s, Euler-Bernoulli %.4f rad/s (ratio %.4f)\n", measured, euler_bernoulli, measured / euler_bernoulli);
+  std::printf("first bending: %.4f rad/s, Euler-Bernoulli %.4f rad/s (ratio %.4f)\n", measured, euler_bernoulli,
+              measured / euler_bernoulli);
   EXPECT_GT(measured, 0.99 * euler_bernoulli);
   EXPECT_LT(measured, 1.12 * euler_bernoulli);
   const double second = std::sqrt(basis.value().column_values[1]);
@@ -233,7 +238,8 @@ TEST(ReducedBasis, PodReproducesSnapshotsInItsSpan) {
   for (Eigen::Index i = 0; i < directions.size(); ++i) directions.data()[i] = normal(random);
   for (std::int32_t node : beam.scene.fixed_nodes) directions.middleRows(3 * node, 3).setZero();
   Eigen::MatrixXd snapshots(n3, 7);
-  for (int k = 0; k < 7; ++k) snapshots.col(k) = directions * Eigen::Vector3d(std::sin(k + 1.0), std::cos(2.0 * k), 0.1 * k);
+  for (int k = 0; k < 7; ++k)
+    snapshots.col(k) = directions * Eigen::Vector3d(std::sin(k + 1.0), std::cos(2.0 * k), 0.1 * k);
   ReductionOptions options;
   options.basis_size = 3;
   const std::span<const double> values(snapshots.data(), static_cast<std::size_t>(snapshots.size()));

@@ -82,7 +82,8 @@ void run_extremes(int r) {
         step(model, data, t.load(5.0));
         for (double value : data.q) largest = std::max(largest, std::abs(value));
       }
-      const std::string what = "r " + std::to_string(r) + " dt " + std::to_string(step_s) + (frozen ? " frozen" : " tangent");
+      const std::string what =
+          "r " + std::to_string(r) + " dt " + std::to_string(step_s) + (frozen ? " frozen" : " tangent");
       EXPECT_TRUE(all_finite(data.q) && all_finite(data.q_velocity)) << what;
       EXPECT_FALSE(data.health.has(HealthFlag::non_finite_state)) << what;
       EXPECT_LT(largest, 100.0 * bound) << what;  // no blow-up: 5x the load, at most ~10x the response with overshoot
@@ -93,7 +94,8 @@ void run_extremes(int r) {
       if (step_s >= 1e-2 && r > 1) {
         EXPECT_TRUE(data.health.has(HealthFlag::reduced_out_of_envelope)) << what;
       }
-      std::printf("%s: envelope ratio %.2f, largest |q| / bound %.2f\n", what.c_str(), data.report.envelope_ratio, largest / bound);
+      std::printf("%s: envelope ratio %.2f, largest |q| / bound %.2f\n", what.c_str(), data.report.envelope_ratio,
+                  largest / bound);
     }
 }
 

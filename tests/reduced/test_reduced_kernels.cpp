@@ -51,7 +51,8 @@ struct KernelCase {
     std::uniform_real_distribution<double> weight(0.2, 3.0), coordinate(-1.0, 1.0);
     const std::size_t tets = beam.mesh.tets.size();
     for (int s = 0; s < m; ++s) {
-      basis.sample_tets.push_back(static_cast<std::int32_t>(static_cast<std::size_t>(s) * tets / static_cast<std::size_t>(m)));
+      basis.sample_tets.push_back(
+          static_cast<std::int32_t>(static_cast<std::size_t>(s) * tets / static_cast<std::size_t>(m)));
       basis.sample_weights.push_back(weight(random));
     }
     q = Eigen::VectorXd(r);
@@ -75,8 +76,10 @@ Reference reference(const KernelCase& c, const ReducedModel& model) {
   const Eigen::MatrixXd u = basis_matrix(c.basis);
   const auto n3 = u.rows();
   const Eigen::Map<const Eigen::MatrixXd> lift(c.basis.diaphragm_lift.data(), n3, 3);
-  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> kr(t.stiffness_r.data(), r, r);
-  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>> krl(t.stiffness_lift_r.data(), r, 3);
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> kr(
+      t.stiffness_r.data(), r, r);
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>> krl(t.stiffness_lift_r.data(), r,
+                                                                                        3);
   Reference out{-(kr * c.q + krl * c.d), kr, 0};
   const bool stvk = c.basis.force_kind == ReducedForceKind::stvk_cubature;
   for (std::size_t s = 0; s < c.basis.sample_tets.size(); ++s) {
@@ -109,8 +112,10 @@ Reference reference(const KernelCase& c, const ReducedModel& model) {
       for (int col = 0; col < 12; ++col) {  // column col of dF/du is e_(col%3) g_(col/3)^T
         Eigen::Matrix3d df = Eigen::Matrix3d::Zero();
         df.row(col % 3) = gradients.row(col / 3);
-        const Eigen::Matrix3d dp = stvk_stress_derivative(f, df, tangent_stress, ft.lame[e], c.solver.incompressibility_gain_pa);
-        for (int a = 0; a < 4; ++a) te.block<3, 1>(3 * a, col) = w * ft.volume_m3[e] * (dp * gradients.row(a).transpose());
+        const Eigen::Matrix3d dp =
+            stvk_stress_derivative(f, df, tangent_stress, ft.lame[e], c.solver.incompressibility_gain_pa);
+        for (int a = 0; a < 4; ++a)
+          te.block<3, 1>(3 * a, col) = w * ft.volume_m3[e] * (dp * gradients.row(a).transpose());
       }
     } else {
       const Eigen::Matrix3d rotation = f.determinant() > 0.0 ? polar_rotation(f) : Eigen::Matrix3d::Identity();
@@ -137,7 +142,8 @@ Evaluated evaluate(const KernelCase& c, const ReducedModel& model) {
   const auto r = static_cast<std::size_t>(c.basis.basis_size);
   Evaluated out{std::vector<double>(r), std::vector<double>(r * r), 0, 0};
   const detail::ReducedState state{std::span<const double>(c.q.data(), r), c.d.data()};
-  const detail::ForceScratch scratch{data.sample_displacements, data.sample_rotations, data.sample_tangent_rows, data.monomials};
+  const detail::ForceScratch scratch{data.sample_displacements, data.sample_rotations, data.sample_tangent_rows,
+                                     data.monomials};
   testing::AllocationGuard guard;
   out.inverted = detail::evaluate_internal_force(model.tables(), state, scratch, out.force, out.tangent);
   out.allocations = guard.allocations();
@@ -153,15 +159,18 @@ void expect_kernels_equal_reference(ReducedForceKind kind) {
       const Reference expected = reference(c, model.value());
       const Evaluated got = evaluate(c, model.value());
       const Eigen::Map<const Eigen::VectorXd> force(got.force.data(), r);
-      const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> tangent(got.tangent.data(), r, r);
+      const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> tangent(
+          got.tangent.data(), r, r);
       EXPECT_LT((force - expected.force).norm(), 1e-10 * expected.force.norm()) << "r " << r << " m " << m;
-      EXPECT_LT((tangent - expected.tangent).cwiseAbs().maxCoeff(), 1e-10 * expected.tangent.cwiseAbs().maxCoeff()) << "r " << r << " m " << m;
+      EXPECT_LT((tangent - expected.tangent).cwiseAbs().maxCoeff(), 1e-10 * expected.tangent.cwiseAbs().maxCoeff())
+          << "r " << r << " m " << m;
       EXPECT_EQ(got.inverted, expected.inverted);
       EXPECT_EQ(got.allocations, 0u);
       // The non-linear part matters: the force is not the linear one (the first sample alone
       // lies at the held end, where the basis vanishes).
       const detail::ReducedTables& t = model.value().tables();
-      const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> kr(t.stiffness_r.data(), r, r);
+      const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> kr(
+          t.stiffness_r.data(), r, r);
       if (m > 1) {
         EXPECT_GT((force + kr * c.q).norm(), 1e-3 * force.norm()) << "r " << r << " m " << m;
       }
@@ -175,7 +184,9 @@ TEST(ReducedKernels, CorotationalForceAndTangentEqualThePlainFormulation) {
   expect_kernels_equal_reference(ReducedForceKind::corotational_cubature);
 }
 
-TEST(ReducedKernels, StvkForceAndTangentEqualThePlainFormulation) { expect_kernels_equal_reference(ReducedForceKind::stvk_cubature); }
+TEST(ReducedKernels, StvkForceAndTangentEqualThePlainFormulation) {
+  expect_kernels_equal_reference(ReducedForceKind::stvk_cubature);
+}
 
 TEST(ReducedKernels, InterleavedPolarMatchesNavsAndIgnoresItsNeighbours) {
   std::mt19937 random(5);
@@ -196,13 +207,15 @@ TEST(ReducedKernels, InterleavedPolarMatchesNavsAndIgnoresItsNeighbours) {
   }
   std::vector<double> all(9 * kCount);
   for (std::size_t n = 0; n < kCount; ++n)
-    for (std::size_t k = 0; k < 9; ++k) all[k * kCount + n] = matrices[n](static_cast<Eigen::Index>(k % 3), static_cast<Eigen::Index>(k / 3));
+    for (std::size_t k = 0; k < 9; ++k)
+      all[k * kCount + n] = matrices[n](static_cast<Eigen::Index>(k % 3), static_cast<Eigen::Index>(k / 3));
   const std::vector<double> start = all;
   detail::reduced_lane_kernels(KernelIsa::baseline).polar_rotations(all.data(), kCount);
   for (std::size_t n = 0; n < kCount; ++n) {
     Eigen::Matrix3d got;
     double alone[9];
-    for (std::size_t k = 0; k < 9; ++k) alone[k] = matrices[n](static_cast<Eigen::Index>(k % 3), static_cast<Eigen::Index>(k / 3));
+    for (std::size_t k = 0; k < 9; ++k)
+      alone[k] = matrices[n](static_cast<Eigen::Index>(k % 3), static_cast<Eigen::Index>(k / 3));
     detail::reduced_lane_kernels(KernelIsa::baseline).polar_rotations(alone, 1);
     for (std::size_t k = 0; k < 9; ++k) {
       got(static_cast<Eigen::Index>(k % 3), static_cast<Eigen::Index>(k / 3)) = all[k * kCount + n];
@@ -225,7 +238,8 @@ TEST(ReducedKernels, DisplaySetReconstructsTheSelectedNodes) {
   for (int j = 0; j < 13; ++j) data.q[static_cast<std::size_t>(j)] = c.q[j];
   for (int k = 0; k < 3; ++k) data.prescribed_m[k] = c.d[k];
   const std::int32_t last = static_cast<std::int32_t>(c.beam.mesh.nodes_m.size() - 1);
-  const std::vector<std::int32_t> nodes{last, 0, 7, c.beam.scene.prescribed_nodes[0], 3, 11, 5};  // 21 values: a partial panel
+  const std::vector<std::int32_t> nodes{last, 0,  7, c.beam.scene.prescribed_nodes[0],
+                                        3,    11, 5};  // 21 values: a partial panel
   const ReducedDisplaySet display = make_reduced_display_set(model, nodes).value();
   std::vector<double> expected(3 * nodes.size()), got(3 * nodes.size());
   reconstruct_displacements_m(model, data, nodes, expected);

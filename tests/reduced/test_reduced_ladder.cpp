@@ -26,8 +26,8 @@ namespace nav {
 namespace {
 
 using testing::BeamScene;
-using testing::nodes_where;
 using testing::bits_hash;
+using testing::nodes_where;
 
 /// The beam, its full-order settings, training snapshots (quasi-static tip-force ramps to the
 /// full load and to 6 times it) and the POD of the first.
@@ -63,8 +63,9 @@ struct Trained {
 
   /// Fills the cubature and envelope of `basis` from the full-load training, or the 6x one.
   void train(ReducedBasis& basis, bool wide) const {
-    const Status status = add_force_reduction(beam.mesh, beam.scene, training_solver, reduction(basis.basis_size),
-                                              wide ? wide_snapshots : snapshots, wide ? kWideSnapshots : kSnapshots, basis);
+    const Status status =
+        add_force_reduction(beam.mesh, beam.scene, training_solver, reduction(basis.basis_size),
+                            wide ? wide_snapshots : snapshots, wide ? kWideSnapshots : kSnapshots, basis);
     EXPECT_TRUE(status.ok()) << status.error().describe();
   }
 
@@ -80,7 +81,8 @@ struct Trained {
 
   /// small(r) extended by kExtra directions of the 6x training, trained on it.
   ReducedBasis big(int r) const {
-    auto basis = extend_basis(beam.mesh, beam.scene, training_solver, small(r), r + kExtra, wide_snapshots, kWideSnapshots);
+    auto basis =
+        extend_basis(beam.mesh, beam.scene, training_solver, small(r), r + kExtra, wide_snapshots, kWideSnapshots);
     EXPECT_TRUE(basis.ok()) << basis.error().describe();
     train(basis.value(), true);
     return std::move(basis).value();
@@ -132,9 +134,11 @@ const Trained& trained() {
 }
 
 /// The ladder small(r) -> big(r), optionally topped by the full order.
-ReducedLadderModel ladder_of(int r, bool full_order, const ReducedLadderOptions& options, const Settings& settings = dynamic(0.01)) {
+ReducedLadderModel ladder_of(int r, bool full_order, const ReducedLadderOptions& options,
+                             const Settings& settings = dynamic(0.01)) {
   const Trained& t = trained();
-  const std::vector<ReducedRungSpec> rungs{{r == 2 ? t.small2 : t.small(r), settings.reduced}, {r == 2 ? t.big2 : t.big(r), settings.reduced}};
+  const std::vector<ReducedRungSpec> rungs{{r == 2 ? t.small2 : t.small(r), settings.reduced},
+                                           {r == 2 ? t.big2 : t.big(r), settings.reduced}};
   auto model = make_reduced_ladder_model(t.beam.mesh, t.beam.scene, settings.full, rungs, full_order, options);
   EXPECT_TRUE(model.ok()) << model.error().describe();
   return std::move(model).value();
@@ -223,7 +227,8 @@ TEST(ReducedLadder, TransferCarriesASmallBasisStateExactly) {
   std::vector<double> some(9, 1.0);
   reconstruct_displacements_m(ladder, data, nodes, some);
   for (std::size_t k = 0; k < 2; ++k)
-    for (std::size_t c = 0; c < 3; ++c) EXPECT_EQ(some[3 * k + c], all_displacements(ladder, data)[3 * static_cast<std::size_t>(nodes[k]) + c]);
+    for (std::size_t c = 0; c < 3; ++c)
+      EXPECT_EQ(some[3 * k + c], all_displacements(ladder, data)[3 * static_cast<std::size_t>(nodes[k]) + c]);
   EXPECT_NEAR(some[4], d[1], 1e-15);  // the diaphragm node follows d
   EXPECT_EQ(some[6], 0.0);
   // Down again by the M-projection: the coordinates and velocities come back.
@@ -295,9 +300,12 @@ TEST(ReducedLadder, FiveTimesTheTrainingLoadEscalatesContinuouslyAndCloser) {
     // towards rest, by the whole displacement.
     for (std::size_t k = 0; k < run->switch_steps.size(); ++k) {
       const double bound_m = 1.1 * (run->reference_increments_m[k] + run->errors_before_m[k]);
-      std::printf("switch to rung %d at step %d (load %.2fx): field change %.3f mm; full-order change %.3f mm, error before %.3f mm\n",
-                  run->active_rung - static_cast<int>(run->switch_steps.size() - 1 - k), run->switch_steps[k], ramp(run->switch_steps[k]),
-                  1e3 * run->jumps_m[k], 1e3 * run->reference_increments_m[k], 1e3 * run->errors_before_m[k]);
+      std::printf(
+          "switch to rung %d at step %d (load %.2fx): field change %.3f mm; full-order change %.3f mm, error before "
+          "%.3f mm\n",
+          run->active_rung - static_cast<int>(run->switch_steps.size() - 1 - k), run->switch_steps[k],
+          ramp(run->switch_steps[k]), 1e3 * run->jumps_m[k], 1e3 * run->reference_increments_m[k],
+          1e3 * run->errors_before_m[k]);
       EXPECT_LT(run->jumps_m[k], bound_m);
     }
   }
@@ -309,10 +317,12 @@ TEST(ReducedLadder, FiveTimesTheTrainingLoadEscalatesContinuouslyAndCloser) {
     rms[k] = rms_distance(runs[k]->final_u, reference.back());
     worst[k] = max_difference(runs[k]->final_u, reference.back());
   }
-  std::printf("at 5x (largest displacement %.2f mm), RMS / worst nodal error against the full order: r = 2 stays %.3f / %.3f mm "
-              "(%.2f %%), escalated to r = 6 %.3f / %.3f mm (%.2f %%), escalated to the full order %.2e / %.2e mm\n",
-              1e3 * largest, 1e3 * rms[0], 1e3 * worst[0], 100.0 * rms[0] / largest, 1e3 * rms[1], 1e3 * worst[1],
-              100.0 * rms[1] / largest, 1e3 * rms[2], 1e3 * worst[2]);
+  std::printf(
+      "at 5x (largest displacement %.2f mm), RMS / worst nodal error against the full order: r = 2 stays %.3f / %.3f "
+      "mm "
+      "(%.2f %%), escalated to r = 6 %.3f / %.3f mm (%.2f %%), escalated to the full order %.2e / %.2e mm\n",
+      1e3 * largest, 1e3 * rms[0], 1e3 * worst[0], 100.0 * rms[0] / largest, 1e3 * rms[1], 1e3 * worst[1],
+      100.0 * rms[1] / largest, 1e3 * rms[2], 1e3 * worst[2]);
   EXPECT_LT(rms[1], 0.1 * rms[0]);
   EXPECT_LT(worst[1], 0.1 * worst[0]);
   EXPECT_LT(rms[2], 1e-3 * rms[0]);
@@ -325,7 +335,8 @@ TEST(ReducedLadder, EscalationOffOnlyFlagsAndStaysOnItsRung) {
   auto data = make_reduced_ladder_data(ladder).value();
   // The rung alone, as a plain ReducedModel: the ladder must be bitwise the same.
   const Trained& t = trained();
-  const ReducedModel alone = make_reduced_model(t.beam.mesh, t.beam.scene, dynamic(0.01).full, t.small2, dynamic(0.01).reduced).value();
+  const ReducedModel alone =
+      make_reduced_model(t.beam.mesh, t.beam.scene, dynamic(0.01).full, t.small2, dynamic(0.01).reduced).value();
   auto alone_data = make_reduced_data(alone).value();
   for (int i = 0; i < 120; ++i) {
     step(ladder, data, t.load(ramp(i)));
@@ -336,7 +347,8 @@ TEST(ReducedLadder, EscalationOffOnlyFlagsAndStaysOnItsRung) {
   EXPECT_GT(data.flagged_steps, 10);
   EXPECT_TRUE(data.health.has(HealthFlag::reduced_out_of_envelope));
   EXPECT_FALSE(data.health.has(HealthFlag::reduced_escalated));
-  EXPECT_EQ(bits_hash({data.reduced[0].q, data.reduced[0].q_velocity}), bits_hash({alone_data.q, alone_data.q_velocity}));
+  EXPECT_EQ(bits_hash({data.reduced[0].q, data.reduced[0].q_velocity}),
+            bits_hash({alone_data.q, alone_data.q_velocity}));
 }
 
 TEST(ReducedLadder, FlaggedStepsCountBeforeEscalating) {
@@ -377,10 +389,13 @@ TEST(ReducedLadder, StepsDownOnceTheLoadIsBackInsideTheSmallEnvelope) {
   ASSERT_GE(residual_at_switch, 0.0) << "never stepped down";
   EXPECT_EQ(data.active_rung, 0);
   EXPECT_EQ(data.de_escalations, 1);
-  std::printf("stepped down at a projection residual of %.2e; the step plus the projection moved the field by %.4f mm of %.2f mm\n",
-              residual_at_switch, 1e3 * jump_m, 1e3 * released_m);
+  std::printf(
+      "stepped down at a projection residual of %.2e; the step plus the projection moved the field by %.4f mm of %.2f "
+      "mm\n",
+      residual_at_switch, 1e3 * jump_m, 1e3 * released_m);
   EXPECT_LE(residual_at_switch, options.de_escalation_residual);
-  EXPECT_LT(jump_m, 2.0 * options.de_escalation_residual * released_m);  // what the small basis drops, largest nodal value
+  EXPECT_LT(jump_m,
+            2.0 * options.de_escalation_residual * released_m);  // what the small basis drops, largest nodal value
   // Hysteresis: at the released load the small rung stays inside its envelope.
   for (int i = 0; i < 30; ++i) step(ladder, data, trained().load(0.3));
   EXPECT_EQ(data.active_rung, 0);
@@ -429,8 +444,8 @@ TEST(ReducedLadder, SingleColumnRungAtExtremeStepsStaysFinite) {
       EXPECT_TRUE(data.health.has(HealthFlag::reduced_out_of_envelope));
       EXPECT_GE(data.escalations, 1);
     }
-    std::printf("r = 1 rung, dt %.4f s: rung %d after %lld escalations, largest displacement %.2f mm\n", step_s, data.active_rung,
-                static_cast<long long>(data.escalations), 1e3 * max_abs(u));
+    std::printf("r = 1 rung, dt %.4f s: rung %d after %lld escalations, largest displacement %.2f mm\n", step_s,
+                data.active_rung, static_cast<long long>(data.escalations), 1e3 * max_abs(u));
   }
 }
 
@@ -458,7 +473,8 @@ TEST(ReducedLadder, InitErrorsNameTheField) {
   EXPECT_EQ(field(false, options, dynamic(0.01).full), "de_escalation_envelope_ratio");
   rungs[0].options.newton_iterations = 0;
   EXPECT_EQ(field(false, {}, dynamic(0.01).full), "rungs[0].newton_iterations");
-  EXPECT_EQ(make_reduced_ladder_model(t.beam.mesh, t.beam.scene, dynamic(0.01).full, {}, false, {}).error().field, "rungs");
+  EXPECT_EQ(make_reduced_ladder_model(t.beam.mesh, t.beam.scene, dynamic(0.01).full, {}, false, {}).error().field,
+            "rungs");
 }
 
 }  // namespace

@@ -19,15 +19,16 @@ namespace {
 
 using testing::basis_matrix;
 using testing::BeamScene;
-using testing::nodes_where;
 using testing::bits_hash;
+using testing::nodes_where;
 
 /// A small beam with every reduced load in use: held at x = 0, springs on y = 0, prescribed
 /// at x = 2 cm when `prescribed`.
 BeamScene busy_beam(bool prescribed) {
   BeamScene beam({0.02, 0.01, 0.01}, 0.005);
   for (std::int32_t node : nodes_where(beam.mesh, 1, 0.0))
-    if (beam.mesh.nodes_m[static_cast<std::size_t>(node)][0] > 0.0 && beam.mesh.nodes_m[static_cast<std::size_t>(node)][0] < 0.02)
+    if (beam.mesh.nodes_m[static_cast<std::size_t>(node)][0] > 0.0 &&
+        beam.mesh.nodes_m[static_cast<std::size_t>(node)][0] < 0.02)
       beam.scene.spring_nodes.push_back(node);
   beam.scene.spring_stiffness_n_m = 5.0;
   if (prescribed) beam.scene.prescribed_nodes = nodes_where(beam.mesh, 0, 0.02);
@@ -133,7 +134,8 @@ TEST(ReducedStep, CompleteBasisQuasiStaticWithDiaphragmLiftEqualsFullOrder) {
   // Lazy reconstruction of chosen nodes agrees with the full one.
   std::vector<double> all(3 * beam.mesh.nodes_m.size());
   reconstruct_all_displacements_m(reduced.value(), reduced_data, all);
-  const std::vector<std::int32_t> chosen{3, static_cast<std::int32_t>(beam.mesh.nodes_m.size() - 1), beam.scene.prescribed_nodes[0]};
+  const std::vector<std::int32_t> chosen{3, static_cast<std::int32_t>(beam.mesh.nodes_m.size() - 1),
+                                         beam.scene.prescribed_nodes[0]};
   std::vector<double> some(9);
   reconstruct_displacements_m(reduced.value(), reduced_data, chosen, some);
   for (std::size_t k = 0; k < chosen.size(); ++k)

@@ -137,13 +137,14 @@ TEST(TrainingLoads, SmallLoadSolutionsMatchLinearStatics) {
     const StaticSolution reference = solve_linear_static(column.mesh, linear).value();
     double largest_m = 0.0, largest_error_m = 0.0;
     for (std::size_t n = 0; n < column.mesh.nodes_m.size(); ++n) {
-      const Point3 u{solved.value().displacements_m[k * rows + 3 * n], solved.value().displacements_m[k * rows + 3 * n + 1],
+      const Point3 u{solved.value().displacements_m[k * rows + 3 * n],
+                     solved.value().displacements_m[k * rows + 3 * n + 1],
                      solved.value().displacements_m[k * rows + 3 * n + 2]};
       largest_m = std::max(largest_m, norm(reference.displacement_m[n]));
       largest_error_m = std::max(largest_error_m, norm(u - reference.displacement_m[n]));
     }
-    std::printf("%s: tip %.3f mm, largest difference from linear statics %.2e mm\n", loads[k].name.c_str(), 1e3 * largest_m,
-                1e3 * largest_error_m);
+    std::printf("%s: tip %.3f mm, largest difference from linear statics %.2e mm\n", loads[k].name.c_str(),
+                1e3 * largest_m, 1e3 * largest_error_m);
     EXPECT_GT(largest_m, 1e-5);
     EXPECT_LT(largest_error_m, 0.01 * largest_m);  // geometric non-linearity is below 1 % here
   }
@@ -172,7 +173,8 @@ TEST(TrainingLoads, SnapshotsKeepSupportsAndPrescribedMotion) {
     for (const std::int32_t n : scene.fixed_nodes)
       for (int c = 0; c < 3; ++c) EXPECT_EQ(u[3 * n + c], 0.0);
     for (const std::int32_t n : scene.prescribed_nodes)
-      for (int c = 0; c < 3; ++c) EXPECT_NEAR(u[3 * n + c], fraction * load.prescribed_displacement_m[c], 1e-12) << load.name;
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(u[3 * n + c], fraction * load.prescribed_displacement_m[c], 1e-12) << load.name;
     double largest_m = 0.0;
     for (std::size_t i = 0; i < rows; ++i) largest_m = std::max(largest_m, std::abs(u[i]));
     EXPECT_GT(largest_m, fraction * 1e-3) << load.name;

@@ -20,9 +20,9 @@ namespace nav::testing {
 
 /// What a CoreStallWitness saw: its wake-ups later than half a period, each a stall of the core.
 struct CoreStalls {
-  bool witnessed = false;            ///< pinned and at SCHED_FIFO (else it proves nothing)
+  bool witnessed = false;  ///< pinned and at SCHED_FIFO (else it proves nothing)
   std::int64_t wakes = 0;
-  std::vector<TimeNs> stalls_ns;     ///< the lateness of each late wake-up
+  std::vector<TimeNs> stalls_ns;  ///< the lateness of each late wake-up
   TimeNs stalled_ns() const {
     TimeNs sum = 0;
     for (TimeNs s : stalls_ns) sum += s;
@@ -58,8 +58,9 @@ class CoreStallWitness {
 
   void run(const station::RealtimePlan& plan) {
     const std::vector<station::SetupStep> setup = station::apply_realtime_setup(plan);
-    stalls_.witnessed = std::all_of(setup.begin(), setup.end(),
-                                    [](const station::SetupStep& s) { return s.outcome == station::SetupOutcome::applied; });
+    stalls_.witnessed = std::all_of(setup.begin(), setup.end(), [](const station::SetupStep& s) {
+      return s.outcome == station::SetupOutcome::applied;
+    });
     MonotonicClock clock;
     FixedRateTimer timer(clock, period_ns_, clock.now_ns() + period_ns_);
     started_.store(true, std::memory_order_release);

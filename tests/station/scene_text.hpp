@@ -27,7 +27,8 @@ inline std::string movable_demo_text() {
   const std::size_t at = text.find(urdf);
   EXPECT_NE(at, std::string::npos) << "the demo scene has no '" << urdf << "'";
   if (at == std::string::npos) return text;
-  return text.substr(0, at) + "urdf: " + example_scene_path("../../../calibration/urdf/station.urdf") + text.substr(at + urdf.size());
+  return text.substr(0, at) + "urdf: " + example_scene_path("../../../calibration/urdf/station.urdf") +
+         text.substr(at + urdf.size());
 }
 
 /// `text` with its first occurrence of `from` replaced by `to` (fails the test if absent).

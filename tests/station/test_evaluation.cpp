@@ -9,9 +9,9 @@
 namespace nav::station {
 namespace {
 
-constexpr TimeNs kOriginNs = 5 * kNsPerSecond;   // the truth's first sample on the host's clock
-constexpr TimeNs kStepNs = 10 * kNsPerMs;        // the truth's rate (the tissue step)
-constexpr double kSpeedMPerS = 0.01;             // the tumour moves along x
+constexpr TimeNs kOriginNs = 5 * kNsPerSecond;  // the truth's first sample on the host's clock
+constexpr TimeNs kStepNs = 10 * kNsPerMs;       // the truth's rate (the tissue step)
+constexpr double kSpeedMPerS = 0.01;            // the tumour moves along x
 constexpr TimeNs kHorizonNs = 50 * kNsPerMs;
 
 dds::Vector3 tumour_at(TimeNs t) { return {kSpeedMPerS * 1e-9 * static_cast<double>(t - kOriginNs), 0.02, -0.01}; }
@@ -22,13 +22,14 @@ dds::Vector3 tip_at(TimeNs t) { return {0.0, 0.1 - kSpeedMPerS * 1e-9 * static_c
 /// t + horizon), the needle tip 3 mm off along x.
 EvaluationInput four_seconds() {
   EvaluationInput input;
-  for (TimeNs t = kOriginNs; t <= kOriginNs + 4 * kNsPerSecond; t += kStepNs) input.truths.push_back({t, 0, tumour_at(t), tip_at(t)});
+  for (TimeNs t = kOriginNs; t <= kOriginNs + 4 * kNsPerSecond; t += kStepNs)
+    input.truths.push_back({t, 0, tumour_at(t), tip_at(t)});
   for (TimeNs t = kOriginNs + kStepNs / 2; t < kOriginNs + 4 * kNsPerSecond - kHorizonNs; t += kStepNs) {
     dds::TargetPrediction now;
     now.source_time_ns = t;
     now.position_m = tumour_at(t);
     now.position_m[2] += 0.001;
-    now.receive_time_ns = t + 2 * kNsPerMs;  // 2 ms from the station's tick to the reader
+    now.receive_time_ns = t + 2 * kNsPerMs;                      // 2 ms from the station's tick to the reader
     now.model_rung = t >= kOriginNs + 3 * kNsPerSecond ? 1 : 0;  // the ladder's rung 1 for the last second
     dds::TargetPrediction ahead = now;
     ahead.receive_time_ns = 0;  // not stamped (e.g. written by hand): not timed
@@ -55,7 +56,7 @@ TEST(Evaluation, RmsErrorsAreTheOffsetsAgainstTheInterpolatedTruth) {
   EXPECT_EQ(e.tumour_now_count, 395);
   EXPECT_EQ(e.without_truth, 0);
   ASSERT_EQ(e.series.size(), 3u);
-  EXPECT_NEAR(e.series[0].y.front(), 1.0, 1e-9);  // millimetres
+  EXPECT_NEAR(e.series[0].y.front(), 1.0, 1e-9);     // millimetres
   EXPECT_NEAR(e.series[0].x.front(), 0.005, 1e-12);  // seconds from the first truth
   EXPECT_EQ(e.tick_to_reader.count, 395);
   ASSERT_EQ(e.predictions_by_rung.size(), 2u);
@@ -82,7 +83,8 @@ TEST(Evaluation, AGapInTheTruthIsNotBridged) {
   EvaluationInput input = four_seconds();
   // 200 ms of truth lost (more than kMaxTruthGapNs): the outputs inside the gap have no truth.
   std::erase_if(input.truths, [](const dds::GroundTruth& t) {
-    return t.source_time_ns > kOriginNs + 2 * kNsPerSecond && t.source_time_ns < kOriginNs + 2 * kNsPerSecond + 200 * kNsPerMs;
+    return t.source_time_ns > kOriginNs + 2 * kNsPerSecond &&
+           t.source_time_ns < kOriginNs + 2 * kNsPerSecond + 200 * kNsPerMs;
   });
   const Evaluation e = evaluate(input, 0);
   EXPECT_EQ(e.tumour_now_count, 395 - 20);
@@ -95,7 +97,8 @@ TEST(Evaluation, WithoutTruthNothingIsComparedAndTheReportSaysSoButTheLatencyIsT
   const Evaluation e = evaluate(input, 0);
   EXPECT_EQ(e.tumour_now_count, 0);
   EXPECT_EQ(e.without_truth, static_cast<std::int64_t>(input.predictions.size() + input.needle_tips.size()));
-  EXPECT_NE(format_evaluation(e, 0).find("outputs without a truth to compare: " + std::to_string(e.without_truth)), std::string::npos);
+  EXPECT_NE(format_evaluation(e, 0).find("outputs without a truth to compare: " + std::to_string(e.without_truth)),
+            std::string::npos);
   EXPECT_EQ(e.tick_to_reader.count, 395);  // the latency to the reader needs no truth
   EXPECT_EQ(e.predictions_by_rung.at(0) + e.predictions_by_rung.at(1), 395);
 }

@@ -18,8 +18,8 @@ namespace nav::station {
 namespace {
 
 constexpr TimeNs kStartNs = 1'000 * kNsPerSecond;  // the recording host's monotonic clock
-constexpr TimeNs kLatencyNs = 5 * kNsPerMs;         // from a pose's measurement to its arrival
-constexpr int kTicks = 120;                         // 2 s at 60 Hz
+constexpr TimeNs kLatencyNs = 5 * kNsPerMs;        // from a pose's measurement to its arrival
+constexpr int kTicks = 120;                        // 2 s at 60 Hz
 
 dds::ToolPose pose_of(std::uint32_t tool, TimeNs source_ns, double x_m) {
   dds::ToolPose pose;
@@ -44,11 +44,14 @@ std::string hostile_recording() {
   for (int k = 0; k < kTicks; ++k) {
     const TimeNs measured_ns = kStartNs + k * kNsPerSecond / 60;
     const TimeNs arrival_ns = measured_ns + kLatencyNs;
-    for (const std::uint32_t tool : {1u, 2u, 3u}) append(*writer.value(), pose_of(tool, measured_ns, 0.001 * k), arrival_ns);
-    if (k == 10) append(*writer.value(), pose_of(1, measured_ns + 1'000'000 * kNsPerSecond, 0.0), arrival_ns);  // 1e6 s ahead
-    if (k == 20) append(*writer.value(), pose_of(2, measured_ns + 1, 1e300), arrival_ns);                     // 1e300 m away
-    if (k == 30) append(*writer.value(), pose_of(7, measured_ns, 0.0), arrival_ns);                           // no such tool
-    if (k == 40) append(*writer.value(), pose_of(3, measured_ns - 10 * kNsPerMs, 0.0), arrival_ns);          // older than tool 3's last
+    for (const std::uint32_t tool : {1u, 2u, 3u})
+      append(*writer.value(), pose_of(tool, measured_ns, 0.001 * k), arrival_ns);
+    if (k == 10)
+      append(*writer.value(), pose_of(1, measured_ns + 1'000'000 * kNsPerSecond, 0.0), arrival_ns);  // 1e6 s ahead
+    if (k == 20) append(*writer.value(), pose_of(2, measured_ns + 1, 1e300), arrival_ns);            // 1e300 m away
+    if (k == 30) append(*writer.value(), pose_of(7, measured_ns, 0.0), arrival_ns);                  // no such tool
+    if (k == 40)
+      append(*writer.value(), pose_of(3, measured_ns - 10 * kNsPerMs, 0.0), arrival_ns);  // older than tool 3's last
   }
   EXPECT_TRUE(writer.value()->close().ok());
   return path;

@@ -123,7 +123,8 @@ TEST(StationBuild, TheSceneNetworkIsCheckedBeforeAnyModelIsBuilt) {
   // Peers must be a list of addresses.
   const auto not_a_list = parse_scene(demo_text() + "network:\n  peers: {a: 1}\n", example_scene_path("demo.yaml"));
   ASSERT_FALSE(not_a_list.ok());
-  EXPECT_NE(not_a_list.error().message.find("a list of the other hosts' IPv4 addresses"), std::string::npos) << not_a_list.error().describe();
+  EXPECT_NE(not_a_list.error().message.find("a list of the other hosts' IPv4 addresses"), std::string::npos)
+      << not_a_list.error().describe();
 }
 
 TEST(StationBuild, TheProbeCalibrationIsTheUrdfsImageJoint) {
@@ -172,7 +173,8 @@ TEST(StationBuild, TheNeedleIsWhereTheUrdfCalibratesIt) {
   scene.value().frames.urdf_path = urdf_with_tip("0.15 0 0", "needle_along_x.urdf");
   const auto along_x = scene_needle_calibration(scene.value());
   ASSERT_TRUE(along_x.ok()) << along_x.error().describe();
-  EXPECT_LT((along_x.value().marker_from_base.rotation * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitX()).norm(), 1e-12);
+  EXPECT_LT((along_x.value().marker_from_base.rotation * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitX()).norm(),
+            1e-12);
   EXPECT_LT((along_x.value().tip_in_marker_m - Eigen::Vector3d(0.15, 0.0, 0.0)).norm(), 1e-12);
   // A tip 1 cm beyond the scene's needle length: refused at needle.length_m, with both lengths.
   scene.value().frames.urdf_path = urdf_with_tip("0 0 -0.16", "needle_longer.urdf");
@@ -185,7 +187,8 @@ TEST(StationBuild, TheNeedleIsWhereTheUrdfCalibratesIt) {
 }
 
 TEST(StationBuild, BuilderErrorsNameTheSceneSectionAndLine) {
-  const std::string bad_urdf = edited(demo_text(), "  urdf: ../../../calibration/urdf/station.urdf", "  urdf: missing.urdf");
+  const std::string bad_urdf =
+      edited(demo_text(), "  urdf: ../../../calibration/urdf/station.urdf", "  urdf: missing.urdf");
   const auto frames = build_text(bad_urdf);
   ASSERT_FALSE(frames.ok());
   EXPECT_EQ(frames.error().file, example_scene_path("demo.yaml"));
@@ -197,7 +200,8 @@ TEST(StationBuild, BuilderErrorsNameTheSceneSectionAndLine) {
   EXPECT_EQ(tumour.error().field, "liver.tumour_m");
   EXPECT_EQ(tumour.error().line, line_of(outside, "  mesh: generated"));
   EXPECT_NE(tumour.error().message.find("outside the liver"), std::string::npos);
-  const std::string no_mesh = edited(demo_text(), "  mesh: generated ", "  tumour_m: [0, 0, 0]\n  mesh: {source: file, path: none.vtu, unit: cm}");
+  const std::string no_mesh = edited(demo_text(), "  mesh: generated ",
+                                     "  tumour_m: [0, 0, 0]\n  mesh: {source: file, path: none.vtu, unit: cm}");
   const auto mesh = build_text(no_mesh);
   ASSERT_FALSE(mesh.ok());
   EXPECT_EQ(mesh.error().field, "liver.mesh");
@@ -221,8 +225,9 @@ void save_generated_liver_basis(double element_size_m, const std::string& path) 
 TEST(StationBuild, ReducedRungLoadsItsArtifactAndRefusesOneOfAnotherMesh) {
   const std::string artifact = testing::temporary_path("station_generated_liver.navrb");
   save_generated_liver_basis(0.02, artifact);
-  const std::string text = demo_text().substr(0, demo_text().find("liver:\n") + 7) + "  mesh: {source: generated, element_size_m: 0.02}\n" +
-                           "  model: {rung: reduced, artifact: " + artifact + "}\n" + demo_text().substr(demo_text().find("\nneedle:") + 1);
+  const std::string text =
+      demo_text().substr(0, demo_text().find("liver:\n") + 7) + "  mesh: {source: generated, element_size_m: 0.02}\n" +
+      "  model: {rung: reduced, artifact: " + artifact + "}\n" + demo_text().substr(demo_text().find("\nneedle:") + 1);
   const auto built = build_text(text);
   ASSERT_TRUE(built.ok()) << built.error().describe();
   const LiverModels& liver = built.value().models.liver;
@@ -239,17 +244,20 @@ TEST(StationBuild, ReducedRungLoadsItsArtifactAndRefusesOneOfAnotherMesh) {
 }
 
 TEST(StationBuild, NavstationCheckPrintsTheFootprintAndTheRealtimeSetup) {
-  const std::string command = testing::executable_path("navstation") + " --scene " + example_scene_path("demo.yaml") + " --check 2>&1";
+  const std::string command =
+      testing::executable_path("navstation") + " --scene " + example_scene_path("demo.yaml") + " --check 2>&1";
   const auto run = testing::run_command(command);
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  for (const char* expected : {"station 'demo'", "memory footprint", "needle", "total", "pin to core", "lock memory", "SCHED_FIFO"})
+  for (const char* expected :
+       {"station 'demo'", "memory footprint", "needle", "total", "pin to core", "lock memory", "SCHED_FIFO"})
     EXPECT_NE(run.output.find(expected), std::string::npos) << expected << "\n" << run.output;
   const std::string bad = testing::temporary_path("station_bad_scene.yaml");
   {
     std::ofstream file(bad);
     file << edited(demo_text(), "rung: full", "rung: medium");
   }
-  const auto failed = testing::run_command(testing::executable_path("navstation") + " --scene " + bad + " --check 2>&1");
+  const auto failed =
+      testing::run_command(testing::executable_path("navstation") + " --scene " + bad + " --check 2>&1");
   EXPECT_EQ(failed.exit_code, 1);
   EXPECT_NE(failed.output.find(bad + ":" + std::to_string(line_of(demo_text(), "rung: full")) + ": liver.model.rung"),
             std::string::npos)

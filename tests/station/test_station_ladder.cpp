@@ -64,7 +64,8 @@ struct Artifacts {
     const Snapshots base = training(mesh, scene, 1.0);
     auto small = make_pod_basis(mesh, scene, solver, options, base.displacements_m, base.count);
     EXPECT_TRUE(small.ok()) << small.error().describe();
-    EXPECT_TRUE(add_force_reduction(mesh, scene, solver, options, base.displacements_m, base.count, small.value()).ok());
+    EXPECT_TRUE(
+        add_force_reduction(mesh, scene, solver, options, base.displacements_m, base.count, small.value()).ok());
     const Snapshots wide = training(mesh, scene, kWideScale);
     options.basis_size = 8;
     auto big = extend_basis(mesh, scene, solver, small.value(), 8, wide.displacements_m, wide.count);
@@ -85,9 +86,10 @@ const Artifacts& artifacts() {
 /// may be written anywhere.
 std::string ladder_scene(const std::string& artifact, const std::string& escalation) {
   const std::string& demo = demo_text();
-  const std::string urdf = (std::filesystem::path(example_scene_path("demo.yaml")).parent_path() / "../../../calibration/urdf/station.urdf")
-                               .lexically_normal()
-                               .string();
+  const std::string urdf =
+      (std::filesystem::path(example_scene_path("demo.yaml")).parent_path() / "../../../calibration/urdf/station.urdf")
+          .lexically_normal()
+          .string();
   const std::string liver = "liver:\n  mesh: {source: generated, element_size_m: " + std::to_string(kElementSizeM) +
                             "}\n  model:\n    rung: reduced\n    artifact: " + artifact + "\n" + escalation;
   const std::string text = demo.substr(0, demo.find("liver:\n")) + liver + demo.substr(demo.find("\nneedle:") + 1);
@@ -132,7 +134,8 @@ TEST(StationLadder, BuildsTheDeclaredRungsAloneAndListsThemInTheFootprint) {
     const FootprintLine* arena = line_named(f, "rung " + std::to_string(k) + " data arena");
     ASSERT_TRUE(tables != nullptr && arena != nullptr) << format_footprint(f);
     EXPECT_EQ(tables->bytes, ladder.reduced_rung(k).memory_bytes());
-    EXPECT_GE(arena->bytes, static_cast<std::int64_t>(liver.ladder_data->reduced[static_cast<std::size_t>(k)].arena.used_bytes()));
+    EXPECT_GE(arena->bytes,
+              static_cast<std::int64_t>(liver.ladder_data->reduced[static_cast<std::size_t>(k)].arena.used_bytes()));
   }
   const FootprintLine* transfers = line_named(f, "ladder transfers");
   ASSERT_NE(transfers, nullptr);
@@ -155,7 +158,8 @@ TEST(StationLadder, BuildsTheDeclaredRungsAloneAndListsThemInTheFootprint) {
 
 TEST(StationLadder, LadderErrorsNameTheirSceneKeyAndLine) {
   // Rungs out of order: the upper artifact at the bottom.
-  const std::string swapped = ladder_scene(artifacts().upper, "    escalation:\n      rungs: [" + artifacts().lower + "]\n");
+  const std::string swapped =
+      ladder_scene(artifacts().upper, "    escalation:\n      rungs: [" + artifacts().lower + "]\n");
   const auto refused = build_text(swapped);
   ASSERT_FALSE(refused.ok());
   EXPECT_EQ(refused.error().file, example_scene_path("demo.yaml"));
@@ -163,8 +167,9 @@ TEST(StationLadder, LadderErrorsNameTheirSceneKeyAndLine) {
   EXPECT_EQ(refused.error().line, line_of(swapped, "      rungs:"));
   EXPECT_NE(refused.error().message.find("grow strictly"), std::string::npos) << refused.error().describe();
   // A missing artifact on its own line of the list.
-  const std::string missing = ladder_scene(artifacts().lower, "    escalation:\n      rungs:\n        - " + artifacts().upper +
-                                                                  "\n        - /no/such/rung.navrb\n");
+  const std::string missing =
+      ladder_scene(artifacts().lower, "    escalation:\n      rungs:\n        - " + artifacts().upper +
+                                          "\n        - /no/such/rung.navrb\n");
   const auto absent = build_text(missing);
   ASSERT_FALSE(absent.ok());
   EXPECT_EQ(absent.error().field, "liver.model.escalation.rungs[1]");
@@ -172,7 +177,8 @@ TEST(StationLadder, LadderErrorsNameTheirSceneKeyAndLine) {
   EXPECT_NE(absent.error().message.find("/no/such/rung.navrb"), std::string::npos) << absent.error().describe();
   // The full order on top takes the rungs' integrator: quasi-static reduced rungs get the
   // quasi-static full order (make_reduced_ladder_model refuses any other pairing).
-  const auto quasi_static = build_text(ladder_scene(artifacts().lower, "    integrator: quasi_static\n" + two_rungs("      full_order_on_top: true\n")));
+  const auto quasi_static = build_text(
+      ladder_scene(artifacts().lower, "    integrator: quasi_static\n" + two_rungs("      full_order_on_top: true\n")));
   ASSERT_TRUE(quasi_static.ok()) << quasi_static.error().describe();
 }
 
@@ -186,7 +192,9 @@ void push_beyond_training(const LiverModels& liver, ReducedLadderData& data) {
   for (int i = 0; i < 50; ++i) {
     TissueInputs inputs;
     const double amplitude_m = 4.0 * defaults.diaphragm_amplitude_m * std::min(1.0, (i + 1) / 25.0);
-    for (int k = 0; k < 3; ++k) inputs.prescribed_displacement_m[static_cast<std::size_t>(k)] = amplitude_m * g[static_cast<std::size_t>(k)] / g_norm;
+    for (int k = 0; k < 3; ++k)
+      inputs.prescribed_displacement_m[static_cast<std::size_t>(k)] =
+          amplitude_m * g[static_cast<std::size_t>(k)] / g_norm;
     step(*liver.ladder, data, inputs);
   }
 }
@@ -231,9 +239,10 @@ TEST(StationLadder, NavstationCheckPrintsTheLadder) {
   }
   const auto run = testing::run_command(testing::executable_path("navstation") + " --scene " + path + " --check 2>&1");
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  for (const char* expected : {"liver escalation ladder: 2 rungs; escalation allowed after 2 flagged step(s); never steps down",
-                               "rung 0  reduced r = 4, ", "rung 1  reduced r = 8, ", "transfer loss to rung 1", "rung 1 reduced tables",
-                               "ladder transfers"})
+  for (const char* expected :
+       {"liver escalation ladder: 2 rungs; escalation allowed after 2 flagged step(s); never steps down",
+        "rung 0  reduced r = 4, ", "rung 1  reduced r = 8, ", "transfer loss to rung 1", "rung 1 reduced tables",
+        "ladder transfers"})
     EXPECT_NE(run.output.find(expected), std::string::npos) << expected << "\n" << run.output;
 }
 

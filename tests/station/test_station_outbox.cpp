@@ -21,7 +21,7 @@ namespace nav::station {
 namespace {
 
 constexpr TimeNs kLatencyNs = 50 * kNsPerMs;
-constexpr TimeNs kLoopToHostNs = 7 * kNsPerSecond;  // where run time 0 is on the host's clock
+constexpr TimeNs kLoopToHostNs = 7 * kNsPerSecond;             // where run time 0 is on the host's clock
 constexpr OutputStamps kStamps{kLoopToHostNs, kLatencyNs, 5};  // the needle tracked as tool 5
 constexpr std::int64_t kHealthEvery = 100;
 
@@ -43,8 +43,8 @@ TEST(StationOutbox, PushOutputsSendsWhatEachTickOwesWithoutAllocating) {
   std::size_t allocations = 0;
   {
     testing::AllocationGuard guard;
-    push_outputs(*outbox, outputs_at(1, false), kStamps, kHealthEvery, 0, 0);    // needle tick: nothing
-    push_outputs(*outbox, outputs_at(10, true), kStamps, kHealthEvery, 0, 0);    // liver step
+    push_outputs(*outbox, outputs_at(1, false), kStamps, kHealthEvery, 0, 0);     // needle tick: nothing
+    push_outputs(*outbox, outputs_at(10, true), kStamps, kHealthEvery, 0, 0);     // liver step
     push_outputs(*outbox, outputs_at(100, false), kStamps, kHealthEvery, 3, 42);  // health period
     allocations = guard.allocations();
   }
@@ -125,7 +125,8 @@ TEST(StationOutbox, TheNeedlesShapeReachesADisplayOverDdsWhichDrawsItWithItsTipF
   MonotonicClock clock;
   const TimeNs deadline_ns = clock.now_ns() + 5 * kNsPerSecond;
   bool arrived = false;
-  while (!(arrived = received->try_pop(*needle)) && clock.now_ns() < deadline_ns) clock.sleep_until_ns(clock.now_ns() + kNsPerMs);
+  while (!(arrived = received->try_pop(*needle)) && clock.now_ns() < deadline_ns)
+    clock.sleep_until_ns(clock.now_ns() + kNsPerMs);
   ASSERT_TRUE(arrived) << "no needle state within 5 s";
   ASSERT_EQ(needle->point_count, 21u);
   for (std::size_t i = 0; i < 21; ++i)
@@ -137,7 +138,8 @@ TEST(StationOutbox, TheNeedlesShapeReachesADisplayOverDdsWhichDrawsItWithItsTipF
   const auto surface = view::testing::scene_surface();
   view::Composer composer(view::testing::scene_options(), view::testing::scene_triangles());
   const cv::Mat& image = composer.render({nullptr, needle.get(), nullptr, surface.get()});
-  const double panel_x = view::testing::kPanelHeightPx, centre = 99.5, px_per_m = view::testing::expected::kSurfacePxPerM;
+  const double panel_x = view::testing::kPanelHeightPx, centre = 99.5,
+               px_per_m = view::testing::expected::kSurfacePxPerM;
   const auto pixel = [&](const Point3& p_m, double down_px) {
     return image.at<cv::Vec3b>(static_cast<int>(std::lround(centre - px_per_m * p_m[1] + down_px)),
                                static_cast<int>(std::lround(panel_x + centre + px_per_m * p_m[0])));
@@ -147,22 +149,27 @@ TEST(StationOutbox, TheNeedlesShapeReachesADisplayOverDdsWhichDrawsItWithItsTipF
     const Point3 chord_middle = 0.5 * (nodes[i - 1] + nodes[i]);
     EXPECT_TRUE(view::testing::near_colour(pixel(chord_middle, 0.0), view::palette::kNeedle)) << "segment " << i;
   }
-  EXPECT_TRUE(view::testing::near_colour(pixel(nodes[20], 15.0), view::palette::kForce)) << "the arrow's shaft below the tip";
+  EXPECT_TRUE(view::testing::near_colour(pixel(nodes[20], 15.0), view::palette::kForce))
+      << "the arrow's shaft below the tip";
   EXPECT_TRUE(view::testing::near_colour(pixel(nodes[20], 25.0), view::palette::kForce)) << "near its head";
-  EXPECT_TRUE(view::testing::near_colour(pixel(nodes[20], -15.0), view::palette::kSurface, 2)) << "nothing above the tip";
-  EXPECT_TRUE(view::testing::near_colour(pixel(nodes[20], 40.0), view::palette::kSurface, 2)) << "nothing beyond the arrow";
+  EXPECT_TRUE(view::testing::near_colour(pixel(nodes[20], -15.0), view::palette::kSurface, 2))
+      << "nothing above the tip";
+  EXPECT_TRUE(view::testing::near_colour(pixel(nodes[20], 40.0), view::palette::kSurface, 2))
+      << "nothing beyond the arrow";
   // Without a needle model the station sends the tip alone (no force): a dot, no arrow.
   needle->point_count = 1;
   needle->shape_points_m[0] = nodes[20];
   needle->tip_force_n = {0.0, 0.0, 0.0};
-  ASSERT_EQ(composer.render({nullptr, needle.get(), nullptr, surface.get()}).data, image.data);  // the same canvas, redrawn
+  ASSERT_EQ(composer.render({nullptr, needle.get(), nullptr, surface.get()}).data,
+            image.data);  // the same canvas, redrawn
   EXPECT_TRUE(view::testing::near_colour(pixel(nodes[20], 0.0), view::palette::kNeedle)) << "the tip";
   EXPECT_TRUE(view::testing::near_colour(pixel(nodes[20], 15.0), view::palette::kSurface, 2)) << "no arrow";
 }
 
 TEST(StationOutbox, AFullOutboxRefusesAndCounts) {
   auto outbox = std::make_unique<dds::StationOutbox>();
-  for (std::int64_t tick = 0; tick < 100; tick += 10) push_outputs(*outbox, outputs_at(tick, true), kStamps, kHealthEvery, 0, 0);
+  for (std::int64_t tick = 0; tick < 100; tick += 10)
+    push_outputs(*outbox, outputs_at(tick, true), kStamps, kHealthEvery, 0, 0);
   EXPECT_GT(outbox->dropped(), 0u);  // nobody drained it: the rings refused, the loop went on
 }
 

@@ -10,8 +10,8 @@
 // replayed twice on a SimulatedClock gives bitwise-identical outputs, and a changed sample
 // changes them; the tumour predicted with assimilation is within 1 mm RMS of the truth and
 // better than without; the scene's needle pushes and punctures the liver's capsule in the world
-// (full-order coupling) and in the loop (reduced coupling); `navstation --scene FILE --seconds 2 --images DIR` on the demo scene
-// with renamed topics runs on DDS, prints its summary and has navview write images.
+// (full-order coupling) and in the loop (reduced coupling); `navstation --scene FILE --seconds 2 --images DIR` on the
+// demo scene with renamed topics runs on DDS, prints its summary and has navview write images.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -84,12 +84,12 @@ TEST(StationRun, TheSimulatedDevicesKeepToTheScene) {
   EXPECT_EQ(tracker_kinds[0], 600);  // 60 Hz over [0, 10 s]
   EXPECT_EQ(tracker_kinds[1], 600);
   EXPECT_EQ(tracker_kinds[2], 600);
-  EXPECT_EQ(frames, 201);            // 20 Hz over [0, 10 s]
+  EXPECT_EQ(frames, 201);  // 20 Hz over [0, 10 s]
   EXPECT_EQ(d.world.frames.size(), 201u);
-  EXPECT_EQ(visible, frames);        // the probe's fan keeps the tumour in its plane
+  EXPECT_EQ(visible, frames);  // the probe's fan keeps the tumour in its plane
   const double marker_std_m = std::sqrt(marker_error2 / tracker_kinds[2]);
   std::printf("[ station  ] marker noise %.3f mm (per axis)\n", 1e3 * marker_std_m);
-  EXPECT_NEAR(marker_std_m, 0.25e-3, 0.03e-3);   // devices.tracker.position_noise_m; 600 draws
+  EXPECT_NEAR(marker_std_m, 0.25e-3, 0.03e-3);  // devices.tracker.position_noise_m; 600 draws
   // Breathing reaches the tumour: the full-order truth moves it by millimetres.
   double low = 1e9, high = -1e9;
   for (const Point3& p : d.world.tumour_truth_m) low = std::min(low, p[2]), high = std::max(high, p[2]);
@@ -115,15 +115,21 @@ TEST(StationRun, TheNeedlePushesAndPuncturesTheCapsuleInTheWorldAndInTheLoop) {
   EXPECT_GT((straight_start - surface).dot(normal), 1e-3);
   double bend_m = 0.0;
   for (TimeNs t = 0; t <= kDuration; t += 10 * kNsPerMs)
-    bend_m = std::max(bend_m, (w.needle_tip_at(t) - (w.needle_start_m + 1e-9 * static_cast<double>(t) * w.needle_velocity_m_s)).norm());
+    bend_m = std::max(
+        bend_m,
+        (w.needle_tip_at(t) - (w.needle_start_m + 1e-9 * static_cast<double>(t) * w.needle_velocity_m_s)).norm());
   const StationReplay replay = replay_station(d.loop, observed(), kDuration, true).value();
   double loop_peak_n = 0.0;
   int loop_punctures = 0;
-  for (const TickRecord& t : replay.ticks) loop_peak_n = std::max(loop_peak_n, t.tip_force_n), loop_punctures = std::max(loop_punctures, t.punctures);
+  for (const TickRecord& t : replay.ticks)
+    loop_peak_n = std::max(loop_peak_n, t.tip_force_n), loop_punctures = std::max(loop_punctures, t.punctures);
   const PredictionErrors e = prediction_errors(w, replay.ticks, d.loop.options.display_latency_ns, kSettled);
-  std::printf("[ station  ] needle: truth %d punctures, tip force peak %.3f N, bend up to %.2f mm; loop %d punctures, peak %.3f N; "
-              "modelled tip vs true tip %.2f mm RMS\n",
-              w.needle_punctures, w.needle_peak_tip_force_n, 1e3 * bend_m, loop_punctures, loop_peak_n, 1e3 * e.needle_tip_rms_m);
+  std::printf(
+      "[ station  ] needle: truth %d punctures, tip force peak %.3f N, bend up to %.2f mm; loop %d punctures, peak "
+      "%.3f N; "
+      "modelled tip vs true tip %.2f mm RMS\n",
+      w.needle_punctures, w.needle_peak_tip_force_n, 1e3 * bend_m, loop_punctures, loop_peak_n,
+      1e3 * e.needle_tip_rms_m);
   EXPECT_EQ(w.needle_punctures, 1);
   EXPECT_EQ(loop_punctures, 1);
   EXPECT_NEAR(w.needle_peak_tip_force_n, capsule.puncture_force_n, 0.05 * capsule.puncture_force_n);
@@ -151,10 +157,13 @@ TEST(StationRun, TheTumourFoundInTheFramesIsWithinAMillimetreOfTheTruth) {
     ++points;
   }
   const double rms_m = std::sqrt((error2[0] + error2[1] + error2[2]) / points);
-  std::printf("[ station  ] %lld frames, %d tumour points (%lld dropped): RMS %.3f mm (x %.3f, y %.3f, z %.3f), worst %.3f mm\n",
-              static_cast<long long>(counts.frames), points, static_cast<long long>(counts.dropped_no_detection + counts.dropped_no_pose),
-              1e3 * rms_m, 1e3 * std::sqrt(error2[0] / points), 1e3 * std::sqrt(error2[1] / points), 1e3 * std::sqrt(error2[2] / points),
-              1e3 * worst_m);
+  std::printf(
+      "[ station  ] %lld frames, %d tumour points (%lld dropped): RMS %.3f mm (x %.3f, y %.3f, z %.3f), worst %.3f "
+      "mm\n",
+      static_cast<long long>(counts.frames), points,
+      static_cast<long long>(counts.dropped_no_detection + counts.dropped_no_pose), 1e3 * rms_m,
+      1e3 * std::sqrt(error2[0] / points), 1e3 * std::sqrt(error2[1] / points), 1e3 * std::sqrt(error2[2] / points),
+      1e3 * worst_m);
   EXPECT_EQ(counts.frames, 201);
   EXPECT_EQ(counts.observations, points);
   EXPECT_GE(points, 190);  // nearly every frame gives a confident detection
@@ -167,27 +176,41 @@ TEST(StationRun, RunsTheLoopAt1kHzFor10sWithoutDeadlineMisses) {
   StationRunOptions options;
   options.duration_ns = kDuration;
   options.miss_threshold_ns = 2 * kNsPerMs;
-  options.realtime = {d.scene.station.realtime_core, d.scene.station.realtime_priority, false};  // no mlockall in a test process
+  options.realtime = {d.scene.station.realtime_core, d.scene.station.realtime_priority,
+                      false};  // no mlockall in a test process
   options.io_core = d.scene.station.io_core;
   testing::CoreStallWitness witness(options.realtime.core, options.realtime.priority + 1);
   testing::CoreStallWitness io_witness(options.io_core, 1);  // above the I/O thread (not real-time)
   const StationRun run = run_station(d.loop, d.world, options).value();
   const testing::CoreStalls host = witness.stop(), io_host = io_witness.stop();
   const StepStatistics& s = run.steps;
-  std::printf("[ station  ] %lld ticks: step median %.1f us, p99 %.1f us, p99.9 %.1f us, max %.1f us; lateness jitter %.1f us, p99 %.1f us, "
-              "p99.99 %.1f us, max %.1f us; %lld ticks over 1 ms late, %lld over 2 ms\n",
-              static_cast<long long>(s.ticks), s.median_us, s.p99_us, s.p999_us, s.max_us, s.jitter_us, s.lateness_p99_us, s.lateness_p9999_us,
-              s.max_lateness_us, static_cast<long long>(s.late_over_1ms), static_cast<long long>(s.deadline_misses));
-  for (const SetupStep& step : run.realtime_setup) std::printf("[ station  ] %s: %s\n", step.name.c_str(), outcome_name(step.outcome));
-  std::printf("[ station  ] the host stalled core %d %lld times, %.1f ms in all, longest %.1f ms (witness at SCHED_FIFO %d: %s)\n",
-              options.realtime.core, static_cast<long long>(host.stalls_ns.size()), 1e-6 * static_cast<double>(host.stalled_ns()),
-              1e-6 * static_cast<double>(host.longest_ns()), options.realtime.priority + 1, host.witnessed ? "applied" : "not applied");
-  std::printf("[ station  ] and the I/O core %d %lld times, %.1f ms in all, longest %.1f ms; %lld samples reached after the loop\n",
-              options.io_core, static_cast<long long>(io_host.stalls_ns.size()), 1e-6 * static_cast<double>(io_host.stalled_ns()),
-              1e-6 * static_cast<double>(io_host.longest_ns()), static_cast<long long>(run.samples_after_loop));
+  std::printf(
+      "[ station  ] %lld ticks: step median %.1f us, p99 %.1f us, p99.9 %.1f us, max %.1f us; lateness jitter %.1f us, "
+      "p99 %.1f us, "
+      "p99.99 %.1f us, max %.1f us; %lld ticks over 1 ms late, %lld over 2 ms\n",
+      static_cast<long long>(s.ticks), s.median_us, s.p99_us, s.p999_us, s.max_us, s.jitter_us, s.lateness_p99_us,
+      s.lateness_p9999_us, s.max_lateness_us, static_cast<long long>(s.late_over_1ms),
+      static_cast<long long>(s.deadline_misses));
+  for (const SetupStep& step : run.realtime_setup)
+    std::printf("[ station  ] %s: %s\n", step.name.c_str(), outcome_name(step.outcome));
+  std::printf(
+      "[ station  ] the host stalled core %d %lld times, %.1f ms in all, longest %.1f ms (witness at SCHED_FIFO %d: "
+      "%s)\n",
+      options.realtime.core, static_cast<long long>(host.stalls_ns.size()),
+      1e-6 * static_cast<double>(host.stalled_ns()), 1e-6 * static_cast<double>(host.longest_ns()),
+      options.realtime.priority + 1, host.witnessed ? "applied" : "not applied");
+  std::printf(
+      "[ station  ] and the I/O core %d %lld times, %.1f ms in all, longest %.1f ms; %lld samples reached after the "
+      "loop\n",
+      options.io_core, static_cast<long long>(io_host.stalls_ns.size()),
+      1e-6 * static_cast<double>(io_host.stalled_ns()), 1e-6 * static_cast<double>(io_host.longest_ns()),
+      static_cast<long long>(run.samples_after_loop));
   const PredictionErrors e = prediction_errors(d.world, run.ticks, d.loop.options.display_latency_ns, kSettled);
-  std::printf("[ station  ] real time, assimilated: tumour now %.3f mm, ahead %.3f mm, needle tip %.3f mm RMS; %lld outputs read\n",
-              1e3 * e.tumour_now_rms_m, 1e3 * e.tumour_ahead_rms_m, 1e3 * e.needle_tip_rms_m, static_cast<long long>(run.outputs_read));
+  std::printf(
+      "[ station  ] real time, assimilated: tumour now %.3f mm, ahead %.3f mm, needle tip %.3f mm RMS; %lld outputs "
+      "read\n",
+      1e3 * e.tumour_now_rms_m, 1e3 * e.tumour_ahead_rms_m, 1e3 * e.needle_tip_rms_m,
+      static_cast<long long>(run.outputs_read));
   EXPECT_GE(s.ticks + s.skipped_ticks, 10000);  // every deadline of 10 s at 1 kHz was ticked or counted
   // The loop keeps every deadline its host leaves it: it passes over only the deadlines that
   // fell in the host's stalls of its core (at most 100 besides), and a tick is 2 ms late only
@@ -203,7 +226,8 @@ TEST(StationRun, RunsTheLoopAt1kHzFor10sWithoutDeadlineMisses) {
   double stalls_us2 = 0.0;  // of the witnessed stalls, each with a period on top
   for (const TimeNs stall_ns : host.witnessed ? host.stalls_ns : std::vector<TimeNs>{})
     stalls_us2 += std::pow(1e-3 * static_cast<double>(stall_ns + period), 2);
-  EXPECT_LE(s.jitter_us, std::sqrt(150.0 * 150.0 + stalls_us2 / static_cast<double>(std::max<std::int64_t>(s.ticks, 1))));
+  EXPECT_LE(s.jitter_us,
+            std::sqrt(150.0 * 150.0 + stalls_us2 / static_cast<double>(std::max<std::int64_t>(s.ticks, 1))));
   // Every sample but the last frame (delivered after the run) went through the I/O thread,
   // frames as their tumour points; to the loop, but those due in the I/O core's last stall
   // (at most its longest, and the tumour tracker's 20 ms besides).
@@ -248,9 +272,11 @@ TEST(StationRun, AssimilationKeepsTheTumourWithin1MillimetreRms) {
   const TimeNs latency = d.loop.options.display_latency_ns;
   const PredictionErrors a = prediction_errors(d.world, with.ticks, latency, kSettled);
   const PredictionErrors o = prediction_errors(d.world, without.ticks, latency, kSettled);
-  std::printf("[ station  ] tumour RMS over %d liver steps: now %.3f mm (without %.3f mm), at +%lld ms %.3f mm (without %.3f mm)\n", a.steps,
-              1e3 * a.tumour_now_rms_m, 1e3 * o.tumour_now_rms_m, static_cast<long long>(latency / kNsPerMs), 1e3 * a.tumour_ahead_rms_m,
-              1e3 * o.tumour_ahead_rms_m);
+  std::printf(
+      "[ station  ] tumour RMS over %d liver steps: now %.3f mm (without %.3f mm), at +%lld ms %.3f mm (without %.3f "
+      "mm)\n",
+      a.steps, 1e3 * a.tumour_now_rms_m, 1e3 * o.tumour_now_rms_m, static_cast<long long>(latency / kNsPerMs),
+      1e3 * a.tumour_ahead_rms_m, 1e3 * o.tumour_ahead_rms_m);
   EXPECT_EQ(a.steps, 901);
   EXPECT_LE(a.tumour_now_rms_m, 1e-3);
   EXPECT_LE(a.tumour_ahead_rms_m, 1e-3);
@@ -264,7 +290,8 @@ std::string renamed_demo_scene() {
   const std::filesystem::path folder = std::filesystem::path(testing::example_scene_path("demo.yaml")).parent_path();
   const std::string urdf = "../../../calibration/urdf/station.urdf";
   std::string text = testing::edited(testing::demo_text(), urdf, (folder / urdf).lexically_normal().string());
-  for (const char* name : {"tool_pose", "ultrasound_frame", "target_prediction", "deformed_surface", "needle_state", "station_health"})
+  for (const char* name :
+       {"tool_pose", "ultrasound_frame", "target_prediction", "deformed_surface", "needle_state", "station_health"})
     text = testing::edited(text, std::string(": nav/") + name, std::string(": site_c/") + name);
   const std::string path = testing::temporary_path("station_demo_site_c.yaml");
   std::ofstream(path) << text;
@@ -281,13 +308,14 @@ TEST(StationRun, NavstationRunsASceneAndPrintsItsSummary) {
   // through a base of another size (new-delete-type-mismatch, all frames inside libfastrtps);
   // test programs never see it because the allocation guard replaces operator new/delete, but
   // navstation and navview do. The option turns that one check off; it does nothing elsewhere.
-  const testing::CommandRun run =
-      testing::run_command("ASAN_OPTIONS=new_delete_type_mismatch=0 " + testing::executable_path("navstation") +
-                           " --scene " + scene + " --seconds 2 --domain 151 --plot " + svg + " --images " + images + " 2>&1");
+  const testing::CommandRun run = testing::run_command(
+      "ASAN_OPTIONS=new_delete_type_mismatch=0 " + testing::executable_path("navstation") + " --scene " + scene +
+      " --seconds 2 --domain 151 --plot " + svg + " --images " + images + " 2>&1");
   std::printf("%s", run.output.c_str());
   EXPECT_EQ(run.exit_code, 0);
-  for (const char* line : {"prediction error against the full-order truth", "tumour now", "tumour at +50 ms", "step time over",
-                           "DDS (domain 151;", "deformed surface (565 vertices)", "error plot: ", "navview: "})
+  for (const char* line :
+       {"prediction error against the full-order truth", "tumour now", "tumour at +50 ms", "step time over",
+        "DDS (domain 151;", "deformed surface (565 vertices)", "error plot: ", "navview: "})
     EXPECT_NE(run.output.find(line), std::string::npos) << "missing: " << line;
   // This program shares the host with other tests and runs under the sanitizers too: the
   // budgets are generous (a twentieth of the 2001 ticks more than 5 ms late, three quarters of
@@ -309,8 +337,8 @@ TEST(StationRun, NavstationRunsASceneAndPrintsItsSummary) {
 TEST(StationRun, NavviewRenamesOnlyTopicsItKnows) {
   // --topic DEFAULT=NAME: DEFAULT must be a topic's default name and NAME must not be empty.
   for (const char* topic : {"nav/bogus=site_c/bogus", "nav/needle_state=", "needle_state=site_c/needle_state"}) {
-    const testing::CommandRun run =
-        testing::run_command(testing::executable_path("navview") + " --headless --duration-s 0.1 --topic " + topic + " 2>&1");
+    const testing::CommandRun run = testing::run_command(testing::executable_path("navview") +
+                                                         " --headless --duration-s 0.1 --topic " + topic + " 2>&1");
     EXPECT_EQ(run.exit_code, 2) << topic << "\n" << run.output;
     EXPECT_NE(run.output.find("--topic DEFAULT=NAME"), std::string::npos) << run.output;
   }

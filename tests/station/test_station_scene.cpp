@@ -91,7 +91,8 @@ TEST(StationScene, ReducedSceneResolvesItsPathsAgainstItsOwnFolder) {
   EXPECT_DOUBLE_EQ(s.liver.reduced.step_s, 1.0 / 500.0);
   ASSERT_TRUE(s.liver.escalation.has_value());
   ASSERT_EQ(s.liver.escalation->rungs.size(), 1u);
-  EXPECT_EQ(s.liver.escalation->rungs[0].artifact_path, (folder / "../../../build/liver_fine_r32.navrb").lexically_normal().string());
+  EXPECT_EQ(s.liver.escalation->rungs[0].artifact_path,
+            (folder / "../../../build/liver_fine_r32.navrb").lexically_normal().string());
   EXPECT_EQ(s.liver.escalation->options.de_escalate_after_steps, 200);
   ASSERT_TRUE(s.liver.tumour_m.has_value());
   EXPECT_EQ((*s.liver.tumour_m)[1], 0.032);
@@ -104,8 +105,9 @@ TEST(StationScene, ReducedSceneResolvesItsPathsAgainstItsOwnFolder) {
 
 TEST(StationScene, TheTrackedToolsTakeTheirIdsFromTheScene) {
   const std::string from = "    kind: simulated\n    rate_hz: 60";
-  const auto scene = parse_scene(edited(demo_text(), from, from + "\n    tools: {needle: 11, probe: 12, respiratory: 13}"),
-                                 example_scene_path("demo.yaml"));
+  const auto scene =
+      parse_scene(edited(demo_text(), from, from + "\n    tools: {needle: 11, probe: 12, respiratory: 13}"),
+                  example_scene_path("demo.yaml"));
   ASSERT_TRUE(scene.ok()) << scene.error().describe();
   const ToolIds& tools = scene.value().devices.tracker.tools;
   EXPECT_EQ(tools.needle, 11u);
@@ -122,49 +124,63 @@ TEST(StationScene, TheTrackedToolsTakeTheirIdsFromTheScene) {
 
 TEST(StationScene, AnNdiTrackersPortHandlesAreItsToolsAndEachOneIsOwn) {
   const std::string port = "    port: 8765";
-  const auto parsed = parse_scene(edited(testing::file_text(example_scene_path("liver_reduced.yaml")), port,
-                                         port + "\n    rate_hz: 40\n    port_handles: {needle: 10, probe: 11, respiratory: 12}"),
-                                  example_scene_path("liver_reduced.yaml"));
+  const auto parsed =
+      parse_scene(edited(testing::file_text(example_scene_path("liver_reduced.yaml")), port,
+                         port + "\n    rate_hz: 40\n    port_handles: {needle: 10, probe: 11, respiratory: 12}"),
+                  example_scene_path("liver_reduced.yaml"));
   ASSERT_TRUE(parsed.ok()) << parsed.error().describe();
   const TrackerSettings& t = parsed.value().devices.tracker;
   EXPECT_EQ(t.port_handles.needle, 10u);
   EXPECT_EQ(t.port_handles.respiratory, 12u);
   EXPECT_EQ(t.rate_hz, 40.0);
-  EXPECT_EQ(load_scene(example_scene_path("liver_reduced.yaml")).value().devices.tracker.port_handles.probe, 2u);  // the default
-  const auto twice = parse_scene(edited(testing::file_text(example_scene_path("liver_reduced.yaml")), port, port + "\n    port_handles: {needle: 3}"),
+  EXPECT_EQ(load_scene(example_scene_path("liver_reduced.yaml")).value().devices.tracker.port_handles.probe,
+            2u);  // the default
+  const auto twice = parse_scene(edited(testing::file_text(example_scene_path("liver_reduced.yaml")), port,
+                                        port + "\n    port_handles: {needle: 3}"),
                                  example_scene_path("liver_reduced.yaml"));
   ASSERT_FALSE(twice.ok());
   EXPECT_EQ(twice.error().field, "devices.tracker.port_handles") << twice.error().describe();
-  const auto out_of_range = parse_scene(edited(testing::file_text(example_scene_path("liver_reduced.yaml")), port, port + "\n    port_handles: {probe: 256}"),
+  const auto out_of_range = parse_scene(edited(testing::file_text(example_scene_path("liver_reduced.yaml")), port,
+                                               port + "\n    port_handles: {probe: 256}"),
                                         example_scene_path("liver_reduced.yaml"));
   ASSERT_FALSE(out_of_range.ok());
   EXPECT_EQ(out_of_range.error().field, "devices.tracker.port_handles.probe") << out_of_range.error().describe();
 }
 
 TEST(StationScene, ACaptureSourceReadsItsClipAndSpacing) {
-  const std::string simulated = "  ultrasound:\n    kind: simulated\n    rate_hz: 20\n    target_noise_m: 0.001\n    seed: 2";
-  const std::string capture = "  ultrasound:\n    kind: capture\n    source: frames/%04d.png\n    clip_px: [4, 8, 640, 480]\n"
-                              "    pixel_spacing_mm: [0.1, 0.12]";
+  const std::string simulated =
+      "  ultrasound:\n    kind: simulated\n    rate_hz: 20\n    target_noise_m: 0.001\n    seed: 2";
+  const std::string capture =
+      "  ultrasound:\n    kind: capture\n    source: frames/%04d.png\n    clip_px: [4, 8, 640, 480]\n"
+      "    pixel_spacing_mm: [0.1, 0.12]";
   const auto parsed = parse_scene(edited(demo_text(), simulated, capture), example_scene_path("demo.yaml"));
   ASSERT_TRUE(parsed.ok()) << parsed.error().describe();
   const UltrasoundSettings& u = parsed.value().devices.ultrasound;
   EXPECT_EQ(u.kind, UltrasoundKind::capture);
-  EXPECT_EQ(u.capture_source, (std::filesystem::path(example_scene_path("demo.yaml")).parent_path() / "frames/%04d.png").lexically_normal().string());
+  EXPECT_EQ(u.capture_source, (std::filesystem::path(example_scene_path("demo.yaml")).parent_path() / "frames/%04d.png")
+                                  .lexically_normal()
+                                  .string());
   EXPECT_EQ(u.clip_px[2], 640u);
   EXPECT_DOUBLE_EQ(u.pixel_spacing_m[1], 0.12e-3);
   // A device index stays an index; a clip of part pixels and a missing spacing are named.
-  EXPECT_EQ(parse_scene(edited(edited(demo_text(), simulated, capture), "frames/%04d.png", "0"), example_scene_path("demo.yaml"))
-                .value().devices.ultrasound.capture_source, "0");
-  EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, capture), "640", "640.5")).field, "devices.ultrasound.clip_px");
+  EXPECT_EQ(parse_scene(edited(edited(demo_text(), simulated, capture), "frames/%04d.png", "0"),
+                        example_scene_path("demo.yaml"))
+                .value()
+                .devices.ultrasound.capture_source,
+            "0");
+  EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, capture), "640", "640.5")).field,
+            "devices.ultrasound.clip_px");
   EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, capture), "\n    pixel_spacing_mm: [0.1, 0.12]", "")).field,
             "devices.ultrasound.pixel_spacing_mm");
 }
 
 TEST(StationScene, AnAprilTagTrackerReadsItsCameraIntrinsicsAndTags) {
   const std::string simulated =
-      "    kind: simulated\n    rate_hz: 60\n    latency_ms: 10\n    position_noise_m: 0.00025\n    rotation_noise_rad: 0.001\n    seed: 1\n";
-  const std::string apriltag = "    kind: apriltag\n    camera: frames/%04d.pgm\n    tag_size_m: 0.03\n    intrinsics: camera.txt\n"
-                               "    tags: {needle: 5, probe: 6, respiratory: 7}\n";
+      "    kind: simulated\n    rate_hz: 60\n    latency_ms: 10\n    position_noise_m: 0.00025\n    "
+      "rotation_noise_rad: 0.001\n    seed: 1\n";
+  const std::string apriltag =
+      "    kind: apriltag\n    camera: frames/%04d.pgm\n    tag_size_m: 0.03\n    intrinsics: camera.txt\n"
+      "    tags: {needle: 5, probe: 6, respiratory: 7}\n";
   const auto parsed = parse_scene(edited(demo_text(), simulated, apriltag), example_scene_path("demo.yaml"));
   ASSERT_TRUE(parsed.ok()) << parsed.error().describe();
   const TrackerSettings& t = parsed.value().devices.tracker;
@@ -173,14 +189,21 @@ TEST(StationScene, AnAprilTagTrackerReadsItsCameraIntrinsicsAndTags) {
   EXPECT_EQ(t.camera_intrinsics_path, (folder / "camera.txt").lexically_normal().string());
   EXPECT_EQ(t.tag_ids.probe, 6u);
   // A device stays a device; a tag id beyond the family's 587 and two tools on one tag are named.
-  EXPECT_EQ(parse_scene(edited(edited(demo_text(), simulated, apriltag), "frames/%04d.pgm", "/dev/video2"), example_scene_path("demo.yaml"))
-                .value().devices.tracker.camera_device, "/dev/video2");
-  EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, apriltag), "probe: 6", "probe: 587")).field, "devices.tracker.tags.probe");
-  EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, apriltag), "probe: 6", "probe: 5")).field, "devices.tracker.tags");
+  EXPECT_EQ(parse_scene(edited(edited(demo_text(), simulated, apriltag), "frames/%04d.pgm", "/dev/video2"),
+                        example_scene_path("demo.yaml"))
+                .value()
+                .devices.tracker.camera_device,
+            "/dev/video2");
+  EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, apriltag), "probe: 6", "probe: 587")).field,
+            "devices.tracker.tags.probe");
+  EXPECT_EQ(error_of(edited(edited(demo_text(), simulated, apriltag), "probe: 6", "probe: 5")).field,
+            "devices.tracker.tags");
   // A reference marker on a body of two tags is one of the tracker's tools, by its body alone.
   const std::string with_reference = edited(demo_text(), simulated,
-                                            apriltag + "    tools: {reference: 9}\n"
-                                                       "    bodies: {reference: [{id: 20, xyz: [0, 0, 0], rpy: [0, 0, 0]}, {id: 21, xyz: [0.05, 0, 0], rpy: [0, 0, 0]}]}\n");
+                                            apriltag +
+                                                "    tools: {reference: 9}\n"
+                                                "    bodies: {reference: [{id: 20, xyz: [0, 0, 0], rpy: [0, 0, 0]}, "
+                                                "{id: 21, xyz: [0.05, 0, 0], rpy: [0, 0, 0]}]}\n");
   const auto referenced = parse_scene(with_reference, example_scene_path("demo.yaml"));
   ASSERT_TRUE(referenced.ok()) << referenced.error().describe();
   const TrackerSettings& r = referenced.value().devices.tracker;
@@ -191,30 +214,45 @@ TEST(StationScene, AnAprilTagTrackerReadsItsCameraIntrinsicsAndTags) {
 }
 
 TEST(StationScene, APlusRecordingsPixelSpacingIsReadAndChecked) {
-  const std::string simulated = "  ultrasound:\n    kind: simulated\n    rate_hz: 20\n    target_noise_m: 0.001\n    seed: 2";
+  const std::string simulated =
+      "  ultrasound:\n    kind: simulated\n    rate_hz: 20\n    target_noise_m: 0.001\n    seed: 2";
   const std::string plus = "  ultrasound:\n    kind: plus\n    recording: session.mha\n    pixel_spacing_mm: ";
-  const auto parsed = parse_scene(edited(demo_text(), simulated, plus + "[0.08, 0.07]"), example_scene_path("demo.yaml"));
+  const auto parsed =
+      parse_scene(edited(demo_text(), simulated, plus + "[0.08, 0.07]"), example_scene_path("demo.yaml"));
   ASSERT_TRUE(parsed.ok()) << parsed.error().describe();
   ASSERT_TRUE(parsed.value().devices.ultrasound.recording_pixel_spacing_m.has_value());
   EXPECT_DOUBLE_EQ((*parsed.value().devices.ultrasound.recording_pixel_spacing_m)[1], 0.07e-3);
   for (const char* bad : {"[0, 0.07]", "[0.08]", "[0.08, nan]", "fine"})
-    EXPECT_EQ(error_of(edited(demo_text(), simulated, plus + bad)).field.rfind("devices.ultrasound.pixel_spacing_mm", 0), 0u) << bad;  // [i] for one entry
+    EXPECT_EQ(
+        error_of(edited(demo_text(), simulated, plus + bad)).field.rfind("devices.ultrasound.pixel_spacing_mm", 0), 0u)
+        << bad;  // [i] for one entry
 }
 
 TEST(StationScene, ARefusalsFlagIsHeldForTheScenesDeclaredTime) {
   EXPECT_EQ(parse_scene(demo_text(), example_scene_path("demo.yaml")).value().devices.clock.bad_sample_hold_ms, 2000.0);
   const std::string clock = "clock: {offset_ms: 0, max_ahead_ms: 50, max_behind_ms: 1000";
-  EXPECT_EQ(parse_scene(edited(demo_text(), clock, clock + ", bad_sample_hold_ms: 500"), example_scene_path("demo.yaml"))
-                .value().devices.clock.bad_sample_hold_ms, 500.0);
-  EXPECT_EQ(error_of(edited(demo_text(), clock, clock + ", bad_sample_hold_ms: 0")).field, "devices.clock.bad_sample_hold_ms");
+  EXPECT_EQ(
+      parse_scene(edited(demo_text(), clock, clock + ", bad_sample_hold_ms: 500"), example_scene_path("demo.yaml"))
+          .value()
+          .devices.clock.bad_sample_hold_ms,
+      500.0);
+  EXPECT_EQ(error_of(edited(demo_text(), clock, clock + ", bad_sample_hold_ms: 0")).field,
+            "devices.clock.bad_sample_hold_ms");
 }
 
 TEST(StationScene, TheIoThreadRunsBelowTheLoopsPriority) {
   EXPECT_EQ(parse_scene(demo_text(), example_scene_path("demo.yaml")).value().station.io_priority, 20);
   const std::string low = "realtime_priority: 10";
-  EXPECT_EQ(parse_scene(edited(demo_text(), "realtime_priority: 80", low), example_scene_path("demo.yaml")).value().station.io_priority, 9);
-  EXPECT_EQ(parse_scene(edited(demo_text(), "realtime_priority: 80", "io_priority: 0"), example_scene_path("demo.yaml")).value().station.io_priority, 0);
-  EXPECT_EQ(error_of(edited(demo_text(), "realtime_priority: 80", "realtime_priority: 80\n  io_priority: 80")).field, "station.io_priority");
+  EXPECT_EQ(parse_scene(edited(demo_text(), "realtime_priority: 80", low), example_scene_path("demo.yaml"))
+                .value()
+                .station.io_priority,
+            9);
+  EXPECT_EQ(parse_scene(edited(demo_text(), "realtime_priority: 80", "io_priority: 0"), example_scene_path("demo.yaml"))
+                .value()
+                .station.io_priority,
+            0);
+  EXPECT_EQ(error_of(edited(demo_text(), "realtime_priority: 80", "realtime_priority: 80\n  io_priority: 80")).field,
+            "station.io_priority");
 }
 
 TEST(StationScene, UnknownKeysAreNamedWithTheirPath) {
@@ -228,7 +266,8 @@ TEST(StationScene, WrongTypesAreNamed) {
   expect_error("element_count: 20", "element_count: 2.5", "needle.element_count", "expected an integer");
   expect_error("lock_memory: true", "lock_memory: maybe", "station.lock_memory", "expected true or false");
   expect_error("  name: demo", "  name: [a, b]", "station.name", "expected a single value");
-  expect_error("  urdf: ../../../calibration/urdf/station.urdf", "  urdf: {path: x}", "frames.urdf", "expected a single value");
+  expect_error("  urdf: ../../../calibration/urdf/station.urdf", "  urdf: {path: x}", "frames.urdf",
+               "expected a single value");
 }
 
 TEST(StationScene, OutOfRangeValuesAreNamed) {
@@ -240,7 +279,8 @@ TEST(StationScene, OutOfRangeValuesAreNamed) {
   expect_error("cores: {realtime: 1, io: 0}", "cores: {realtime: 1, io: 1}", "station.cores.io", "must differ");
   expect_error("max_behind_ms: 1000}", "max_behind_ms: 0}", "devices.clock.max_behind_ms", "outside (0, 60000]");
   expect_error("max_ahead_ms: 50,", "max_ahead_ms: -1,", "devices.clock.max_ahead_ms", "outside");
-  expect_error("max_speed_m_per_s: 2.0", "max_speed_m_per_s: 0", "devices.tracker.max_speed_m_per_s", "outside (0, 100]");
+  expect_error("max_speed_m_per_s: 2.0", "max_speed_m_per_s: 0", "devices.tracker.max_speed_m_per_s",
+               "outside (0, 100]");
   expect_error("outward_normal: [0, 1, 0], puncture_force_n: 2.0", "outward_normal: [0, 1], puncture_force_n: 2.0",
                "needle.layers[1].outward_normal", "list of 3 numbers");
   // A value each range allows but the needle's own validation refuses (bore wider than the tube).
@@ -249,7 +289,8 @@ TEST(StationScene, OutOfRangeValuesAreNamed) {
 
 TEST(StationScene, BadChoicesListTheAllowedOnes) {
   expect_error("rung: full", "rung: medium", "liver.model.rung", "'medium' is not one of full|reduced");
-  expect_error("kind: simulated\n    rate_hz: 60", "kind: optical\n    rate_hz: 60", "devices.tracker.kind", "simulated|ndi|apriltag");
+  expect_error("kind: simulated\n    rate_hz: 60", "kind: optical\n    rate_hz: 60", "devices.tracker.kind",
+               "simulated|ndi|apriltag");
   expect_error("mesh: generated", "mesh: procedural", "liver.mesh", "expected 'generated'");
   expect_error("poses: nav/tool_pose", "poses: nav/tool pose", "topics.poses", "not a topic name");
 }
@@ -260,7 +301,8 @@ TEST(StationScene, TopicNamesAreReadCheckedAndEachOneIsOwn) {
   ASSERT_TRUE(scene.ok()) << scene.error().describe();
   EXPECT_EQ(scene.value().topics.health, "site_b/health");
   EXPECT_EQ(scene.value().topics.needle_states, "nav/needle_state");
-  expect_error("needle_states: nav/needle_state", "needle_states: 2nd/needle", "topics.needle_states", "not a topic name");
+  expect_error("needle_states: nav/needle_state", "needle_states: 2nd/needle", "topics.needle_states",
+               "not a topic name");
   // Two topics on one name: the later key is named, with the topic that has it already.
   expect_error("health: nav/station_health", "health: nav/target_prediction", "topics.health",
                "'nav/target_prediction' is already the name of topics.predictions");
@@ -309,16 +351,19 @@ constexpr const char* kEscalationBlock =
 
 /// The demo scene with a reduced liver on the escalation ladder of kEscalationBlock.
 const std::string& ladder_text() {
-  static const std::string text = edited(demo_text(),
-                                         "    rung: full\n    law: linear_elastic\n    rotation: corotational\n"
-                                         "    integrator: implicit_euler\n    solver: ldlt_warped\n    cg_iterations: 3\n",
-                                         std::string("    rung: reduced\n    artifact: lower.navrb\n    integrator: quasi_static\n"
-                                                     "    envelope_factor: 2.0\n") + kEscalationBlock);
+  static const std::string text =
+      edited(demo_text(),
+             "    rung: full\n    law: linear_elastic\n    rotation: corotational\n"
+             "    integrator: implicit_euler\n    solver: ldlt_warped\n    cg_iterations: 3\n",
+             std::string("    rung: reduced\n    artifact: lower.navrb\n    integrator: quasi_static\n"
+                         "    envelope_factor: 2.0\n") +
+                 kEscalationBlock);
   return text;
 }
 
 /// As expect_error_in, on ladder_text().
-void expect_ladder_error(const std::string& from, const std::string& to, const std::string& field, const std::string& word) {
+void expect_ladder_error(const std::string& from, const std::string& to, const std::string& field,
+                         const std::string& word) {
   expect_error_in(ladder_text(), from, to, field, word);
 }
 
@@ -345,7 +390,8 @@ TEST(StationScene, EscalationLadderReadsItsRungsAndOptions) {
   EXPECT_EQ(liver.reduced.integrator, ReducedIntegrator::quasi_static);
 
   // Only `rungs` is required; one rung a line, the rest at the ladder's defaults.
-  const std::string minimal = edited(ladder_text(), kEscalationBlock, "    escalation:\n      rungs:\n        - upper.navrb\n");
+  const std::string minimal =
+      edited(ladder_text(), kEscalationBlock, "    escalation:\n      rungs:\n        - upper.navrb\n");
   const auto defaults = parse_scene(minimal, example_scene_path("demo.yaml"));
   ASSERT_TRUE(defaults.ok()) << defaults.error().describe();
   const EscalationSettings& d = *defaults.value().liver.escalation;
@@ -363,25 +409,29 @@ TEST(StationScene, EscalationLadderReadsItsRungsAndOptions) {
 }
 
 TEST(StationScene, EscalationErrorsNameTheirKeyPathAndLine) {
-  expect_ladder_error("allowed: false", "allowed: sometimes", "liver.model.escalation.allowed", "expected true or false");
+  expect_ladder_error("allowed: false", "allowed: sometimes", "liver.model.escalation.allowed",
+                      "expected true or false");
   expect_ladder_error("allowed: false", "alowed: false", "liver.model.escalation.alowed", "unknown key");
-  expect_ladder_error("escalate_after_steps: 3", "escalate_after_steps: 0", "liver.model.escalation.escalate_after_steps",
-                      "outside [1, ");
-  expect_ladder_error("de_escalate_after_steps: 50", "de_escalate_after_steps: -1", "liver.model.escalation.de_escalate_after_steps",
-                      "outside [0, ");
-  expect_ladder_error("rungs: [upper.navrb, ../top.navrb]", "rungs: []", "liver.model.escalation.rungs", "expected a list of 1 to 8");
-  expect_ladder_error("rungs: [upper.navrb, ../top.navrb]", "rungs: upper.navrb", "liver.model.escalation.rungs", "expected a list");
+  expect_ladder_error("escalate_after_steps: 3", "escalate_after_steps: 0",
+                      "liver.model.escalation.escalate_after_steps", "outside [1, ");
+  expect_ladder_error("de_escalate_after_steps: 50", "de_escalate_after_steps: -1",
+                      "liver.model.escalation.de_escalate_after_steps", "outside [0, ");
+  expect_ladder_error("rungs: [upper.navrb, ../top.navrb]", "rungs: []", "liver.model.escalation.rungs",
+                      "expected a list of 1 to 8");
+  expect_ladder_error("rungs: [upper.navrb, ../top.navrb]", "rungs: upper.navrb", "liver.model.escalation.rungs",
+                      "expected a list");
   expect_ladder_error("rungs: [upper.navrb, ../top.navrb]", "rungs: [upper.navrb, {path: top.navrb}]",
                       "liver.model.escalation.rungs[1]", "expected a single value");
   expect_ladder_error("de_escalation_envelope_ratio: 0.8", "de_escalation_envelope_ratio: 2.5",
                       "liver.model.escalation.de_escalation_envelope_ratio", "below liver.model.envelope_factor");
-  expect_ladder_error("de_escalation_residual: 0.1", "de_escalation_residual: 1.5", "liver.model.escalation.de_escalation_residual",
-                      "outside [0, 1]");
+  expect_ladder_error("de_escalation_residual: 0.1", "de_escalation_residual: 1.5",
+                      "liver.model.escalation.de_escalation_residual", "outside [0, 1]");
   const std::string no_rungs = edited(ladder_text(), "      rungs: [upper.navrb, ../top.navrb]\n", "");
   EXPECT_EQ(error_of(no_rungs).field, "liver.model.escalation.rungs");
   EXPECT_NE(error_of(no_rungs).message.find("missing required key"), std::string::npos);
   // A full-order liver has no ladder: the block is an unknown key there.
-  const std::string full_order = edited(demo_text(), "    cg_iterations: 3\n", "    cg_iterations: 3\n    escalation: {rungs: [a.navrb]}\n");
+  const std::string full_order =
+      edited(demo_text(), "    cg_iterations: 3\n", "    cg_iterations: 3\n    escalation: {rungs: [a.navrb]}\n");
   const Error unknown = error_of(full_order);
   EXPECT_EQ(unknown.field, "liver.model.escalation");
   EXPECT_EQ(unknown.line, line_of(full_order, "    escalation:"));

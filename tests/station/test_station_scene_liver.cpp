@@ -61,16 +61,20 @@ const MeshFiles& files() {
 
 /// The demo scene (without its needle, whose layers are the generated liver's) on the mesh
 /// file `mesh` with its tumour `t`, reduced on `artifact`, with `escalation` lines under `model:`.
-std::string scene_on(const std::string& mesh, const Point3& t, const std::string& artifact, const std::string& escalation) {
+std::string scene_on(const std::string& mesh, const Point3& t, const std::string& artifact,
+                     const std::string& escalation) {
   const std::string demo = testing::movable_demo_text();
-  const std::string liver = "liver:\n  mesh: {source: file, path: " + mesh + ", unit: m}\n  model:\n    rung: reduced\n    artifact: " + artifact +
-                            "\n" + escalation + "  tumour_m: [" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " + std::to_string(t[2]) +
-                            "]\n\n";
+  const std::string liver = "liver:\n  mesh: {source: file, path: " + mesh +
+                            ", unit: m}\n  model:\n    rung: reduced\n    artifact: " + artifact + "\n" + escalation +
+                            "  tumour_m: [" + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " +
+                            std::to_string(t[2]) + "]\n\n";
   return demo.substr(0, demo.find("liver:\n")) + liver + demo.substr(demo.find("\ndevices:") + 1);
 }
 
 /// The scene on the mesh file and its r = 6 artifact (made once).
-std::string mesh_file_scene(const std::string& escalation = "") { return scene_on(files().mesh, files().tumour_m, files().lower, escalation); }
+std::string mesh_file_scene(const std::string& escalation = "") {
+  return scene_on(files().mesh, files().tumour_m, files().lower, escalation);
+}
 
 std::string two_rungs(const std::string& upper) { return "    escalation:\n      rungs: [" + upper + "]\n"; }
 
@@ -109,16 +113,21 @@ SceneRun run_scene(const Scene& scene) {
   out.observations = counts.observations;
   double motion2 = 0.0;
   for (const Point3& p : world.value().tumour_truth_m)
-    for (std::size_t c = 0; c < 3; ++c) motion2 += (p[c] - liver.value().tumour_m[c]) * (p[c] - liver.value().tumour_m[c]);
+    for (std::size_t c = 0; c < 3; ++c)
+      motion2 += (p[c] - liver.value().tumour_m[c]) * (p[c] - liver.value().tumour_m[c]);
   out.motion_rms_m = std::sqrt(motion2 / static_cast<double>(world.value().tumour_truth_m.size()));
   for (const bool assimilate : {true, false}) {
     auto replay = replay_station(loop.value(), samples, kDuration, assimilate);
     EXPECT_TRUE(replay.ok()) << replay.error().describe();
-    (assimilate ? out.assimilated : out.without) = prediction_errors(world.value(), replay.value().ticks, latency_ns, kSettled);
+    (assimilate ? out.assimilated : out.without) =
+        prediction_errors(world.value(), replay.value().ticks, latency_ns, kSettled);
   }
-  std::printf("%s\n  true tumour motion RMS %.3f mm\n  tumour now RMS %.3f mm with assimilation, %.3f mm without; ahead %.3f / %.3f mm\n", out.liver_model.c_str(), 1e3 * out.motion_rms_m,
-              1e3 * out.assimilated.tumour_now_rms_m, 1e3 * out.without.tumour_now_rms_m, 1e3 * out.assimilated.tumour_ahead_rms_m,
-              1e3 * out.without.tumour_ahead_rms_m);
+  std::printf(
+      "%s\n  true tumour motion RMS %.3f mm\n  tumour now RMS %.3f mm with assimilation, %.3f mm without; ahead %.3f / "
+      "%.3f mm\n",
+      out.liver_model.c_str(), 1e3 * out.motion_rms_m, 1e3 * out.assimilated.tumour_now_rms_m,
+      1e3 * out.without.tumour_now_rms_m, 1e3 * out.assimilated.tumour_ahead_rms_m,
+      1e3 * out.without.tumour_ahead_rms_m);
   return out;
 }
 
@@ -156,7 +165,8 @@ TEST(StationSceneLiver, ALadderWithTheFullOrderOnTopIsRefusedBeforeAnythingIsBui
     std::ofstream file(path);
     file << text;
   }
-  const auto check = testing::run_command(testing::executable_path("navstation") + " --scene " + path + " --check 2>&1");
+  const auto check =
+      testing::run_command(testing::executable_path("navstation") + " --scene " + path + " --check 2>&1");
   EXPECT_NE(check.exit_code, 0) << check.output;
   EXPECT_NE(check.output.find("liver.model.escalation.full_order_on_top"), std::string::npos) << check.output;
   EXPECT_EQ(check.output.find("memory footprint"), std::string::npos) << check.output;  // refused before the build

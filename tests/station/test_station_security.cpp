@@ -21,7 +21,7 @@ namespace nav::station {
 namespace {
 
 constexpr std::uint32_t kDomain = 211;
-constexpr std::uint32_t kDeviceTool = 1;    // the tool id the legitimate device writes
+constexpr std::uint32_t kDeviceTool = 1;     // the tool id the legitimate device writes
 constexpr std::uint32_t kIntruderTool = 66;  // the tool id every intruder writes
 
 /// A folder of `navtool security init` (made once per folder and test program).
@@ -119,8 +119,10 @@ TEST(StationSecurity, OnlyTheScenesIdentitiesReadPredictionsAndOnlyItsDevicesWri
   auto device_predictions = std::make_unique<PredictionCounter>();
   EXPECT_FALSE(device->subscribe(*device_predictions).ok());
 
-  ASSERT_TRUE(station->wait_for_match(dds::Topic::tool_pose, 1, 20 * kNsPerSecond)) << "the device never matched the station";
-  ASSERT_TRUE(station->wait_for_match(dds::Topic::target_prediction, 1, 20 * kNsPerSecond)) << "the display never matched";
+  ASSERT_TRUE(station->wait_for_match(dds::Topic::tool_pose, 1, 20 * kNsPerSecond))
+      << "the device never matched the station";
+  ASSERT_TRUE(station->wait_for_match(dds::Topic::target_prediction, 1, 20 * kNsPerSecond))
+      << "the display never matched";
   // Two seconds of traffic, then time for the last samples to land.
   MonotonicClock clock;
   for (std::uint64_t i = 0; i < 400; ++i) {
@@ -134,7 +136,8 @@ TEST(StationSecurity, OnlyTheScenesIdentitiesReadPredictionsAndOnlyItsDevicesWri
   EXPECT_GE(poses->device.load(), 300) << "the device's poses reach the station";
   EXPECT_EQ(poses->intruder.load(), 0) << "no intruder's pose reaches the station";
   EXPECT_GE(display_predictions->count.load(), 300) << "the display reads the predictions";
-  for (const Intruder& intruder : intruders) EXPECT_EQ(intruder.predictions->count.load(), 0) << intruder.what << " read predictions";
+  for (const Intruder& intruder : intruders)
+    EXPECT_EQ(intruder.predictions->count.load(), 0) << intruder.what << " read predictions";
   // The station sees exactly one writer of poses (the device) and one reader of predictions.
   EXPECT_EQ(station->matched(dds::Topic::tool_pose), 1u);
   EXPECT_EQ(station->matched(dds::Topic::target_prediction), 1u);
@@ -143,23 +146,28 @@ TEST(StationSecurity, OnlyTheScenesIdentitiesReadPredictionsAndOnlyItsDevicesWri
 TEST(StationSecurity, AnIdentityPresentingAnotherRolesPermissionsCannotJoin) {
   // The display's certificate with the tool's permissions (signed for the subject CN=tool).
   NetworkSettings borrowed = secured(initialised_folder("security_keys"));
-  borrowed.security.permissions = borrowed.security.permissions.replace(borrowed.security.permissions.find("{role}"), 6, "tool");
+  borrowed.security.permissions =
+      borrowed.security.permissions.replace(borrowed.security.permissions.find("{role}"), 6, "tool");
   EXPECT_FALSE(make_station_node(kDomain + 1, "borrowed_permissions", {}, borrowed, Role::display).ok());
-  EXPECT_TRUE(make_station_node(kDomain + 1, "own_permissions", {}, secured(initialised_folder("security_keys")), Role::display).ok());
+  EXPECT_TRUE(
+      make_station_node(kDomain + 1, "own_permissions", {}, secured(initialised_folder("security_keys")), Role::display)
+          .ok());
 }
 
 TEST(StationSecurity, SecurityInitRefusesWhatItCannotUse) {
   const std::string navtool = testing::executable_path("navtool") + " security init ";
   // No folder, a bad or out-of-range --days, an unknown flag: usage errors, nothing made.
-  for (const std::string& args : std::vector<std::string>{"", "--days 30", testing::temporary_path("k1") + " --days zero",
-                                 testing::temporary_path("k2") + " --days 0", testing::temporary_path("k3") + " --bits 4096"}) {
+  for (const std::string& args : std::vector<std::string>{
+           "", "--days 30", testing::temporary_path("k1") + " --days zero", testing::temporary_path("k2") + " --days 0",
+           testing::temporary_path("k3") + " --bits 4096"}) {
     const auto run = testing::run_command(navtool + args + " 2>&1");
     EXPECT_EQ(run.exit_code, 2) << args << ": " << run.output;
     EXPECT_NE(run.output.find("usage: navtool security init DIR"), std::string::npos) << run.output;
   }
   EXPECT_FALSE(std::filesystem::exists(testing::temporary_path("k2")));
   // A scene that does not load is named; a folder that cannot be made is named.
-  const auto bad_scene = testing::run_command(navtool + testing::temporary_path("k4") + " --scene /no/such/scene.yaml 2>&1");
+  const auto bad_scene =
+      testing::run_command(navtool + testing::temporary_path("k4") + " --scene /no/such/scene.yaml 2>&1");
   EXPECT_EQ(bad_scene.exit_code, 2);
   EXPECT_NE(bad_scene.output.find("/no/such/scene.yaml"), std::string::npos) << bad_scene.output;
   const auto bad_folder = testing::run_command(navtool + "/proc/no_keys_here 2>&1");
@@ -182,7 +190,8 @@ TEST(StationSecurity, AMissingFileIsNamedByItsSceneKeyAndNoUnsecuredParticipantI
 
 TEST(StationSecurity, TheScenesSectionGivesEachRoleItsOwnFilesAndTheStationChecksItsOwn) {
   const std::string section =
-      "security:\n  ca: keys/ca.pem\n  certificate: keys/{role}/certificate.pem\n  private_key: /etc/navrt/{role}/key.pem\n"
+      "security:\n  ca: keys/ca.pem\n  certificate: keys/{role}/certificate.pem\n  private_key: "
+      "/etc/navrt/{role}/key.pem\n"
       "  governance: keys/governance.p7s\n  permissions: keys/{role}/permissions.p7s\n";
   const std::string path = testing::example_scene_path("demo.yaml");
   const std::string folder = std::filesystem::path(path).parent_path().lexically_normal().string();
@@ -198,7 +207,8 @@ TEST(StationSecurity, TheScenesSectionGivesEachRoleItsOwnFilesAndTheStationCheck
   EXPECT_FALSE(security_files(load_scene(path).value().network.security, Role::station).enabled());  // no section: off
 
   // A key left out is named; the station's own missing file stops the build before any model.
-  const auto partial = parse_scene(testing::demo_text() + testing::edited(section, "  governance: keys/governance.p7s\n", ""), path);
+  const auto partial =
+      parse_scene(testing::demo_text() + testing::edited(section, "  governance: keys/governance.p7s\n", ""), path);
   ASSERT_FALSE(partial.ok());
   EXPECT_EQ(partial.error().field, "security.governance") << partial.error().describe();
   const auto built = build_station(scene.value());

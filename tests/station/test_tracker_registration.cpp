@@ -50,20 +50,25 @@ TEST(TrackerRegistration, PosesPublishedInTheTrackersFrameComeBackInTheModelFram
   // The reference's own pose registers and is no sample of the loop.
   dds::ToolPose reference = tool_pose_of(respiratory, 2, 0, tracker);
   reference.tool_id = *tools.reference;
-  reference.position_m = {tracker_from_reference.position_m[0], tracker_from_reference.position_m[1], tracker_from_reference.position_m[2]};
+  reference.position_m = {tracker_from_reference.position_m[0], tracker_from_reference.position_m[1],
+                          tracker_from_reference.position_m[2]};
   const Eigen::Quaterniond& q = tracker_from_reference.rotation;
   reference.orientation_wxyz = {q.w(), q.x(), q.y(), q.z()};
   EXPECT_FALSE(device_sample_of(reference, 0, 0, tools, registration));
 
   const dds::ToolPose published = tool_pose_of(needle, 3, 0, tracker);
   // On the wire the pose is the tracker's: far from the model-frame pose.
-  EXPECT_GT((Eigen::Vector3d(published.position_m[0], published.position_m[1], published.position_m[2]) - needle.pose.position_m).norm(), 0.5);
+  EXPECT_GT((Eigen::Vector3d(published.position_m[0], published.position_m[1], published.position_m[2]) -
+             needle.pose.position_m)
+                .norm(),
+            0.5);
   const std::optional<DeviceSample> back = device_sample_of(published, 0, 0, tools, registration);
   ASSERT_TRUE(back);
   EXPECT_EQ(back->kind, SampleKind::needle_pose);
   EXPECT_LT((back->pose.position_m - needle.pose.position_m).norm(), 1e-12);
   EXPECT_LT(angle_rad(back->pose.rotation, needle.pose.rotation), 1e-12);
-  const std::optional<DeviceSample> breath = device_sample_of(tool_pose_of(respiratory, 4, 0, tracker), 0, 0, tools, registration);
+  const std::optional<DeviceSample> breath =
+      device_sample_of(tool_pose_of(respiratory, 4, 0, tracker), 0, 0, tools, registration);
   ASSERT_TRUE(breath);
   EXPECT_LT((breath->point_m - respiratory.point_m).norm(), 1e-12);
   EXPECT_EQ(registration.unregistered_poses, 1);
@@ -91,7 +96,8 @@ TEST(TrackerRegistration, WithoutAReferenceTheUrdfJointAloneRegistersATrackerFix
   DeviceSample probe;
   probe.kind = SampleKind::probe_pose;
   probe.pose = pose_of(0.02, 0.05, 0.09, -0.4, 0.1, 0.2);
-  const std::optional<DeviceSample> back = device_sample_of(tool_pose_of(probe, 1, 0, tracker), 0, 0, tools, registration);
+  const std::optional<DeviceSample> back =
+      device_sample_of(tool_pose_of(probe, 1, 0, tracker), 0, 0, tools, registration);
   ASSERT_TRUE(back);
   EXPECT_LT((back->pose.position_m - probe.pose.position_m).norm(), 1e-12);
   EXPECT_LT(angle_rad(back->pose.rotation, probe.pose.rotation), 1e-12);
@@ -107,8 +113,11 @@ TEST(TrackerRegistration, TheSceneTakesTheJointFromItsUrdfAndNamesAUrdfWithoutIt
 
   // The demo's URDF with its registration moved, as navtool calib register writes it.
   std::string urdf = testing::file_text(scene.value().frames.urdf_path);
-  const std::string joint = "<joint name=\"reference_to_liver_model\" type=\"fixed\">\n    <parent link=\"reference_marker\"/><child link=\"liver_model\"/>\n    <origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>";
-  const std::string moved_joint = testing::edited(joint, "xyz=\"0 0 0\" rpy=\"0 0 0\"", "xyz=\"0.01 -0.2 0.3\" rpy=\"0 0 1.5707963267948966\"");
+  const std::string joint =
+      "<joint name=\"reference_to_liver_model\" type=\"fixed\">\n    <parent link=\"reference_marker\"/><child "
+      "link=\"liver_model\"/>\n    <origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>";
+  const std::string moved_joint =
+      testing::edited(joint, "xyz=\"0 0 0\" rpy=\"0 0 0\"", "xyz=\"0.01 -0.2 0.3\" rpy=\"0 0 1.5707963267948966\"");
   urdf = testing::edited(urdf, joint, moved_joint);
   const std::string path = testing::temporary_path("registered.urdf");
   std::ofstream(path) << urdf;
@@ -119,10 +128,12 @@ TEST(TrackerRegistration, TheSceneTakesTheJointFromItsUrdfAndNamesAUrdfWithoutIt
   EXPECT_LT((moved.value().rotation * Eigen::Vector3d::UnitX() - Eigen::Vector3d::UnitY()).norm(), 1e-12);
 
   // A URDF without the joint: refused at the scene's frames.urdf, naming the chain.
-  std::ofstream(path) << testing::edited(testing::edited(urdf, moved_joint + "\n  </joint>", ""), "<link name=\"liver_model\"/>", "");
+  std::ofstream(path) << testing::edited(testing::edited(urdf, moved_joint + "\n  </joint>", ""),
+                                         "<link name=\"liver_model\"/>", "");
   auto missing = scene_reference_from_model(scene.value());
   ASSERT_FALSE(missing.ok());
-  EXPECT_NE(missing.error().describe().find("reference_marker to liver_model"), std::string::npos) << missing.error().describe();
+  EXPECT_NE(missing.error().describe().find("reference_marker to liver_model"), std::string::npos)
+      << missing.error().describe();
   EXPECT_NE(missing.error().describe().find("frames.urdf"), std::string::npos) << missing.error().describe();
 }
 

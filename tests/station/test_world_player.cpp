@@ -70,7 +70,8 @@ TEST(SimulatedWorld, TheNeedleStopsAfterItsTravelAndThePeriodHoldsWholeBreathsAn
   EXPECT_NEAR(world.needle_tip_at(500 * kNsPerMs)[1], 0.0175, 1e-12);
   EXPECT_NEAR(world.needle_tip_at(kNsPerSecond)[1], 0.015, 1e-12);
   EXPECT_NEAR(world.needle_tip_at(5 * kNsPerSecond)[1], 0.015, 1e-12);
-  EXPECT_TRUE(world.needle_marker_at(2 * kNsPerSecond).position_m.isApprox(world.needle_marker_at(9 * kNsPerSecond).position_m, 1e-15));
+  EXPECT_TRUE(world.needle_marker_at(2 * kNsPerSecond)
+                  .position_m.isApprox(world.needle_marker_at(9 * kNsPerSecond).position_m, 1e-15));
   EXPECT_FALSE(world.needle_marker_at(0).position_m.isApprox(world.needle_marker_at(kNsPerSecond).position_m, 1e-6));
 }
 
@@ -91,12 +92,14 @@ TEST(WorldPlayer, PlaysOnPastItsRecordingByRepeatingItsLastPeriod) {
   dds::DdsNode& in = *reader.value();
   dds::DdsNode& out = *writer.value();
   ASSERT_TRUE(in.subscribe(*poses).ok() && in.subscribe(*frames).ok() && in.subscribe(*truths).ok());
-  ASSERT_TRUE(out.advertise<dds::ToolPose>().ok() && out.advertise<dds::UltrasoundFrame>().ok() && out.advertise<dds::GroundTruth>().ok());
+  ASSERT_TRUE(out.advertise<dds::ToolPose>().ok() && out.advertise<dds::UltrasoundFrame>().ok() &&
+              out.advertise<dds::GroundTruth>().ok());
   for (dds::Topic topic : {dds::Topic::tool_pose, dds::Topic::ultrasound_frame, dds::Topic::ground_truth})
     ASSERT_TRUE(out.wait_for_match(topic, 1, 5 * kNsPerSecond));
 
   const TrackerSettings& t = scene.devices.tracker;
-  WorldPlayer player(world.value(), true, simulated_tracker(t.tools, t.tracker_from_reference, scene_reference_from_model(scene).value()));
+  WorldPlayer player(world.value(), true,
+                     simulated_tracker(t.tools, t.tracker_from_reference, scene_reference_from_model(scene).value()));
   player.repeat_last(period_ns);
   MonotonicClock clock;
   for (TimeNs now_ns = 0; now_ns <= kPlayed; now_ns += 10 * kNsPerMs) {
@@ -104,7 +107,7 @@ TEST(WorldPlayer, PlaysOnPastItsRecordingByRepeatingItsLastPeriod) {
     clock.sleep_until_ns(clock.now_ns() + kNsPerMs);
   }
   EXPECT_FALSE(player.finished());
-  ASSERT_TRUE(out.wait_for_acknowledgments(5 * kNsPerSecond));  // the truths (reliable)
+  ASSERT_TRUE(out.wait_for_acknowledgments(5 * kNsPerSecond));            // the truths (reliable)
   for (std::size_t seen = 0; seen != frames->count() + poses->size();) {  // the best-effort poses and frames
     seen = frames->count() + poses->size();
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -112,7 +115,9 @@ TEST(WorldPlayer, PlaysOnPastItsRecordingByRepeatingItsLastPeriod) {
 
   // Poses: per tool, in time and sequence order; each past the recording is the one a period before.
   std::map<std::uint32_t, std::map<TimeNs, dds::ToolPose>> by_tool;
-  const auto is_reference = [&](const dds::ToolPose& pose) { return t.tools.reference && pose.tool_id == *t.tools.reference; };
+  const auto is_reference = [&](const dds::ToolPose& pose) {
+    return t.tools.reference && pose.tool_id == *t.tools.reference;
+  };
   std::uint64_t last_sequence = 0;  // a reference pose goes with its respiratory sample's number
   std::size_t pose_count = 0, repeated = 0;
   for (dds::ToolPose pose; poses->try_pop(pose); ++pose_count) {
@@ -139,8 +144,8 @@ TEST(WorldPlayer, PlaysOnPastItsRecordingByRepeatingItsLastPeriod) {
     }
   const double tracker_poses_per_s = 3.0 * t.rate_hz + (t.tools.reference ? t.rate_hz : 0.0);
   const double expected_poses = tracker_poses_per_s * 1e-9 * static_cast<double>(kPlayed);
-  std::printf("%zu poses over %.0f s (expected about %.0f), %zu of them repeats\n", pose_count, 1e-9 * static_cast<double>(kPlayed),
-              expected_poses, repeated);
+  std::printf("%zu poses over %.0f s (expected about %.0f), %zu of them repeats\n", pose_count,
+              1e-9 * static_cast<double>(kPlayed), expected_poses, repeated);
   EXPECT_NEAR(static_cast<double>(pose_count), expected_poses, 0.02 * expected_poses);
   EXPECT_NEAR(static_cast<double>(repeated), expected_poses / 2.0, 0.02 * expected_poses);
 

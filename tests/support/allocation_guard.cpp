@@ -53,7 +53,8 @@ void free(void* pointer) { __libc_free(pointer); }
 #define NAV_RAW_FREE(pointer) __libc_free(pointer)
 #else
 #define NAV_RAW_ALLOCATE(size) std::malloc(size)
-#define NAV_RAW_ALIGNED_ALLOCATE(alignment, size) std::aligned_alloc(alignment, ((size) + (alignment)-1) / (alignment) * (alignment))
+#define NAV_RAW_ALIGNED_ALLOCATE(alignment, size) \
+  std::aligned_alloc(alignment, ((size) + (alignment)-1) / (alignment) * (alignment))
 #define NAV_RAW_FREE(pointer) std::free(pointer)
 #endif
 
@@ -78,10 +79,18 @@ void* counted_aligned_new(std::size_t size, std::align_val_t alignment) {
 void* operator new(std::size_t size) { return counted_new(size); }
 void* operator new[](std::size_t size) { return counted_new(size); }
 void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  try { return counted_new(size); } catch (...) { return nullptr; }
+  try {
+    return counted_new(size);
+  } catch (...) {
+    return nullptr;
+  }
 }
 void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
-  try { return counted_new(size); } catch (...) { return nullptr; }
+  try {
+    return counted_new(size);
+  } catch (...) {
+    return nullptr;
+  }
 }
 void* operator new(std::size_t size, std::align_val_t alignment) { return counted_aligned_new(size, alignment); }
 void* operator new[](std::size_t size, std::align_val_t alignment) { return counted_aligned_new(size, alignment); }

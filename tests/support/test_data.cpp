@@ -2,20 +2,18 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 namespace nav::testing {
 
 std::string test_data_path(const std::string& relative) { return std::string(NAV_TEST_DATA_DIR) + "/" + relative; }
 
-std::string shared_data_path(const std::string& relative) {
-  return std::string(NAV_SHARED_DATA_DIR) + "/" + relative;
-}
+std::string shared_data_path(const std::string& relative) { return std::string(NAV_SHARED_DATA_DIR) + "/" + relative; }
 
 bool file_exists(const std::string& path) { return std::ifstream(path).good(); }
 

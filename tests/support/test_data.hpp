@@ -34,11 +34,11 @@ std::string temporary_path(const std::string& file_name);
 
 /// Ends the test when the real data at `path` (under ../shared/data) is missing: a failure
 /// naming the file under CI, a skip elsewhere.
-#define NAV_REQUIRE_SHARED_DATA(path)                                                              \
-  do {                                                                                             \
-    const std::string nav_required_path = (path);                                                  \
-    if (!::nav::testing::file_exists(nav_required_path)) {                                         \
+#define NAV_REQUIRE_SHARED_DATA(path)                                                                                \
+  do {                                                                                                               \
+    const std::string nav_required_path = (path);                                                                    \
+    if (!::nav::testing::file_exists(nav_required_path)) {                                                           \
       if (::nav::testing::running_under_ci()) GTEST_FAIL() << "shared data missing under CI: " << nav_required_path; \
-      GTEST_SKIP() << "shared data missing: " << nav_required_path;                                \
-    }                                                                                              \
+      GTEST_SKIP() << "shared data missing: " << nav_required_path;                                                  \
+    }                                                                                                                \
   } while (false)

@@ -90,7 +90,8 @@ TEST(LinearElasticStatic, EndLoadGivesTheExactUniformStretch) {
       continue;
     const double area_m2 = 0.5 * norm(cross(corners[1] - corners[0], corners[2] - corners[0]));
     for (int a = 0; a < 3; ++a)
-      load.nodal_forces_n.push_back({boundary.mesh_node_of_vertex[triangle[a]], {0.0, 0.0, traction_pa * area_m2 / 3.0}});
+      load.nodal_forces_n.push_back(
+          {boundary.mesh_node_of_vertex[triangle[a]], {0.0, 0.0, traction_pa * area_m2 / 3.0}});
   }
   auto solved = solve_linear_static(mesh, load);
   ASSERT_TRUE(solved.ok()) << solved.error().describe();
@@ -100,7 +101,8 @@ TEST(LinearElasticStatic, EndLoadGivesTheExactUniformStretch) {
         << "node " << n;
   }
   // Uniaxial stress F / A everywhere.
-  for (double stress_pa : solved.value().von_mises_stress_pa) EXPECT_NEAR(stress_pa, force_n / (kWidthM * kWidthM), 1e-6);
+  for (double stress_pa : solved.value().von_mises_stress_pa)
+    EXPECT_NEAR(stress_pa, force_n / (kWidthM * kWidthM), 1e-6);
 }
 
 TEST(LinearElasticStatic, LoadsSuperpose) {
@@ -117,7 +119,8 @@ TEST(LinearElasticStatic, LoadsSuperpose) {
   const auto c = solve_linear_static(mesh, both).value();
   for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n)
     for (int k = 0; k < 3; ++k)
-      EXPECT_NEAR(c.displacement_m[n][k], a.displacement_m[n][k] + b.displacement_m[n][k], 1e-12 + 1e-9 * std::abs(c.displacement_m[n][k]));
+      EXPECT_NEAR(c.displacement_m[n][k], a.displacement_m[n][k] + b.displacement_m[n][k],
+                  1e-12 + 1e-9 * std::abs(c.displacement_m[n][k]));
 }
 
 TEST(LinearElasticStatic, RefusesUnsupportedOrBrokenInput) {

@@ -20,9 +20,9 @@ namespace nav {
 namespace {
 
 /// The liver at about `tet_count` elements, or a skip when the shared data is missing.
-#define LIVER_MESH_OR_SKIP(mesh, tet_count)                                                                    \
-  const std::string liver_dir = testing::shared_data_path("liver");                                          \
-  NAV_REQUIRE_SHARED_DATA(liver_dir + "/liver-smoothUV.obj"); \
+#define LIVER_MESH_OR_SKIP(mesh, tet_count)                         \
+  const std::string liver_dir = testing::shared_data_path("liver"); \
+  NAV_REQUIRE_SHARED_DATA(liver_dir + "/liver-smoothUV.obj");       \
   const TetMesh mesh = load_liver_mesh(liver_dir, tet_count).value()
 
 /// Displacement at `point_m` of the rest mesh (linear in the element containing it; zero
@@ -32,8 +32,9 @@ Point3 displacement_at(const TetMesh& mesh, std::span<const double> x, const Poi
     std::array<Point3, 4> c;
     for (int a = 0; a < 4; ++a) c[a] = mesh.nodes_m[static_cast<std::size_t>(tet[a])];
     const double volume = signed_tet_volume_m3(c[0], c[1], c[2], c[3]);
-    std::array<double, 4> w{signed_tet_volume_m3(point_m, c[1], c[2], c[3]), signed_tet_volume_m3(c[0], point_m, c[2], c[3]),
-                            signed_tet_volume_m3(c[0], c[1], point_m, c[3]), signed_tet_volume_m3(c[0], c[1], c[2], point_m)};
+    std::array<double, 4> w{
+        signed_tet_volume_m3(point_m, c[1], c[2], c[3]), signed_tet_volume_m3(c[0], point_m, c[2], c[3]),
+        signed_tet_volume_m3(c[0], c[1], point_m, c[3]), signed_tet_volume_m3(c[0], c[1], c[2], point_m)};
     bool inside = true;
     for (double& weight : w) {
       weight /= volume;
@@ -59,7 +60,8 @@ Point3 volume_centroid_m(const TetMesh& mesh) {
   for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
     const double tet_m3 = signed_tet_volume_m3(mesh, e);
     volume_m3 += tet_m3;
-    for (std::int32_t node : mesh.tets[e]) moment = moment + (0.25 * tet_m3) * mesh.nodes_m[static_cast<std::size_t>(node)];
+    for (std::int32_t node : mesh.tets[e])
+      moment = moment + (0.25 * tet_m3) * mesh.nodes_m[static_cast<std::size_t>(node)];
   }
   return (1.0 / volume_m3) * moment;
 }
@@ -120,7 +122,8 @@ int run_ramped(const TetFemModel& model, TetFemData& data, const LiverScene& sce
 double largest_difference_m(std::span<const double> a, std::span<const double> b) {
   double largest_m = 0.0;
   for (std::size_t n = 0; 3 * n < a.size(); ++n)
-    largest_m = std::max(largest_m, std::hypot(a[3 * n] - b[3 * n], a[3 * n + 1] - b[3 * n + 1], a[3 * n + 2] - b[3 * n + 2]));
+    largest_m =
+        std::max(largest_m, std::hypot(a[3 * n] - b[3 * n], a[3 * n + 1] - b[3 * n + 1], a[3 * n + 2] - b[3 * n + 2]));
   return largest_m;
 }
 
@@ -173,8 +176,8 @@ double volume_change_pct(const TetMesh& mesh, std::span<const double> x) {
 
 // Picinbono's liver row of Table 2 (digest 001: linear 9 %, StVK 1.5 %, StVK + penalty 0.7 %;
 // his loads are not given): the liver held near its hilum (the anchor's box) with its lobes
-// hanging under a quarter of gravity, solved to equilibrium. The volume changes keep his ordering, linear > StVK > StVK + penalty,
-// with the penalty (gain 1e5 Pa) removing at least a third of StVK's change.
+// hanging under a quarter of gravity, solved to equilibrium. The volume changes keep his ordering, linear > StVK > StVK
+// + penalty, with the penalty (gain 1e5 Pa) removing at least a third of StVK's change.
 TEST(LiverScenes, VolumeChangeOrderingOfPicinbonoTable2LiverRow) {
   LIVER_MESH_OR_SKIP(mesh, 1000);
   LiverScene gravity = liver_scenes(mesh)[0];

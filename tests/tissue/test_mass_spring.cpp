@@ -68,8 +68,9 @@ TEST(MassSpring, RigidMotionCarriesNoForce) {
   auto data = make_mass_spring_data(model.value()).value();
   const Eigen::Matrix3d r = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d(1.0, 1.0, 0.0).normalized()).toRotationMatrix();
   for (std::size_t n = 0; n < column.mesh.nodes_m.size(); ++n) {
-    const Eigen::Vector3d moved = r * Eigen::Vector3d(column.mesh.nodes_m[n][0], column.mesh.nodes_m[n][1],
-                                                      column.mesh.nodes_m[n][2]) + Eigen::Vector3d(0.1, 0.0, -0.05);
+    const Eigen::Vector3d moved =
+        r * Eigen::Vector3d(column.mesh.nodes_m[n][0], column.mesh.nodes_m[n][1], column.mesh.nodes_m[n][2]) +
+        Eigen::Vector3d(0.1, 0.0, -0.05);
     for (int i = 0; i < 3; ++i) data.positions_m[3 * n + i] = moved[i];
   }
   step(model.value(), data, TissueInputs{});
@@ -99,7 +100,8 @@ TEST(MassSpring, VolumeIsKeptUnderLoad) {
     worst_pct = std::max(worst_pct, std::abs(kept.volume_change_pct));
   }
   for (std::size_t i = 0; i < kept.positions_m.size(); ++i)
-    moved_m = std::max(moved_m, std::abs(kept.positions_m[i] - kept_model.value().tables().supports.rest_positions_m()[i]));
+    moved_m =
+        std::max(moved_m, std::abs(kept.positions_m[i] - kept_model.value().tables().supports.rest_positions_m()[i]));
   std::printf("volume change: unconstrained %.3f %%, constrained %.2e %% (largest displacement %.1f mm)\n",
               free_data.volume_change_pct, worst_pct, 1e3 * moved_m);
   EXPECT_LT(worst_pct, 1e-9);

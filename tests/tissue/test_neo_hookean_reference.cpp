@@ -57,8 +57,10 @@ TEST(NeoHookeanReference, UniaxialStretchMatchesClosedForm) {
       EXPECT_NEAR(x[3 * n + 2], t * mesh.nodes_m[n][2], 1e-9 * kSideM);
     }
     double reaction_n = 0.0;
-    for (std::int32_t node : pulled) reaction_n += solution.value().reaction_forces_n[3 * static_cast<std::size_t>(node)];
-    const double nominal_pa = lame.mu_pa * (stretch - 1.0 / stretch) + lame.lambda_pa * std::log(stretch * t * t) / stretch;
+    for (std::int32_t node : pulled)
+      reaction_n += solution.value().reaction_forces_n[3 * static_cast<std::size_t>(node)];
+    const double nominal_pa =
+        lame.mu_pa * (stretch - 1.0 / stretch) + lame.lambda_pa * std::log(stretch * t * t) / stretch;
     EXPECT_NEAR(reaction_n, nominal_pa * kSideM * kSideM, 1e-8 * std::abs(nominal_pa) * kSideM * kSideM) << stretch;
   }
 }

@@ -43,8 +43,8 @@ double mesh_volume_m3(const TetMesh& mesh, std::span<const double> x) {
 }
 
 /// Volume change in % after each of the three load stages (sideways tractions in Pa).
-std::vector<double> volume_changes_pct(const TetMesh& mesh, const TissueScene& scene, const TissueSolverOptions& options,
-                                       const std::vector<double>& stages_pa) {
+std::vector<double> volume_changes_pct(const TetMesh& mesh, const TissueScene& scene,
+                                       const TissueSolverOptions& options, const std::vector<double>& stages_pa) {
   auto model = make_tet_fem_model(mesh, scene, options);
   EXPECT_TRUE(model.ok()) << model.error().describe();
   auto data = make_tet_fem_data(model.value()).value();
@@ -86,7 +86,8 @@ TEST(StvkCylinder, VolumeChangeOrderingOfPicinbonoTable2) {
     bool top = true;
     for (int a = 0; a < 3; ++a) top = top && boundary.surface.vertices_m[triangle[a]][2] > kHeightM - 1e-6;
     if (top)
-      scene.traction_triangles.push_back({boundary.mesh_node_of_vertex[triangle[0]], boundary.mesh_node_of_vertex[triangle[1]],
+      scene.traction_triangles.push_back({boundary.mesh_node_of_vertex[triangle[0]],
+                                          boundary.mesh_node_of_vertex[triangle[1]],
                                           boundary.mesh_node_of_vertex[triangle[2]]});
   }
   ASSERT_GT(scene.fixed_nodes.size(), 10u);

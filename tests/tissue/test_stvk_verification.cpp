@@ -46,7 +46,8 @@ double max_abs(std::span<const double> values) {
 
 /// Positions x = R X + t of the mesh for a rotation of `angle_rad` about (1, 2, 3).
 std::vector<double> rigidly_moved(const TetMesh& mesh, double angle_rad) {
-  const Eigen::Matrix3d r = Eigen::AngleAxisd(angle_rad, Eigen::Vector3d(1.0, 2.0, 3.0).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d r =
+      Eigen::AngleAxisd(angle_rad, Eigen::Vector3d(1.0, 2.0, 3.0).normalized()).toRotationMatrix();
   std::vector<double> x;
   for (const Point3& p : mesh.nodes_m) {
     const Eigen::Vector3d moved = r * Eigen::Vector3d(p[0], p[1], p[2]) + Eigen::Vector3d(0.01, -0.02, 0.005);
@@ -59,7 +60,7 @@ std::vector<double> rigidly_moved(const TetMesh& mesh, double angle_rad) {
 /// B (eq. 8), vectors C and scalars D (eq. 14) with shape vectors `alpha` (rows) and displacements
 /// u (columns), times the volume: the gradient of the element energy.
 Eigen::Matrix<double, 3, 4> tensor_mass_force(const Matrix43& alpha, const Eigen::Matrix<double, 3, 4>& u,
-                                               const LameParameters& lame, double volume_m3) {
+                                              const LameParameters& lame, double volume_m3) {
   const double l = lame.lambda_pa, m = lame.mu_pa;
   const auto a = [&](int j) { return Eigen::Vector3d(alpha.row(j).transpose()); };
   const auto b = [&](int j, int k) {

@@ -174,8 +174,9 @@ TEST_P(TetFemExtremes, StiffVesselThroughSoftParenchyma) {
   scene.region_materials = {{2, {1.0e7, 0.45, 1000.0}}};
   for (LinearSolver solver : {LinearSolver::ldlt_warped, LinearSolver::cg_block_jacobi}) {
     const double stiffened_m = run(mesh, scene, damped_implicit(solver), 50, health);
-    std::printf("stiffness ratio 1e4, solver %d: largest displacement %.4f mm (%.4f mm without the vessel), flags 0x%x\n",
-                static_cast<int>(solver), stiffened_m * 1e3, soft_m * 1e3, health.bits());
+    std::printf(
+        "stiffness ratio 1e4, solver %d: largest displacement %.4f mm (%.4f mm without the vessel), flags 0x%x\n",
+        static_cast<int>(solver), stiffened_m * 1e3, soft_m * 1e3, health.bits());
     EXPECT_LT(stiffened_m, 0.5 * soft_m);
     EXPECT_FALSE(health.has(HealthFlag::inverted_element));
   }
@@ -217,8 +218,11 @@ TEST_P(TetFemExtremes, SliverElementsStayStable) {
   explicit_options.integrator = Integrator::explicit_central_difference;
   const double sliver_limit_s = make_tet_fem_model(mesh, scene, explicit_options).value().stable_step_s();
   const double regular_limit_s =
-      make_tet_fem_model(regular, clamped_beam(regular, scene.default_material), explicit_options).value().stable_step_s();
-  std::printf("explicit stable step: %.3g ms regular, %.3g ms with the sliver\n", regular_limit_s * 1e3, sliver_limit_s * 1e3);
+      make_tet_fem_model(regular, clamped_beam(regular, scene.default_material), explicit_options)
+          .value()
+          .stable_step_s();
+  std::printf("explicit stable step: %.3g ms regular, %.3g ms with the sliver\n", regular_limit_s * 1e3,
+              sliver_limit_s * 1e3);
   EXPECT_LT(sliver_limit_s, regular_limit_s);
 }
 
@@ -252,8 +256,9 @@ TEST(MassSpringExtremes, StiffVesselThroughSoftParenchyma) {
   const double soft_m = run_mass_spring(mesh, scene, 0.8, 0.1, health);
   scene.region_materials = {{2, {1.0e7, 0.45, 1000.0}}};
   const double stiffened_m = run_mass_spring(mesh, scene, 0.8, 0.1, health);
-  std::printf("mass-spring, stiffness ratio 1e4: largest displacement %.4f mm (%.4f mm without the vessel), flags 0x%x\n",
-              stiffened_m * 1e3, soft_m * 1e3, health.bits());
+  std::printf(
+      "mass-spring, stiffness ratio 1e4: largest displacement %.4f mm (%.4f mm without the vessel), flags 0x%x\n",
+      stiffened_m * 1e3, soft_m * 1e3, health.bits());
   EXPECT_LT(stiffened_m, 0.5 * soft_m);
   EXPECT_TRUE(health.healthy());
 }
@@ -272,7 +277,8 @@ TEST(MassSpringExtremes, StepsFromTenthOfAMillisecondToATenthOfASecond) {
     auto data = make_mass_spring_data(model).value();
     for (int i = 0; i < 100; ++i) step(model, data, TissueInputs{});
     for (double x : data.positions_m) ASSERT_TRUE(std::isfinite(x)) << step_s;
-    std::printf("mass-spring, step %.0e s (stable %.2e s): flags 0x%x\n", step_s, model.stable_step_s(), data.health.bits());
+    std::printf("mass-spring, step %.0e s (stable %.2e s): flags 0x%x\n", step_s, model.stable_step_s(),
+                data.health.bits());
     EXPECT_EQ(data.health.has(HealthFlag::unstable_step), step_s > model.stable_step_s()) << step_s;
     if (step_s < model.stable_step_s()) {
       EXPECT_TRUE(data.health.healthy()) << step_s;

@@ -19,11 +19,11 @@
 namespace nav {
 namespace {
 
+using testing::bits_hash;
 using testing::box_mesh;
 using testing::BusyBoxScene;
 using testing::make_data;
 using testing::nodes_where;
-using testing::bits_hash;
 
 /// Inputs of step i of a scripted sequence: load ramp, moving frame, breathing, probe, forces.
 TissueInputs scripted_inputs(int i, std::span<const PointForce> forces) {
@@ -69,11 +69,12 @@ TissueSolverOptions options_for(const Law& law, Integrator integrator, LinearSol
 std::vector<std::pair<std::string, TissueSolverOptions>> every_configuration() {
   std::vector<std::pair<std::string, TissueSolverOptions>> all;
   for (const Law& law : kLaws)
-    for (Integrator integrator : {Integrator::implicit_euler, Integrator::quasi_static, Integrator::explicit_central_difference})
+    for (Integrator integrator :
+         {Integrator::implicit_euler, Integrator::quasi_static, Integrator::explicit_central_difference})
       for (LinearSolver solver : {LinearSolver::ldlt_warped, LinearSolver::cg_jacobi, LinearSolver::cg_block_jacobi}) {
         if (integrator == Integrator::explicit_central_difference && solver != LinearSolver::ldlt_warped) continue;
-        all.emplace_back(std::string(law.name) + " integrator " + std::to_string(static_cast<int>(integrator)) + " solver " +
-                             std::to_string(static_cast<int>(solver)),
+        all.emplace_back(std::string(law.name) + " integrator " + std::to_string(static_cast<int>(integrator)) +
+                             " solver " + std::to_string(static_cast<int>(solver)),
                          options_for(law, integrator, solver));
       }
   return all;
@@ -184,7 +185,8 @@ TEST(TissueRuntime, InvertingLoadsAreFlaggedWithoutNaN) {
     for (Integrator integrator : {Integrator::implicit_euler, Integrator::quasi_static}) {
       auto model = make_tet_fem_model(mesh, scene, options_for(law, integrator, LinearSolver::ldlt_warped));
       ASSERT_TRUE(model.ok());
-      expect_flagged(model.value(), 20, std::string(law.name) + " integrator " + std::to_string(static_cast<int>(integrator)));
+      expect_flagged(model.value(), 20,
+                     std::string(law.name) + " integrator " + std::to_string(static_cast<int>(integrator)));
     }
   MassSpringOptions options;
   options.damping_per_s = 5.0;

@@ -69,7 +69,9 @@ TEST(TetFemVerification, LinearFieldsLeaveInteriorNodesInEquilibrium) {
     for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n) {
       bool interior = true;
       for (int i = 0; i < 3; ++i) interior = interior && mesh.nodes_m[n][i] > 1e-9 && mesh.nodes_m[n][i] < 0.03 - 1e-9;
-      for (int i = 0; i < 3; ++i) (interior ? worst_interior : worst_boundary) = std::max(interior ? worst_interior : worst_boundary, std::abs(forces[3 * n + i]));
+      for (int i = 0; i < 3; ++i)
+        (interior ? worst_interior : worst_boundary) =
+            std::max(interior ? worst_interior : worst_boundary, std::abs(forces[3 * n + i]));
     }
     EXPECT_LT(worst_interior, 1e-9 * scale_n);
     EXPECT_GT(worst_boundary, 1e-2 * scale_n);  // the boundary does carry the traction
@@ -173,8 +175,8 @@ TEST(TetFemVerification, CantileverConvergesToTimoshenko) {
                          force_n * length_m / (shear_factor * shear_pa * width_m * thickness_m);
   double previous_error = 1.0;
   for (double divisions : {4.0, 8.0, 16.0}) {
-    const double deflection_m =
-        cantilever_tip_deflection_m(thickness_m / divisions, {length_m, width_m, thickness_m}, youngs_pa, poisson, force_n);
+    const double deflection_m = cantilever_tip_deflection_m(thickness_m / divisions, {length_m, width_m, thickness_m},
+                                                            youngs_pa, poisson, force_n);
     const double error = std::abs(deflection_m - exact_m) / exact_m;
     std::printf("cantilever, %g elements through the thickness: tip %.5g mm, Timoshenko %.5g mm, error %.2f %%\n",
                 divisions, deflection_m * 1e3, exact_m * 1e3, 100.0 * error);

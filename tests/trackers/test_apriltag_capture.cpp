@@ -36,7 +36,8 @@ TEST(AprilTagCapture, TagsReadThroughTheCaptureAreTrackedWithinAMillimetreAndADe
   std::vector<Eigen::Isometry3d> truths;
   for (int i = 0; i < 4; ++i) {
     truths.push_back(tag_pose(0.3 + 0.15 * i, {-0.02 + 0.013 * i, 0.01 - 0.007 * i, 0.30}));
-    const GrayImage image = render_tags({{5, truths.back()}}, kTagSize_m, kCamera, 640, 480, 2.0, 31 + static_cast<std::uint64_t>(i));
+    const GrayImage image =
+        render_tags({{5, truths.back()}}, kTagSize_m, kCamera, 640, 480, 2.0, 31 + static_cast<std::uint64_t>(i));
     cv::Mat mat(image.height_px, image.width_px, CV_8UC1, const_cast<std::uint8_t*>(image.pixels.data()));
     char name[32];
     std::snprintf(name, sizeof name, "frame_%04d.png", i);

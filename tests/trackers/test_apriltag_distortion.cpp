@@ -49,14 +49,15 @@ TEST(AprilTagDistortion, PoseAt30cmWithinAMillimetreAndADegreeOnlyWithTheLensCor
     ASSERT_EQ(naive.size(), 1u) << "tag " << i;
     // The corners are reported as seen: the distorted projection of the tag's corners.
     for (int k = 0; k < 4; ++k) {
-      EXPECT_LT((seen[0].corners_px[k] - project(camera, truth * tag_corner(k, kTagSize_m))).norm(), 0.5) << "tag " << i;
+      EXPECT_LT((seen[0].corners_px[k] - project(camera, truth * tag_corner(k, kTagSize_m))).norm(), 0.5)
+          << "tag " << i;
     }
     const double t_mm = (seen[0].camera_from_tag.translation() - truth.translation()).norm() * 1e3;
     const double r_deg = angle_deg(seen[0].camera_from_tag.rotation(), truth.rotation());
     const double naive_t_mm = (naive[0].camera_from_tag.translation() - truth.translation()).norm() * 1e3;
     const double naive_r_deg = angle_deg(naive[0].camera_from_tag.rotation(), truth.rotation());
-    std::printf("tag at (%.2f, %.2f, %.2f) m: corrected %.3f mm %.3f deg, lens ignored %.3f mm %.3f deg\n", positions[i].x(),
-                positions[i].y(), positions[i].z(), t_mm, r_deg, naive_t_mm, naive_r_deg);
+    std::printf("tag at (%.2f, %.2f, %.2f) m: corrected %.3f mm %.3f deg, lens ignored %.3f mm %.3f deg\n",
+                positions[i].x(), positions[i].y(), positions[i].z(), t_mm, r_deg, naive_t_mm, naive_r_deg);
     worst_t_mm = std::max(worst_t_mm, t_mm);
     worst_r_deg = std::max(worst_r_deg, r_deg);
     ignorant_t_mm = std::max(ignorant_t_mm, naive_t_mm);

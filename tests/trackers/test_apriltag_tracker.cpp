@@ -52,7 +52,8 @@ TEST(AprilTagTracker, SingleTagPoseWithinAMillimetreAndADegreeAt30cm) {
     double corner_error_px = 0.0;
     for (int k = 0; k < 4; ++k) {
       const Eigen::Vector3d p = truths[i] * tag_corner(k, kTagSize_m);
-      const Eigen::Vector2d expected(kCamera.fx_px * p.x() / p.z() + kCamera.cx_px, kCamera.fy_px * p.y() / p.z() + kCamera.cy_px);
+      const Eigen::Vector2d expected(kCamera.fx_px * p.x() / p.z() + kCamera.cx_px,
+                                     kCamera.fy_px * p.y() / p.z() + kCamera.cy_px);
       corner_error_px = std::max(corner_error_px, (seen[0].corners_px[k] - expected).norm());
     }
     const double translation_error_m = (seen[0].camera_from_tag.translation() - truths[i].translation()).norm();
@@ -82,11 +83,12 @@ TEST(AprilTagTracker, MultiTagBodyFromAllCorners) {
   ASSERT_EQ(samples.size(), 2u);
   ASSERT_EQ(samples[0].state, ToolState::ok);
   EXPECT_EQ(samples[0].measured_time_ns, 1234);
-  const Eigen::Quaterniond q(samples[0].orientation_wxyz[0], samples[0].orientation_wxyz[1], samples[0].orientation_wxyz[2],
-                             samples[0].orientation_wxyz[3]);
+  const Eigen::Quaterniond q(samples[0].orientation_wxyz[0], samples[0].orientation_wxyz[1],
+                             samples[0].orientation_wxyz[2], samples[0].orientation_wxyz[3]);
   Eigen::Isometry3d measured = Eigen::Isometry3d::Identity();
   measured.linear() = q.toRotationMatrix();
-  measured.translation() = Eigen::Vector3d(samples[0].position_m[0], samples[0].position_m[1], samples[0].position_m[2]);
+  measured.translation() =
+      Eigen::Vector3d(samples[0].position_m[0], samples[0].position_m[1], samples[0].position_m[2]);
   const double translation_error_m = (measured.translation() - truth.translation()).norm();
   std::printf("4-tag body at 45 cm: translation %.3f mm, rotation %.3f deg, reprojection %.3f mm\n",
               translation_error_m * 1e3, angle_deg(measured, truth), samples[0].rms_error_m * 1e3);
@@ -104,7 +106,8 @@ TEST(AprilTagTracker, ImageFolderSourceInNameOrder) {
     const Eigen::Isometry3d truth = pose_deg(10.0 * frame, 15, 0, {0.01 * frame, 0.0, 0.3});
     char name[64];
     std::snprintf(name, sizeof name, "/frame_%03d.pgm", frame);
-    ASSERT_TRUE(write_pgm(folder + name, render_tags({{5, truth}}, kTagSize_m, kCamera, 640, 480, 2.0, 30 + frame)).ok());
+    ASSERT_TRUE(
+        write_pgm(folder + name, render_tags({{5, truth}}, kTagSize_m, kCamera, 640, 480, 2.0, 30 + frame)).ok());
   }
   auto files = list_pgm_files(folder);
   ASSERT_TRUE(files.ok());

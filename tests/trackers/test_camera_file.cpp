@@ -19,8 +19,9 @@ std::string file_with(const std::string& name, const std::string& text) {
 }
 
 TEST(CameraFile, ReadsTheNumbersNavtoolCalibCameraWrites) {
-  const std::string path = file_with("camera_ok.txt", "# fx_px fy_px cx_px cy_px k1 k2 p1 p2 k3 rms_px\n"
-                                                      "612.5 610.25 320.5 240.75 -0.1 0.02 0.001 -0.002 0.003 0.12\n");
+  const std::string path = file_with("camera_ok.txt",
+                                     "# fx_px fy_px cx_px cy_px k1 k2 p1 p2 k3 rms_px\n"
+                                     "612.5 610.25 320.5 240.75 -0.1 0.02 0.001 -0.002 0.003 0.12\n");
   const auto camera = read_camera_intrinsics(path);
   ASSERT_TRUE(camera.ok()) << camera.error().describe();
   EXPECT_EQ(camera.value().fx_px, 612.5);
@@ -43,11 +44,12 @@ TEST(CameraFile, BrokenFilesAreRefusedWithTheirNameAndLine) {
     int line;
     const char* says;
   };
-  for (const Case& c : {Case{"camera_short.txt", "# header\n600 600 319.5\n", 2, "nine finite numbers"},
-                        Case{"camera_nan.txt", "# header\n\n600 600 319.5 239.5 nan 0 0 0 0 0.1\n", 3, "nine finite numbers"},
-                        Case{"camera_word.txt", "600 600 319.5 239.5 0 0 zero 0 0 0.1\n", 1, "nine finite numbers"},
-                        Case{"camera_focal.txt", "# header\n0 600 319.5 239.5 0 0 0 0 0 0.1\n", 2, "must be positive"},
-                        Case{"camera_comments.txt", "# header\n# nothing else\n", 2, "no intrinsics line"}}) {
+  for (const Case& c :
+       {Case{"camera_short.txt", "# header\n600 600 319.5\n", 2, "nine finite numbers"},
+        Case{"camera_nan.txt", "# header\n\n600 600 319.5 239.5 nan 0 0 0 0 0.1\n", 3, "nine finite numbers"},
+        Case{"camera_word.txt", "600 600 319.5 239.5 0 0 zero 0 0 0.1\n", 1, "nine finite numbers"},
+        Case{"camera_focal.txt", "# header\n0 600 319.5 239.5 0 0 0 0 0 0.1\n", 2, "must be positive"},
+        Case{"camera_comments.txt", "# header\n# nothing else\n", 2, "no intrinsics line"}}) {
     const std::string path = file_with(c.name, c.text);
     const auto refused = read_camera_intrinsics(path);
     ASSERT_FALSE(refused.ok()) << c.name;

@@ -43,7 +43,9 @@ Eigen::Isometry3d probe_pose() {
 /// The tags seen in frame i.
 using TagsOfFrame = std::vector<trackers::TagRendering> (*)(int frame);
 
-std::vector<trackers::TagRendering> needle_and_probe_tags(int frame) { return {{0, needle_at(frame)}, {1, probe_pose()}}; }
+std::vector<trackers::TagRendering> needle_and_probe_tags(int frame) {
+  return {{0, needle_at(frame)}, {1, probe_pose()}};
+}
 
 /// The needle's two-tag body: tag 0 left of the tool's origin, tag 3 right of it and turned.
 Eigen::Isometry3d needle_from_tag(int id) {
@@ -54,7 +56,9 @@ Eigen::Isometry3d needle_from_tag(int id) {
 
 /// The needle body turned about the camera's axis a little more each frame; from frame 4 on
 /// its tag 3 is out of view.
-Eigen::Isometry3d body_at(int frame) { return needle_at(frame) * Eigen::AngleAxisd(0.1 * frame, Eigen::Vector3d::UnitZ()); }
+Eigen::Isometry3d body_at(int frame) {
+  return needle_at(frame) * Eigen::AngleAxisd(0.1 * frame, Eigen::Vector3d::UnitZ());
+}
 
 std::vector<trackers::TagRendering> body_and_probe_tags(int frame) {
   std::vector<trackers::TagRendering> tags{{0, body_at(frame) * needle_from_tag(0)}, {1, probe_pose()}};
@@ -67,7 +71,8 @@ std::string write_tag_sequence(const std::string& intrinsics_path, const std::st
                                TagsOfFrame tags_of = needle_and_probe_tags) {
   const trackers::CameraIntrinsics camera;  // 600 px focal length, 640 x 480
   std::ofstream(intrinsics_path) << "# fx_px fy_px cx_px cy_px k1 k2 p1 p2 k3 rms_px\n"
-                                 << camera.fx_px << " " << camera.fy_px << " " << camera.cx_px << " " << camera.cy_px << " 0 0 0 0 0 0.1\n";
+                                 << camera.fx_px << " " << camera.fy_px << " " << camera.cx_px << " " << camera.cy_px
+                                 << " 0 0 0 0 0 0.1\n";
   const std::filesystem::path folder = temporary_path(name);
   std::filesystem::create_directories(folder);
   for (int i = 0; i < kFrames; ++i) {
@@ -82,9 +87,12 @@ std::string write_tag_sequence(const std::string& intrinsics_path, const std::st
 /// The demo scene with an AprilTag tracker on `tracker` lines (camera, intrinsics, ...).
 std::string apriltag_scene(const std::string& tracker) {
   const std::string simulated =
-      "    kind: simulated\n    rate_hz: 60\n    latency_ms: 10\n    position_noise_m: 0.00025\n    rotation_noise_rad: 0.001\n    seed: 1\n";
+      "    kind: simulated\n    rate_hz: 60\n    latency_ms: 10\n    position_noise_m: 0.00025\n    "
+      "rotation_noise_rad: 0.001\n    seed: 1\n";
   const std::string path = temporary_path("apriltag_scene.yaml");
-  std::ofstream(path) << edited(movable_demo_text(), simulated, "    kind: apriltag\n" + tracker + "    tools: {needle: 11, probe: 12, respiratory: 13}\n");
+  std::ofstream(path) << edited(
+      movable_demo_text(), simulated,
+      "    kind: apriltag\n" + tracker + "    tools: {needle: 11, probe: 12, respiratory: 13}\n");
   return path;
 }
 
@@ -94,12 +102,15 @@ double distance_m(const dds::ToolPose& pose, const Eigen::Vector3d& truth) {
 
 TEST(NavdeviceApriltag, EachToolsTagReachesTheStationWhereItWasRendered) {
   const std::string intrinsics = temporary_path("camera.txt");
-  const std::string scene = apriltag_scene("    camera: " + write_tag_sequence(intrinsics) + "\n    tag_size_m: 0.03\n    intrinsics: " +
-                                           intrinsics + "\n    tags: {needle: 0, probe: 1, respiratory: 2}\n    rate_hz: 20\n");
+  const std::string scene = apriltag_scene("    camera: " + write_tag_sequence(intrinsics) +
+                                           "\n    tag_size_m: 0.03\n    intrinsics: " + intrinsics +
+                                           "\n    tags: {needle: 0, probe: 1, respiratory: 2}\n    rate_hz: 20\n");
   StationStandIn<dds::ToolPose, 64> station(184);
-  ChildProcess device({kBin + "/navdevice", "apriltag", "--scene", scene, "--domain", "184"}, temporary_path("navdevice_apriltag.log"));
+  ChildProcess device({kBin + "/navdevice", "apriltag", "--scene", scene, "--domain", "184"},
+                      temporary_path("navdevice_apriltag.log"));
   ASSERT_TRUE(device.started());
-  const auto received = station.collect([](const auto& received) { return received.size() >= 2 * kFrames; }, std::chrono::seconds(60));
+  const auto received =
+      station.collect([](const auto& received) { return received.size() >= 2 * kFrames; }, std::chrono::seconds(60));
   ASSERT_EQ(device.wait(std::chrono::seconds(30)), 0) << device.log();
   std::printf("%s", device.log().c_str());
   std::map<std::uint32_t, std::vector<const dds::ToolPose*>> by_tool;
@@ -116,11 +127,13 @@ TEST(NavdeviceApriltag, EachToolsTagReachesTheStationWhereItWasRendered) {
   const std::string log = device.log();
   const std::size_t end = log.find("end of the stream after");
   ASSERT_NE(end, std::string::npos);
-  EXPECT_EQ(number_after(log.substr(end), "poses published, "), static_cast<double>(kFrames));  // without a pose: the respiratory marker
+  EXPECT_EQ(number_after(log.substr(end), "poses published, "),
+            static_cast<double>(kFrames));  // without a pose: the respiratory marker
 }
 
 double angle_rad(const dds::ToolPose& pose, const Eigen::Isometry3d& truth) {
-  const Eigen::Quaterniond q(pose.orientation_wxyz[0], pose.orientation_wxyz[1], pose.orientation_wxyz[2], pose.orientation_wxyz[3]);
+  const Eigen::Quaterniond q(pose.orientation_wxyz[0], pose.orientation_wxyz[1], pose.orientation_wxyz[2],
+                             pose.orientation_wxyz[3]);
   return q.angularDistance(Eigen::Quaterniond(truth.rotation()));
 }
 
@@ -134,12 +147,15 @@ const std::string kNeedleBody =
 TEST(NavdeviceApriltag, AToolOnSeveralTagsIsSolvedOnThoseInView) {
   const std::string intrinsics = temporary_path("camera_body.txt");
   const std::string pattern = write_tag_sequence(intrinsics, "apriltag_body_sequence", body_and_probe_tags);
-  const std::string scene = apriltag_scene("    camera: " + pattern + "\n    tag_size_m: 0.03\n    intrinsics: " + intrinsics +
-                                           "\n    tags: {needle: 5, probe: 1, respiratory: 2}\n" + kNeedleBody + "    rate_hz: 20\n");
+  const std::string scene =
+      apriltag_scene("    camera: " + pattern + "\n    tag_size_m: 0.03\n    intrinsics: " + intrinsics +
+                     "\n    tags: {needle: 5, probe: 1, respiratory: 2}\n" + kNeedleBody + "    rate_hz: 20\n");
   StationStandIn<dds::ToolPose, 64> station(185);
-  ChildProcess device({kBin + "/navdevice", "apriltag", "--scene", scene, "--domain", "185"}, temporary_path("navdevice_apriltag_body.log"));
+  ChildProcess device({kBin + "/navdevice", "apriltag", "--scene", scene, "--domain", "185"},
+                      temporary_path("navdevice_apriltag_body.log"));
   ASSERT_TRUE(device.started());
-  const auto received = station.collect([](const auto& received) { return received.size() >= 2 * kFrames; }, std::chrono::seconds(60));
+  const auto received =
+      station.collect([](const auto& received) { return received.size() >= 2 * kFrames; }, std::chrono::seconds(60));
   ASSERT_EQ(device.wait(std::chrono::seconds(30)), 0) << device.log();
   std::printf("%s", device.log().c_str());
   EXPECT_NE(device.log().find("tags 0+3 the needle (tool 11)"), std::string::npos);
@@ -149,21 +165,25 @@ TEST(NavdeviceApriltag, AToolOnSeveralTagsIsSolvedOnThoseInView) {
   ASSERT_EQ(needle.size(), static_cast<std::size_t>(kFrames));
   for (int i = 0; i < kFrames; ++i) {
     const dds::ToolPose& pose = *needle[static_cast<std::size_t>(i)];
-    EXPECT_LT(distance_m(pose, body_at(i).translation()), 2e-3) << "frame " << i;  // the tool's origin lies between its tags
+    EXPECT_LT(distance_m(pose, body_at(i).translation()), 2e-3)
+        << "frame " << i;  // the tool's origin lies between its tags
     EXPECT_LT(angle_rad(pose, body_at(i)), 0.02) << "frame " << i;
   }
 }
 
 TEST(NavdeviceApriltag, NamesWhatIsMissing) {
-  ChildProcess no_intrinsics({kBin + "/navdevice", "apriltag", "--scene", apriltag_scene("    camera: 0\n    tag_size_m: 0.03\n"), "--no-wait"},
+  ChildProcess no_intrinsics({kBin + "/navdevice", "apriltag", "--scene",
+                              apriltag_scene("    camera: 0\n    tag_size_m: 0.03\n"), "--no-wait"},
                              temporary_path("navdevice_apriltag_no_intrinsics.log"));
   EXPECT_EQ(no_intrinsics.wait(std::chrono::seconds(30)), 1);
-  EXPECT_NE(no_intrinsics.log().find("devices.tracker.intrinsics is required"), std::string::npos) << no_intrinsics.log();
+  EXPECT_NE(no_intrinsics.log().find("devices.tracker.intrinsics is required"), std::string::npos)
+      << no_intrinsics.log();
   const std::string bad = temporary_path("bad_camera.txt");
   std::ofstream(bad) << "# fx_px fy_px cx_px cy_px k1 k2 p1 p2 k3 rms_px\n600 600 319.5\n";
-  ChildProcess bad_file({kBin + "/navdevice", "apriltag", "--scene",
-                         apriltag_scene("    camera: 0\n    tag_size_m: 0.03\n    intrinsics: " + bad + "\n"), "--no-wait"},
-                        temporary_path("navdevice_apriltag_bad.log"));
+  ChildProcess bad_file(
+      {kBin + "/navdevice", "apriltag", "--scene",
+       apriltag_scene("    camera: 0\n    tag_size_m: 0.03\n    intrinsics: " + bad + "\n"), "--no-wait"},
+      temporary_path("navdevice_apriltag_bad.log"));
   EXPECT_EQ(bad_file.wait(std::chrono::seconds(30)), 1);
   EXPECT_NE(bad_file.log().find(bad + ":2:"), std::string::npos) << bad_file.log();
   ChildProcess simulated({kBin + "/navdevice", "apriltag", "--scene", example_scene_path("demo.yaml"), "--no-wait"},
@@ -171,13 +191,15 @@ TEST(NavdeviceApriltag, NamesWhatIsMissing) {
   EXPECT_EQ(simulated.wait(std::chrono::seconds(30)), 1);
   EXPECT_NE(simulated.log().find("not an AprilTag tracker"), std::string::npos) << simulated.log();
   // A body's tag already another tool's (the probe's tag 1), and a body of no tags.
-  ChildProcess shared({kBin + "/navdevice", "apriltag", "--scene",
-                       apriltag_scene("    camera: 0\n    tag_size_m: 0.03\n" + edited(kNeedleBody, "id: 3", "id: 1")), "--no-wait"},
-                      temporary_path("navdevice_apriltag_shared.log"));
+  ChildProcess shared(
+      {kBin + "/navdevice", "apriltag", "--scene",
+       apriltag_scene("    camera: 0\n    tag_size_m: 0.03\n" + edited(kNeedleBody, "id: 3", "id: 1")), "--no-wait"},
+      temporary_path("navdevice_apriltag_shared.log"));
   EXPECT_EQ(shared.wait(std::chrono::seconds(30)), 1);
-  EXPECT_NE(shared.log().find("devices.tracker.bodies: tag 1 is on two tools (needle and probe)"), std::string::npos) << shared.log();
-  ChildProcess empty({kBin + "/navdevice", "apriltag", "--scene", apriltag_scene("    camera: 0\n    tag_size_m: 0.03\n    bodies: {needle: []}\n"),
-                      "--no-wait"},
+  EXPECT_NE(shared.log().find("devices.tracker.bodies: tag 1 is on two tools (needle and probe)"), std::string::npos)
+      << shared.log();
+  ChildProcess empty({kBin + "/navdevice", "apriltag", "--scene",
+                      apriltag_scene("    camera: 0\n    tag_size_m: 0.03\n    bodies: {needle: []}\n"), "--no-wait"},
                      temporary_path("navdevice_apriltag_empty_body.log"));
   EXPECT_EQ(empty.wait(std::chrono::seconds(30)), 1);
   EXPECT_NE(empty.log().find("devices.tracker.bodies.needle"), std::string::npos) << empty.log();

@@ -49,15 +49,18 @@ std::vector<SimulatedNdiTool> device_tools() {
 std::string ndi_scene(const std::string& connection) {
   const std::string path = temporary_path("ndi_scene.yaml");
   const std::string simulated =
-      "    kind: simulated\n    rate_hz: 60\n    latency_ms: 10\n    position_noise_m: 0.00025\n    rotation_noise_rad: 0.001\n    seed: 1\n";
+      "    kind: simulated\n    rate_hz: 60\n    latency_ms: 10\n    position_noise_m: 0.00025\n    "
+      "rotation_noise_rad: 0.001\n    seed: 1\n";
   std::ofstream(path) << edited(movable_demo_text(), simulated,
-                                "    kind: ndi\n" + connection + "    port_handles: {needle: 2, probe: 1, respiratory: 3}\n"
-                                "    tools: {needle: 11, probe: 12, respiratory: 13}\n    rate_hz: 60\n");
+                                "    kind: ndi\n" + connection +
+                                    "    port_handles: {needle: 2, probe: 1, respiratory: 3}\n"
+                                    "    tools: {needle: 11, probe: 12, respiratory: 13}\n    rate_hz: 60\n");
   return path;
 }
 
 /// Every pose `received`, by tool id.
-std::map<std::uint32_t, std::vector<dds::ToolPose>> by_tool(const std::vector<std::unique_ptr<dds::ToolPose>>& received) {
+std::map<std::uint32_t, std::vector<dds::ToolPose>> by_tool(
+    const std::vector<std::unique_ptr<dds::ToolPose>>& received) {
   std::map<std::uint32_t, std::vector<dds::ToolPose>> poses;
   for (const auto& pose : received) poses[pose->tool_id].push_back(*pose);
   return poses;
@@ -65,7 +68,8 @@ std::map<std::uint32_t, std::vector<dds::ToolPose>> by_tool(const std::vector<st
 
 /// Plays the device until it ends, standing in for the station on `domain` (the device waits
 /// for its health), and returns every pose it published.
-std::vector<std::unique_ptr<dds::ToolPose>> run_device(ChildProcess& device, StationStandIn<dds::ToolPose, 1024>& station) {
+std::vector<std::unique_ptr<dds::ToolPose>> run_device(ChildProcess& device,
+                                                       StationStandIn<dds::ToolPose, 1024>& station) {
   auto received = station.collect([&](const auto&) { return device.ended(); }, std::chrono::seconds(60));
   EXPECT_EQ(device.wait(std::chrono::seconds(30)), 0) << device.log();
   return received;
@@ -80,7 +84,8 @@ void expect_mapped_poses(const std::vector<std::unique_ptr<dds::ToolPose>>& rece
   const auto& needle = poses.at(11);
   const auto& probe = poses.at(12);
   EXPECT_GE(needle.size(), 110u);  // 2 s at 60 Hz
-  EXPECT_NEAR(static_cast<double>(probe.size()), 0.75 * static_cast<double>(needle.size()), 0.05 * static_cast<double>(needle.size()));
+  EXPECT_NEAR(static_cast<double>(probe.size()), 0.75 * static_cast<double>(needle.size()),
+              0.05 * static_cast<double>(needle.size()));
   EXPECT_STREQ(needle.front().frame_from.data(), "needle_marker");
   EXPECT_STREQ(probe.front().frame_from.data(), "probe_marker");
   EXPECT_STREQ(probe.front().frame_to.data(), "tracker");
@@ -90,7 +95,7 @@ void expect_mapped_poses(const std::vector<std::unique_ptr<dds::ToolPose>>& rece
   EXPECT_NE(log.find("3 port handles enabled"), std::string::npos);
   const std::size_t done = log.find("navdevice ndi: done after");
   ASSERT_NE(done, std::string::npos);
-  const std::string last = log.substr(done);  // the final counts
+  const std::string last = log.substr(done);                // the final counts
   EXPECT_GT(number_after(last, "poses published, "), 0.0);  // tool samples without a pose: the probe's missing frames
   EXPECT_EQ(number_after(last, "without a pose, "), 0.0);   // refused by DDS
   EXPECT_GE(number_after(last, "refused, "), 100.0);        // samples of the unmapped handle 4
@@ -101,8 +106,8 @@ TEST(NavdeviceNdi, PublishesTheScenesToolsFromADeviceOnASerialLine) {
   ASSERT_TRUE(pty.ok()) << pty.error().describe();
   NdiDeviceServer server(pty.value().master_fd, SimulatedNdiDevice(device_tools()));
   StationStandIn<dds::ToolPose, 1024> station(181);
-  ChildProcess device({kBin + "/navdevice", "ndi", "--scene", ndi_scene("    serial: " + pty.value().slave_path + "\n"), "--seconds", "2",
-                       "--domain", "181"},
+  ChildProcess device({kBin + "/navdevice", "ndi", "--scene", ndi_scene("    serial: " + pty.value().slave_path + "\n"),
+                       "--seconds", "2", "--domain", "181"},
                       temporary_path("navdevice_ndi_serial.log"));
   expect_mapped_poses(run_device(device, station), device);
   EXPECT_GT(server.commands(), 100u);
@@ -124,25 +129,30 @@ TEST(NavdeviceNdi, NegotiatesTheScenesRateAndLoadsAPassiveToolFromItsRomFile) {
   ASSERT_TRUE(pty.ok()) << pty.error().describe();
   NdiDeviceServer server(pty.value().master_fd, SimulatedNdiDevice(tools), pty.value().slave_path);
   StationStandIn<dds::ToolPose, 1024> station(183);
-  const std::string connection = "    serial: " + pty.value().slave_path + "\n    baud: 230400\n    rom_files: {respiratory: " + rom_path + "}\n";
-  ChildProcess device({kBin + "/navdevice", "ndi", "--scene", ndi_scene(connection), "--seconds", "2", "--domain", "183"},
-                      temporary_path("navdevice_ndi_passive.log"));
+  const std::string connection =
+      "    serial: " + pty.value().slave_path + "\n    baud: 230400\n    rom_files: {respiratory: " + rom_path + "}\n";
+  ChildProcess device(
+      {kBin + "/navdevice", "ndi", "--scene", ndi_scene(connection), "--seconds", "2", "--domain", "183"},
+      temporary_path("navdevice_ndi_passive.log"));
   const auto poses = by_tool(run_device(device, station));
   std::printf("%s", device.log().c_str());
   EXPECT_NE(device.log().find("4 port handles enabled"), std::string::npos);
   ASSERT_TRUE(poses.count(13)) << "the passive respiratory marker (tool 13)";
   EXPECT_GE(poses.at(13).size(), 110u);  // 2 s at 60 Hz, every poll heard at 230400
-  for (const dds::ToolPose& p : poses.at(13)) EXPECT_LT(std::hypot(p.position_m[0] + 0.2, p.position_m[1] - 0.1, p.position_m[2] + 0.9), 0.06);
+  for (const dds::ToolPose& p : poses.at(13))
+    EXPECT_LT(std::hypot(p.position_m[0] + 0.2, p.position_m[1] - 0.1, p.position_m[2] + 0.9), 0.06);
   EXPECT_EQ(server.garbled_lines(), 0u);
 
   // A rate no NDI device and host share, and a definition file that is not there: named.
-  ChildProcess bad_rate({kBin + "/navstation", "--scene", ndi_scene("    serial: /dev/ttyUSB0\n    baud: 14400\n"), "--check"},
-                        temporary_path("navdevice_ndi_rate.log"));
+  ChildProcess bad_rate(
+      {kBin + "/navstation", "--scene", ndi_scene("    serial: /dev/ttyUSB0\n    baud: 14400\n"), "--check"},
+      temporary_path("navdevice_ndi_rate.log"));
   EXPECT_EQ(bad_rate.wait(std::chrono::seconds(120)), 1);
   EXPECT_NE(bad_rate.log().find("devices.tracker.baud"), std::string::npos) << bad_rate.log();
-  ChildProcess no_rom({kBin + "/navdevice", "ndi", "--scene", ndi_scene("    serial: " + pty.value().slave_path + "\n    rom_files: {needle: missing.rom}\n"),
-                       "--no-wait"},
-                      temporary_path("navdevice_ndi_no_rom.log"));
+  ChildProcess no_rom(
+      {kBin + "/navdevice", "ndi", "--scene",
+       ndi_scene("    serial: " + pty.value().slave_path + "\n    rom_files: {needle: missing.rom}\n"), "--no-wait"},
+      temporary_path("navdevice_ndi_no_rom.log"));
   EXPECT_EQ(no_rom.wait(std::chrono::seconds(30)), 1);
   EXPECT_NE(no_rom.log().find("missing.rom"), std::string::npos) << no_rom.log();
 }
@@ -157,8 +167,8 @@ TEST(NavdeviceNdi, PublishesTheScenesToolsFromADeviceOnTcp) {
   });
   StationStandIn<dds::ToolPose, 1024> station(182);
   // The scene names another port; the flag names the device.
-  ChildProcess device({kBin + "/navdevice", "ndi", "--scene", ndi_scene("    host: 127.0.0.1\n    port: 1\n"), "--tcp", "127.0.0.1:" + port,
-                       "--seconds", "2", "--domain", "182"},
+  ChildProcess device({kBin + "/navdevice", "ndi", "--scene", ndi_scene("    host: 127.0.0.1\n    port: 1\n"), "--tcp",
+                       "127.0.0.1:" + port, "--seconds", "2", "--domain", "182"},
                       temporary_path("navdevice_ndi_tcp.log"));
   const auto received = run_device(device, station);
   accepting.join();

@@ -9,9 +9,15 @@ namespace {
 
 TrackingReply sample_reply() {
   TrackingReply reply;
-  HandleRecord ok{0x0A, ToolState::ok, {0.5, 0.5, -0.5, 0.5}, {12.34, -567.89, -1234.5}, 0.1234, kPortOccupied | kPortEnabled, 77};
-  HandleRecord partly{0x0B, ToolState::partly_out_of_volume, {1.0, 0.0, 0.0, 0.0}, {1.0, 2.0, -3.0}, 0.3,
-                      kPortOccupied | kPortEnabled | kPortPartlyOutOfVolume, 77};
+  HandleRecord ok{
+      0x0A, ToolState::ok, {0.5, 0.5, -0.5, 0.5}, {12.34, -567.89, -1234.5}, 0.1234, kPortOccupied | kPortEnabled, 77};
+  HandleRecord partly{0x0B,
+                      ToolState::partly_out_of_volume,
+                      {1.0, 0.0, 0.0, 0.0},
+                      {1.0, 2.0, -3.0},
+                      0.3,
+                      kPortOccupied | kPortEnabled | kPortPartlyOutOfVolume,
+                      77};
   HandleRecord missing{0x0C, ToolState::missing, {1.0, 0.0, 0.0, 0.0}, {}, 0.0, kPortOccupied | kPortEnabled, 77};
   HandleRecord disabled{0x0D, ToolState::disabled, {1.0, 0.0, 0.0, 0.0}, {}, 0.0, 0, 0};
   reply.handles = {ok, partly, missing, disabled};
@@ -22,11 +28,12 @@ TrackingReply sample_reply() {
 TEST(NdiProtocol, Crc16IsTheArcCrc) {
   EXPECT_EQ(crc16("123456789"), 0xBB3D);  // CRC-16/ARC check value
   EXPECT_EQ(crc16(""), 0x0000);
-  EXPECT_EQ(frame_command("INIT", ""), "INIT:" + std::string() + [] {
-    char text[8];
-    std::snprintf(text, sizeof text, "%04X", crc16("INIT:"));
-    return std::string(text);
-  }() + "\r");
+  EXPECT_EQ(
+      frame_command("INIT", ""), "INIT:" + std::string() + [] {
+        char text[8];
+        std::snprintf(text, sizeof text, "%04X", crc16("INIT:"));
+        return std::string(text);
+      }() + "\r");
   auto body = check_reply(frame_reply("OKAY").substr(0, 8));
   ASSERT_TRUE(body.ok());
   EXPECT_EQ(body.value(), "OKAY");
@@ -54,7 +61,9 @@ TEST(NdiProtocol, BxRoundTripKeepsEveryState) {
 TEST(NdiProtocol, TxRoundTripAtTheFormatsResolution) {
   const TrackingReply reply = sample_reply();
   const std::string body = encode_tx(reply);
-  EXPECT_NE(body.find("0C" "MISSING"), std::string::npos);
+  EXPECT_NE(body.find("0C"
+                      "MISSING"),
+            std::string::npos);
   EXPECT_NE(body.find("0DDISABLED\n"), std::string::npos);
   auto decoded = decode_tx(body);
   ASSERT_TRUE(decoded.ok()) << decoded.error().describe();
@@ -80,12 +89,17 @@ TEST(NdiProtocol, CorruptRepliesAreRefused) {
   flipped[2] = static_cast<char>(flipped[2] + 1);
   EXPECT_EQ(decode_bx(flipped).error().field, "BX header");
   EXPECT_FALSE(decode_bx(bx.substr(0, bx.size() - 1)).ok());
-  EXPECT_FALSE(decode_tx("01" "0A" "+1000x").ok());
+  EXPECT_FALSE(decode_tx("01"
+                         "0A"
+                         "+1000x")
+                   .ok());
   EXPECT_FALSE(decode_tx(encode_tx(sample_reply()) + "X").ok());
   auto phsr = decode_phsr(encode_phsr({{0x01, 0x031}, {0x0A, 0x001}}));
   ASSERT_TRUE(phsr.ok());
   EXPECT_EQ(phsr.value()[1].handle, 0x0A);
-  EXPECT_FALSE(decode_phsr("02" "01031").ok());
+  EXPECT_FALSE(decode_phsr("02"
+                           "01031")
+                   .ok());
 }
 
 }  // namespace

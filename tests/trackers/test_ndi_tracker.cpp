@@ -8,9 +8,9 @@
 #include <cmath>
 #include <fstream>
 
+#include "loopback_listener.hpp"
 #include "nav/trackers/ndi_simulator.hpp"
 #include "nav/trackers/ndi_tracker.hpp"
-#include "loopback_listener.hpp"
 
 namespace nav::trackers::ndi {
 namespace {
@@ -122,7 +122,8 @@ TEST(NdiTracker, DeviceErrorsAndSilenceAreReported) {
 /// A passive tool's definition: `size` bytes of a pattern seeded by `seed` (a .rom file's bytes).
 std::string definition(std::size_t size, int seed) {
   std::string bytes;
-  for (std::size_t i = 0; i < size; ++i) bytes += static_cast<char>((i * 31 + static_cast<std::size_t>(seed) * 17) % 251);
+  for (std::size_t i = 0; i < size; ++i)
+    bytes += static_cast<char>((i * 31 + static_cast<std::size_t>(seed) * 17) % 251);
   return bytes;
 }
 
@@ -164,12 +165,15 @@ TEST(NdiTracker, ADeviceThatDoesNotAnswerAt9600AndSendsNoResetIsNamed) {
   ASSERT_TRUE(pty.ok());
   auto connection = Connection::open_serial(pty.value().slave_path);
   ASSERT_TRUE(connection.ok());
-  NdiDeviceServer server(pty.value().master_fd, SimulatedNdiDevice(station_tools(), kNsPerSecond / 60, 115200), pty.value().slave_path);
+  NdiDeviceServer server(pty.value().master_fd, SimulatedNdiDevice(station_tools(), kNsPerSecond / 60, 115200),
+                         pty.value().slave_path);
   connection.value().reply_timeout_ns = 300 * kNsPerMs;
   const Status negotiated = negotiate_serial(connection.value(), 115200);
   ASSERT_FALSE(negotiated.ok());
-  EXPECT_NE(negotiated.error().describe().find("no RESET after a serial break"), std::string::npos) << negotiated.error().describe();
-  EXPECT_NE(negotiated.error().describe().find(pty.value().slave_path), std::string::npos) << negotiated.error().describe();
+  EXPECT_NE(negotiated.error().describe().find("no RESET after a serial break"), std::string::npos)
+      << negotiated.error().describe();
+  EXPECT_NE(negotiated.error().describe().find(pty.value().slave_path), std::string::npos)
+      << negotiated.error().describe();
   EXPECT_FALSE(negotiate_serial(connection.value(), 14400).ok());  // no such host rate: refused before anything is sent
 }
 
@@ -198,7 +202,9 @@ TEST(NdiTracker, LoadsPassiveToolsFromTheirDefinitionsAndTracksThem) {
   // Each loaded handle tracks the tool whose definition it got: near its trajectory's centre.
   const auto near = [&](std::uint8_t handle, const std::array<double, 3>& centre) {
     for (const TrackerSample& s : samples.value())
-      if (s.tool_id == handle) return has_pose(s.state) && std::hypot(s.position_m[0] - centre[0], s.position_m[1] - centre[1], s.position_m[2] - centre[2]) < 0.1;
+      if (s.tool_id == handle)
+        return has_pose(s.state) &&
+               std::hypot(s.position_m[0] - centre[0], s.position_m[1] - centre[1], s.position_m[2] - centre[2]) < 0.1;
     return false;
   };
   EXPECT_TRUE(near(tracker.value().passive_handles()[0], other.trajectory.centre_m));

@@ -139,7 +139,8 @@ TEST(TrackerDds, NdiDriverPublishesBxPosesWithToolStates) {
   const std::vector<dds::ToolPose> poses = receive(link, 18);
   const dds::BoundaryCounts boundary = link.station->boundary_counts();
   ASSERT_EQ(poses.size(), 18u) << "accepted " << boundary.accepted << ", non-finite " << boundary.non_finite
-                               << ", non-unit " << boundary.non_unit_quaternion << ", backwards " << boundary.time_backwards;
+                               << ", non-unit " << boundary.non_unit_quaternion << ", backwards "
+                               << boundary.time_backwards;
   std::vector<TimeNs> latencies_ns;
   std::size_t partly = 0;
   for (std::size_t i = 0; i < poses.size(); ++i) {

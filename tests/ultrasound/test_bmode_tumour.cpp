@@ -92,7 +92,8 @@ TEST(TumourTracker, FindsTheTumourOverASweepWithinTwoPixelsAndAMillimetre) {
     const Eigen::Vector3d point = image_point_in_world(found.u_px, found.v_px, geometry.spacing_m, geometry.spacing_m,
                                                        probe_from_image, liver_from_probe);
     const Eigen::Vector3d section_centre =
-        liver_from_image * Eigen::Vector3d(truth.tumour_u_px * geometry.spacing_m, truth.tumour_v_px * geometry.spacing_m, 0);
+        liver_from_image *
+        Eigen::Vector3d(truth.tumour_u_px * geometry.spacing_m, truth.tumour_v_px * geometry.spacing_m, 0);
     worst_mm = std::max(worst_mm, 1e3 * (point - section_centre).norm());
   }
   std::printf("tumour centre: worst error %.2f px, %.3f mm; lowest confidence %.2f\n", worst_px, worst_mm,
@@ -122,7 +123,8 @@ TEST(BmodeDevice, PublishesFramesATrackerCanUseOverDds) {
   const BmodeScene scene = default_bmode_scene();
   const Eigen::Isometry3d probe_from_image(Eigen::Translation3d(-0.038, 0.0, 0.0));
   BmodeDevice device(BmodeSimulator(geometry, scene, 5), probe_from_image, 2);
-  const Eigen::Isometry3d liver_from_probe = plane_through_tumour(geometry, scene, 0.0, kDepth_m) * probe_from_image.inverse();
+  const Eigen::Isometry3d liver_from_probe =
+      plane_through_tumour(geometry, scene, 0.0, kDepth_m) * probe_from_image.inverse();
   // Frames and poses are best effort, as from a real scanner: the device publishes again
   // until the station has both (the first samples may leave before the station's side of
   // the match is complete).

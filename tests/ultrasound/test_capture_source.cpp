@@ -53,7 +53,8 @@ std::string write_png_clip(const std::vector<cv::Mat>& frames, const std::string
 
 /// Publishes the whole capture on the link, one frame per period of the simulated clock, and
 /// collects what the station received.
-std::vector<std::unique_ptr<dds::UltrasoundFrame>> capture_over_dds(const std::string& source, const CaptureOptions& options,
+std::vector<std::unique_ptr<dds::UltrasoundFrame>> capture_over_dds(const std::string& source,
+                                                                    const CaptureOptions& options,
                                                                     std::uint32_t domain_id, SimulatedClock& clock) {
   std::vector<std::unique_ptr<dds::UltrasoundFrame>> received;
   testing::DeviceLink link = testing::link_device(domain_id);

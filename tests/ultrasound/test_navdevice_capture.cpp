@@ -48,19 +48,23 @@ std::string write_sequence() {
 /// The demo scene with its scanner the capture of `source` at 10 Hz, clipped and spaced.
 std::string capture_scene(const std::string& source) {
   const std::string path = temporary_path("capture_scene.yaml");
-  std::ofstream(path) << edited(movable_demo_text(), "  ultrasound:\n    kind: simulated\n    rate_hz: 20\n    target_noise_m: 0.001\n    seed: 2",
-                                "  ultrasound:\n    kind: capture\n    source: " + source + "\n    rate_hz: 10\n    clip_px: [" +
-                                    std::to_string(kClipX) + ", " + std::to_string(kClipY) + ", " + std::to_string(kClipWidth) + ", " +
-                                    std::to_string(kClipHeight) + "]\n    pixel_spacing_mm: [0.2, 0.25]");
+  std::ofstream(path) << edited(
+      movable_demo_text(),
+      "  ultrasound:\n    kind: simulated\n    rate_hz: 20\n    target_noise_m: 0.001\n    seed: 2",
+      "  ultrasound:\n    kind: capture\n    source: " + source + "\n    rate_hz: 10\n    clip_px: [" +
+          std::to_string(kClipX) + ", " + std::to_string(kClipY) + ", " + std::to_string(kClipWidth) + ", " +
+          std::to_string(kClipHeight) + "]\n    pixel_spacing_mm: [0.2, 0.25]");
   return path;
 }
 
 TEST(NavdeviceCapture, AnImageSequenceReachesTheStationClippedSpacedAndPaced) {
   const std::string scene = capture_scene(write_sequence());
   StationStandIn<dds::UltrasoundFrame, 16> station(183);
-  ChildProcess device({kBin + "/navdevice", "capture", "--scene", scene, "--domain", "183"}, temporary_path("navdevice_capture.log"));
+  ChildProcess device({kBin + "/navdevice", "capture", "--scene", scene, "--domain", "183"},
+                      temporary_path("navdevice_capture.log"));
   ASSERT_TRUE(device.started());
-  const std::vector<std::unique_ptr<dds::UltrasoundFrame>> received = station.collect([](const auto& received) { return received.size() >= kFrames; }, std::chrono::seconds(60));
+  const std::vector<std::unique_ptr<dds::UltrasoundFrame>> received =
+      station.collect([](const auto& received) { return received.size() >= kFrames; }, std::chrono::seconds(60));
   ASSERT_EQ(device.wait(std::chrono::seconds(30)), 0) << device.log();
   std::printf("%s", device.log().c_str());
   ASSERT_EQ(received.size(), static_cast<std::size_t>(kFrames)) << device.log();
@@ -74,7 +78,8 @@ TEST(NavdeviceCapture, AnImageSequenceReachesTheStationClippedSpacedAndPaced) {
     EXPECT_DOUBLE_EQ(f.pixel_spacing_m[1], 0.25e-3);
     int wrong = 0;
     for (int y = 0; y < kClipHeight; ++y)
-      for (int x = 0; x < kClipWidth; ++x) wrong += f.pixels[static_cast<std::size_t>(y * kClipWidth + x)] != pixel_of(i, kClipX + x, kClipY + y);
+      for (int x = 0; x < kClipWidth; ++x)
+        wrong += f.pixels[static_cast<std::size_t>(y * kClipWidth + x)] != pixel_of(i, kClipX + x, kClipY + y);
     EXPECT_EQ(wrong, 0) << "frame " << i;
   }
   // Paced at 10 Hz on the device's clock: 0.7 s from the first frame's grab to the last's.
@@ -88,8 +93,9 @@ TEST(NavdeviceCapture, NamesTheSourceThatIsMissing) {
                          temporary_path("navdevice_capture_simulated.log"));
   EXPECT_EQ(simulated.wait(std::chrono::seconds(30)), 1);
   EXPECT_NE(simulated.log().find("devices.ultrasound is not a capture source"), std::string::npos) << simulated.log();
-  ChildProcess missing({kBin + "/navdevice", "capture", "--scene", capture_scene("/nonexistent/frame_%03d.png"), "--no-wait"},
-                       temporary_path("navdevice_capture_missing.log"));
+  ChildProcess missing(
+      {kBin + "/navdevice", "capture", "--scene", capture_scene("/nonexistent/frame_%03d.png"), "--no-wait"},
+      temporary_path("navdevice_capture_missing.log"));
   EXPECT_EQ(missing.wait(std::chrono::seconds(30)), 1);
   EXPECT_NE(missing.log().find("navdevice capture: "), std::string::npos) << missing.log();
   EXPECT_NE(missing.log().find("/nonexistent/frame_%03d.png"), std::string::npos) << missing.log();

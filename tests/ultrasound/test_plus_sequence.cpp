@@ -84,11 +84,13 @@ TEST(PlusSequence, BadInputNamesTheFileLineAndField) {
   const auto no_time = parse_plus_sequence(replaced(good, "Seq_Frame0001_Timestamp = 1.6\n", ""), "bad.mha");
   ASSERT_FALSE(no_time.ok());
   EXPECT_EQ(no_time.error().field, "Seq_Frame1_Timestamp");
-  const auto beyond = parse_plus_sequence(replaced(good, "Seq_Frame0001_Timestamp", "Seq_Frame0002_Timestamp"), "bad.mha");
+  const auto beyond =
+      parse_plus_sequence(replaced(good, "Seq_Frame0001_Timestamp", "Seq_Frame0002_Timestamp"), "bad.mha");
   EXPECT_NE(beyond.error().message.find("beyond"), std::string::npos);
   const auto truncated = parse_plus_sequence(good.substr(0, good.size() - 1), "bad.mha");
   EXPECT_EQ(truncated.error().field, "pixel data");
-  const auto corrupt = parse_plus_sequence(replaced(good, "CompressedData = False", "CompressedData = True"), "bad.mha");
+  const auto corrupt =
+      parse_plus_sequence(replaced(good, "CompressedData = False", "CompressedData = True"), "bad.mha");
   EXPECT_EQ(corrupt.error().field, "pixel data");
   const auto wide = parse_plus_sequence(replaced(good, "MET_UCHAR", "MET_SHORT"), "bad.mha");
   EXPECT_EQ(wide.error().field, "ElementType");

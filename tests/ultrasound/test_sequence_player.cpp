@@ -58,7 +58,8 @@ TEST(SequencePlayer, RealRecordingReachesASubscriberAtRecordedTiming) {
   dds::ToolPose pose;
   while (link.poses->try_pop(pose)) {
     if (pose.tool_id != 2) continue;
-    EXPECT_NEAR(pose.position_m[0], sequence.value().find_transform("ProbeToTracker")->matrices_mm[probe_poses][3] * 1e-3, 1e-12);
+    EXPECT_NEAR(pose.position_m[0],
+                sequence.value().find_transform("ProbeToTracker")->matrices_mm[probe_poses][3] * 1e-3, 1e-12);
     ++probe_poses;
   }
   EXPECT_EQ(probe_poses, 3u);

@@ -18,7 +18,8 @@ namespace nav::ultrasound::testing {
 struct DeviceLink {
   std::unique_ptr<dds::DdsNode> device;
   std::unique_ptr<dds::DdsNode> station;
-  std::unique_ptr<dds::RingSink<dds::UltrasoundFrame, 4>> frames = std::make_unique<dds::RingSink<dds::UltrasoundFrame, 4>>();
+  std::unique_ptr<dds::RingSink<dds::UltrasoundFrame, 4>> frames =
+      std::make_unique<dds::RingSink<dds::UltrasoundFrame, 4>>();
   std::unique_ptr<dds::RingSink<dds::ToolPose, 16>> poses = std::make_unique<dds::RingSink<dds::ToolPose, 16>>();
   bool ok = false;
 };

@@ -24,8 +24,8 @@ Eigen::Matrix3d normaliser(const std::vector<Eigen::Vector2d>& points) {
 /// Zhang's v_ij of homography h (columns i and j).
 Eigen::Matrix<double, 6, 1> zhang_v(const Eigen::Matrix3d& h, int i, int j) {
   Eigen::Matrix<double, 6, 1> v;
-  v << h(0, i) * h(0, j), h(0, i) * h(1, j) + h(1, i) * h(0, j), h(1, i) * h(1, j), h(2, i) * h(0, j) + h(0, i) * h(2, j),
-      h(2, i) * h(1, j) + h(1, i) * h(2, j), h(2, i) * h(2, j);
+  v << h(0, i) * h(0, j), h(0, i) * h(1, j) + h(1, i) * h(0, j), h(1, i) * h(1, j),
+      h(2, i) * h(0, j) + h(0, i) * h(2, j), h(2, i) * h(1, j) + h(1, i) * h(2, j), h(2, i) * h(2, j);
   return v;
 }
 
@@ -66,8 +66,9 @@ Eigen::VectorXd residuals(const std::vector<PlanarView>& views, const Parameters
     const Eigen::Index base = kCameraParameters + 6 * static_cast<Eigen::Index>(v);
     const Eigen::Vector3d rotation_vector = p.segment<3>(base);
     const Eigen::Matrix3d rotation =
-        rotation_vector.norm() > 0.0 ? Eigen::AngleAxisd(rotation_vector.norm(), rotation_vector.normalized()).toRotationMatrix()
-                                     : Eigen::Matrix3d::Identity();
+        rotation_vector.norm() > 0.0
+            ? Eigen::AngleAxisd(rotation_vector.norm(), rotation_vector.normalized()).toRotationMatrix()
+            : Eigen::Matrix3d::Identity();
     for (std::size_t i = 0; i < views[v].board_points_m.size(); ++i) {
       const Eigen::Vector2d& b = views[v].board_points_m[i];
       const Eigen::Vector3d c = rotation * Eigen::Vector3d(b.x(), b.y(), 0.0) + p.segment<3>(base + 3);
@@ -83,7 +84,8 @@ Eigen::VectorXd residuals(const std::vector<PlanarView>& views, const Parameters
 
 Result<Eigen::Matrix3d> fit_homography(const PlanarView& view) {
   const std::size_t n = view.board_points_m.size();
-  if (n < 4 || view.image_points_px.size() != n) return Error{.message = "a view needs >= 4 matched points", .field = "view"};
+  if (n < 4 || view.image_points_px.size() != n)
+    return Error{.message = "a view needs >= 4 matched points", .field = "view"};
   std::vector<Eigen::Vector3d> board3;
   for (const auto& b : view.board_points_m) board3.emplace_back(b.x(), b.y(), 0.0);
   if (point_spread(board3)(1) < 1e-6) return Error{.message = "the view's board points are collinear", .field = "view"};
@@ -106,7 +108,8 @@ Result<Eigen::Matrix3d> fit_homography(const PlanarView& view) {
 }
 
 Result<CameraCalibration> calibrate_camera(const std::vector<PlanarView>& views, const CameraModelOptions& options) {
-  if (views.size() < 3) return Error{.message = "too few views: " + std::to_string(views.size()) + " < 3", .field = "views"};
+  if (views.size() < 3)
+    return Error{.message = "too few views: " + std::to_string(views.size()) + " < 3", .field = "views"};
   std::vector<Eigen::Matrix3d> homographies;
   Eigen::MatrixXd v(2 * static_cast<Eigen::Index>(views.size()), 6);
   for (std::size_t i = 0; i < views.size(); ++i) {
@@ -124,7 +127,8 @@ Result<CameraCalibration> calibrate_camera(const std::vector<PlanarView>& views,
   const double lambda = b33 - (b13 * b13 + v0 * (b12 * b13 - b11 * b23)) / b11;
   if (!(lambda / b11 > 0.0) || !(lambda * b11 / denominator > 0.0) ||
       svd.singularValues()(4) < 1e-9 * svd.singularValues()(0)) {
-    return Error{.message = "the views do not constrain the intrinsics (boards too alike in orientation)", .field = "views"};
+    return Error{.message = "the views do not constrain the intrinsics (boards too alike in orientation)",
+                 .field = "views"};
   }
   const double alpha = std::sqrt(lambda / b11);
   const double beta = std::sqrt(lambda * b11 / denominator);

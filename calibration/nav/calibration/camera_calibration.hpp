@@ -39,7 +39,8 @@ struct CameraModelOptions {
 
 /// Calibrates from >= 3 views of >= 4 points each. Errors: too few views or points, views
 /// that do not constrain the intrinsics (e.g. boards all parallel to the image).
-Result<CameraCalibration> calibrate_camera(const std::vector<PlanarView>& views, const CameraModelOptions& options = {});
+Result<CameraCalibration> calibrate_camera(const std::vector<PlanarView>& views,
+                                           const CameraModelOptions& options = {});
 
 /// The homography mapping board (x, y, 1) to image pixels, from >= 4 non-collinear points.
 Result<Eigen::Matrix3d> fit_homography(const PlanarView& view);

@@ -17,7 +17,8 @@ namespace {
 
 Error xml_error(const std::string& path, const tinyxml2::XMLElement* element, const std::string& field,
                 const std::string& message) {
-  return Error{.message = message, .file = path, .line = element != nullptr ? element->GetLineNum() : 0, .field = field};
+  return Error{
+      .message = message, .file = path, .line = element != nullptr ? element->GetLineNum() : 0, .field = field};
 }
 
 /// Reads "a b c" into three finite numbers.
@@ -42,7 +43,8 @@ Status check_topology(const tinyxml2::XMLElement& robot, const std::string& path
   std::set<std::string> joint_names;
   for (const auto* joint = robot.FirstChildElement("joint"); joint; joint = joint->NextSiblingElement("joint")) {
     const std::string field = std::string("joint ") + joint->Attribute("name");
-    if (!joint_names.insert(joint->Attribute("name")).second) return xml_error(path, joint, field, "duplicate joint name");
+    if (!joint_names.insert(joint->Attribute("name")).second)
+      return xml_error(path, joint, field, "duplicate joint name");
     const std::string parent = joint->FirstChildElement("parent")->Attribute("link");
     const std::string child = joint->FirstChildElement("child")->Attribute("link");
     for (const std::string& end : {parent, child}) {
@@ -60,12 +62,14 @@ Status check_topology(const tinyxml2::XMLElement& robot, const std::string& path
     }
     std::string ancestor = name;
     for (std::size_t depth = 0; parent_of.count(ancestor) != 0; ++depth) {
-      if (depth > links.size()) return xml_error(path, element, "link " + name, "the joints form a cycle through this link");
+      if (depth > links.size())
+        return xml_error(path, element, "link " + name, "the joints form a cycle through this link");
       ancestor = parent_of.at(ancestor);
     }
   }
   if (roots != 1) {
-    return xml_error(path, &robot, "robot", "the links form " + std::to_string(roots) + " trees; a station has one root");
+    return xml_error(path, &robot, "robot",
+                     "the links form " + std::to_string(roots) + " trees; a station has one root");
   }
   return Done{};
 }
@@ -138,7 +142,8 @@ Result<FrameTree> FrameTree::load(const std::string& path) {
 Result<FrameTree> FrameTree::parse(const std::string& xml, const std::string& path) {
   tinyxml2::XMLDocument document;
   if (document.Parse(xml.c_str(), xml.size()) != tinyxml2::XML_SUCCESS) {
-    return Error{.message = std::string("not XML: ") + document.ErrorStr(), .file = path, .line = document.ErrorLineNum()};
+    return Error{
+        .message = std::string("not XML: ") + document.ErrorStr(), .file = path, .line = document.ErrorLineNum()};
   }
   if (Status checked = check_elements(document, path); !checked) return checked.error();
   console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
@@ -148,15 +153,20 @@ Result<FrameTree> FrameTree::parse(const std::string& xml, const std::string& pa
   document.FirstChildElement("robot")->Accept(&checked_robot);
   const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(checked_robot.CStr());
   if (!model || !model->getRoot()) {
-    return Error{.message = "urdfdom rejected the model (unknown link, duplicate name, several roots or a cycle)", .file = path, .field = "robot"};
+    return Error{.message = "urdfdom rejected the model (unknown link, duplicate name, several roots or a cycle)",
+                 .file = path,
+                 .field = "robot"};
   }
   FrameTree tree;
   tree.source_path_ = path;
   tree.xml_ = xml;
   tree.root_ = model->getRoot()->name;
   for (const auto& [name, joint] : model->joints_) {
-    FrameJoint frame_joint{name, joint->parent_link_name, joint->child_link_name,
-                           joint->type == urdf::Joint::FLOATING, to_transform(joint->parent_to_joint_origin_transform),
+    FrameJoint frame_joint{name,
+                           joint->parent_link_name,
+                           joint->child_link_name,
+                           joint->type == urdf::Joint::FLOATING,
+                           to_transform(joint->parent_to_joint_origin_transform),
                            std::nullopt};
     tree.joint_of_child_[frame_joint.child] = name;
     tree.joints_[name] = std::move(frame_joint);
@@ -206,7 +216,10 @@ Result<Transform> FrameTree::joint_transform(const FrameJoint& joint, TimeNs tim
   const auto& poses = found->second;
   if (time_ns < poses.front().time_ns || time_ns > poses.back().time_ns) {
     return Error{.message = "time " + std::to_string(time_ns) + " ns outside the buffered span [" +
-                     std::to_string(poses.front().time_ns) + ", " + std::to_string(poses.back().time_ns) + "] ns", .file = source_path_, .field = joint.child};
+                            std::to_string(poses.front().time_ns) + ", " + std::to_string(poses.back().time_ns) +
+                            "] ns",
+                 .file = source_path_,
+                 .field = joint.child};
   }
   const auto after = std::lower_bound(poses.begin(), poses.end(), time_ns,
                                       [](const TimedPose& pose, TimeNs t) { return pose.time_ns < t; });
@@ -262,7 +275,9 @@ Status FrameTree::set_calibration(const std::string& joint_name, const Transform
                                   const CalibrationRecord& record) {
   const auto found = joints_.find(joint_name);
   if (found == joints_.end()) return Error{.message = "no such joint", .file = source_path_, .field = joint_name};
-  if (found->second.tracked) return Error{.message = "a tracked (floating) joint cannot be calibrated", .file = source_path_, .field = joint_name};
+  if (found->second.tracked)
+    return Error{
+        .message = "a tracked (floating) joint cannot be calibrated", .file = source_path_, .field = joint_name};
   found->second.parent_from_child = parent_from_child;
   found->second.record = record;
   return Done{};
@@ -282,7 +297,8 @@ Status FrameTree::save(const std::string& path) const {
     origin->SetAttribute("nav_calibrated", joint.record->date.c_str());
     origin->SetAttribute("nav_residual_m", joint.record->residual_m);
   }
-  if (document.SaveFile(path.c_str()) != tinyxml2::XML_SUCCESS) return Error{.message = "cannot write the URDF", .file = path};
+  if (document.SaveFile(path.c_str()) != tinyxml2::XML_SUCCESS)
+    return Error{.message = "cannot write the URDF", .file = path};
   return Done{};
 }
 

@@ -30,7 +30,7 @@ struct FrameJoint {
   std::string name;
   std::string parent;
   std::string child;
-  bool tracked = false;                    // a floating joint, fed by add_pose()
+  bool tracked = false;  // a floating joint, fed by add_pose()
   Transform parent_from_child = Transform::Identity();
   std::optional<CalibrationRecord> record;  // set when a calibration wrote this joint
 };

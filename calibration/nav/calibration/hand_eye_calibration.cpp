@@ -42,7 +42,8 @@ Result<HandEyeResult> hand_eye_calibration(const std::vector<Transform>& tracker
   }
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(covariance, Eigen::ComputeFullU | Eigen::ComputeFullV);
   if (svd.singularValues()(1) < 1e-6 * svd.singularValues()(0) || svd.singularValues()(0) < 1e-12) {
-    return Error{.message = "the motions' rotation axes are all parallel (or there is no rotation): X is undetermined", .field = "poses"};
+    return Error{.message = "the motions' rotation axes are all parallel (or there is no rotation): X is undetermined",
+                 .field = "poses"};
   }
   Eigen::Matrix3d sign = Eigen::Matrix3d::Identity();
   sign(2, 2) = (svd.matrixV() * svd.matrixU().transpose()).determinant() < 0.0 ? -1.0 : 1.0;

@@ -56,8 +56,9 @@ Result<NWireCalibration> nwire_calibration(const std::vector<TrackedImage>& fram
       const NWirePoints points = points_of(frames, lines, phantom, correspondence);
       if (points.frames_segmented < min_frames) {
         return Error{.message = "the N-wire phantom was found in " + std::to_string(points.frames_segmented) + " of " +
-                         std::to_string(points.frames_total) + " frames (at least " + std::to_string(min_frames) +
-                         " needed)", .field = "frames"};
+                                std::to_string(points.frames_total) + " frames (at least " +
+                                std::to_string(min_frames) + " needed)",
+                     .field = "frames"};
       }
       auto fit = fit_probe_calibration(points.points);
       if (!fit) return fit.error();

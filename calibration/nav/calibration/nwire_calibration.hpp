@@ -52,6 +52,7 @@ struct NWireCalibration {
 /// Calibrates from a recording of the phantom. Errors: the phantom is found in fewer than
 /// `min_frames` frames, or the fit fails.
 Result<NWireCalibration> nwire_calibration(const std::vector<TrackedImage>& frames, const NWirePhantom& phantom,
-                                           std::size_t min_frames = 10, const NWireSegmentationOptions& segmentation = {});
+                                           std::size_t min_frames = 10,
+                                           const NWireSegmentationOptions& segmentation = {});
 
 }  // namespace nav::calibration

@@ -34,7 +34,8 @@ std::vector<Dot> find_dots(const cv::Mat& image, const NWireSegmentationOptions&
     const int width = stats.at<int>(label, cv::CC_STAT_WIDTH), height = stats.at<int>(label, cv::CC_STAT_HEIGHT);
     const double area = stats.at<int>(label, cv::CC_STAT_AREA);
     const double elongation = static_cast<double>(std::max(width, height)) / std::min(width, height);
-    if (area < options.min_dot_area_px || area > options.max_dot_area_px || elongation > options.max_dot_elongation) continue;
+    if (area < options.min_dot_area_px || area > options.max_dot_area_px || elongation > options.max_dot_elongation)
+      continue;
     Dot dot;
     Eigen::Vector2d sum = Eigen::Vector2d::Zero();
     for (int y = top; y < top + height; ++y) {
@@ -111,8 +112,9 @@ void search(const std::vector<Triple>& triples, std::size_t count, std::size_t f
 std::optional<std::vector<NWireLine>> find_nwire_dots(const std::uint8_t* pixels, int width_px, int height_px,
                                                       std::size_t line_count, const NWireSegmentationOptions& options) {
   const cv::Mat frame(height_px, width_px, CV_8U, const_cast<std::uint8_t*>(pixels));
-  const cv::Rect clip = cv::Rect(options.clip_xywh[0], options.clip_xywh[1], options.clip_xywh[2], options.clip_xywh[3]) &
-                        cv::Rect(0, 0, width_px, height_px);
+  const cv::Rect clip =
+      cv::Rect(options.clip_xywh[0], options.clip_xywh[1], options.clip_xywh[2], options.clip_xywh[3]) &
+      cv::Rect(0, 0, width_px, height_px);
   if (clip.area() == 0) return std::nullopt;
   std::vector<Dot> dots = find_dots(frame(clip), options);
   for (Dot& dot : dots) dot.centre_px += Eigen::Vector2d(clip.x, clip.y);

@@ -51,13 +51,17 @@ Fit solve(const std::vector<Transform>& poses, const std::vector<bool>& use) {
 
 Result<PivotResult> pivot_calibration(const std::vector<Transform>& poses, const PivotOptions& options) {
   if (poses.size() < options.min_poses) {
-    return Error{.message = "too few poses: " + std::to_string(poses.size()) + " < " + std::to_string(options.min_poses), .field = "poses"};
+    return Error{
+        .message = "too few poses: " + std::to_string(poses.size()) + " < " + std::to_string(options.min_poses),
+        .field = "poses"};
   }
   PivotResult result;
   result.angular_spread_rad = angular_spread_rad(poses);
   if (result.angular_spread_rad < options.min_angular_spread_rad) {
-    return Error{.message = "not enough rotation in the pivot set: spread " + std::to_string(result.angular_spread_rad * 180.0 / M_PI) +
-                     " deg < " + std::to_string(options.min_angular_spread_rad * 180.0 / M_PI) + " deg", .field = "poses"};
+    return Error{.message = "not enough rotation in the pivot set: spread " +
+                            std::to_string(result.angular_spread_rad * 180.0 / M_PI) + " deg < " +
+                            std::to_string(options.min_angular_spread_rad * 180.0 / M_PI) + " deg",
+                 .field = "poses"};
   }
   std::vector<bool> inlier(poses.size(), true);
   Fit fit{};
@@ -66,7 +70,8 @@ Result<PivotResult> pivot_calibration(const std::vector<Transform>& poses, const
     fit = solve(poses, inlier);
     if (fit.condition_number > options.max_condition_number) {
       return Error{.message = "ill-conditioned pivot set (condition number " + std::to_string(fit.condition_number) +
-                       "): the poses turn about one axis only", .field = "poses"};
+                              "): the poses turn about one axis only",
+                   .field = "poses"};
     }
     const Eigen::Vector3d tip = fit.solution.head<3>();
     const Eigen::Vector3d pivot = fit.solution.tail<3>();
@@ -85,7 +90,9 @@ Result<PivotResult> pivot_calibration(const std::vector<Transform>& poses, const
     }
     if (!changed) break;
     if (static_cast<std::size_t>(std::count(inlier.begin(), inlier.end(), true)) < options.min_poses) {
-      return Error{.message = "too many outliers: fewer than " + std::to_string(options.min_poses) + " consistent poses", .field = "poses"};
+      return Error{
+          .message = "too many outliers: fewer than " + std::to_string(options.min_poses) + " consistent poses",
+          .field = "poses"};
     }
   }
   result.tip_in_marker_m = fit.solution.head<3>();

@@ -25,7 +25,7 @@ struct PivotOptions {
 
 /// The result of a pivot calibration.
 struct PivotResult {
-  Eigen::Vector3d tip_in_marker_m = Eigen::Vector3d::Zero();    // t_tip: tip in the marker frame
+  Eigen::Vector3d tip_in_marker_m = Eigen::Vector3d::Zero();     // t_tip: tip in the marker frame
   Eigen::Vector3d pivot_in_tracker_m = Eigen::Vector3d::Zero();  // the divot in the tracker frame
   double rms_residual_m = 0.0;                                   // over the inliers
   std::size_t inliers = 0;
@@ -36,6 +36,7 @@ struct PivotResult {
 
 /// Calibrates from the tracked poses tracker_from_marker. Errors: too few poses, too little
 /// rotation, an ill-conditioned set, too many outliers.
-Result<PivotResult> pivot_calibration(const std::vector<Transform>& tracker_from_marker, const PivotOptions& options = {});
+Result<PivotResult> pivot_calibration(const std::vector<Transform>& tracker_from_marker,
+                                      const PivotOptions& options = {});
 
 }  // namespace nav::calibration

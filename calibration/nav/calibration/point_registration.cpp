@@ -25,10 +25,13 @@ Eigen::Vector3d point_spread(const std::vector<Eigen::Vector3d>& points) {
 
 Result<PointRegistration> register_points(const std::vector<Eigen::Vector3d>& source,
                                           const std::vector<Eigen::Vector3d>& target) {
-  if (source.size() != target.size()) return Error{.message = "source and target point counts differ", .field = "points"};
-  if (source.size() < 3) return Error{.message = "too few points: " + std::to_string(source.size()) + " < 3", .field = "points"};
+  if (source.size() != target.size())
+    return Error{.message = "source and target point counts differ", .field = "points"};
+  if (source.size() < 3)
+    return Error{.message = "too few points: " + std::to_string(source.size()) + " < 3", .field = "points"};
   if (point_spread(source)(1) < 1e-8 || point_spread(target)(1) < 1e-8) {
-    return Error{.message = "the points are collinear: the rotation about their line is undetermined", .field = "points"};
+    return Error{.message = "the points are collinear: the rotation about their line is undetermined",
+                 .field = "points"};
   }
   const Eigen::Vector3d source_mean = centroid(source);
   const Eigen::Vector3d target_mean = centroid(target);
@@ -46,7 +49,8 @@ Result<PointRegistration> register_points(const std::vector<Eigen::Vector3d>& so
   return registration;
 }
 
-double target_registration_error_m(const Transform& target_from_source, const std::vector<Eigen::Vector3d>& source_targets,
+double target_registration_error_m(const Transform& target_from_source,
+                                   const std::vector<Eigen::Vector3d>& source_targets,
                                    const std::vector<Eigen::Vector3d>& true_targets) {
   double sum_squares = 0.0;
   for (std::size_t i = 0; i < source_targets.size(); ++i) {

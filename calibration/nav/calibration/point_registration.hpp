@@ -22,7 +22,8 @@ Result<PointRegistration> register_points(const std::vector<Eigen::Vector3d>& so
                                           const std::vector<Eigen::Vector3d>& target);
 
 /// RMS distance between `registration` applied to `source_targets` and their true positions.
-double target_registration_error_m(const Transform& target_from_source, const std::vector<Eigen::Vector3d>& source_targets,
+double target_registration_error_m(const Transform& target_from_source,
+                                   const std::vector<Eigen::Vector3d>& source_targets,
                                    const std::vector<Eigen::Vector3d>& true_targets);
 
 /// The singular values (descending) of the centred point cloud's 3x3 scatter, normalised by

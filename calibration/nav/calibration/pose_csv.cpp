@@ -38,7 +38,10 @@ Status for_each_record(const std::string& path, std::size_t columns, Record reco
     if (first == std::string::npos || line[first] == '#') continue;
     const std::vector<std::string> fields = split(line);
     if (fields.size() != columns) {
-      return Error{.message = "expected " + std::to_string(columns) + " comma-separated fields, found " + std::to_string(fields.size()), .file = path, .line = line_number};
+      return Error{.message = "expected " + std::to_string(columns) + " comma-separated fields, found " +
+                              std::to_string(fields.size()),
+                   .file = path,
+                   .line = line_number};
     }
     if (Status status = record(fields, line_number); !status) return status;
   }
@@ -49,7 +52,10 @@ Status read_numbers(const std::vector<std::string>& fields, std::size_t first, d
                     int line) {
   for (std::size_t i = first; i < fields.size(); ++i) {
     if (!to_number(fields[i], values[i - first])) {
-      return Error{.message = "not a finite number: '" + fields[i] + "'", .file = path, .line = line, .field = "column " + std::to_string(i + 1)};
+      return Error{.message = "not a finite number: '" + fields[i] + "'",
+                   .file = path,
+                   .line = line,
+                   .field = "column " + std::to_string(i + 1)};
     }
   }
   return Done{};
@@ -61,11 +67,14 @@ Result<std::vector<RecordedPose>> read_pose_csv(const std::string& path) {
   std::vector<RecordedPose> poses;
   Status status = for_each_record(path, 9, [&](const std::vector<std::string>& fields, int line) -> Status {
     double time_s = 0.0;
-    if (!to_number(fields[0], time_s)) return Error{.message = "not a time in seconds: '" + fields[0] + "'", .file = path, .line = line, .field = "column 1"};
+    if (!to_number(fields[0], time_s))
+      return Error{
+          .message = "not a time in seconds: '" + fields[0] + "'", .file = path, .line = line, .field = "column 1"};
     double values[7];
     if (Status numbers = read_numbers(fields, 2, values, path, line); !numbers) return numbers;
     const Eigen::Quaterniond q(values[3], values[4], values[5], values[6]);
-    if (std::abs(q.norm() - 1.0) > 1e-3) return Error{.message = "quaternion is not unit", .file = path, .line = line, .field = "columns 6-9"};
+    if (std::abs(q.norm() - 1.0) > 1e-3)
+      return Error{.message = "quaternion is not unit", .file = path, .line = line, .field = "columns 6-9"};
     poses.push_back({static_cast<TimeNs>(std::llround(time_s * 1e9)), fields[1],
                      make_transform(q, {values[0], values[1], values[2]})});
     return Done{};

@@ -8,11 +8,12 @@ namespace nav::calibration {
 namespace {
 
 /// Solves the least-squares system, or says it is too ill-conditioned.
-Result<Eigen::VectorXd> solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const ProbeCalibrationOptions& options,
-                              const char* why) {
+Result<Eigen::VectorXd> solve(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
+                              const ProbeCalibrationOptions& options, const char* why) {
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const auto& singular = svd.singularValues();
-  if (singular(singular.size() - 1) < options.min_inverse_condition * singular(0)) return Error{.message = why, .field = "points"};
+  if (singular(singular.size() - 1) < options.min_inverse_condition * singular(0))
+    return Error{.message = why, .field = "points"};
   return Eigen::VectorXd(svd.solve(b));
 }
 
@@ -30,7 +31,8 @@ ProbeCalibration make_rigid(const Eigen::Vector3d& a, const Eigen::Vector3d& b, 
 
 std::vector<double> residuals(const ProbeCalibration& calibration, const std::vector<ImageProbePoint>& points) {
   std::vector<double> result;
-  for (const ImageProbePoint& point : points) result.push_back((probe_point(calibration, point.pixel) - point.probe_m).norm());
+  for (const ImageProbePoint& point : points)
+    result.push_back((probe_point(calibration, point.pixel) - point.probe_m).norm());
   return result;
 }
 
@@ -46,7 +48,8 @@ double rms(const std::vector<double>& values) {
 }
 
 Result<ProbeCalibration> fit_once(const std::vector<ImageProbePoint>& points, const ProbeCalibrationOptions& options) {
-  if (points.size() < options.min_points) return Error{.message = "too few points for a probe calibration", .field = "points"};
+  if (points.size() < options.min_points)
+    return Error{.message = "too few points for a probe calibration", .field = "points"};
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(points.size()), 9);
   Eigen::VectorXd b(3 * static_cast<Eigen::Index>(points.size()));
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -89,7 +92,8 @@ Result<ProbeCalibration> fit_probe_calibration(const std::vector<ImageProbePoint
 
 Result<PointTargetCalibration> point_target_calibration(const std::vector<TargetSighting>& sightings,
                                                         const ProbeCalibrationOptions& options) {
-  if (sightings.size() < options.min_points) return Error{.message = "too few sightings for a point-target calibration", .field = "sightings"};
+  if (sightings.size() < options.min_points)
+    return Error{.message = "too few sightings for a point-target calibration", .field = "sightings"};
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(3 * static_cast<Eigen::Index>(sightings.size()), 12);
   Eigen::VectorXd b(3 * static_cast<Eigen::Index>(sightings.size()));
   for (std::size_t i = 0; i < sightings.size(); ++i) {
@@ -115,7 +119,8 @@ Result<PointTargetCalibration> point_target_calibration(const std::vector<Target
   return result;
 }
 
-ProbeValidation validate_probe_calibration(const ProbeCalibration& calibration, const std::vector<ImageProbePoint>& points) {
+ProbeValidation validate_probe_calibration(const ProbeCalibration& calibration,
+                                           const std::vector<ImageProbePoint>& points) {
   ProbeValidation validation;
   if (points.empty()) return validation;
   const std::vector<double> errors = residuals(calibration, points);

@@ -17,7 +17,7 @@ struct ProbeCalibration {
   Transform probe_from_image = Transform::Identity();
   Eigen::Vector2d spacing_m = Eigen::Vector2d::Ones();  ///< along a row (u), along a column (v)
   double rms_residual_m = 0.0;
-  std::size_t points = 0;    ///< inliers used
+  std::size_t points = 0;  ///< inliers used
   std::size_t outliers = 0;
 };
 
@@ -72,6 +72,7 @@ struct ProbeValidation {
 };
 
 /// The reprojection errors of `calibration` on independent points.
-ProbeValidation validate_probe_calibration(const ProbeCalibration& calibration, const std::vector<ImageProbePoint>& points);
+ProbeValidation validate_probe_calibration(const ProbeCalibration& calibration,
+                                           const std::vector<ImageProbePoint>& points);
 
 }  // namespace nav::calibration

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <string>
 #include <limits>
+#include <string>
 
 #include "nav/calibration/point_registration.hpp"
 
@@ -19,7 +19,8 @@ Eigen::Vector3d vertex(const TriSurface& surface, std::int32_t index) {
 /// over the triangles that share it.
 class ClosestPoints {
  public:
-  explicit ClosestPoints(const TriSurface& surface) : surface_(surface), triangles_of_vertex_(surface.vertices_m.size()) {
+  explicit ClosestPoints(const TriSurface& surface)
+      : surface_(surface), triangles_of_vertex_(surface.vertices_m.size()) {
     for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
       for (std::int32_t v : surface.triangles[t]) triangles_of_vertex_[static_cast<std::size_t>(v)].push_back(t);
     }
@@ -78,7 +79,8 @@ Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen:
 Result<IcpResult> surface_icp(const TriSurface& surface, const std::vector<Eigen::Vector3d>& points,
                               const Transform& initial, const IcpOptions& options) {
   if (surface.triangles.empty()) return Error{.message = "the surface has no triangles", .field = "surface"};
-  if (points.size() < 6) return Error{.message = "too few points: " + std::to_string(points.size()) + " < 6", .field = "points"};
+  if (points.size() < 6)
+    return Error{.message = "too few points: " + std::to_string(points.size()) + " < 6", .field = "points"};
   if (point_spread(points)(2) < 1e-6) {
     return Error{.message = "the points are coplanar: they could slide within their plane", .field = "points"};
   }

@@ -71,15 +71,18 @@ Peak scan(const std::vector<double>& fixed, const std::vector<double>& moving, s
 }
 
 std::optional<Error> check(const TimedSignal& signal, const char* name) {
-  if (signal.times_s.size() != signal.values.size()) return Error{.message = "times and values differ in number", .field = name};
+  if (signal.times_s.size() != signal.values.size())
+    return Error{.message = "times and values differ in number", .field = name};
   for (std::size_t i = 1; i < signal.times_s.size(); ++i) {
-    if (!(signal.times_s[i] > signal.times_s[i - 1])) return Error{.message = "time stamps must increase", .field = name};
+    if (!(signal.times_s[i] > signal.times_s[i - 1]))
+      return Error{.message = "time stamps must increase", .field = name};
   }
   for (const double value : signal.values) {
     if (!std::isfinite(value)) return Error{.message = "a value is not finite", .field = name};
   }
   const auto [low, high] = std::minmax_element(signal.values.begin(), signal.values.end());
-  if (!signal.values.empty() && *low == *high) return Error{.message = "the signal is flat (no motion to correlate)", .field = name};
+  if (!signal.values.empty() && *low == *high)
+    return Error{.message = "the signal is flat (no motion to correlate)", .field = name};
   return std::nullopt;
 }
 
@@ -102,7 +105,8 @@ Result<LagEstimate> estimate_lag(const TimedSignal& fixed, const TimedSignal& mo
   const std::vector<double> moving_grid = resample(moving, moving_start, step, moving_count);
   const auto offset = static_cast<std::ptrdiff_t>(std::llround((fixed_start - moving_start) / step));
   // Correlate over the fixed grid's stretch that the moving signal covers.
-  const double overlap_start = std::max(fixed_start, moving_start), overlap_end = std::min(fixed.times_s.back(), moving.times_s.back());
+  const double overlap_start = std::max(fixed_start, moving_start),
+               overlap_end = std::min(fixed.times_s.back(), moving.times_s.back());
   if (overlap_end - overlap_start < 4.0 * options.max_lag_s) {
     return Error{.message = "the signals overlap for less than four search windows", .field = "signals"};
   }

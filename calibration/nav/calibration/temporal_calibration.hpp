@@ -20,11 +20,11 @@ struct TimedSignal {
 
 /// Settings of estimate_lag.
 struct TemporalOptions {
-  double max_lag_s = 0.5;         ///< the search window is [-max_lag_s, max_lag_s]
-  double step_s = 0.001;          ///< resampling grid and lag scan step
-  std::size_t min_samples = 20;   ///< per signal, in the overlap
-  std::size_t segments = 4;       ///< stretches for the uncertainty
-  bool allow_inverted = true;     ///< accept a negative correlation (a signal moving the other way)
+  double max_lag_s = 0.5;             ///< the search window is [-max_lag_s, max_lag_s]
+  double step_s = 0.001;              ///< resampling grid and lag scan step
+  std::size_t min_samples = 20;       ///< per signal, in the overlap
+  std::size_t segments = 4;           ///< stretches for the uncertainty
+  bool allow_inverted = true;         ///< accept a negative correlation (a signal moving the other way)
   double min_peak_correlation = 0.9;  ///< a weaker best peak means the lag is not in the window
 };
 
@@ -32,14 +32,15 @@ struct TemporalOptions {
 /// moving device's time stamps aligns it with the fixed one.
 struct LagEstimate {
   double lag_s = 0.0;
-  double uncertainty_s = 0.0;   ///< standard error from the stretches
-  double correlation = 0.0;     ///< at the peak, signed
+  double uncertainty_s = 0.0;  ///< standard error from the stretches
+  double correlation = 0.0;    ///< at the peak, signed
   std::size_t segments_used = 0;
 };
 
 /// Estimates the lag of `moving` against `fixed`. Errors: too few samples, an overlap shorter
 /// than four windows, flat signals, and no clear peak inside the search window (at its edge
 /// or weaker than min_peak_correlation: the lag lies beyond it).
-Result<LagEstimate> estimate_lag(const TimedSignal& fixed, const TimedSignal& moving, const TemporalOptions& options = {});
+Result<LagEstimate> estimate_lag(const TimedSignal& fixed, const TimedSignal& moving,
+                                 const TemporalOptions& options = {});
 
 }  // namespace nav::calibration

@@ -12,6 +12,7 @@ namespace nav {
 bool banded_cholesky_factor(std::span<double> band, std::size_t n, std::size_t half_bandwidth) noexcept;
 
 /// Solves L L^T x = x in place with the factor of banded_cholesky_factor.
-void banded_cholesky_solve(std::span<const double> factor, std::size_t n, std::size_t half_bandwidth, std::span<double> x) noexcept;
+void banded_cholesky_solve(std::span<const double> factor, std::size_t n, std::size_t half_bandwidth,
+                           std::span<double> x) noexcept;
 
 }  // namespace nav

@@ -60,8 +60,8 @@ void scatter(const Matrix3d& p, const Vector3d& g, const Vector3d& arm, double w
 /// rotation matrix, so only the second derivative in the exponential coordinates of the
 /// frame's own rotation is left (the part of the tangent the paper neglects with the geometric
 /// stiffness; without it, rotation fields that strain no point at first order are free).
-void add_spin_stiffness(const Matrix3d& p, const Vector3d& g, const Vector3d& arm, double w, const Matrix3d& r, double volume,
-                        double* out) {
+void add_spin_stiffness(const Matrix3d& p, const Vector3d& g, const Vector3d& arm, double w, const Matrix3d& r,
+                        double volume, double* out) {
   const Vector3d b = p * g;
   const Matrix3d ba = b * arm.transpose(), pr = p * r.transpose();
   Matrix3d h = 0.5 * (ba + ba.transpose()) + (0.5 * w) * (pr + pr.transpose());
@@ -86,8 +86,8 @@ Matrix96 pair_jacobian(const Vector3d& g, const Vector3d& arm, double w, const M
 }
 
 /// Deformation gradient of point s (eq. 8 with rest orientations I), writing its pairs' arms.
-Matrix3d point_gradient(const FrameTables& t, std::span<const double> x, std::span<const double> rotations, std::size_t s,
-                        std::span<double> arms) {
+Matrix3d point_gradient(const FrameTables& t, std::span<const double> x, std::span<const double> rotations,
+                        std::size_t s, std::span<double> arms) {
   Matrix3d f = Matrix3d::Zero();
   for (auto k = static_cast<std::size_t>(t.offsets[s]); k < static_cast<std::size_t>(t.offsets[s + 1]); ++k) {
     const auto i = static_cast<std::size_t>(t.pair_frame[k]);
@@ -105,7 +105,8 @@ Matrix3d point_gradient(const FrameTables& t, std::span<const double> x, std::sp
 void update_rotations(const FrameTables& tables, std::span<const double> orientations, std::span<double> rotations,
                       std::span<double> inertias) noexcept {
   for (std::size_t i = 0; i < static_cast<std::size_t>(tables.frame_count); ++i) {
-    const Eigen::Quaterniond q(orientations[4 * i], orientations[4 * i + 1], orientations[4 * i + 2], orientations[4 * i + 3]);
+    const Eigen::Quaterniond q(orientations[4 * i], orientations[4 * i + 1], orientations[4 * i + 2],
+                               orientations[4 * i + 3]);
     const Matrix3d r = q.toRotationMatrix();
     Eigen::Map<Matrix3d>(rotations.data() + 9 * i) = r;
     Eigen::Map<Matrix3d>(inertias.data() + 9 * i) = r * mat3(tables.rest_inertia_kg_m2, i) * r.transpose();
@@ -127,8 +128,9 @@ int add_elastic_forces(const FrameTables& t, const FrameWorkspace& work, std::sp
       const auto i = static_cast<std::size_t>(t.pair_frame[k]);
       scatter(p, vec3(t.pair_gradient, k), vec3(work.pair_arms, k), t.pair_weight[k], mat3(work.rotations, i),
               -t.volume_m3[s], forces.data() + 6 * i);
-      if (geometric) add_spin_stiffness(p, vec3(t.pair_gradient, k), vec3(work.pair_arms, k), t.pair_weight[k], mat3(work.rotations, i),
-                                        t.volume_m3[s], work.frame_spins.data() + 9 * i);
+      if (geometric)
+        add_spin_stiffness(p, vec3(t.pair_gradient, k), vec3(work.pair_arms, k), t.pair_weight[k],
+                           mat3(work.rotations, i), t.volume_m3[s], work.frame_spins.data() + 9 * i);
     }
   }
   if (geometric)
@@ -139,7 +141,8 @@ int add_elastic_forces(const FrameTables& t, const FrameWorkspace& work, std::sp
   return inverted;
 }
 
-void add_gravity(const FrameTables& t, const FrameWorkspace& work, double load_scale, std::span<double> forces) noexcept {
+void add_gravity(const FrameTables& t, const FrameWorkspace& work, double load_scale,
+                 std::span<double> forces) noexcept {
   const Vector3d g(t.gravity_m_s2[0], t.gravity_m_s2[1], t.gravity_m_s2[2]);
   for (std::size_t s = 0; s < static_cast<std::size_t>(t.point_count); ++s) {
     const double mass_kg = load_scale * t.density_kg_m3 * t.volume_m3[s];
@@ -238,7 +241,8 @@ void assemble(const FrameTables& t, const FrameWorkspace& work, std::span<const 
           const Matrix96 ja = pair_jacobian(vec3(t.pair_gradient, pa), vec3(work.pair_arms, pa), t.pair_weight[pa],
                                             mat3(work.rotations, static_cast<std::size_t>(t.pair_frame[pa])));
           for (std::size_t kb = 0; kb < nb; ++kb) {
-            const auto fi = static_cast<std::size_t>(t.pair_frame[pa]), fj = static_cast<std::size_t>(t.pair_frame[b0 + kb]);
+            const auto fi = static_cast<std::size_t>(t.pair_frame[pa]),
+                       fj = static_cast<std::size_t>(t.pair_frame[b0 + kb]);
             if (fi < fj) continue;
             const Matrix6 m = (stiffness_scale * t.volume_m3[s]) * (ja.transpose() * stressed[kb]);
             add(fi, fj, m);
@@ -248,14 +252,16 @@ void assemble(const FrameTables& t, const FrameWorkspace& work, std::span<const 
   }
 }
 
-double elastic_energy(const FrameTables& t, std::span<const double> positions_m, std::span<const double> orientations) noexcept {
+double elastic_energy(const FrameTables& t, std::span<const double> positions_m,
+                      std::span<const double> orientations) noexcept {
   double energy_j = 0.0;
   for (std::size_t s = 0; s < static_cast<std::size_t>(t.point_count); ++s) {
     Matrix3d f = Matrix3d::Zero();
     for (auto k = static_cast<std::size_t>(t.offsets[s]); k < static_cast<std::size_t>(t.offsets[s + 1]); ++k) {
       const auto i = static_cast<std::size_t>(t.pair_frame[k]);
-      const Matrix3d r =
-          Eigen::Quaterniond(orientations[4 * i], orientations[4 * i + 1], orientations[4 * i + 2], orientations[4 * i + 3]).toRotationMatrix();
+      const Matrix3d r = Eigen::Quaterniond(orientations[4 * i], orientations[4 * i + 1], orientations[4 * i + 2],
+                                            orientations[4 * i + 3])
+                             .toRotationMatrix();
       f.noalias() += (vec3(positions_m, i) + r * vec3(t.pair_rest_arm, k)) * vec3(t.pair_gradient, k).transpose();
       f.noalias() += t.pair_weight[k] * r;
     }

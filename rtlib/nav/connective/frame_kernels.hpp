@@ -30,23 +30,25 @@ void update_rotations(const FrameTables& tables, std::span<const double> orienta
 int add_elastic_forces(const FrameTables& tables, const FrameWorkspace& work, std::span<double> forces) noexcept;
 
 /// forces += load_scale times gravity's generalised forces (force and torque on each frame).
-void add_gravity(const FrameTables& tables, const FrameWorkspace& work, double load_scale, std::span<double> forces) noexcept;
+void add_gravity(const FrameTables& tables, const FrameWorkspace& work, double load_scale,
+                 std::span<double> forces) noexcept;
 
 /// out += scale K p with K the tangent at the cached state.
-void add_stiffness_product(const FrameTables& tables, const FrameWorkspace& work, std::span<const double> p, double scale,
-                           std::span<double> out) noexcept;
+void add_stiffness_product(const FrameTables& tables, const FrameWorkspace& work, std::span<const double> p,
+                           double scale, std::span<double> out) noexcept;
 
 /// out += scale M p with M the lumped mass (diag m, world inertia).
-void add_mass_product(const FrameTables& tables, std::span<const double> inertias, std::span<const double> p, double scale,
-                      std::span<double> out) noexcept;
+void add_mass_product(const FrameTables& tables, std::span<const double> inertias, std::span<const double> p,
+                      double scale, std::span<double> out) noexcept;
 
 /// Adds mass_scale M + stiffness_scale K to the 6x6 frame blocks (36 per frame, column-major)
 /// and, when `band` is not empty, to the lower band (column j holds rows j..j+b at
 /// j (b + 1) + (i - j), b = tables.half_bandwidth).
-void assemble(const FrameTables& tables, const FrameWorkspace& work, std::span<const double> inertias, double mass_scale,
-              double stiffness_scale, std::span<double> blocks, std::span<double> band) noexcept;
+void assemble(const FrameTables& tables, const FrameWorkspace& work, std::span<const double> inertias,
+              double mass_scale, double stiffness_scale, std::span<double> blocks, std::span<double> band) noexcept;
 
 /// Elastic energy at frames `positions_m` and unit quaternions `orientations`, in joules.
-double elastic_energy(const FrameTables& tables, std::span<const double> positions_m, std::span<const double> orientations) noexcept;
+double elastic_energy(const FrameTables& tables, std::span<const double> positions_m,
+                      std::span<const double> orientations) noexcept;
 
 }  // namespace nav::detail

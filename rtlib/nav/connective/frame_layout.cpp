@@ -9,18 +9,33 @@
 namespace nav {
 namespace {
 
-Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
+Error error(std::string message, std::string field) {
+  return Error{.message = std::move(message), .field = std::move(field)};
+}
 
 /// Gauss-Legendre abscissae and weights on [0, 1], n = 1 to 4.
 void gauss_rule(int n, std::vector<double>& x, std::vector<double>& w) {
   static const double x2 = 0.5 / std::sqrt(3.0), x3 = 0.5 * std::sqrt(0.6);
-  const double a4 = 0.5 * std::sqrt(3.0 / 7.0 - 2.0 / 7.0 * std::sqrt(1.2)), b4 = 0.5 * std::sqrt(3.0 / 7.0 + 2.0 / 7.0 * std::sqrt(1.2));
+  const double a4 = 0.5 * std::sqrt(3.0 / 7.0 - 2.0 / 7.0 * std::sqrt(1.2)),
+               b4 = 0.5 * std::sqrt(3.0 / 7.0 + 2.0 / 7.0 * std::sqrt(1.2));
   const double wa4 = (18.0 + std::sqrt(30.0)) / 72.0, wb4 = (18.0 - std::sqrt(30.0)) / 72.0;
   switch (n) {
-    case 1: x = {0.5}; w = {1.0}; break;
-    case 2: x = {0.5 - x2, 0.5 + x2}; w = {0.5, 0.5}; break;
-    case 3: x = {0.5 - x3, 0.5, 0.5 + x3}; w = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0}; break;
-    default: x = {0.5 - b4, 0.5 - a4, 0.5 + a4, 0.5 + b4}; w = {wb4, wa4, wa4, wb4}; break;
+    case 1:
+      x = {0.5};
+      w = {1.0};
+      break;
+    case 2:
+      x = {0.5 - x2, 0.5 + x2};
+      w = {0.5, 0.5};
+      break;
+    case 3:
+      x = {0.5 - x3, 0.5, 0.5 + x3};
+      w = {5.0 / 18.0, 8.0 / 18.0, 5.0 / 18.0};
+      break;
+    default:
+      x = {0.5 - b4, 0.5 - a4, 0.5 + a4, 0.5 + b4};
+      w = {wb4, wa4, wa4, wb4};
+      break;
   }
 }
 
@@ -51,7 +66,8 @@ void shape_functions(const FrameGrid& grid, const Point3& u, PointNeighbours& ou
     for (int b = 0; b < terms[1]; ++b)
       for (int a = 0; a < terms[0]; ++a) {
         const double w = value[0][a] * value[1][b] * value[2][c];
-        const std::array<double, 3> local{slope[0][a] * value[1][b] * value[2][c], value[0][a] * slope[1][b] * value[2][c],
+        const std::array<double, 3> local{slope[0][a] * value[1][b] * value[2][c],
+                                          value[0][a] * slope[1][b] * value[2][c],
                                           value[0][a] * value[1][b] * slope[2][c]};
         Point3 gradient{};
         for (int d = 0; d < 3; ++d) gradient = gradient + local[d] * grid.axes[d];
@@ -74,17 +90,20 @@ Status check_grid(const FrameGrid& grid) {
     if (grid.counts[d] < 1) return error("every axis needs at least one frame", "counts" + axis);
     if (grid.counts[d] > 1) {
       ++axes_with_frames;
-      if (!(grid.spacing_m[d] > 0.0 && std::isfinite(grid.spacing_m[d]))) return error("the spacing must be positive", "spacing_m" + axis);
+      if (!(grid.spacing_m[d] > 0.0 && std::isfinite(grid.spacing_m[d])))
+        return error("the spacing must be positive", "spacing_m" + axis);
     } else if (!(grid.extent_m[d] > 0.0 && std::isfinite(grid.extent_m[d]))) {
       return error("an axis with one frame needs a positive extent (thickness or section)", "extent_m" + axis);
     }
     for (int e = 0; e < 3; ++e) {
       const double expected = d == e ? 1.0 : 0.0;
-      if (!(std::abs(dot(grid.axes[d], grid.axes[e]) - expected) < 1e-9)) return error("the axes must be orthonormal", "axes" + axis);
+      if (!(std::abs(dot(grid.axes[d], grid.axes[e]) - expected) < 1e-9))
+        return error("the axes must be orthonormal", "axes" + axis);
     }
   }
   if (axes_with_frames == 0) return error("a grid needs two frames along at least one axis", "counts");
-  if (grid.points_per_cell_axis < 1 || grid.points_per_cell_axis > 4) return error("1 to 4 Gauss points per cell axis", "points_per_cell_axis");
+  if (grid.points_per_cell_axis < 1 || grid.points_per_cell_axis > 4)
+    return error("1 to 4 Gauss points per cell axis", "points_per_cell_axis");
   if (grid.points_across < 1 || grid.points_across > 4) return error("1 to 4 Gauss points across", "points_across");
   for (double c : grid.origin_m)
     if (!std::isfinite(c)) return error("the origin must be finite", "origin_m");
@@ -102,7 +121,9 @@ Point3 grid_coordinates(const FrameGrid& grid, const Point3& point_m) {
 FrameTopology grid_topology(const FrameGrid& grid) {
   int axes_with_frames = 0;
   for (int count : grid.counts) axes_with_frames += count > 1 ? 1 : 0;
-  return axes_with_frames == 3 ? FrameTopology::volume : axes_with_frames == 2 ? FrameTopology::surface : FrameTopology::line;
+  return axes_with_frames == 3   ? FrameTopology::volume
+         : axes_with_frames == 2 ? FrameTopology::surface
+                                 : FrameTopology::line;
 }
 
 Result<FrameLayout> make_grid_layout(const FrameGrid& grid, const std::function<bool(const Point3&)>& keep) {
@@ -140,9 +161,11 @@ Result<FrameLayout> make_grid_layout(const FrameGrid& grid, const std::function<
               const Point3 p = world_of(grid, u);
               if (keep && !keep(p)) continue;
               full.points_m.push_back(p);
-              full.volumes_m3.push_back(gw[0][q0] * lengths[0][c0] * gw[1][q1] * lengths[1][c1] * gw[2][q2] * lengths[2][c2]);
+              full.volumes_m3.push_back(gw[0][q0] * lengths[0][c0] * gw[1][q1] * lengths[1][c1] * gw[2][q2] *
+                                        lengths[2][c2]);
               shape_functions(grid, u, neighbours);
-              full.neighbour_frames.insert(full.neighbour_frames.end(), neighbours.frames.begin(), neighbours.frames.end());
+              full.neighbour_frames.insert(full.neighbour_frames.end(), neighbours.frames.begin(),
+                                           neighbours.frames.end());
               full.weights.insert(full.weights.end(), neighbours.weights.begin(), neighbours.weights.end());
               full.weight_gradients_per_m.insert(full.weight_gradients_per_m.end(), neighbours.gradients_per_m.begin(),
                                                  neighbours.gradients_per_m.end());
@@ -187,7 +210,8 @@ FrameLayout join_layouts(const std::vector<FrameLayout>& layouts) {
     joined.frames_m.insert(joined.frames_m.end(), layout.frames_m.begin(), layout.frames_m.end());
     joined.points_m.insert(joined.points_m.end(), layout.points_m.begin(), layout.points_m.end());
     joined.volumes_m3.insert(joined.volumes_m3.end(), layout.volumes_m3.begin(), layout.volumes_m3.end());
-    for (std::size_t s = 1; s < layout.neighbour_offsets.size(); ++s) joined.neighbour_offsets.push_back(layout.neighbour_offsets[s] + pair_shift);
+    for (std::size_t s = 1; s < layout.neighbour_offsets.size(); ++s)
+      joined.neighbour_offsets.push_back(layout.neighbour_offsets[s] + pair_shift);
     for (std::int32_t f : layout.neighbour_frames) joined.neighbour_frames.push_back(f + frame_shift);
     joined.weights.insert(joined.weights.end(), layout.weights.begin(), layout.weights.end());
     joined.weight_gradients_per_m.insert(joined.weight_gradients_per_m.end(), layout.weight_gradients_per_m.begin(),

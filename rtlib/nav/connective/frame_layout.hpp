@@ -19,9 +19,9 @@ namespace nav {
 /// its weight w_is and the rest gradient of w_i at the point. Weights sum to one and their
 /// gradients to zero (partition of unity), so that the rest deformation gradient is I.
 struct FrameLayout {
-  std::vector<Point3> frames_m;          ///< frame rest positions (rest orientations: identity)
-  std::vector<Point3> points_m;          ///< integration point rest positions
-  std::vector<double> volumes_m3;        ///< volume each point integrates
+  std::vector<Point3> frames_m;    ///< frame rest positions (rest orientations: identity)
+  std::vector<Point3> points_m;    ///< integration point rest positions
+  std::vector<double> volumes_m3;  ///< volume each point integrates
   std::vector<std::int32_t> neighbour_offsets;
   std::vector<std::int32_t> neighbour_frames;
   std::vector<double> weights;

@@ -12,15 +12,20 @@ namespace {
 
 using detail::FrameTables;
 
-Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
+Error error(std::string message, std::string field) {
+  return Error{.message = std::move(message), .field = std::move(field)};
+}
 
 bool finite_non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
 
 Status check_options(const FrameTissueOptions& options) {
-  if (!(std::isfinite(options.step_s) && options.step_s > 0.0)) return error("the step must be a positive number of seconds", "step_s");
+  if (!(std::isfinite(options.step_s) && options.step_s > 0.0))
+    return error("the step must be a positive number of seconds", "step_s");
   if (options.cg_iterations < 1) return error("at least one CG iteration is needed", "cg_iterations");
-  if (!finite_non_negative(options.rayleigh_mass_per_s)) return error("damping must be a non-negative number", "rayleigh_mass_per_s");
-  if (!finite_non_negative(options.rayleigh_stiffness_s)) return error("damping must be a non-negative number", "rayleigh_stiffness_s");
+  if (!finite_non_negative(options.rayleigh_mass_per_s))
+    return error("damping must be a non-negative number", "rayleigh_mass_per_s");
+  if (!finite_non_negative(options.rayleigh_stiffness_s))
+    return error("damping must be a non-negative number", "rayleigh_stiffness_s");
   if (!(options.cg_residual_bound > 0.0)) return error("the residual bound must be positive", "cg_residual_bound");
   return Done{};
 }
@@ -39,13 +44,17 @@ Status build_pairs(const FrameLayout& layout, FrameTables& t) {
     return error("frames, weights and gradients must have one entry per pair", "layout.neighbour_frames");
   for (std::size_t s = 0; s < points; ++s) {
     const std::string point = "point " + std::to_string(s);
-    if (!(layout.volumes_m3[s] > 0.0 && std::isfinite(layout.volumes_m3[s]))) return error(point + " has no volume", "layout.volumes_m3");
-    if (layout.neighbour_offsets[s + 1] <= layout.neighbour_offsets[s]) return error(point + " has no frame", "layout.neighbour_offsets");
+    if (!(layout.volumes_m3[s] > 0.0 && std::isfinite(layout.volumes_m3[s])))
+      return error(point + " has no volume", "layout.volumes_m3");
+    if (layout.neighbour_offsets[s + 1] <= layout.neighbour_offsets[s])
+      return error(point + " has no frame", "layout.neighbour_offsets");
     double sum = 0.0, scale = 0.0;
     Point3 gradient_sum{};
-    for (auto k = static_cast<std::size_t>(layout.neighbour_offsets[s]); k < static_cast<std::size_t>(layout.neighbour_offsets[s + 1]); ++k) {
+    for (auto k = static_cast<std::size_t>(layout.neighbour_offsets[s]);
+         k < static_cast<std::size_t>(layout.neighbour_offsets[s + 1]); ++k) {
       const std::int32_t f = layout.neighbour_frames[k];
-      if (f < 0 || static_cast<std::size_t>(f) >= frames) return error(point + " refers to frame " + std::to_string(f), "layout.neighbour_frames");
+      if (f < 0 || static_cast<std::size_t>(f) >= frames)
+        return error(point + " refers to frame " + std::to_string(f), "layout.neighbour_frames");
       sum += layout.weights[k];
       gradient_sum = gradient_sum + layout.weight_gradients_per_m[k];
       scale = std::max(scale, norm(layout.weight_gradients_per_m[k]));
@@ -57,7 +66,8 @@ Status build_pairs(const FrameLayout& layout, FrameTables& t) {
       t.pair_weight.push_back(layout.weights[k]);
     }
     if (!(std::abs(sum - 1.0) < 1e-9)) return error(point + ": the weights do not sum to one", "layout.weights");
-    if (!(norm(gradient_sum) <= 1e-9 * std::max(scale, 1.0))) return error(point + ": the weight gradients do not sum to zero", "layout.weight_gradients_per_m");
+    if (!(norm(gradient_sum) <= 1e-9 * std::max(scale, 1.0)))
+      return error(point + ": the weight gradients do not sum to zero", "layout.weight_gradients_per_m");
     t.volume_m3.push_back(layout.volumes_m3[s]);
   }
   t.offsets = layout.neighbour_offsets;
@@ -80,11 +90,13 @@ Status build_masses(const FrameLayout& layout, FrameTables& t) {
       const double* arm = &t.pair_rest_arm[3 * k];
       const double arm2 = arm[0] * arm[0] + arm[1] * arm[1] + arm[2] * arm[2];
       for (int c = 0; c < 3; ++c)
-        for (int r = 0; r < 3; ++r) t.rest_inertia_kg_m2[9 * i + 3 * c + r] += m * ((r == c ? arm2 + own : 0.0) - arm[r] * arm[c]);
+        for (int r = 0; r < 3; ++r)
+          t.rest_inertia_kg_m2[9 * i + 3 * c + r] += m * ((r == c ? arm2 + own : 0.0) - arm[r] * arm[c]);
     }
   }
   for (std::size_t i = 0; i < t.mass_kg.size(); ++i)
-    if (!(t.mass_kg[i] > 0.0)) return error("frame " + std::to_string(i) + " carries no integration point", "layout.frames_m");
+    if (!(t.mass_kg[i] > 0.0))
+      return error("frame " + std::to_string(i) + " carries no integration point", "layout.frames_m");
   return Done{};
 }
 
@@ -93,8 +105,10 @@ Status build_supports(const FrameSupports& supports, FrameTables& t) {
   t.constrained.assign(6 * n, 0);
   std::vector<int> kind(n, 0);
   for (std::int32_t f : supports.fixed_frames) {
-    if (f < 0 || static_cast<std::size_t>(f) >= n) return error("frame " + std::to_string(f) + " is out of range", "supports.fixed_frames");
-    if (kind[static_cast<std::size_t>(f)] != 0) return error("frame " + std::to_string(f) + " is listed twice", "supports.fixed_frames");
+    if (f < 0 || static_cast<std::size_t>(f) >= n)
+      return error("frame " + std::to_string(f) + " is out of range", "supports.fixed_frames");
+    if (kind[static_cast<std::size_t>(f)] != 0)
+      return error("frame " + std::to_string(f) + " is listed twice", "supports.fixed_frames");
     kind[static_cast<std::size_t>(f)] = 1;
     std::fill_n(t.constrained.begin() + 6 * f, 6, 1);
   }
@@ -102,12 +116,16 @@ Status build_supports(const FrameSupports& supports, FrameTables& t) {
     return error("one axis mask per driven frame, or none", "supports.driven_axes");
   for (std::size_t d = 0; d < supports.driven_frames.size(); ++d) {
     const std::int32_t f = supports.driven_frames[d];
-    if (f < 0 || static_cast<std::size_t>(f) >= n) return error("frame " + std::to_string(f) + " is out of range", "supports.driven_frames");
-    if (kind[static_cast<std::size_t>(f)] != 0) return error("frame " + std::to_string(f) + " is fixed or driven twice", "supports.driven_frames");
+    if (f < 0 || static_cast<std::size_t>(f) >= n)
+      return error("frame " + std::to_string(f) + " is out of range", "supports.driven_frames");
+    if (kind[static_cast<std::size_t>(f)] != 0)
+      return error("frame " + std::to_string(f) + " is fixed or driven twice", "supports.driven_frames");
     kind[static_cast<std::size_t>(f)] = 2;
-    const std::array<bool, 3> axes = supports.driven_axes.empty() ? std::array<bool, 3>{true, true, true} : supports.driven_axes[d];
+    const std::array<bool, 3> axes =
+        supports.driven_axes.empty() ? std::array<bool, 3>{true, true, true} : supports.driven_axes[d];
     for (int a = 0; a < 3; ++a) t.constrained[6 * static_cast<std::size_t>(f) + a] = axes[a] ? 1 : 0;
-    for (int a = 3; a < 6; ++a) t.constrained[6 * static_cast<std::size_t>(f) + a] = supports.hold_driven_rotations ? 1 : 0;
+    for (int a = 3; a < 6; ++a)
+      t.constrained[6 * static_cast<std::size_t>(f) + a] = supports.hold_driven_rotations ? 1 : 0;
     t.driven_axes.push_back(axes);
   }
   t.fixed_frames = supports.fixed_frames;
@@ -123,11 +141,13 @@ Status build_band(FrameTables& t) {
   std::int64_t frames_apart = 0;
   for (std::size_t s = 0; s + 1 < t.offsets.size(); ++s) {
     const auto first = t.pair_frame.begin() + t.offsets[s], last = t.pair_frame.begin() + t.offsets[s + 1];
-    frames_apart = std::max<std::int64_t>(frames_apart, *std::max_element(first, last) - *std::min_element(first, last));
+    frames_apart =
+        std::max<std::int64_t>(frames_apart, *std::max_element(first, last) - *std::min_element(first, last));
   }
   t.half_bandwidth = 6 * frames_apart + 5;
   if (6 * t.frame_count * (t.half_bandwidth + 1) > t.options.max_band_entries)
-    return error("the band of " + std::to_string(6 * t.frame_count) + " DOFs and half-bandwidth " + std::to_string(t.half_bandwidth) +
+    return error("the band of " + std::to_string(6 * t.frame_count) + " DOFs and half-bandwidth " +
+                     std::to_string(t.half_bandwidth) +
                      " exceeds max_band_entries: number the frames along the short axes first, or use CG",
                  "solver");
   return Done{};
@@ -165,16 +185,20 @@ Result<FrameTissueData> make_frame_tissue_data(const FrameTissueModel& model) {
   const FrameTables& t = model.tables();
   const auto n = static_cast<std::size_t>(t.frame_count), points = static_cast<std::size_t>(t.point_count);
   const std::size_t pairs = t.pair_frame.size(), driven = t.driven_frames.size();
-  const std::size_t band = t.options.solver == FrameSolver::banded_cholesky ? 6 * n * static_cast<std::size_t>(t.half_bandwidth + 1) : 0;
-  const std::size_t sizes[] = {3 * n, 4 * n, 6 * n, 3 * driven, 9 * n, 9 * n, 6 * n, 6 * n, 6 * n, 6 * n, 6 * n, 6 * n, 6 * n,
-                               6 * n, 13 * n, 36 * n, band, 9 * points, 9 * points, 3 * pairs, 9 * n};
+  const std::size_t band =
+      t.options.solver == FrameSolver::banded_cholesky ? 6 * n * static_cast<std::size_t>(t.half_bandwidth + 1) : 0;
+  const std::size_t sizes[] = {3 * n,  4 * n,  6 * n, 3 * driven, 9 * n,      9 * n,     6 * n,
+                               6 * n,  6 * n,  6 * n, 6 * n,      6 * n,      6 * n,     6 * n,
+                               13 * n, 36 * n, band,  9 * points, 9 * points, 3 * pairs, 9 * n};
   ArenaPlan plan;
   for (std::size_t size : sizes) plan.add<double>(size);
   FrameTissueData data(Arena("frame_tissue_data", plan.bytes()));
-  std::span<double>* spans[] = {&data.positions_m, &data.orientations_wxyz, &data.velocities, &data.driven_forces_n,
-                                &data.rotations, &data.inertias, &data.forces, &data.rhs, &data.solution, &data.residual,
-                                &data.preconditioned, &data.direction, &data.product, &data.free_velocities, &data.backup,
-                                &data.blocks, &data.band, &data.point_gradients, &data.point_stresses, &data.pair_arms, &data.frame_spins};
+  std::span<double>* spans[] = {&data.positions_m, &data.orientations_wxyz, &data.velocities,     &data.driven_forces_n,
+                                &data.rotations,   &data.inertias,          &data.forces,         &data.rhs,
+                                &data.solution,    &data.residual,          &data.preconditioned, &data.direction,
+                                &data.product,     &data.free_velocities,   &data.backup,         &data.blocks,
+                                &data.band,        &data.point_gradients,   &data.point_stresses, &data.pair_arms,
+                                &data.frame_spins};
   for (std::size_t k = 0; k < std::size(sizes); ++k) {
     auto carved = data.arena.allocate<double>("frame tissue buffer", sizes[k]);
     if (!carved.ok()) return carved.error();

@@ -17,17 +17,21 @@ using detail::FrameWorkspace;
 using Matrix6 = Eigen::Matrix<double, 6, 6>;
 
 FrameWorkspace workspace(FrameTissueData& data) {
-  return {data.positions_m, data.rotations, data.point_gradients, data.point_stresses, data.pair_arms, data.frame_spins};
+  return {data.positions_m,    data.rotations, data.point_gradients,
+          data.point_stresses, data.pair_arms, data.frame_spins};
 }
 
 bool inputs_are_valid(const FrameTables& t, const FrameTissueInputs& inputs) {
   bool valid = std::isfinite(inputs.load_scale) && inputs.frame_forces.size() <= t.max_frame_forces;
-  valid = valid && (inputs.driven_positions_m.empty() || inputs.driven_positions_m.size() == 3 * t.driven_frames.size());
+  valid =
+      valid && (inputs.driven_positions_m.empty() || inputs.driven_positions_m.size() == 3 * t.driven_frames.size());
   for (double value : inputs.driven_positions_m) valid = valid && std::isfinite(value);
-  valid = valid && (inputs.driven_orientations_wxyz.empty() || inputs.driven_orientations_wxyz.size() == 4 * t.driven_frames.size());
+  valid = valid && (inputs.driven_orientations_wxyz.empty() ||
+                    inputs.driven_orientations_wxyz.size() == 4 * t.driven_frames.size());
   for (std::size_t d = 0; d < inputs.driven_orientations_wxyz.size() / 4; ++d) {
     double norm2 = 0.0;
-    for (int a = 0; a < 4; ++a) norm2 += inputs.driven_orientations_wxyz[4 * d + a] * inputs.driven_orientations_wxyz[4 * d + a];
+    for (int a = 0; a < 4; ++a)
+      norm2 += inputs.driven_orientations_wxyz[4 * d + a] * inputs.driven_orientations_wxyz[4 * d + a];
     valid = valid && std::isfinite(norm2) && norm2 > 0.0;
   }
   for (const FrameForce& force : inputs.frame_forces) {
@@ -49,17 +53,22 @@ void move_driven_frames(const FrameTables& t, const FrameTissueInputs& inputs, F
     const auto f = static_cast<std::size_t>(t.driven_frames[d]);
     for (std::size_t a = 0; a < 3; ++a) {
       if (!t.driven_axes[d][a]) continue;
-      const double target = inputs.driven_positions_m.empty() ? t.rest_m[3 * f + a] : inputs.driven_positions_m[3 * d + a];
+      const double target =
+          inputs.driven_positions_m.empty() ? t.rest_m[3 * f + a] : inputs.driven_positions_m[3 * d + a];
       data.velocities[6 * f + a] = (target - data.positions_m[3 * f + a]) / h;
       data.positions_m[3 * f + a] = target;
     }
     if (!t.hold_driven_rotations) continue;
     const std::span<const double> q = inputs.driven_orientations_wxyz;
-    const Eigen::Quaterniond target = q.empty() ? Eigen::Quaterniond::Identity()
-                                                : Eigen::Quaterniond(q[4 * d], q[4 * d + 1], q[4 * d + 2], q[4 * d + 3]).normalized();
-    const Eigen::AngleAxisd turn(target * Eigen::Quaterniond(data.orientations_wxyz[4 * f], data.orientations_wxyz[4 * f + 1],
-                                                             data.orientations_wxyz[4 * f + 2], data.orientations_wxyz[4 * f + 3]).conjugate());
-    for (std::size_t a = 0; a < 3; ++a) data.velocities[6 * f + 3 + a] = turn.angle() * turn.axis()[static_cast<int>(a)] / h;
+    const Eigen::Quaterniond target =
+        q.empty() ? Eigen::Quaterniond::Identity()
+                  : Eigen::Quaterniond(q[4 * d], q[4 * d + 1], q[4 * d + 2], q[4 * d + 3]).normalized();
+    const Eigen::AngleAxisd turn(
+        target * Eigen::Quaterniond(data.orientations_wxyz[4 * f], data.orientations_wxyz[4 * f + 1],
+                                    data.orientations_wxyz[4 * f + 2], data.orientations_wxyz[4 * f + 3])
+                     .conjugate());
+    for (std::size_t a = 0; a < 3; ++a)
+      data.velocities[6 * f + 3 + a] = turn.angle() * turn.axis()[static_cast<int>(a)] / h;
     data.orientations_wxyz[4 * f] = target.w();
     data.orientations_wxyz[4 * f + 1] = target.x();
     data.orientations_wxyz[4 * f + 2] = target.y();
@@ -122,10 +131,12 @@ void system_product(const FrameTables& t, FrameTissueData& data, std::span<const
     if (t.constrained[k] != 0) data.product[k] = p[k];
 }
 
-void apply_blocks(const FrameTables& t, std::span<const double> blocks, std::span<const double> in, std::span<double> out) {
+void apply_blocks(const FrameTables& t, std::span<const double> blocks, std::span<const double> in,
+                  std::span<double> out) {
   for (std::size_t i = 0; i < static_cast<std::size_t>(t.frame_count); ++i)
     Eigen::Map<Eigen::Matrix<double, 6, 1>>(out.data() + 6 * i).noalias() =
-        Eigen::Map<const Matrix6>(blocks.data() + 36 * i) * Eigen::Map<const Eigen::Matrix<double, 6, 1>>(in.data() + 6 * i);
+        Eigen::Map<const Matrix6>(blocks.data() + 36 * i) *
+        Eigen::Map<const Eigen::Matrix<double, 6, 1>>(in.data() + 6 * i);
 }
 
 double dot(std::span<const double> a, std::span<const double> b) {
@@ -159,7 +170,8 @@ void solve_cg(const FrameTables& t, FrameTissueData& data, double mass_scale, do
     const double next = dot(data.residual, data.preconditioned);
     const double beta = next / rz;
     rz = next;
-    for (std::size_t k = 0; k < data.direction.size(); ++k) data.direction[k] = data.preconditioned[k] + beta * data.direction[k];
+    for (std::size_t k = 0; k < data.direction.size(); ++k)
+      data.direction[k] = data.preconditioned[k] + beta * data.direction[k];
   }
   data.report.solver_iterations = iterations;
   data.report.solver_relative_residual = rhs_norm > 0.0 ? std::sqrt(dot(data.residual, data.residual)) / rhs_norm : 0.0;
@@ -191,7 +203,8 @@ void solve(const FrameTables& t, FrameTissueData& data, double mass_scale, doubl
   else
     solve_cg(t, data, mass_scale, stiffness_scale);
   zero_constrained(t, data.solution);
-  if (data.report.solver_relative_residual > t.options.cg_residual_bound) data.health.raise(HealthFlag::solver_not_converged);
+  if (data.report.solver_relative_residual > t.options.cg_residual_bound)
+    data.health.raise(HealthFlag::solver_not_converged);
 }
 
 /// Moves every frame by `scale` times the 6-vector `motion` (its free DOFs): translation, then
@@ -201,12 +214,13 @@ void move_frames(const FrameTables& t, FrameTissueData& data, std::span<const do
     for (std::size_t a = 0; a < 3; ++a)
       if (t.constrained[6 * i + a] == 0) data.positions_m[3 * i + a] += scale * motion[6 * i + a];
     Eigen::Vector3d turn;
-    for (std::size_t a = 0; a < 3; ++a) turn[static_cast<int>(a)] = t.constrained[6 * i + 3 + a] != 0 ? 0.0 : scale * motion[6 * i + 3 + a];
+    for (std::size_t a = 0; a < 3; ++a)
+      turn[static_cast<int>(a)] = t.constrained[6 * i + 3 + a] != 0 ? 0.0 : scale * motion[6 * i + 3 + a];
     const double angle = turn.norm();
     if (!(angle > 0.0)) continue;
     const Eigen::Quaterniond dq(Eigen::AngleAxisd(angle, turn / angle));
-    Eigen::Quaterniond q(data.orientations_wxyz[4 * i], data.orientations_wxyz[4 * i + 1], data.orientations_wxyz[4 * i + 2],
-                         data.orientations_wxyz[4 * i + 3]);
+    Eigen::Quaterniond q(data.orientations_wxyz[4 * i], data.orientations_wxyz[4 * i + 1],
+                         data.orientations_wxyz[4 * i + 2], data.orientations_wxyz[4 * i + 3]);
     q = (dq * q).normalized();
     data.orientations_wxyz[4 * i] = q.w();
     data.orientations_wxyz[4 * i + 1] = q.x();
@@ -274,7 +288,8 @@ void step(const FrameTissueModel& model, FrameTissueData& data, const FrameTissu
   }
   compute_forces(t, data, inputs);
   for (std::size_t d = 0; d < t.driven_frames.size(); ++d)
-    for (std::size_t a = 0; a < 3; ++a) data.driven_forces_n[3 * d + a] = data.forces[6 * static_cast<std::size_t>(t.driven_frames[d]) + a];
+    for (std::size_t a = 0; a < 3; ++a)
+      data.driven_forces_n[3 * d + a] = data.forces[6 * static_cast<std::size_t>(t.driven_frames[d]) + a];
   if (!all_finite(data.positions_m) || !all_finite(data.orientations_wxyz) || !all_finite(data.velocities) ||
       !all_finite(data.driven_forces_n)) {
     restore(data, n);
@@ -308,10 +323,12 @@ Point3 material_point_m(const FrameTissueModel& model, const FrameTissueData& da
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < neighbours.frames.size(); ++k) {
     const auto i = static_cast<std::size_t>(neighbours.frames[k]);
-    const Eigen::Quaterniond q(data.orientations_wxyz[4 * i], data.orientations_wxyz[4 * i + 1], data.orientations_wxyz[4 * i + 2],
-                               data.orientations_wxyz[4 * i + 3]);
-    const Eigen::Vector3d arm(rest_m[0] - t.rest_m[3 * i], rest_m[1] - t.rest_m[3 * i + 1], rest_m[2] - t.rest_m[3 * i + 2]);
-    p += neighbours.weights[k] * (Eigen::Vector3d(data.positions_m[3 * i], data.positions_m[3 * i + 1], data.positions_m[3 * i + 2]) + q * arm);
+    const Eigen::Quaterniond q(data.orientations_wxyz[4 * i], data.orientations_wxyz[4 * i + 1],
+                               data.orientations_wxyz[4 * i + 2], data.orientations_wxyz[4 * i + 3]);
+    const Eigen::Vector3d arm(rest_m[0] - t.rest_m[3 * i], rest_m[1] - t.rest_m[3 * i + 1],
+                              rest_m[2] - t.rest_m[3 * i + 2]);
+    p += neighbours.weights[k] *
+         (Eigen::Vector3d(data.positions_m[3 * i], data.positions_m[3 * i + 1], data.positions_m[3 * i + 2]) + q * arm);
   }
   return {p.x(), p.y(), p.z()};
 }

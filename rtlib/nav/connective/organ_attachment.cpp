@@ -9,7 +9,7 @@
 namespace nav {
 
 Result<std::pair<std::int32_t, std::array<double, 4>>> locate_in_tets(const TetMesh& mesh, const Point3& point_m,
-                                                                       const std::string& field) {
+                                                                      const std::string& field) {
   for (std::size_t e = 0; e < mesh.tets.size(); ++e) {
     std::array<Point3, 4> c;
     for (int a = 0; a < 4; ++a) c[a] = mesh.nodes_m[static_cast<std::size_t>(mesh.tets[e][a])];
@@ -25,8 +25,9 @@ Result<std::pair<std::int32_t, std::array<double, 4>>> locate_in_tets(const TetM
     }
     if (inside) return std::make_pair(static_cast<std::int32_t>(e), b);
   }
-  return Error{.message = "the point (" + std::to_string(point_m[0]) + ", " + std::to_string(point_m[1]) + ", " + std::to_string(point_m[2]) +
-                   ") m is in no tetrahedron of the organ", .field = field};
+  return Error{.message = "the point (" + std::to_string(point_m[0]) + ", " + std::to_string(point_m[1]) + ", " +
+                          std::to_string(point_m[2]) + ") m is in no tetrahedron of the organ",
+               .field = field};
 }
 
 namespace {
@@ -49,7 +50,8 @@ double stabilising_spring_n_m(const FrameTissueModel& tissue, const OrganAttachm
       unit[k] = 0.0;
       stiffness = std::max(stiffness, product[k]);
     }
-    for (int c = 0; c < 4; ++c) node_stiffness[static_cast<std::size_t>(attachment.slots[d][c])] += attachment.barycentric[d][c] * stiffness;
+    for (int c = 0; c < 4; ++c)
+      node_stiffness[static_cast<std::size_t>(attachment.slots[d][c])] += attachment.barycentric[d][c] * stiffness;
   }
   return node_stiffness.empty() ? 0.0 : *std::max_element(node_stiffness.begin(), node_stiffness.end());
 }
@@ -61,7 +63,8 @@ Result<OrganAttachment> attach_driven_frames(const FrameTissueModel& tissue, con
   const std::span<const double> rest = tissue.rest_positions_m();
   for (std::int32_t f : tissue.driven_frames()) {
     const auto i = static_cast<std::size_t>(f);
-    auto located = locate_in_tets(organ, {rest[3 * i], rest[3 * i + 1], rest[3 * i + 2]}, "driven frame " + std::to_string(f));
+    auto located =
+        locate_in_tets(organ, {rest[3 * i], rest[3 * i + 1], rest[3 * i + 2]}, "driven frame " + std::to_string(f));
     if (!located.ok()) return located.error();
     attachment.corners.push_back(organ.tets[static_cast<std::size_t>(located.value().first)]);
     attachment.barycentric.push_back(located.value().second);
@@ -72,8 +75,8 @@ Result<OrganAttachment> attach_driven_frames(const FrameTissueModel& tissue, con
   for (const auto& corners : attachment.corners) {
     std::array<std::int32_t, 4> slots{};
     for (int a = 0; a < 4; ++a)
-      slots[a] = static_cast<std::int32_t>(std::lower_bound(attachment.nodes.begin(), attachment.nodes.end(), corners[a]) -
-                                           attachment.nodes.begin());
+      slots[a] = static_cast<std::int32_t>(
+          std::lower_bound(attachment.nodes.begin(), attachment.nodes.end(), corners[a]) - attachment.nodes.begin());
     attachment.slots.push_back(slots);
   }
   for (std::int32_t node : attachment.nodes)
@@ -101,7 +104,9 @@ void gather_attachment_positions(const OrganAttachment& attachment, std::span<co
   for (std::size_t d = 0; d < attachment.corners.size(); ++d)
     for (std::size_t a = 0; a < 3; ++a) {
       double x = 0.0;
-      for (int k = 0; k < 4; ++k) x += attachment.barycentric[d][k] * organ_positions_m[3 * static_cast<std::size_t>(attachment.corners[d][k]) + a];
+      for (int k = 0; k < 4; ++k)
+        x += attachment.barycentric[d][k] *
+             organ_positions_m[3 * static_cast<std::size_t>(attachment.corners[d][k]) + a];
       driven_positions_m[3 * d + a] = x;
     }
 }
@@ -111,13 +116,15 @@ void scatter_attachment_forces(const OrganAttachment& attachment, std::span<cons
   for (std::size_t n = 0; n < attachment.nodes.size(); ++n) {
     point_forces[n] = {attachment.nodes[n], {0.0, 0.0, 0.0}};
     for (std::size_t a = 0; a < 3; ++a)
-      point_forces[n].force_n[a] = attachment.spring_stiffness_n_m * (organ_positions_m[3 * static_cast<std::size_t>(attachment.nodes[n]) + a] -
-                                                                     attachment.node_rest_positions_m[3 * n + a]);
+      point_forces[n].force_n[a] =
+          attachment.spring_stiffness_n_m * (organ_positions_m[3 * static_cast<std::size_t>(attachment.nodes[n]) + a] -
+                                             attachment.node_rest_positions_m[3 * n + a]);
   }
   for (std::size_t d = 0; d < attachment.corners.size(); ++d)
     for (int k = 0; k < 4; ++k)
       for (std::size_t a = 0; a < 3; ++a)
-        point_forces[static_cast<std::size_t>(attachment.slots[d][k])].force_n[a] += attachment.barycentric[d][k] * driven_forces_n[3 * d + a];
+        point_forces[static_cast<std::size_t>(attachment.slots[d][k])].force_n[a] +=
+            attachment.barycentric[d][k] * driven_forces_n[3 * d + a];
 }
 
 void step_attached(const FrameTissueModel& tissue, FrameTissueData& data, const OrganAttachment& attachment,

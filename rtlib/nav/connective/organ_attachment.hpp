@@ -41,11 +41,12 @@ struct OrganAttachment {
 /// The tetrahedron of `mesh` that contains `point_m` (to a relative tolerance of 1e-9 in the
 /// barycentric coordinates) and those coordinates; an Error naming `field` when none does.
 Result<std::pair<std::int32_t, std::array<double, 4>>> locate_in_tets(const TetMesh& mesh, const Point3& point_m,
-                                                                       const std::string& field);
+                                                                      const std::string& field);
 
 /// Locates every driven frame of `tissue` (at rest) in `organ` and estimates the stabilising
 /// spring (zero unless `stabilise`); the Error names the frame outside the organ.
-Result<OrganAttachment> attach_driven_frames(const FrameTissueModel& tissue, const TetMesh& organ, bool stabilise = true);
+Result<OrganAttachment> attach_driven_frames(const FrameTissueModel& tissue, const TetMesh& organ,
+                                             bool stabilise = true);
 
 /// Declares in the organ's scene what the coupling needs: the stabilising springs on the
 /// attachment nodes (when k_s > 0) and room for one point force per attachment node.

@@ -6,8 +6,9 @@
 
 namespace nav {
 
-Result<OrganLigaments> make_organ_ligaments(const TetMesh& organ, const std::vector<LigamentSpec>& specs, const ElasticMaterial& material,
-                                            const FrameTissueOptions& options, const Point3& gravity_m_s2, bool stabilise) {
+Result<OrganLigaments> make_organ_ligaments(const TetMesh& organ, const std::vector<LigamentSpec>& specs,
+                                            const ElasticMaterial& material, const FrameTissueOptions& options,
+                                            const Point3& gravity_m_s2, bool stabilise) {
   std::vector<FrameLayout> layouts;
   std::vector<FrameGrid> grids;
   FrameSupports supports;
@@ -21,17 +22,23 @@ Result<OrganLigaments> make_organ_ligaments(const TetMesh& organ, const std::vec
     double top_m = 1e300;
     for (int j = 0; j < spec.frames[1]; ++j)
       for (int i = 0; i < spec.frames[0]; ++i) {
-        const double x = spec.footprint_centre_m[0] - 0.5 * spec.width_m + i * dx, y = spec.footprint_centre_m[1] - 0.5 * spec.depth_m + j * dy;
+        const double x = spec.footprint_centre_m[0] - 0.5 * spec.width_m + i * dx,
+                     y = spec.footprint_centre_m[1] - 0.5 * spec.depth_m + j * dy;
         double column_m = -1e300;
         for (const Point3& p : organ.nodes_m)
           if (std::abs(p[0] - x) <= 0.5 * dx && std::abs(p[1] - y) <= 0.5 * dy) column_m = std::max(column_m, p[2]);
-        if (column_m < -1e299) return Error{.message = "no organ node under the footprint's column " + std::to_string(i) + ", " + std::to_string(j), .field = field};
+        if (column_m < -1e299)
+          return Error{
+              .message = "no organ node under the footprint's column " + std::to_string(i) + ", " + std::to_string(j),
+              .field = field};
         top_m = std::min(top_m, column_m);
       }
     FrameGrid grid;
-    grid.origin_m = {spec.footprint_centre_m[0] - 0.5 * spec.width_m, spec.footprint_centre_m[1] - 0.5 * spec.depth_m, top_m - spec.embed_m};
+    grid.origin_m = {spec.footprint_centre_m[0] - 0.5 * spec.width_m, spec.footprint_centre_m[1] - 0.5 * spec.depth_m,
+                     top_m - spec.embed_m};
     grid.counts = spec.frames;
-    grid.spacing_m = {spec.width_m / (spec.frames[0] - 1), spec.depth_m / (spec.frames[1] - 1), spec.length_m / (spec.frames[2] - 1)};
+    grid.spacing_m = {spec.width_m / (spec.frames[0] - 1), spec.depth_m / (spec.frames[1] - 1),
+                      spec.length_m / (spec.frames[2] - 1)};
     auto layout = make_grid_layout(grid);
     if (!layout.ok()) return Error{.message = layout.error().message, .field = field + "." + layout.error().field};
     const FrameLayout& made = layout.value();

@@ -31,7 +31,8 @@ struct OrganLigaments {
 /// Builds the ligaments of `specs` on `organ` (with the stabilising spring unless `stabilise`
 /// is false); the Error names the ligament whose footprint finds no organ or whose lowest
 /// layer leaves it.
-Result<OrganLigaments> make_organ_ligaments(const TetMesh& organ, const std::vector<LigamentSpec>& specs, const ElasticMaterial& material,
-                                            const FrameTissueOptions& options, const Point3& gravity_m_s2, bool stabilise = true);
+Result<OrganLigaments> make_organ_ligaments(const TetMesh& organ, const std::vector<LigamentSpec>& specs,
+                                            const ElasticMaterial& material, const FrameTissueOptions& options,
+                                            const Point3& gravity_m_s2, bool stabilise = true);
 
 }  // namespace nav

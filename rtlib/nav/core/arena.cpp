@@ -13,8 +13,9 @@ Result<std::byte*> Arena::reserve(std::string_view what, std::size_t count, std:
   const bool overflows = size != 0 && count > (static_cast<std::size_t>(-1) - start) / size;
   if (overflows || start + count * size > capacity_bytes_) {
     return Error{.message = "asked for " + std::to_string(count) + " x " + std::to_string(size) + " bytes for '" +
-                     std::string(what) + "' but only " + std::to_string(remaining_bytes()) + " of " +
-                     std::to_string(capacity_bytes_) + " bytes are left", .field = "arena '" + name_ + "'"};
+                            std::string(what) + "' but only " + std::to_string(remaining_bytes()) + " of " +
+                            std::to_string(capacity_bytes_) + " bytes are left",
+                 .field = "arena '" + name_ + "'"};
   }
   used_bytes_ = start + count * size;
   return block_.get() + start;

@@ -21,8 +21,7 @@ void MonotonicClock::sleep_until_ns(TimeNs deadline_ns) noexcept {
 
 void SimulatedClock::sleep_until_ns(TimeNs deadline_ns) noexcept {
   TimeNs current = now_ns_.load(std::memory_order_acquire);
-  while (current < deadline_ns &&
-         !now_ns_.compare_exchange_weak(current, deadline_ns, std::memory_order_acq_rel)) {
+  while (current < deadline_ns && !now_ns_.compare_exchange_weak(current, deadline_ns, std::memory_order_acq_rel)) {
   }
 }
 

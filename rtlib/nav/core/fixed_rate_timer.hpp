@@ -10,11 +10,11 @@ namespace nav {
 
 /// What one wait_next_tick() saw.
 struct Tick {
-  std::int64_t index = 0;     // k of the deadline start + k * period
-  TimeNs deadline_ns = 0;     // when the tick was due
-  TimeNs woke_ns = 0;         // when the loop actually got it
-  TimeNs lateness_ns = 0;     // woke - deadline (>= 0)
-  std::int64_t skipped = 0;   // whole periods passed over because the loop was late
+  std::int64_t index = 0;    // k of the deadline start + k * period
+  TimeNs deadline_ns = 0;    // when the tick was due
+  TimeNs woke_ns = 0;        // when the loop actually got it
+  TimeNs lateness_ns = 0;    // woke - deadline (>= 0)
+  std::int64_t skipped = 0;  // whole periods passed over because the loop was late
 };
 
 /// A fixed-rate loop timer on any Clock. noexcept, no allocation: fit for the RT thread.

@@ -11,7 +11,8 @@ bool kernel_isa_available(KernelIsa isa) noexcept {
     case KernelIsa::avx2:
       return __builtin_cpu_supports("avx2");
     case KernelIsa::avx512:
-      return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl");
+      return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+             __builtin_cpu_supports("avx512vl");
 #else
     case KernelIsa::avx2:
     case KernelIsa::avx512:
@@ -30,10 +31,14 @@ KernelIsa resolve_kernel_isa(KernelIsa isa) noexcept {
 
 std::string_view kernel_isa_name(KernelIsa isa) noexcept {
   switch (isa) {
-    case KernelIsa::best: return "best";
-    case KernelIsa::baseline: return "baseline";
-    case KernelIsa::avx2: return "avx2";
-    case KernelIsa::avx512: return "avx512";
+    case KernelIsa::best:
+      return "best";
+    case KernelIsa::baseline:
+      return "baseline";
+    case KernelIsa::avx2:
+      return "avx2";
+    case KernelIsa::avx512:
+      return "avx512";
   }
   return "unknown";
 }

@@ -59,10 +59,10 @@ class SpscRing {
   static constexpr std::uint64_t kMask = Capacity - 1;
 
   alignas(kCacheLineBytes) std::atomic<std::uint64_t> head_{0};  // written by the producer
-  std::uint64_t tail_cache_ = 0;                                  // producer's view of tail_
+  std::uint64_t tail_cache_ = 0;                                 // producer's view of tail_
   std::atomic<std::uint64_t> dropped_{0};
   alignas(kCacheLineBytes) std::atomic<std::uint64_t> tail_{0};  // written by the consumer
-  std::uint64_t head_cache_ = 0;                                  // consumer's view of head_
+  std::uint64_t head_cache_ = 0;                                 // consumer's view of head_
   alignas(kCacheLineBytes) std::array<T, Capacity> slots_{};
 };
 

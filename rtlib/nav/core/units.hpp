@@ -11,9 +11,12 @@ enum class LengthUnit { metre, centimetre, millimetre };
 /// Metres per one unit: 1, 0.01 or 0.001.
 constexpr double metres_per_unit(LengthUnit unit) {
   switch (unit) {
-    case LengthUnit::centimetre: return 0.01;
-    case LengthUnit::millimetre: return 0.001;
-    case LengthUnit::metre: break;
+    case LengthUnit::centimetre:
+      return 0.01;
+    case LengthUnit::millimetre:
+      return 0.001;
+    case LengthUnit::metre:
+      break;
   }
   return 1.0;
 }

@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <numbers>
 #include <string>
+#include <utility>
 
 namespace nav {
 namespace {

@@ -18,12 +18,12 @@ namespace nav {
 
 /// Window, period range and axis of a BreathingPredictor; checked by BreathingPredictor::create.
 struct BreathingPredictorOptions {
-  std::size_t history_capacity = 384;        // samples kept, the fit's fixed cost: cover the window at the marker rate
-  TimeNs fit_window_ns = 8 * kNsPerSecond;   // samples older than this (before the newest) are not fitted
-  TimeNs min_period_ns = 1 * kNsPerSecond;   // shorter crossing intervals are noise
-  TimeNs max_period_ns = 8 * kNsPerSecond;   // longer ones are not periods (no more than fit_window_ns)
-  double hysteresis_m = 0.5e-3;              // the signal must fall this far below the level to re-arm a crossing
-  TimeNs max_age_ns = 500 * kNsPerMs;        // newest sample older than this at a query: stale_input
+  std::size_t history_capacity = 384;       // samples kept, the fit's fixed cost: cover the window at the marker rate
+  TimeNs fit_window_ns = 8 * kNsPerSecond;  // samples older than this (before the newest) are not fitted
+  TimeNs min_period_ns = 1 * kNsPerSecond;  // shorter crossing intervals are noise
+  TimeNs max_period_ns = 8 * kNsPerSecond;  // longer ones are not periods (no more than fit_window_ns)
+  double hysteresis_m = 0.5e-3;             // the signal must fall this far below the level to re-arm a crossing
+  TimeNs max_age_ns = 500 * kNsPerMs;       // newest sample older than this at a query: stale_input
   Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();  // breathing axis for push_position (normalised at create)
 };
 
@@ -59,7 +59,7 @@ class BreathingPredictor {
 
   static constexpr int kHarmonics = 2;
   static constexpr int kCoefficients = 1 + 2 * kHarmonics;
-  static constexpr std::size_t kIntervals = 5;  // crossing intervals in the period's median
+  static constexpr std::size_t kIntervals = 5;        // crossing intervals in the period's median
   static constexpr double kMaxFrequencyStep = 0.01;   // relative bound of one Gauss-Newton step on the frequency
   static constexpr double kCrossingAgreement = 0.05;  // refined frequency kept while within 5 % of the crossings'
   static constexpr int kBackwardRunRestarts = 3;      // backward samples in a row that restart the history
@@ -78,16 +78,16 @@ class BreathingPredictor {
 
   BreathingPredictorOptions options_;
   HistoryRing<Sample> samples_;
-  double level_m_ = 0.0;         // the crossing level: the fitted mean, or the window mean before a fit
-  bool armed_ = false;           // the signal went below level - hysteresis since the last crossing
+  double level_m_ = 0.0;  // the crossing level: the fitted mean, or the window mean before a fit
+  bool armed_ = false;    // the signal went below level - hysteresis since the last crossing
   bool have_crossing_ = false;
   TimeNs last_crossing_ns_ = 0;
   std::array<TimeNs, kIntervals> intervals_ns_{};  // ring of recent crossing intervals
   std::size_t interval_count_ = 0;
   std::size_t next_interval_ = 0;
-  double omega_rad_s_ = 0.0;     // fitted breathing frequency; 0 until a period is known
+  double omega_rad_s_ = 0.0;  // fitted breathing frequency; 0 until a period is known
   bool fitted_ = false;
-  int backward_run_ = 0;         // consecutive samples behind the newest one
+  int backward_run_ = 0;                              // consecutive samples behind the newest one
   Coefficients coefficients_ = Coefficients::Zero();  // [mean, cos k, sin k ...] at time relative to the newest sample
 };
 

@@ -17,7 +17,10 @@ class HistoryRing {
   /// Appends `sample`, dropping the oldest when full.
   void push(const Sample& sample) noexcept {
     samples_[(oldest_ + count_) % samples_.size()] = sample;
-    if (count_ == samples_.size()) oldest_ = (oldest_ + 1) % samples_.size(); else ++count_;
+    if (count_ == samples_.size())
+      oldest_ = (oldest_ + 1) % samples_.size();
+    else
+      ++count_;
   }
   /// The sample `index` places after the oldest (index < size()).
   const Sample& at(std::size_t index) const noexcept { return samples_[(oldest_ + index) % samples_.size()]; }

@@ -31,8 +31,7 @@ Result<PoseTrack> PoseTrack::create(const PoseTrackOptions& options) {
   if (!(options.jump_allowance_rad >= 0.0)) return option_error("jump_allowance_rad", "must not be negative");
   if (options.jump_confirmations < 1) return option_error("jump_confirmations", "must be at least 1");
   if (options.recovery_samples < 1) return option_error("recovery_samples", "must be at least 1");
-  if (!(options.unit_quaternion_tolerance > 0.0))
-    return option_error("unit_quaternion_tolerance", "must be positive");
+  if (!(options.unit_quaternion_tolerance > 0.0)) return option_error("unit_quaternion_tolerance", "must be positive");
   return PoseTrack(options);
 }
 
@@ -91,8 +90,8 @@ HealthFlags PoseTrack::push(const TimedPose& raw) noexcept {
   }
   // Rejected, unless it ends a run of rejected samples that agree with each other: then the
   // tool (or its clock) really moved, and the track re-acquires it rather than locking out.
-  const bool agrees = jump_candidates_ > 0 && sample.time_ns > jump_candidate_.time_ns &&
-                      !is_jump(jump_candidate_, sample);
+  const bool agrees =
+      jump_candidates_ > 0 && sample.time_ns > jump_candidate_.time_ns && !is_jump(jump_candidate_, sample);
   jump_candidates_ = agrees ? jump_candidates_ + 1 : 1;
   jump_candidate_ = sample;
   if (jump_candidates_ >= options_.jump_confirmations) {
@@ -115,7 +114,8 @@ PoseQuery PoseTrack::sample_at(TimeNs time_ns) const noexcept {
   query.age_ns = time_ns - newest.time_ns;
   if (time_ns > newest.time_ns) {
     query.extrapolated = true;
-    const TimeNs horizon_ns = query.age_ns < options_.max_extrapolation_ns ? query.age_ns : options_.max_extrapolation_ns;
+    const TimeNs horizon_ns =
+        query.age_ns < options_.max_extrapolation_ns ? query.age_ns : options_.max_extrapolation_ns;
     if (count >= 2) {
       const TimedPose& previous = samples_.at(count - 2);
       const TimeNs span_ns = newest.time_ns - previous.time_ns;
@@ -136,7 +136,10 @@ PoseQuery PoseTrack::sample_at(TimeNs time_ns) const noexcept {
     std::size_t high = count - 1;
     while (high - low > 1) {
       const std::size_t middle = low + (high - low) / 2;
-      if (samples_.at(middle).time_ns < time_ns) low = middle; else high = middle;
+      if (samples_.at(middle).time_ns < time_ns)
+        low = middle;
+      else
+        high = middle;
     }
     const TimedPose& a = samples_.at(low);
     const TimedPose& b = samples_.at(high);

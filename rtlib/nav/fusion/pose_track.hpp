@@ -15,17 +15,17 @@ namespace nav {
 
 /// Capacities, ages and limits of a PoseTrack; checked by PoseTrack::create.
 struct PoseTrackOptions {
-  std::size_t capacity = 64;                      // samples kept (>= 2)
-  TimeNs max_age_ns = 50 * kNsPerMs;              // newest sample older than this: stale_input
-  TimeNs missing_after_ns = 500 * kNsPerMs;       // newest sample older than this: missing_input too
-  TimeNs max_extrapolation_ns = 30 * kNsPerMs;    // beyond this the extrapolated pose is held
-  double max_speed_m_s = 2.0;                     // faster between samples: a jump
-  double max_angular_speed_rad_s = 20.0;          // faster turn between samples: a jump
-  double jump_allowance_m = 1e-3;                 // noise allowed on top of max_speed_m_s * dt
-  double jump_allowance_rad = 0.01;               // noise allowed on top of the angular limit
-  int jump_confirmations = 3;                     // consecutive agreeing rejected samples that re-acquire
-  int recovery_samples = 3;                       // consecutive good samples that end degraded mode
-  double unit_quaternion_tolerance = 1e-6;        // | |q| - 1 | above this: bad_sample
+  std::size_t capacity = 64;                    // samples kept (>= 2)
+  TimeNs max_age_ns = 50 * kNsPerMs;            // newest sample older than this: stale_input
+  TimeNs missing_after_ns = 500 * kNsPerMs;     // newest sample older than this: missing_input too
+  TimeNs max_extrapolation_ns = 30 * kNsPerMs;  // beyond this the extrapolated pose is held
+  double max_speed_m_s = 2.0;                   // faster between samples: a jump
+  double max_angular_speed_rad_s = 20.0;        // faster turn between samples: a jump
+  double jump_allowance_m = 1e-3;               // noise allowed on top of max_speed_m_s * dt
+  double jump_allowance_rad = 0.01;             // noise allowed on top of the angular limit
+  int jump_confirmations = 3;                   // consecutive agreeing rejected samples that re-acquire
+  int recovery_samples = 3;                     // consecutive good samples that end degraded mode
+  double unit_quaternion_tolerance = 1e-6;      // | |q| - 1 | above this: bad_sample
 };
 
 /// A pose looked up for one tick, with what was wrong with the data behind it.
@@ -70,10 +70,10 @@ class PoseTrack {
   PoseTrackOptions options_;
   HistoryRing<TimedPose> samples_;
   bool degraded_ = true;
-  HealthFlags degraded_flags_;      // rejections since degraded mode began
+  HealthFlags degraded_flags_;  // rejections since degraded mode began
   int consecutive_good_ = 0;
   TimedPose jump_candidate_;
-  int jump_candidates_ = 0;         // consecutive rejected samples agreeing with each other
+  int jump_candidates_ = 0;  // consecutive rejected samples agreeing with each other
 };
 
 }  // namespace nav

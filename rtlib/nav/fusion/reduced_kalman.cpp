@@ -11,7 +11,9 @@
 namespace nav {
 namespace {
 
-Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
+Error error(std::string message, std::string field) {
+  return Error{.message = std::move(message), .field = std::move(field)};
+}
 
 /// Sum of a[j] b[j] over n values, in index order.
 double dot(const double* a, const double* b, int n) noexcept {
@@ -24,14 +26,17 @@ std::size_t at(int i) { return static_cast<std::size_t>(i); }
 
 Status check_options(const ReducedKalmanOptions& o, int r) {
   if (o.correction_std.size() != at(r))
-    return error("one standard deviation per reduced coordinate is needed (" + std::to_string(r) + ")", "correction_std");
+    return error("one standard deviation per reduced coordinate is needed (" + std::to_string(r) + ")",
+                 "correction_std");
   for (std::size_t i = 0; i < o.correction_std.size(); ++i)
     if (!(std::isfinite(o.correction_std[i]) && o.correction_std[i] > 0.0))
       return error("must be a positive number", "correction_std[" + std::to_string(i) + "]");
-  if (!(o.correlation_time_s > 0.0)) return error("must be positive (infinity: a constant correction)", "correlation_time_s");
+  if (!(o.correlation_time_s > 0.0))
+    return error("must be positive (infinity: a constant correction)", "correlation_time_s");
   if (!(std::isfinite(o.observation_std_m) && o.observation_std_m > 0.0))
     return error("must be a positive number of metres", "observation_std_m");
-  if (!(std::isfinite(o.gate_chi_square) && o.gate_chi_square > 0.0)) return error("must be a positive number", "gate_chi_square");
+  if (!(std::isfinite(o.gate_chi_square) && o.gate_chi_square > 0.0))
+    return error("must be a positive number", "gate_chi_square");
   return Done{};
 }
 
@@ -59,7 +64,8 @@ Result<ReducedKalmanModel> make_reduced_kalman_model(const TetMesh& mesh, const 
                                                      const ReducedModel& reduced, std::span<const ObservedPoint> points,
                                                      const ReducedKalmanOptions& options) {
   const std::size_t n3 = 3 * mesh.nodes_m.size();
-  if (basis.mesh_fingerprint != mesh_fingerprint(mesh)) return error("the basis belongs to another mesh", "mesh_fingerprint");
+  if (basis.mesh_fingerprint != mesh_fingerprint(mesh))
+    return error("the basis belongs to another mesh", "mesh_fingerprint");
   if (basis.node_count != static_cast<std::int32_t>(mesh.nodes_m.size()) || reduced.node_count() != basis.node_count)
     return error("the node counts of mesh, basis and reduced model differ", "node_count");
   const int r = basis.basis_size;
@@ -115,10 +121,11 @@ Result<ReducedKalmanData> make_reduced_kalman_data(const ReducedKalmanModel& mod
     out = span.value();
     return Done{};
   };
-  for (auto [what, count, out] : {std::tuple{"correction", r, &data.correction}, std::tuple{"covariance", r * r, &data.covariance},
-                                  std::tuple{"model_q", r, &data.model_q}, std::tuple{"model_points_m", points3, &data.model_points_m},
-                                  std::tuple{"cross", 3 * r, &data.cross}, std::tuple{"gain", 3 * r, &data.gain},
-                                  std::tuple{"joseph", r * r, &data.joseph}, std::tuple{"joseph_cross", 3 * r, &data.joseph_cross}})
+  for (auto [what, count, out] :
+       {std::tuple{"correction", r, &data.correction}, std::tuple{"covariance", r * r, &data.covariance},
+        std::tuple{"model_q", r, &data.model_q}, std::tuple{"model_points_m", points3, &data.model_points_m},
+        std::tuple{"cross", 3 * r, &data.cross}, std::tuple{"gain", 3 * r, &data.gain},
+        std::tuple{"joseph", r * r, &data.joseph}, std::tuple{"joseph_cross", 3 * r, &data.joseph_cross}})
     if (auto status = carve(what, count, *out); !status.ok()) return status.error();
   std::copy(model.rest_m.begin(), model.rest_m.end(), data.model_points_m.begin());
   reset(model, data);
@@ -184,7 +191,8 @@ bool update(const ReducedKalmanModel& model, ReducedKalmanData& data, int point,
   s.diagonal().array() += model.observation_variance_m2;
   Eigen::Vector3d y;
   for (int c = 0; c < 3; ++c)
-    y[c] = observed_m[at(c)] - data.model_points_m[3 * at(point) + at(c)] - dot(h + at(c * r), data.correction.data(), r);
+    y[c] =
+        observed_m[at(c)] - data.model_points_m[3 * at(point) + at(c)] - dot(h + at(c * r), data.correction.data(), r);
   const Eigen::LLT<Eigen::Matrix3d> factor(s);
   if (factor.info() != Eigen::Success) {
     data.health.raise(HealthFlag::non_finite_state);
@@ -219,7 +227,8 @@ bool update(const ReducedKalmanModel& model, ReducedKalmanData& data, int point,
       data.joseph[at(i * r + j)] = data.covariance[at(i * r + j)] - kg;
     }
   for (int i = 0; i < r; ++i)
-    for (int c = 0; c < 3; ++c) data.joseph_cross[at(3 * i + c)] = dot(data.joseph.data() + at(i * r), h + at(c * r), r);
+    for (int c = 0; c < 3; ++c)
+      data.joseph_cross[at(3 * i + c)] = dot(data.joseph.data() + at(i * r), h + at(c * r), r);
   for (int i = 0; i < r; ++i)
     for (int j = i; j < r; ++j) {
       double mk_ij = 0.0, mk_ji = 0.0, kk = 0.0;
@@ -229,7 +238,8 @@ bool update(const ReducedKalmanModel& model, ReducedKalmanData& data, int point,
         kk += data.gain[at(3 * i + c)] * data.gain[at(3 * j + c)];
       }
       const double noise = model.observation_variance_m2 * kk;
-      const double mean = 0.5 * ((data.joseph[at(i * r + j)] - mk_ij + noise) + (data.joseph[at(j * r + i)] - mk_ji + noise));
+      const double mean =
+          0.5 * ((data.joseph[at(i * r + j)] - mk_ij + noise) + (data.joseph[at(j * r + i)] - mk_ji + noise));
       data.covariance[at(i * r + j)] = mean;
       data.covariance[at(j * r + i)] = mean;
     }
@@ -258,7 +268,8 @@ PointEstimate estimate_point(const ReducedKalmanModel& model, const ReducedKalma
   return out;
 }
 
-void corrected_coordinates(const ReducedKalmanModel& model, const ReducedKalmanData& data, std::span<double> out_q) noexcept {
+void corrected_coordinates(const ReducedKalmanModel& model, const ReducedKalmanData& data,
+                           std::span<double> out_q) noexcept {
   const std::size_t count = std::min(out_q.size(), at(model.r));
   for (std::size_t i = 0; i < count; ++i) out_q[i] = data.model_q[i] + data.correction[i];
 }

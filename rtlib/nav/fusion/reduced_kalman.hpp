@@ -62,17 +62,17 @@ std::vector<double> correction_std_from_training(const ReducedBasis& basis, doub
 
 /// The immutable part of the filter: observation rows and noise settings of one reduced model.
 struct ReducedKalmanModel {
-  int r = 0;                          ///< reduced coordinates
-  int point_count = 0;                ///< observed points
+  int r = 0;            ///< reduced coordinates
+  int point_count = 0;  ///< observed points
   bool has_lift = false;
-  double decay = 1.0;                 ///< a = exp(-h / tau) per model step
+  double decay = 1.0;  ///< a = exp(-h / tau) per model step
   double observation_variance_m2 = 0.0;
   double gate_chi_square = 0.0;
-  std::vector<double> rest_m;         ///< 3 per point: x0
-  std::vector<double> rows;           ///< per point, 3 x r row-major: H
-  std::vector<double> lift_rows;      ///< per point, 3 x 3 row-major: L_p (empty without a lift)
-  std::vector<double> prior_variance; ///< r: S = correction_std^2
-  std::vector<double> step_variance;  ///< r: (1 - a^2) S, added at every predict
+  std::vector<double> rest_m;          ///< 3 per point: x0
+  std::vector<double> rows;            ///< per point, 3 x r row-major: H
+  std::vector<double> lift_rows;       ///< per point, 3 x 3 row-major: L_p (empty without a lift)
+  std::vector<double> prior_variance;  ///< r: S = correction_std^2
+  std::vector<double> step_variance;   ///< r: (1 - a^2) S, added at every predict
 };
 
 /// The filter's state and workspace, carved from one arena at init.
@@ -88,9 +88,9 @@ struct ReducedKalmanData {
   double last_mahalanobis_squared = 0.0;  ///< of the last finite observation, accepted or not
 
   // Workspace (meaningless between calls).
-  std::span<double> cross;   ///< P H^T (r x 3)
-  std::span<double> gain;    ///< K (r x 3)
-  std::span<double> joseph;  ///< (I - K H) P, then its product with (I - K H)^T (r x r)
+  std::span<double> cross;         ///< P H^T (r x 3)
+  std::span<double> gain;          ///< K (r x 3)
+  std::span<double> joseph;        ///< (I - K H) P, then its product with (I - K H)^T (r x r)
   std::span<double> joseph_cross;  ///< (I - K H) P H^T (r x 3)
 
   explicit ReducedKalmanData(Arena block) : arena(std::move(block)) {}
@@ -130,20 +130,22 @@ struct PointEstimate {
 PointEstimate estimate_point(const ReducedKalmanModel& model, const ReducedKalmanData& data, int point) noexcept;
 
 /// The corrected reduced coordinates q_model + dq (r values), e.g. to reconstruct a surface.
-void corrected_coordinates(const ReducedKalmanModel& model, const ReducedKalmanData& data, std::span<double> out_q) noexcept;
+void corrected_coordinates(const ReducedKalmanModel& model, const ReducedKalmanData& data,
+                           std::span<double> out_q) noexcept;
 
 /// The filter carried to another basis of the same liver (a rung of an escalation ladder):
 /// dq' = A dq and P' = A P A^T + added, with A (to.r x from.r, row-major) the map between the
 /// two coordinate sets and `added` (to.r x to.r, row-major; empty for none) the covariance of
 /// directions the source basis lacks. The accepted and rejected counts and the last update time
 /// go along; the model points are left to the next predict. `workspace` holds to.r x from.r values.
-void carry_filter(const ReducedKalmanModel& from_model, const ReducedKalmanData& from, const ReducedKalmanModel& to_model,
-                  ReducedKalmanData& to, std::span<const double> a, std::span<const double> added,
-                  std::span<double> workspace) noexcept;
+void carry_filter(const ReducedKalmanModel& from_model, const ReducedKalmanData& from,
+                  const ReducedKalmanModel& to_model, ReducedKalmanData& to, std::span<const double> a,
+                  std::span<const double> added, std::span<double> workspace) noexcept;
 
 /// The prior covariance of the directions of `big` that a smaller basis lacks, with
 /// T = U_big^T M U_small (big.r x r_small, row-major) the map from the smaller one:
 /// N S N^T with N = I - T T^T and S the big filter's prior (init time).
-std::vector<double> unseen_directions_prior(const ReducedKalmanModel& big, std::span<const double> transfer, int r_small);
+std::vector<double> unseen_directions_prior(const ReducedKalmanModel& big, std::span<const double> transfer,
+                                            int r_small);
 
 }  // namespace nav

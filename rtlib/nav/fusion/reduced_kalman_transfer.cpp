@@ -12,9 +12,9 @@ std::size_t at(int i) { return static_cast<std::size_t>(i); }
 
 }  // namespace
 
-void carry_filter(const ReducedKalmanModel& from_model, const ReducedKalmanData& from, const ReducedKalmanModel& to_model,
-                  ReducedKalmanData& to, std::span<const double> a, std::span<const double> added,
-                  std::span<double> workspace) noexcept {
+void carry_filter(const ReducedKalmanModel& from_model, const ReducedKalmanData& from,
+                  const ReducedKalmanModel& to_model, ReducedKalmanData& to, std::span<const double> a,
+                  std::span<const double> added, std::span<double> workspace) noexcept {
   const int n = from_model.r, m = to_model.r;
   // dq' = A dq; the product A P (m x n) goes to the workspace, then A P A^T (+ added).
   for (int i = 0; i < m; ++i) {
@@ -46,7 +46,8 @@ void carry_filter(const ReducedKalmanModel& from_model, const ReducedKalmanData&
   to.last_mahalanobis_squared = from.last_mahalanobis_squared;
 }
 
-std::vector<double> unseen_directions_prior(const ReducedKalmanModel& big, std::span<const double> transfer, int r_small) {
+std::vector<double> unseen_directions_prior(const ReducedKalmanModel& big, std::span<const double> transfer,
+                                            int r_small) {
   using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
   const Eigen::Map<const RowMatrix> t(transfer.data(), big.r, r_small);
   const RowMatrix n = RowMatrix::Identity(big.r, big.r) - t * t.transpose();

@@ -10,7 +10,8 @@
 
 namespace nav {
 
-/// A rigid transform named to_from_from (tracker_from_tool maps tool points into the tracker): x_to = rotation * x_from + position_m.
+/// A rigid transform named to_from_from (tracker_from_tool maps tool points into the tracker): x_to = rotation * x_from
+/// + position_m.
 struct RigidPose {
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();

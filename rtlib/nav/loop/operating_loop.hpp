@@ -53,7 +53,8 @@ struct NeedleShapeOutputs {
   int node_count = 0;                                      ///< 0: no needle model
   std::array<Point3, kLoopMaxNeedleNodes> centreline_m{};  ///< node positions, base first, tip last
   Point3 tip_force_n{};      ///< the tissue's force on the needle's tip (its contact and cutting constraints)
-  Point3 base_force_n{};     ///< the needle's force on its holder (what the hand feels; up the needle when the tissue resists)
+  Point3 base_force_n{};     ///< the needle's force on its holder (what the hand feels; up the needle when the tissue
+                             ///< resists)
   double tip_depth_m = 0.0;  ///< tip depth below the outermost surface (0 outside)
   int punctures = 0;         ///< surfaces punctured since the loop started
   RigidPose base_pose;       ///< the base (holder) pose the needle stepped with, model frame
@@ -65,8 +66,8 @@ struct NeedleShapeOutputs {
 
 /// Rates, latencies, geometry and input options of an operating loop; checked at build.
 struct OperatingLoopOptions {
-  TimeNs tick_period_ns = kNsPerMs;          ///< the loop's period (1 kHz)
-  int tissue_every_ticks = 20;               ///< the liver steps every Nth tick: N tick periods must equal its step_s
+  TimeNs tick_period_ns = kNsPerMs;            ///< the loop's period (1 kHz)
+  int tissue_every_ticks = 20;                 ///< the liver steps every Nth tick: N tick periods must equal its step_s
   TimeNs display_latency_ns = 100 * kNsPerMs;  ///< from a tick to the display showing its frame
   /// The needle tip in the needle marker's frame (metres); with a needle model the rigid tip
   /// is its straight tip instead (OperatingLoopNeedleModel::tip_in_marker_m).
@@ -76,10 +77,10 @@ struct OperatingLoopOptions {
   /// The diaphragm displacement (model frame) per metre of respiratory marker displacement
   /// along breathing.axis, measured from respiratory_reference_m.
   Eigen::Vector3d diaphragm_per_marker = Eigen::Vector3d::Zero();
-  double respiratory_reference_m = 0.0;      ///< marker displacement at which the diaphragm is at rest
-  PoseTrackOptions needle, probe;            ///< the two tracked tools
-  BreathingPredictorOptions breathing;       ///< the respiratory marker (axis in the tracker frame)
-  std::size_t max_pending_observations = 8;  ///< ultrasound observations held between tissue ticks
+  double respiratory_reference_m = 0.0;           ///< marker displacement at which the diaphragm is at rest
+  PoseTrackOptions needle, probe;                 ///< the two tracked tools
+  BreathingPredictorOptions breathing;            ///< the respiratory marker (axis in the tracker frame)
+  std::size_t max_pending_observations = 8;       ///< ultrasound observations held between tissue ticks
   TimeNs ultrasound_max_age_ns = 250 * kNsPerMs;  ///< no accepted observation for longer: stale_input
 };
 
@@ -89,9 +90,10 @@ struct OperatingLoopOptions {
 /// needle input is degraded its base is held at the last good pose. The tissue steps with the
 /// loop's liver (every tissue_every_ticks ticks) under the needle's forces and the diaphragm.
 struct OperatingLoopNeedleOptions {
-  NeedleParameters parameters;        ///< parameters.step_s must equal the tick period; at most kLoopMaxNeedleNodes nodes
-  NeedleTissueScene scene;            ///< the layers the needle meets, model frame
-  RigidPose marker_from_base;           ///< marker_from_base: the needle base (holder) in the marker frame; the needle lies along its +x
+  NeedleParameters parameters;  ///< parameters.step_s must equal the tick period; at most kLoopMaxNeedleNodes nodes
+  NeedleTissueScene scene;      ///< the layers the needle meets, model frame
+  RigidPose marker_from_base;   ///< marker_from_base: the needle base (holder) in the marker frame; the needle lies
+                                ///< along its +x
   std::size_t max_point_forces = 16;  ///< at most the reduced model's scene's max_point_forces
 };
 
@@ -124,7 +126,7 @@ struct OperatingLoopRung {
   ReducedModel reduced{nullptr};
   ReducedKalmanModel filter;
   std::shared_ptr<const OperatingLoopNeedleModel> needle;  ///< null: the needle is tracked as a rigid tip
-  double lookahead_decay = 1.0;  ///< the filter's decay a^lookahead_steps
+  double lookahead_decay = 1.0;                            ///< the filter's decay a^lookahead_steps
   /// From the rung below (empty on rung 0), row-major: T = U^T M U_below (r x r_below), its
   /// transpose (the M-projection down, r_below x r) and the filter's prior covariance of the
   /// directions the rung below lacks (r x r, see unseen_directions_prior).
@@ -134,29 +136,29 @@ struct OperatingLoopRung {
 /// The immutable part of a loop: its liver's rungs (one without a ladder), the ladder they
 /// come from, the options and what follows from them.
 struct OperatingLoopModel {
-  std::vector<OperatingLoopRung> rungs;       ///< rung 0 first, growing r
-  std::optional<ReducedLadderModel> ladder;   ///< with more than one rung: their envelopes and moves
+  std::vector<OperatingLoopRung> rungs;      ///< rung 0 first, growing r
+  std::optional<ReducedLadderModel> ladder;  ///< with more than one rung: their envelopes and moves
   OperatingLoopOptions options;
-  int lookahead_steps = 1;          ///< reduced steps from a tissue tick to it + display latency
+  int lookahead_steps = 1;  ///< reduced steps from a tissue tick to it + display latency
   Eigen::Vector3d breathing_axis = Eigen::Vector3d::UnitZ();  ///< options.breathing.axis, normalised
   bool has_needle() const { return rungs.front().needle != nullptr; }
 };
 
 /// The health of one input at a tick.
 struct InputStatus {
-  HealthFlags flags;       ///< of the tick's lookup and of the samples pushed since the last tick
-  bool degraded = true;    ///< the input's value is held, extrapolated too far, or missing
+  HealthFlags flags;     ///< of the tick's lookup and of the samples pushed since the last tick
+  bool degraded = true;  ///< the input's value is held, extrapolated too far, or missing
   TimeNs age_ns = std::numeric_limits<TimeNs>::max();  ///< tick time minus the newest good sample's (max: none yet)
 };
 
 /// What one tick publishes. Positions in the model frame, metres.
 struct OperatingLoopOutputs {
-  TimeNs time_ns = 0;               ///< the tick's time
-  TimeNs tissue_time_ns = 0;        ///< the tick of the last liver step (the tumour values' time)
+  TimeNs time_ns = 0;         ///< the tick's time
+  TimeNs tissue_time_ns = 0;  ///< the tick of the last liver step (the tumour values' time)
   std::int64_t ticks = 0, tissue_steps = 0;
-  Point3 tumour_now_m{};            ///< Kalman estimate at tissue_time_ns
+  Point3 tumour_now_m{};                             ///< Kalman estimate at tissue_time_ns
   std::array<double, 9> tumour_now_covariance_m2{};  ///< row-major 3x3
-  Point3 tumour_ahead_m{};          ///< predicted at tissue_time_ns + display latency
+  Point3 tumour_ahead_m{};                           ///< predicted at tissue_time_ns + display latency
   std::array<double, 9> tumour_ahead_covariance_m2{};
   /// At the tick's time: the rigid tracked tip, or with a needle model its modelled (bent) tip
   /// (the tracked tip before the needle is first seen).
@@ -164,24 +166,24 @@ struct OperatingLoopOutputs {
   /// At the tick's time + display latency: the rigid tracked tip extrapolated, plus with a
   /// needle model the current bend (modelled tip minus the rigid tip at the tick's time).
   Point3 needle_tip_ahead_m{};
-  double tip_to_tumour_m = 0.0;     ///< |needle tip - tumour now|
+  double tip_to_tumour_m = 0.0;        ///< |needle tip - tumour now|
   double tip_to_tumour_ahead_m = 0.0;  ///< |needle tip ahead - tumour ahead|
-  NeedleShapeOutputs needle_shape;  ///< the needle model's shape and forces at the tick's time
-  RigidPose probe_pose;             ///< the ultrasound probe at the tick's time
-  Point3 diaphragm_m{};             ///< the diaphragm displacement driving the last liver step
+  NeedleShapeOutputs needle_shape;     ///< the needle model's shape and forces at the tick's time
+  RigidPose probe_pose;                ///< the ultrasound probe at the tick's time
+  Point3 diaphragm_m{};                ///< the diaphragm displacement driving the last liver step
   /// The displayed liver at tissue_time_ns: reduced coordinates q + dq (model and filter
   /// correction) of rung liver_rung (its first r are used), with diaphragm_m the whole
   /// deformed state (see liver_displacements_m).
   std::array<double, kLoopMaxBasisSize> liver_q{};
-  int liver_rung = 0;               ///< the ladder's rung of the last liver step (0 without a ladder)
+  int liver_rung = 0;                                ///< the ladder's rung of the last liver step (0 without a ladder)
   std::int64_t escalations = 0, de_escalations = 0;  ///< rung changes since the loop started
-  double breathing_phase_rad = 0.0;  ///< at the tick's time
+  double breathing_phase_rad = 0.0;                  ///< at the tick's time
   InputStatus needle, probe, respiratory, ultrasound;  ///< ultrasound: buffer_overrun when observations were dropped
   /// The reduced model's and the filter's flags of the last liver step (reduced_escalated when
   /// it was redone one rung up).
   HealthFlags tissue;
-  HealthFlags loop;                 ///< clock_went_backwards: the tick's time was not after the previous one
-  bool degraded = true;             ///< any input degraded or any flag raised
+  HealthFlags loop;      ///< clock_went_backwards: the tick's time was not after the previous one
+  bool degraded = true;  ///< any input degraded or any flag raised
 };
 
 /// A tumour observation waiting for the next liver step.
@@ -193,8 +195,8 @@ struct PendingObservation {
 /// The state of one rung of the loop's liver: the liver (inside the coupled needle when the
 /// loop has one), the look-ahead scratch and the filter.
 struct OperatingLoopRungData {
-  ReducedData reduced;              ///< the liver without a needle model (with one: needle_model->tissue)
-  ReducedData lookahead;            ///< scratch: the liver stepped ahead to the display time
+  ReducedData reduced;    ///< the liver without a needle model (with one: needle_model->tissue)
+  ReducedData lookahead;  ///< scratch: the liver stepped ahead to the display time
   ReducedKalmanData filter;
   std::optional<ReducedCoupledNeedleData> needle_model;  ///< the needle and the liver it pushes
   ReducedData& liver() noexcept { return needle_model ? needle_model->tissue : reduced; }
@@ -206,19 +208,20 @@ struct OperatingLoopRungData {
 struct OperatingLoopData {
   std::vector<OperatingLoopRungData> rungs;  ///< one per model rung, all allocated at init
   int active_rung = 0;
-  int flagged_steps = 0;            ///< consecutive liver steps with the indicator up
-  int inside_steps = 0;             ///< consecutive liver steps fit for the rung below
+  int flagged_steps = 0;                   ///< consecutive liver steps with the indicator up
+  int inside_steps = 0;                    ///< consecutive liver steps fit for the rung below
   std::vector<double> transfer_workspace;  ///< r_max^2, for carrying the filter between rungs
   PoseTrack needle, probe;
   BreathingPredictor breathing;
   std::vector<PendingObservation> pending;  ///< sized at init; the first pending_count are waiting
   std::size_t pending_count = 0;
-  HealthFlags needle_push_flags, probe_push_flags, respiratory_push_flags, ultrasound_push_flags;  ///< since the last tick
+  HealthFlags needle_push_flags, probe_push_flags, respiratory_push_flags,
+      ultrasound_push_flags;                                          ///< since the last tick
   TimeNs respiratory_newest_ns = std::numeric_limits<TimeNs>::min();  ///< the newest accepted marker sample
-  double respiratory_newest_m = 0.0;  ///< its displacement along the breathing axis
+  double respiratory_newest_m = 0.0;                                  ///< its displacement along the breathing axis
   TimeNs last_tick_ns = 0;
-  RigidPose needle_base;            ///< the last good base pose (model frame)
-  bool needle_acquired = false;     ///< a good needle pose has been seen: the needle steps
+  RigidPose needle_base;         ///< the last good base pose (model frame)
+  bool needle_acquired = false;  ///< a good needle pose has been seen: the needle steps
   OperatingLoopOutputs outputs;
 
   /// The active rung's state: the liver the filter and the outputs follow.
@@ -237,16 +240,19 @@ Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, Reduc
 /// As above, plus the needle, coupled to the reduced liver built on `mesh` (whose rest nodes
 /// carry the tissue points); the tissue steps every options.tissue_every_ticks ticks. Errors
 /// name the field ("operating_loop.needle.parameters.step_s", "operating_loop.needle.<field>").
-Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter, const OperatingLoopOptions& options,
+Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter,
+                                                     const OperatingLoopOptions& options,
                                                      const OperatingLoopNeedleOptions& needle, const TetMesh& mesh);
 
 /// A loop whose liver is `ladder` (reduced rungs only: the filter needs a reduced state), with
 /// filters[i] observing the tumour on rung i, and optionally the needle, coupled to every rung
 /// (rung 0 when the loop starts). The ladder's options are the loop's escalation settings.
 /// Errors name the field ("operating_loop.ladder", "operating_loop.filters[i]", ...).
-Result<OperatingLoopModel> make_operating_loop_model(const ReducedLadderModel& ladder, std::vector<ReducedKalmanModel> filters,
+Result<OperatingLoopModel> make_operating_loop_model(const ReducedLadderModel& ladder,
+                                                     std::vector<ReducedKalmanModel> filters,
                                                      const OperatingLoopOptions& options,
-                                                     const OperatingLoopNeedleOptions* needle = nullptr, const TetMesh* mesh = nullptr);
+                                                     const OperatingLoopNeedleOptions* needle = nullptr,
+                                                     const TetMesh* mesh = nullptr);
 
 /// The loop's data at rest: liver at rest on rung 0, filter at its prior, empty tracks, idle needle.
 Result<OperatingLoopData> make_operating_loop_data(const OperatingLoopModel& model);
@@ -274,8 +280,9 @@ Result<LiverDisplayScratch> make_liver_display_scratch(const OperatingLoopModel&
 /// Displacements from rest (3 per node, metres, model frame) of the liver shown by `outputs`
 /// (on its rung) at `nodes`: the deformed display surface or any point, away from the
 /// real-time thread. `scratch` belongs to the caller (its states are overwritten).
-void liver_displacements_m(const OperatingLoopModel& model, const OperatingLoopOutputs& outputs, LiverDisplayScratch& scratch,
-                           std::span<const std::int32_t> nodes, std::span<double> out_xyz) noexcept;
+void liver_displacements_m(const OperatingLoopModel& model, const OperatingLoopOutputs& outputs,
+                           LiverDisplayScratch& scratch, std::span<const std::int32_t> nodes,
+                           std::span<double> out_xyz) noexcept;
 
 /// One tick at now_ns: tool poses at now (and now + display latency), the needle model's step,
 /// and every tissue_every_ticks-th tick a liver step (with the needle's forces) with the

@@ -41,24 +41,30 @@ Status check_options(const OperatingLoopOptions& options) {
 Status check_rung(const RungInput& rung, const OperatingLoopOptions& options) {
   const ReducedKalmanModel& filter = rung.filter;
   if (filter.point_count < 1) return option_error(rung.filter_field, "observes no point (point 0 is the tumour)");
-  if (filter.r != rung.reduced.basis_size()) return option_error(rung.filter_field, "belongs to a reduced model of another size");
+  if (filter.r != rung.reduced.basis_size())
+    return option_error(rung.filter_field, "belongs to a reduced model of another size");
   if (rung.reduced.basis_size() > kLoopMaxBasisSize)
     return option_error(rung.reduced_field, "has " + std::to_string(rung.reduced.basis_size()) +
-                                                " coordinates; a loop carries at most " + std::to_string(kLoopMaxBasisSize));
-  const double tissue_period_s = static_cast<double>(options.tissue_every_ticks) * static_cast<double>(options.tick_period_ns) * 1e-9;
+                                                " coordinates; a loop carries at most " +
+                                                std::to_string(kLoopMaxBasisSize));
+  const double tissue_period_s =
+      static_cast<double>(options.tissue_every_ticks) * static_cast<double>(options.tick_period_ns) * 1e-9;
   const double step_s = rung.reduced.options().step_s;
   if (std::abs(step_s - tissue_period_s) > 1e-9 * tissue_period_s)
-    return option_error("tissue_every_ticks", "tissue_every_ticks * tick_period_ns is " + std::to_string(tissue_period_s) +
-                                                  " s but the reduced model steps " + std::to_string(step_s) + " s");
+    return option_error("tissue_every_ticks", "tissue_every_ticks * tick_period_ns is " +
+                                                  std::to_string(tissue_period_s) + " s but the reduced model steps " +
+                                                  std::to_string(step_s) + " s");
   return Done{};
 }
 
 /// The needle coupled to one rung's liver; errors put under operating_loop.needle.
-Result<std::shared_ptr<const OperatingLoopNeedleModel>> couple_needle(const ReducedModel& liver, const OperatingLoopNeedleOptions& needle,
-                                                                      const OperatingLoopOptions& options, const TetMesh& mesh) {
+Result<std::shared_ptr<const OperatingLoopNeedleModel>> couple_needle(const ReducedModel& liver,
+                                                                      const OperatingLoopNeedleOptions& needle,
+                                                                      const OperatingLoopOptions& options,
+                                                                      const TetMesh& mesh) {
   auto holder = std::make_shared<OperatingLoopNeedleModel>(liver, needle.marker_from_base, needle.parameters.length_m);
-  auto coupled = make_coupled_needle_model(needle.parameters, needle.scene, holder->tissue, mesh, needle.max_point_forces,
-                                           options.tissue_every_ticks);
+  auto coupled = make_coupled_needle_model(needle.parameters, needle.scene, holder->tissue, mesh,
+                                           needle.max_point_forces, options.tissue_every_ticks);
   if (!coupled.ok()) {
     Error error = coupled.error();
     error.field = "operating_loop.needle." + error.field;
@@ -82,7 +88,8 @@ Status check_needle(const OperatingLoopNeedleOptions& needle, const OperatingLoo
                                                         std::to_string(tick_s) + " s");
   if (p.element_count + 1 > kLoopMaxNeedleNodes)
     return option_error("needle.parameters.element_count", "gives " + std::to_string(p.element_count + 1) +
-                                                               " nodes; a loop carries at most " + std::to_string(kLoopMaxNeedleNodes));
+                                                               " nodes; a loop carries at most " +
+                                                               std::to_string(kLoopMaxNeedleNodes));
   const RigidPose& base = needle.marker_from_base;
   if (!base.position_m.allFinite() || std::abs(base.rotation.norm() - 1.0) > 1e-9)
     return option_error("needle.marker_from_base", "must be a finite position and a unit quaternion");
@@ -111,7 +118,8 @@ Result<OperatingLoopModel> make_model(std::vector<RungInput> rungs, std::optiona
     if (Status valid = check_needle(*needle, options); !valid.ok()) return valid.error();
   OperatingLoopModel model;
   const double step_s = rungs.front().reduced.options().step_s;
-  model.lookahead_steps = std::max(1, static_cast<int>(std::ceil(static_cast<double>(options.display_latency_ns) * 1e-9 / step_s - 1e-9)));
+  model.lookahead_steps =
+      std::max(1, static_cast<int>(std::ceil(static_cast<double>(options.display_latency_ns) * 1e-9 / step_s - 1e-9)));
   model.breathing_axis = options.breathing.axis.normalized();
   model.options = options;
   for (std::size_t i = 0; i < rungs.size(); ++i) {
@@ -134,8 +142,8 @@ Result<OperatingLoopModel> make_model(std::vector<RungInput> rungs, std::optiona
 }  // namespace
 
 OperatingLoopData::OperatingLoopData(std::vector<OperatingLoopRungData> rung_data, std::size_t workspace_values,
-                                     PoseTrack needle_track, PoseTrack probe_track, BreathingPredictor breathing_predictor,
-                                     std::size_t pending_capacity)
+                                     PoseTrack needle_track, PoseTrack probe_track,
+                                     BreathingPredictor breathing_predictor, std::size_t pending_capacity)
     : rungs(std::move(rung_data)),
       transfer_workspace(workspace_values),
       needle(std::move(needle_track)),
@@ -150,18 +158,22 @@ Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, Reduc
   return make_model(std::move(rungs), std::nullopt, options, nullptr, nullptr);
 }
 
-Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter, const OperatingLoopOptions& options,
+Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter,
+                                                     const OperatingLoopOptions& options,
                                                      const OperatingLoopNeedleOptions& needle, const TetMesh& mesh) {
   std::vector<RungInput> rungs;
   rungs.push_back({std::move(reduced), std::move(filter), "reduced", "filter"});
   return make_model(std::move(rungs), std::nullopt, options, &needle, &mesh);
 }
 
-Result<OperatingLoopModel> make_operating_loop_model(const ReducedLadderModel& ladder, std::vector<ReducedKalmanModel> filters,
-                                                     const OperatingLoopOptions& options, const OperatingLoopNeedleOptions* needle,
-                                                     const TetMesh* mesh) {
+Result<OperatingLoopModel> make_operating_loop_model(const ReducedLadderModel& ladder,
+                                                     std::vector<ReducedKalmanModel> filters,
+                                                     const OperatingLoopOptions& options,
+                                                     const OperatingLoopNeedleOptions* needle, const TetMesh* mesh) {
   if (ladder.has_full_order())
-    return option_error("ladder", "has a full-order rung; a loop's ladder has reduced rungs only (its filter needs reduced coordinates)");
+    return option_error(
+        "ladder",
+        "has a full-order rung; a loop's ladder has reduced rungs only (its filter needs reduced coordinates)");
   if (filters.size() != static_cast<std::size_t>(ladder.reduced_rung_count()))
     return option_error("filters", "has " + std::to_string(filters.size()) + " filters for " +
                                        std::to_string(ladder.reduced_rung_count()) + " rungs (one per rung)");
@@ -169,7 +181,8 @@ Result<OperatingLoopModel> make_operating_loop_model(const ReducedLadderModel& l
   std::vector<RungInput> rungs;
   for (std::size_t i = 0; i < filters.size(); ++i) {
     const std::string index = "[" + std::to_string(i) + "]";
-    rungs.push_back({ladder.reduced_rung(static_cast<int>(i)), std::move(filters[i]), "ladder.rungs" + index, "filters" + index});
+    rungs.push_back(
+        {ladder.reduced_rung(static_cast<int>(i)), std::move(filters[i]), "ladder.rungs" + index, "filters" + index});
   }
   return make_model(std::move(rungs), ladder, options, needle, mesh);
 }
@@ -184,7 +197,8 @@ Result<OperatingLoopData> make_operating_loop_data(const OperatingLoopModel& mod
     if (!lookahead.ok()) return lookahead.error();
     auto filter = make_reduced_kalman_data(rung.filter);
     if (!filter.ok()) return filter.error();
-    OperatingLoopRungData data{std::move(reduced).value(), std::move(lookahead).value(), std::move(filter).value(), std::nullopt};
+    OperatingLoopRungData data{std::move(reduced).value(), std::move(lookahead).value(), std::move(filter).value(),
+                               std::nullopt};
     if (rung.needle) {  // idle at its holder's pose in the marker frame until the needle is seen
       auto coupled = make_coupled_needle_data(rung.needle->coupled, to_needle_pose(rung.needle->marker_from_base));
       if (!coupled.ok()) return coupled.error();

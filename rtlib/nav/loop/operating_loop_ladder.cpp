@@ -19,7 +19,8 @@ void copy_span(std::span<const T> from, std::span<T> to) noexcept {
 }
 
 /// out = a x, a rows x cols row-major.
-void multiply(std::span<const double> a, int rows, int cols, std::span<const double> x, std::span<double> out) noexcept {
+void multiply(std::span<const double> a, int rows, int cols, std::span<const double> x,
+              std::span<double> out) noexcept {
   for (int i = 0; i < rows; ++i) {
     double sum = 0.0;
     for (int j = 0; j < cols; ++j) sum += a[static_cast<std::size_t>(i * cols + j)] * x[static_cast<std::size_t>(j)];
@@ -99,13 +100,16 @@ void move_to(const OperatingLoopModel& model, OperatingLoopData& data, int to, c
 
 /// Steps rung `rung`'s liver (through its coupled needle when there is one); returns the
 /// step's flags and clears them on the liver.
-HealthFlags step_rung(const OperatingLoopModel& model, OperatingLoopData& data, int rung, const TissueInputs& inputs) noexcept {
+HealthFlags step_rung(const OperatingLoopModel& model, OperatingLoopData& data, int rung,
+                      const TissueInputs& inputs) noexcept {
   const OperatingLoopRung& m = model.rungs[static_cast<std::size_t>(rung)];
   OperatingLoopRungData& d = data.rungs[static_cast<std::size_t>(rung)];
   ReducedData& liver = d.liver();
   liver.health.clear_all();
-  if (m.needle) step_tissue(m.needle->coupled, *d.needle_model, inputs);
-  else step(m.reduced, liver, inputs);
+  if (m.needle)
+    step_tissue(m.needle->coupled, *d.needle_model, inputs);
+  else
+    step(m.reduced, liver, inputs);
   const HealthFlags raised = liver.health;
   liver.health.clear_all();
   return raised;
@@ -151,7 +155,8 @@ HealthFlags step_liver(const OperatingLoopModel& model, OperatingLoopData& data,
   const int rung = data.active_rung;
   if (!model.ladder) return step_rung(model, data, rung, inputs);
   OperatingLoopRungData& active = data.active();
-  copy_liver_state(active.liver(), active.lookahead);  // the state before the step (the scratch is free until the look-ahead)
+  copy_liver_state(active.liver(),
+                   active.lookahead);  // the state before the step (the scratch is free until the look-ahead)
   HealthFlags raised = step_rung(model, data, rung, inputs);
   if (raised.has(HealthFlag::bad_sample)) return raised;  // refused, the state untouched
   const ReducedLadderOptions& o = model.ladder->options();

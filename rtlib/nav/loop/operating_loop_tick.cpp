@@ -17,7 +17,9 @@ constexpr TimeNs kNever = std::numeric_limits<TimeNs>::min();
 
 Point3 to_point(const Eigen::Vector3d& v) noexcept { return {v[0], v[1], v[2]}; }
 
-double distance_m(const Point3& a, const Point3& b) noexcept { return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
+double distance_m(const Point3& a, const Point3& b) noexcept {
+  return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+}
 
 /// The status of a tracked tool: the lookup's flags and those of the samples pushed since the
 /// last tick (which are then cleared).
@@ -35,7 +37,8 @@ InputStatus tool_status(const PoseTrack& track, const PoseQuery& query, HealthFl
 /// breathing model's change from that sample's time, so that irregular breathing (a deep
 /// breath, a cough) is followed at once while the model compensates the delay and looks
 /// ahead. Rest when the marker was never seen.
-Point3 diaphragm_m(const OperatingLoopOptions& o, const OperatingLoopData& data, TimeNs now_ns, TimeNs horizon_ns) noexcept {
+Point3 diaphragm_m(const OperatingLoopOptions& o, const OperatingLoopData& data, TimeNs now_ns,
+                   TimeNs horizon_ns) noexcept {
   if (data.respiratory_newest_ns == kNever) return {0.0, 0.0, 0.0};
   const double change_m = data.breathing.predict(now_ns, horizon_ns).displacement_m -
                           data.breathing.predict(data.respiratory_newest_ns, 0).displacement_m;
@@ -99,14 +102,16 @@ void tissue_tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeN
   OperatingLoopRungData& state = data.active();
   ReducedData& liver = state.liver();
   if (state.needle_model)  // the look-ahead carries the needle's forces of this step
-    inputs.point_forces = std::span<const PointForce>(state.needle_model->point_forces.data(), state.needle_model->point_force_count);
+    inputs.point_forces =
+        std::span<const PointForce>(state.needle_model->point_forces.data(), state.needle_model->point_force_count);
   predict(rung.filter, state.filter, liver);
   tissue.merge(state.filter.health);
   state.filter.health.clear_all();
 
   for (std::size_t i = 0; i < data.pending_count; ++i) {
     const PendingObservation& seen = data.pending[i];
-    update(rung.filter, state.filter, 0, carried_to_step(model, rung.filter, data, seen, inputs.prescribed_displacement_m), seen.time_ns);
+    update(rung.filter, state.filter, 0,
+           carried_to_step(model, rung.filter, data, seen, inputs.prescribed_displacement_m), seen.time_ns);
   }
   data.pending_count = 0;
   data.ultrasound_push_flags.merge(state.filter.health);  // rejected observations are the ultrasound's fault
@@ -131,18 +136,23 @@ void tissue_tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeN
   for (std::size_t j = 0; j < liver.q.size(); ++j) out.liver_q[j] = liver.q[j] + state.filter.correction[j];
   out.tumour_now_m = estimate.position_m;
   out.tumour_now_covariance_m2 = estimate.covariance_m2;
-  out.tumour_ahead_m = tumour_at(rung.filter, state.lookahead.q, rung.lookahead_decay, state.filter.correction, state.lookahead.prescribed_m);
-  out.tumour_ahead_covariance_m2 = covariance_ahead(rung.filter, estimate.covariance_m2, rung.lookahead_decay * rung.lookahead_decay);
+  out.tumour_ahead_m = tumour_at(rung.filter, state.lookahead.q, rung.lookahead_decay, state.filter.correction,
+                                 state.lookahead.prescribed_m);
+  out.tumour_ahead_covariance_m2 =
+      covariance_ahead(rung.filter, estimate.covariance_m2, rung.lookahead_decay * rung.lookahead_decay);
 }
 
 /// Whether a pose holds no NaN or infinity.
-bool finite(const RigidPose& pose) noexcept { return pose.position_m.allFinite() && pose.rotation.coeffs().allFinite(); }
+bool finite(const RigidPose& pose) noexcept {
+  return pose.position_m.allFinite() && pose.rotation.coeffs().allFinite();
+}
 
 /// The needle model's step: its base at the tracked pose when that is good (held at the last
 /// good one otherwise). A pose farther than the needle's one-step limit places a free needle
 /// there; a needle holding tissue glides toward it by half the limit per tick (flagged).
 /// Idle until the first good pose.
-void needle_tick(const OperatingLoopNeedleModel& needle_model, OperatingLoopData& data, const PoseQuery& tracked) noexcept {
+void needle_tick(const OperatingLoopNeedleModel& needle_model, OperatingLoopData& data,
+                 const PoseQuery& tracked) noexcept {
   if (!tracked.degraded && finite(tracked.pose)) {
     data.needle_base = compose(tracked.pose, needle_model.marker_from_base);
     data.needle_acquired = true;
@@ -153,9 +163,11 @@ void needle_tick(const OperatingLoopNeedleModel& needle_model, OperatingLoopData
   const NeedleData& needle = coupled.interaction.needle;
   const RigidPose from{node_position_m(needle.positions_m, 0), node_rotation(needle.rotations_wxyz, 0)};
   const RigidPose& to = data.needle_base;
-  const double jump_m = (to.position_m - from.position_m).norm() + p.length_m * relative_rotation_vector(from.rotation, to.rotation).norm();
+  const double jump_m = (to.position_m - from.position_m).norm() +
+                        p.length_m * relative_rotation_vector(from.rotation, to.rotation).norm();
   RigidPose base = to;
-  if (jump_m > p.max_pose_jump_m && !place_free_needle(needle_model.coupled.interaction, coupled.interaction, to_needle_pose(to))) {
+  if (jump_m > p.max_pose_jump_m &&
+      !place_free_needle(needle_model.coupled.interaction, coupled.interaction, to_needle_pose(to))) {
     base = geodesic(from, to, 0.5 * p.max_pose_jump_m / jump_m);
     coupled.interaction.health.raise(HealthFlag::pose_jump_rejected);
   }
@@ -167,7 +179,8 @@ void needle_tick(const OperatingLoopNeedleModel& needle_model, OperatingLoopData
 
 /// The needle model's outputs after the tick (shape, forces, depth, punctures, flags, which
 /// are then cleared), and the modelled tip in place of the rigid one.
-void needle_outputs(const OperatingLoopNeedleModel& needle_model, OperatingLoopData& data, Point3 rigid_tip_m) noexcept {
+void needle_outputs(const OperatingLoopNeedleModel& needle_model, OperatingLoopData& data,
+                    Point3 rigid_tip_m) noexcept {
   OperatingLoopOutputs& out = data.outputs;
   NeedleShapeOutputs& shape = out.needle_shape;
   NeedleTissueData& interaction = data.active().needle_model->interaction;
@@ -210,11 +223,13 @@ InputStatus ultrasound_status(const OperatingLoopModel& model, OperatingLoopData
 }  // namespace
 
 void push_needle_pose(const OperatingLoopModel& model, OperatingLoopData& data, const TimedPose& sample) noexcept {
-  data.needle_push_flags.merge(data.needle.push({sample.time_ns, compose(model.options.model_from_tracker, sample.pose)}));
+  data.needle_push_flags.merge(
+      data.needle.push({sample.time_ns, compose(model.options.model_from_tracker, sample.pose)}));
 }
 
 void push_probe_pose(const OperatingLoopModel& model, OperatingLoopData& data, const TimedPose& sample) noexcept {
-  data.probe_push_flags.merge(data.probe.push({sample.time_ns, compose(model.options.model_from_tracker, sample.pose)}));
+  data.probe_push_flags.merge(
+      data.probe.push({sample.time_ns, compose(model.options.model_from_tracker, sample.pose)}));
 }
 
 void push_respiratory_sample(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs time_ns,
@@ -235,9 +250,11 @@ void push_tumour_observation(OperatingLoopData& data, TimeNs time_ns, const Poin
   data.pending[data.pending_count++] = {time_ns, position_m};
 }
 
-void liver_displacements_m(const OperatingLoopModel& model, const OperatingLoopOutputs& outputs, LiverDisplayScratch& scratch,
-                           std::span<const std::int32_t> nodes, std::span<double> out_xyz) noexcept {
-  const auto rung = static_cast<std::size_t>(std::clamp(outputs.liver_rung, 0, static_cast<int>(model.rungs.size()) - 1));
+void liver_displacements_m(const OperatingLoopModel& model, const OperatingLoopOutputs& outputs,
+                           LiverDisplayScratch& scratch, std::span<const std::int32_t> nodes,
+                           std::span<double> out_xyz) noexcept {
+  const auto rung =
+      static_cast<std::size_t>(std::clamp(outputs.liver_rung, 0, static_cast<int>(model.rungs.size()) - 1));
   ReducedData& state = scratch.rungs[rung];
   std::copy_n(outputs.liver_q.begin(), state.q.size(), state.q.begin());
   std::copy(outputs.diaphragm_m.begin(), outputs.diaphragm_m.end(), std::begin(state.prescribed_m));
@@ -271,11 +288,13 @@ void tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs now_n
   out.respiratory.flags.merge(data.respiratory_push_flags);
   data.respiratory_push_flags.clear_all();
   out.respiratory.degraded = !breathing.ready || !out.respiratory.flags.healthy();
-  out.respiratory.age_ns = data.respiratory_newest_ns == kNever ? std::numeric_limits<TimeNs>::max() : now_ns - data.respiratory_newest_ns;
+  out.respiratory.age_ns =
+      data.respiratory_newest_ns == kNever ? std::numeric_limits<TimeNs>::max() : now_ns - data.respiratory_newest_ns;
 
   if (out.ticks % o.tissue_every_ticks == 0) tissue_tick(model, data, now_ns);
   // The needle as the tick leaves it, on the rung the liver step may have moved it to.
-  if (model.has_needle()) needle_outputs(*model.rungs[static_cast<std::size_t>(data.active_rung)].needle, data, out.needle_tip_m);
+  if (model.has_needle())
+    needle_outputs(*model.rungs[static_cast<std::size_t>(data.active_rung)].needle, data, out.needle_tip_m);
   out.ultrasound = ultrasound_status(model, data, now_ns);
 
   out.tip_to_tumour_m = distance_m(out.needle_tip_m, out.tumour_now_m);

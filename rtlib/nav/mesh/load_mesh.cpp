@@ -34,7 +34,8 @@ Result<TetMesh> load_tet_mesh(const std::string& path, LengthUnit unit) {
   if (extension == ".msh") return load_msh_tet_mesh(path, unit);
   if (extension == ".vtk") return load_vtk_tet_mesh(path, unit);
   if (extension == ".vtu") return load_vtu_tet_mesh(path, unit);
-  return Error{.message = "unknown tetrahedral mesh extension '" + extension + "' (.msh, .vtk and .vtu are read)", .file = path};
+  return Error{.message = "unknown tetrahedral mesh extension '" + extension + "' (.msh, .vtk and .vtu are read)",
+               .file = path};
 }
 
 Result<TriSurface> load_surface(const std::string& path, LengthUnit unit) {

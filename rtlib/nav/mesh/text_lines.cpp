@@ -24,7 +24,8 @@ Result<std::string> read_text_file(const std::string& path) {
   std::error_code code;
   const auto status = std::filesystem::status(path, code);
   if (code || !std::filesystem::exists(status)) return Error{.message = "cannot open file: no such file", .file = path};
-  if (!std::filesystem::is_regular_file(status)) return Error{.message = "cannot open file: not a regular file", .file = path};
+  if (!std::filesystem::is_regular_file(status))
+    return Error{.message = "cannot open file: not a regular file", .file = path};
   std::ifstream stream(path, std::ios::binary);
   if (!stream) return Error{.message = "cannot open file", .file = path};
   const auto size = std::filesystem::file_size(path, code);

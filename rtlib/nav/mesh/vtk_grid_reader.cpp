@@ -10,7 +10,8 @@ namespace nav::detail {
 
 template <typename T>
 Error VtkArray<T>::error_at(const std::string& path, std::size_t index, std::string message) const {
-  return Error{.message = std::move(message), .file = path, .line = line_of_token(text, first_line, index), .field = field};
+  return Error{
+      .message = std::move(message), .file = path, .line = line_of_token(text, first_line, index), .field = field};
 }
 
 template struct VtkArray<double>;

@@ -36,10 +36,12 @@ Status check_field(const VtuField& field, std::size_t count, const char* where) 
   if (field.components < 1) return Error{.message = "components must be at least 1", .field = context};
   const std::size_t expected = static_cast<std::size_t>(field.components) * count;
   if (field.values.size() != expected) {
-    return Error{.message = std::to_string(field.values.size()) + " values, expected " + std::to_string(expected), .field = context};
+    return Error{.message = std::to_string(field.values.size()) + " values, expected " + std::to_string(expected),
+                 .field = context};
   }
   for (std::size_t i = 0; i < field.values.size(); ++i) {
-    if (!std::isfinite(field.values[i])) return Error{.message = "value " + std::to_string(i) + " is not finite", .field = context};
+    if (!std::isfinite(field.values[i]))
+      return Error{.message = "value " + std::to_string(i) + " is not finite", .field = context};
   }
   return Done{};
 }

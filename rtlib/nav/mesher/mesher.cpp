@@ -18,7 +18,8 @@ constexpr double kMaxLatticeCubes = 16777216.0;  // 2^24
 /// An Error if `element_size_m` cannot mesh `bounds` (not positive, or too many cubes).
 std::optional<Error> check_size(const Bounds3& bounds, double element_size_m) {
   if (!(element_size_m > 0.0) || !std::isfinite(element_size_m)) {
-    return Error{.message = "must be positive and finite, got " + std::to_string(element_size_m), .field = "element_size_m"};
+    return Error{.message = "must be positive and finite, got " + std::to_string(element_size_m),
+                 .field = "element_size_m"};
   }
   double cubes = 1.0;
   for (int a = 0; a < 3; ++a) {
@@ -29,7 +30,9 @@ std::optional<Error> check_size(const Bounds3& bounds, double element_size_m) {
     cubes *= std::ceil(extent_m / element_size_m) + 2.0;
   }
   if (cubes > kMaxLatticeCubes) {
-    return Error{.message = "too small for the domain: " + std::to_string(static_cast<long long>(cubes)) + " grid cubes (at most 2^24)", .field = "element_size_m"};
+    return Error{.message = "too small for the domain: " + std::to_string(static_cast<long long>(cubes)) +
+                            " grid cubes (at most 2^24)",
+                 .field = "element_size_m"};
   }
   return std::nullopt;
 }
@@ -54,7 +57,8 @@ Result<MesherOutput> make_tet_mesh(const MeshingDomain& domain, const MesherOpti
       output.mesh, domain,
       {.crease_cosine = options.fitting.crease_cosine, .tolerance_m = options.fitting.snapped_tolerance_m});
   if (output.mesh.tets.empty()) {
-    return Error{.message = "no element has its centroid inside the domain (element size too large?)", .field = "element_size_m"};
+    return Error{.message = "no element has its centroid inside the domain (element size too large?)",
+                 .field = "element_size_m"};
   }
   // The other boundary nodes are snapped, the interior relaxed.
   const TetMeshBoundary boundary = extract_boundary(output.mesh);

@@ -175,16 +175,23 @@ Result<LabelVolume> read_metaimage_labels(const std::string& path, LengthUnit un
     data_name = (std::filesystem::path(path).parent_path() / header.data_file).string();
     separate = read_text_file(data_name);
     if (!separate->ok()) {
-      return Error{.message = "cannot open data file '" + data_name + "': " + separate->error().message, .file = path, .line = header.data_file_line, .field = "ElementDataFile"};
+      return Error{.message = "cannot open data file '" + data_name + "': " + separate->error().message,
+                   .file = path,
+                   .line = header.data_file_line,
+                   .field = "ElementDataFile"};
     }
     data = separate->value();
   }
   const auto& size = *header.size;
   const auto expected = static_cast<std::size_t>(size[0] * size[1] * size[2]);
   if (data.size() != expected) {
-    return Error{.message = (data.size() < expected ? "truncated voxel data in '" : "unexpected bytes after the voxel data in '") +
-                     data_name + "': expected " + std::to_string(expected) + " bytes (DimSize), found " +
-                     std::to_string(data.size()), .file = path, .line = header.data_file_line, .field = "ElementDataFile"};
+    return Error{.message = (data.size() < expected ? "truncated voxel data in '"
+                                                    : "unexpected bytes after the voxel data in '") +
+                            data_name + "': expected " + std::to_string(expected) + " bytes (DimSize), found " +
+                            std::to_string(data.size()),
+                 .file = path,
+                 .line = header.data_file_line,
+                 .field = "ElementDataFile"};
   }
   LabelVolume volume;
   const double metres = metres_per_unit(unit);

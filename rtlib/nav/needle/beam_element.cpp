@@ -6,7 +6,8 @@ namespace nav {
 
 Matrix12d beam_local_stiffness(const NeedleParameters& p, const NeedleSection& s, double l) {
   const double E = p.youngs_modulus_pa, G = s.shear_modulus_pa, I = s.second_moment_m4;
-  const double phi = p.theory == BeamTheory::timoshenko ? 12.0 * E * I / (G * s.shear_coefficient * s.area_m2 * l * l) : 0.0;
+  const double phi =
+      p.theory == BeamTheory::timoshenko ? 12.0 * E * I / (G * s.shear_coefficient * s.area_m2 * l * l) : 0.0;
   Matrix12d k = Matrix12d::Zero();
   const double axial = E * s.area_m2 / l, torsion = G * s.polar_moment_m4 / l;
   k(0, 0) = k(6, 6) = axial;
@@ -103,14 +104,16 @@ void set_symmetric_6x6(Matrix6d& block, const Eigen::Matrix3d& top_left, const E
 
 }  // namespace
 
-BeamResponse corotational_beam_response(const BeamStiffness& stiffness, double rest_length_m, const BeamEnds& ends) noexcept {
+BeamResponse corotational_beam_response(const BeamStiffness& stiffness, double rest_length_m,
+                                        const BeamEnds& ends) noexcept {
   const Eigen::Vector3d chord = ends.position_b_m - ends.position_a_m;
   const double length_m = chord.norm();
   const Eigen::Vector3d e1 = chord / length_m;
   // Mean node frame, half way from a to b along the shorter arc: the normalized sum of the
   // two unit quaternions taken in one hemisphere (a slerp at one half).
   const double hemisphere = ends.rotation_a.dot(ends.rotation_b) < 0.0 ? -1.0 : 1.0;
-  const Eigen::Quaterniond mean(Eigen::Vector4d(ends.rotation_a.coeffs() + hemisphere * ends.rotation_b.coeffs()).normalized());
+  const Eigen::Quaterniond mean(
+      Eigen::Vector4d(ends.rotation_a.coeffs() + hemisphere * ends.rotation_b.coeffs()).normalized());
   const Eigen::Vector3d y_mean = mean * Eigen::Vector3d::UnitY();
   const Eigen::Vector3d e3 = e1.cross(y_mean).normalized();
   const Eigen::Vector3d e2 = e3.cross(e1);
@@ -142,7 +145,8 @@ BeamResponse corotational_beam_response(const BeamStiffness& stiffness, double r
   std::array<Eigen::Matrix3d, BeamStiffness::kTangentBlocks> blocks;
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     const auto same = static_cast<std::size_t>(stiffness.same_block_as[b]);
-    blocks[b] = same < b ? blocks[same] : rotated_block(stiffness.local, kTangentBlocks[b][0], kTangentBlocks[b][1], products);
+    blocks[b] =
+        same < b ? blocks[same] : rotated_block(stiffness.local, kTangentBlocks[b][0], kTangentBlocks[b][1], products);
   }
   set_symmetric_6x6(response.tangent_aa, blocks[0], blocks[1], blocks[2]);
   response.tangent_ab << blocks[3], blocks[4], blocks[5], blocks[6];

@@ -29,7 +29,7 @@ struct BeamStiffness {
     int freedom = 0;
     double value = 0.0;
   };
-  static constexpr int kMovedFreedoms = 7;  ///< theta_a (3), the stretch, theta_b (3)
+  static constexpr int kMovedFreedoms = 7;   ///< theta_a (3), the stretch, theta_b (3)
   static constexpr int kTangentBlocks = 10;  ///< aa: 3, ab: 4, bb: 3 (the symmetric ones' lower blocks mirrored)
   Matrix12d local;
   std::array<std::array<Term, kMovedFreedoms>, 12> force_terms{};
@@ -57,6 +57,7 @@ struct BeamResponse {
 /// Corotational response: the element frame follows the chord and the mean node frame, the
 /// local deformation is the stretch and the node rotations relative to that frame. A rigid
 /// motion of both ends gives exactly zero force.
-BeamResponse corotational_beam_response(const BeamStiffness& stiffness, double rest_length_m, const BeamEnds& ends) noexcept;
+BeamResponse corotational_beam_response(const BeamStiffness& stiffness, double rest_length_m,
+                                        const BeamEnds& ends) noexcept;
 
 }  // namespace nav

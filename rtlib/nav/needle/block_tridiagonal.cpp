@@ -20,7 +20,7 @@ std::size_t at(int k) { return 36 * static_cast<std::size_t>(k); }
 /// substitutions then run through multiplications. False when the matrix is not positive
 /// definite.
 bool spd_inverse(const Matrix6d& s, Matrix6d& inverse) {
-  double g[6][6] = {};     // s = g g^T, g lower; its diagonal is kept as reciprocals in r
+  double g[6][6] = {};  // s = g g^T, g lower; its diagonal is kept as reciprocals in r
   double r[6] = {};
 #pragma GCC unroll 6
   for (int j = 0; j < 6; ++j) {
@@ -80,7 +80,8 @@ void solve_block_tridiagonal(const BlockTridiagonal& m, std::span<double> rhs) n
   using Segment = Eigen::Map<Eigen::Matrix<double, 6, 1>>;
   using Vector6d = Eigen::Matrix<double, 6, 1>;
   for (int k = 1; k < m.blocks; ++k)
-    Segment(rhs.data() + 6 * k).noalias() -= ConstBlock(m.multiplier.data() + at(k)) * Segment(rhs.data() + 6 * (k - 1));
+    Segment(rhs.data() + 6 * k).noalias() -=
+        ConstBlock(m.multiplier.data() + at(k)) * Segment(rhs.data() + 6 * (k - 1));
   for (int k = 0; k < m.blocks; ++k) {
     Segment y(rhs.data() + 6 * k);
     const Vector6d b = y;
@@ -92,7 +93,8 @@ void solve_block_tridiagonal(const BlockTridiagonal& m, std::span<double> rhs) n
 }
 
 void translational_inverse_blocks(const BlockTridiagonal& m, int first, std::span<double> diagonal_work,
-                                  std::span<double> column_work, std::span<double> out, std::size_t out_stride) noexcept {
+                                  std::span<double> column_work, std::span<double> out,
+                                  std::size_t out_stride) noexcept {
   using DenseBlock = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>, 0, Eigen::OuterStride<>>;
   const auto block_at = [&](int i, int j) {
     return DenseBlock(out.data() + 3 * static_cast<std::size_t>(i) * out_stride + 3 * static_cast<std::size_t>(j),
@@ -114,10 +116,12 @@ void translational_inverse_blocks(const BlockTridiagonal& m, int first, std::spa
   }
   // Columns: Sigma_ij[:, 0:3] = -L_i+1^T Sigma_i+1,j[:, 0:3] for i < j.
   for (int j = first; j < n; ++j) {
-    Column(column_work.data() + 18 * static_cast<std::size_t>(j)) = ConstBlock(diagonal_work.data() + at(j)).leftCols<3>();
+    Column(column_work.data() + 18 * static_cast<std::size_t>(j)) =
+        ConstBlock(diagonal_work.data() + at(j)).leftCols<3>();
     for (int i = j - 1; i >= first; --i)
       Column(column_work.data() + 18 * static_cast<std::size_t>(i)).noalias() =
-          -ConstBlock(m.multiplier.data() + at(i + 1)).transpose() * Column(column_work.data() + 18 * static_cast<std::size_t>(i + 1));
+          -ConstBlock(m.multiplier.data() + at(i + 1)).transpose() *
+          Column(column_work.data() + 18 * static_cast<std::size_t>(i + 1));
     for (int i = first; i <= j; ++i) {
       const Eigen::Matrix3d block = Column(column_work.data() + 18 * static_cast<std::size_t>(i)).topRows<3>();
       block_at(i, j) = block;

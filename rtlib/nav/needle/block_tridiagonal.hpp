@@ -29,6 +29,7 @@ void solve_block_tridiagonal(const BlockTridiagonal& matrix, std::span<double> r
 /// block): C_ij(a, b) at out[(3 i + a) * out_stride + 3 j + b], exactly symmetric.
 /// `diagonal_work` holds 36 per block and `column_work` 18 per block.
 void translational_inverse_blocks(const BlockTridiagonal& matrix, int first_block, std::span<double> diagonal_work,
-                                  std::span<double> column_work, std::span<double> out, std::size_t out_stride) noexcept;
+                                  std::span<double> column_work, std::span<double> out,
+                                  std::size_t out_stride) noexcept;
 
 }  // namespace nav

@@ -14,14 +14,14 @@ namespace nav {
 /// tissue gets the opposite.
 struct ConstraintRow {
   RowLaw law = RowLaw::bilateral;
-  std::int32_t slot = 0;        ///< where its force is kept between steps (warm start)
-  std::int32_t node = 1;        ///< needle point = (1 - weight) x_node + weight x_node+1
+  std::int32_t slot = 0;  ///< where its force is kept between steps (warm start)
+  std::int32_t node = 1;  ///< needle point = (1 - weight) x_node + weight x_node+1
   double weight = 0.0;
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();
   Eigen::Vector3d tissue_point_m = Eigen::Vector3d::Zero();  ///< where the tissue is touched
   std::int32_t tissue_node = -1;  ///< the tissue node that carries that point (-1 stand-alone)
   double gap_free_m = 0.0;
-  double cap = 0.0;             ///< f_p, the cutting force or the friction limit, newtons
+  double cap = 0.0;                   ///< f_p, the cutting force or the friction limit, newtons
   double friction_coefficient = 0.0;  ///< mu of friction_axial and coulomb_pair rows
   std::int32_t linked[2] = {-1, -1};  ///< rows (indices in the active list) a limit depends on
 };

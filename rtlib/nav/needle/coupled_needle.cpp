@@ -11,7 +11,8 @@ namespace nav::detail {
 namespace {
 
 /// Adds `force` on `node` to the list, merging with an entry for the same node.
-void add_point_force(std::span<PointForce> forces, std::size_t& count, std::int32_t node, const Eigen::Vector3d& force) {
+void add_point_force(std::span<PointForce> forces, std::size_t& count, std::int32_t node,
+                     const Eigen::Vector3d& force) {
   for (std::size_t k = 0; k < count; ++k)
     if (forces[k].node == node) {
       for (int c = 0; c < 3; ++c) forces[k].force_n[static_cast<std::size_t>(c)] += force[c];
@@ -22,9 +23,11 @@ void add_point_force(std::span<PointForce> forces, std::size_t& count, std::int3
 
 }  // namespace
 
-Status validate_coupling(const NeedleTissueScene& scene, std::size_t max_point_forces, int needle_steps_per_tissue_step) {
+Status validate_coupling(const NeedleTissueScene& scene, std::size_t max_point_forces,
+                         int needle_steps_per_tissue_step) {
   if (scene.layers.empty()) return Error{.message = "the coupled scene needs a layer", .field = "scene.layers"};
-  if (needle_steps_per_tissue_step < 1) return Error{.message = "must be at least 1", .field = "needle_steps_per_tissue_step"};
+  if (needle_steps_per_tissue_step < 1)
+    return Error{.message = "must be at least 1", .field = "needle_steps_per_tissue_step"};
   if (max_point_forces < 1) return Error{.message = "must be at least 1", .field = "max_point_forces"};
   return Done{};
 }
@@ -40,11 +43,12 @@ std::size_t gather_point_forces(const NeedleTissueData& interaction, std::span<P
   dropped = 0;
   if (count <= max_forces) return count;
   // Keep the largest: a stable order by magnitude, then by node.
-  std::sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(count), [](const PointForce& a, const PointForce& b) {
-    const double na = std::hypot(a.force_n[0], a.force_n[1], a.force_n[2]);
-    const double nb = std::hypot(b.force_n[0], b.force_n[1], b.force_n[2]);
-    return na != nb ? na > nb : a.node < b.node;
-  });
+  std::sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(count),
+            [](const PointForce& a, const PointForce& b) {
+              const double na = std::hypot(a.force_n[0], a.force_n[1], a.force_n[2]);
+              const double nb = std::hypot(b.force_n[0], b.force_n[1], b.force_n[2]);
+              return na != nb ? na > nb : a.node < b.node;
+            });
   dropped = static_cast<int>(count - max_forces);
   return max_forces;
 }

@@ -22,7 +22,7 @@ struct CoupledNeedleModelOf {
   NeedleTissueModel interaction;
   const TissueModel* tissue = nullptr;  ///< not owned; outlives this model
   int needle_steps_per_tissue_step = 1;
-  std::size_t max_point_forces = 16;    ///< as the tissue scene's max_point_forces
+  std::size_t max_point_forces = 16;  ///< as the tissue scene's max_point_forces
 };
 
 /// State of the coupled scene: the interaction's data, the tissue's data, the tissue
@@ -41,7 +41,7 @@ struct CoupledNeedleDataOf {
   std::int64_t refresh_cursor = 0;  ///< next node of the round-robin refresh
   std::int64_t ticks = 0;
   std::size_t point_force_count = 0;  ///< the first point_force_count point_forces went to the last tissue step
-  int dropped_point_forces = 0;  ///< forces beyond max_point_forces at the last tissue step
+  int dropped_point_forces = 0;       ///< forces beyond max_point_forces at the last tissue step
   CoupledNeedleDataOf(Arena block, NeedleTissueData interaction_data, TissueData tissue_data)
       : arena(std::move(block)), interaction(std::move(interaction_data)), tissue(std::move(tissue_data)) {}
 };

@@ -18,7 +18,8 @@ struct ReducedData;
 namespace detail {
 
 /// The coupling's own checks (a layer, positive counts); the Error names the field.
-Status validate_coupling(const NeedleTissueScene& scene, std::size_t max_point_forces, int needle_steps_per_tissue_step);
+Status validate_coupling(const NeedleTissueScene& scene, std::size_t max_point_forces,
+                         int needle_steps_per_tissue_step);
 
 /// Refreshes data.displacements_m after a tissue step (all nodes, or those it needs).
 void refresh_displacements(const TetFemModel& tissue, CoupledNeedleDataOf<TetFemData>& data) noexcept;
@@ -33,9 +34,9 @@ std::size_t gather_point_forces(const NeedleTissueData& interaction, std::span<P
 /// The coupled data around made interaction and tissue data, with the displacement and point
 /// force buffers and `refreshed_nodes` slots for on-demand refreshes.
 template <class TissueModel, class TissueData>
-Result<CoupledNeedleDataOf<TissueData>> make_coupled_data(const CoupledNeedleModelOf<TissueModel>& model, const NeedlePose& base,
-                                                          Result<TissueData> tissue, std::size_t node_count,
-                                                          std::size_t refreshed_nodes) {
+Result<CoupledNeedleDataOf<TissueData>> make_coupled_data(const CoupledNeedleModelOf<TissueModel>& model,
+                                                          const NeedlePose& base, Result<TissueData> tissue,
+                                                          std::size_t node_count, std::size_t refreshed_nodes) {
   auto interaction = make_needle_tissue_data(model.interaction, base);
   if (!interaction.ok()) return interaction.error();
   if (!tissue.ok()) return tissue.error();
@@ -76,7 +77,8 @@ template <class TissueModel, class TissueData>
 void step_tissue(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDataOf<TissueData>& data,
                  TissueInputs tissue_inputs) noexcept {
   NeedleTissueData& interaction = data.interaction;
-  data.point_force_count = detail::gather_point_forces(interaction, data.point_forces, model.max_point_forces, data.dropped_point_forces);
+  data.point_force_count =
+      detail::gather_point_forces(interaction, data.point_forces, model.max_point_forces, data.dropped_point_forces);
   if (data.dropped_point_forces > 0) interaction.health.raise(HealthFlag::pool_full);
   tissue_inputs.point_forces = std::span<const PointForce>(data.point_forces.data(), data.point_force_count);
   step(*model.tissue, data.tissue, tissue_inputs);
@@ -86,7 +88,8 @@ void step_tissue(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDa
 }
 
 template <class TissueModel, class TissueData>
-void step(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDataOf<TissueData>& data, const NeedleInputs& inputs) noexcept {
+void step(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDataOf<TissueData>& data,
+          const NeedleInputs& inputs) noexcept {
   step_needle(model, data, inputs);
   if (++data.ticks % model.needle_steps_per_tissue_step == 0) step_tissue(model, data, TissueInputs{});
   data.interaction.health.merge(data.tissue.health);

@@ -49,7 +49,7 @@ void interleave_points(std::span<detail::SweepRow> rows) {
 
 double coulomb_disk_violation_m(std::span<const double> gaps, std::span<const double> forces, double limit_n) noexcept {
   const double force = std::hypot(forces[0], forces[1]), slip = std::hypot(gaps[0], gaps[1]);
-  if (limit_n <= 0.0) return 0.0;  // no normal force: free to slide
+  if (limit_n <= 0.0) return 0.0;                   // no normal force: free to slide
   if (force < limit_n * (1.0 - 1e-6)) return slip;  // stick: no tangential motion
   // Slip: the motion must be opposite to the force, gap = -s f / |f| with s >= 0.
   return std::hypot(gaps[0] + slip * forces[0] / force, gaps[1] + slip * forces[1] / force);
@@ -76,7 +76,7 @@ double law_violation_m(const ConstraintRow& row, double gap_m, double force_n, d
       // Stick inside the bound (no relative motion); at the bound the slip opposes the force.
       if (std::abs(force_n) > limit_n + slack) return 1.0;
       if (row.law != RowLaw::friction_axial) return 0.0;  // the pair is checked as a disk by the caller
-      if (limit_n <= slack) return 0.0;  // no friction: any slip
+      if (limit_n <= slack) return 0.0;                   // no friction: any slip
       if (force_n >= limit_n - slack) return std::max(0.0, gap_m);
       if (force_n <= -limit_n + slack) return std::max(0.0, -gap_m);
       return std::abs(gap_m);
@@ -88,23 +88,32 @@ double law_violation_m(const ConstraintRow& row, double gap_m, double force_n, d
 const detail::NeedleLaneKernels& detail::needle_lane_kernels(KernelIsa isa) noexcept {
   switch (resolve_kernel_isa(isa)) {
 #if NAV_KERNEL_ISA_X86
-    case KernelIsa::avx2: return needle_lane_kernels_avx2;
-    case KernelIsa::avx512: return needle_lane_kernels_avx512;
+    case KernelIsa::avx2:
+      return needle_lane_kernels_avx2;
+    case KernelIsa::avx512:
+      return needle_lane_kernels_avx512;
 #endif
-    default: return needle_lane_kernels_baseline;
+    default:
+      return needle_lane_kernels_baseline;
   }
 }
 
-double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const double> w, std::size_t w_stride, int sweeps,
-                          std::span<double> forces, std::span<double> gaps, const GaussSeidelWorkspace& work) noexcept {
+double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const double> w, std::size_t w_stride,
+                          int sweeps, std::span<double> forces, std::span<double> gaps,
+                          const GaussSeidelWorkspace& work) noexcept {
   const std::size_t m = rows.size();
   for (std::size_t first = 0; first < m;) {
     const std::size_t end = group_end(rows, first);
     for (std::size_t r = first; r < end; ++r) {
       const ConstraintRow& row = rows[r];
       const double diagonal = w[r * w_stride + r];
-      work.rows[r] = {row.cap, row.friction_coefficient, diagonal > 0.0 ? 1.0 / diagonal : 0.0, {row.linked[0], row.linked[1]},
-                      -1, row.law, static_cast<std::uint8_t>(r == first ? end - first : 0)};
+      work.rows[r] = {row.cap,
+                      row.friction_coefficient,
+                      diagonal > 0.0 ? 1.0 / diagonal : 0.0,
+                      {row.linked[0], row.linked[1]},
+                      -1,
+                      row.law,
+                      static_cast<std::uint8_t>(r == first ? end - first : 0)};
       gaps[r] = row.gap_free_m;
     }
     first = end;
@@ -115,7 +124,8 @@ double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const d
   for (std::size_t r = 0; r < m; ++r) {
     const double limit = row_limit_n(rows, r, forces);
     worst = std::max(worst, law_violation_m(rows[r], gaps[r], forces[r], limit));
-    if (rows[r].law == RowLaw::coulomb_pair) worst = std::max(worst, coulomb_disk_violation_m(gaps.subspan(r, 2), forces.subspan(r, 2), limit));
+    if (rows[r].law == RowLaw::coulomb_pair)
+      worst = std::max(worst, coulomb_disk_violation_m(gaps.subspan(r, 2), forces.subspan(r, 2), limit));
   }
   return worst;
 }

@@ -24,8 +24,9 @@ struct GaussSeidelWorkspace {
 /// `forces` (m) holds the warm start on entry and the solution on exit, `gaps` (m) receives
 /// delta_free + W lambda; `work.rows` holds at least m rows. Returns the largest violation of
 /// the laws, in metres.
-double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const double> w, std::size_t w_stride, int sweeps,
-                          std::span<double> forces, std::span<double> gaps, const GaussSeidelWorkspace& work) noexcept;
+double solve_gauss_seidel(std::span<const ConstraintRow> rows, std::span<const double> w, std::size_t w_stride,
+                          int sweeps, std::span<double> forces, std::span<double> gaps,
+                          const GaussSeidelWorkspace& work) noexcept;
 
 /// The violation of one row's law by (gap, force), in metres (0 when it holds).
 double law_violation_m(const ConstraintRow& row, double gap_m, double force_n, double limit_n) noexcept;

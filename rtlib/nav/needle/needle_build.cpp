@@ -1,5 +1,5 @@
-#include "nav/needle/needle_model.hpp"
 #include "nav/needle/needle_lane_kernels.hpp"
+#include "nav/needle/needle_model.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -34,7 +34,8 @@ Result<NeedleData> make_needle_data(const NeedleModel& model, const NeedlePose& 
     if (!std::isfinite(v)) return Error{.message = "must be finite", .field = "needle.base.position_m"};
   double norm2 = 0.0;
   for (double v : base.rotation_wxyz) norm2 += v * v;
-  if (!std::isfinite(norm2) || std::abs(norm2 - 1.0) > 1e-6) return Error{.message = "must be a unit quaternion", .field = "needle.base.rotation_wxyz"};
+  if (!std::isfinite(norm2) || std::abs(norm2 - 1.0) > 1e-6)
+    return Error{.message = "must be a unit quaternion", .field = "needle.base.rotation_wxyz"};
   const auto nodes = static_cast<std::size_t>(model.node_count());
   const auto free_blocks = nodes - 1;
   ArenaPlan plan;
@@ -42,7 +43,8 @@ Result<NeedleData> make_needle_data(const NeedleModel& model, const NeedlePose& 
   plan.add<double>(3 * nodes).add<double>(4 * nodes).add<double>(3 * nodes).add<double>(3 * nodes);
   plan.add<double>(6 * nodes).add<double>(6 * nodes);
   for (int k = 0; k < 5; ++k) plan.add<double>(36 * free_blocks);
-  const std::size_t stride = (3 * free_blocks + detail::kCombinedLanes - 1) / detail::kCombinedLanes * detail::kCombinedLanes;
+  const std::size_t stride =
+      (3 * free_blocks + detail::kCombinedLanes - 1) / detail::kCombinedLanes * detail::kCombinedLanes;
   const std::size_t translational = 3 * free_blocks * stride + detail::kCombinedLanes;
   plan.add<double>(18 * free_blocks).add<double>(translational);
   NeedleData data(Arena("needle_data", plan.bytes()));
@@ -90,12 +92,13 @@ bool is_finite_unit_pose(const NeedlePose& base) noexcept {
 }
 
 void place_straight_needle(const NeedleModel& model, NeedleData& data, const NeedlePose& base) noexcept {
-  const Eigen::Quaterniond q(base.rotation_wxyz[0], base.rotation_wxyz[1], base.rotation_wxyz[2], base.rotation_wxyz[3]);
+  const Eigen::Quaterniond q(base.rotation_wxyz[0], base.rotation_wxyz[1], base.rotation_wxyz[2],
+                             base.rotation_wxyz[3]);
   const Eigen::Vector3d axis = q * Eigen::Vector3d::UnitX();
   for (std::size_t n = 0; n < static_cast<std::size_t>(model.node_count()); ++n) {
     for (int c = 0; c < 3; ++c)
-      data.positions_m[3 * n + static_cast<std::size_t>(c)] = base.position_m[static_cast<std::size_t>(c)] +
-                                                              static_cast<double>(n) * model.element_length_m * axis[c];
+      data.positions_m[3 * n + static_cast<std::size_t>(c)] =
+          base.position_m[static_cast<std::size_t>(c)] + static_cast<double>(n) * model.element_length_m * axis[c];
     for (std::size_t c = 0; c < 4; ++c) data.rotations_wxyz[4 * n + c] = base.rotation_wxyz[c];
   }
   std::fill(data.velocities_m_s.begin(), data.velocities_m_s.end(), 0.0);

@@ -27,12 +27,12 @@ struct SweepRow {
 
 /// A projected Gauss-Seidel problem delta = delta_free + W lambda, as raw views.
 struct SweepProblem {
-  std::size_t m = 0;                ///< rows
-  const SweepRow* rows = nullptr;   ///< m rows, constraint points consecutive
-  const double* w = nullptr;        ///< m x m, column-major
-  std::size_t w_stride = 0;         ///< between W's columns, at least m
-  double* forces = nullptr;         ///< m: the warm start on entry, the solution on exit
-  double* gaps = nullptr;           ///< m: the free gaps on entry, delta_free + W lambda on exit
+  std::size_t m = 0;               ///< rows
+  const SweepRow* rows = nullptr;  ///< m rows, constraint points consecutive
+  const double* w = nullptr;       ///< m x m, column-major
+  std::size_t w_stride = 0;        ///< between W's columns, at least m
+  double* forces = nullptr;        ///< m: the warm start on entry, the solution on exit
+  double* gaps = nullptr;          ///< m: the free gaps on entry, delta_free + W lambda on exit
 };
 
 /// The most entries per row of a RowCombination.
@@ -50,17 +50,17 @@ inline constexpr std::size_t kLaneBytes = kCombinedLanes * sizeof(double);
 /// order: the compliance assembly's products H (C H^T) with H's few entries per row.
 struct RowCombination {
   std::size_t rows = 0;
-  std::size_t terms = 0;                   ///< entries per row, 1 to kMaxCombinedTerms
-  std::size_t term_stride = 0;             ///< between the entries of consecutive rows
-  const double* coefficients = nullptr;    ///< c_rk at [r * term_stride + k]
-  const std::int32_t* sources = nullptr;   ///< rows of `dense`, as the coefficients
-  const double* dense = nullptr;           ///< row i at dense + i * dense_stride
+  std::size_t terms = 0;                  ///< entries per row, 1 to kMaxCombinedTerms
+  std::size_t term_stride = 0;            ///< between the entries of consecutive rows
+  const double* coefficients = nullptr;   ///< c_rk at [r * term_stride + k]
+  const std::int32_t* sources = nullptr;  ///< rows of `dense`, as the coefficients
+  const double* dense = nullptr;          ///< row i at dense + i * dense_stride
   std::size_t dense_stride = 0;
-  std::size_t width = 0;                   ///< values per output row, a multiple of kCombinedLanes
+  std::size_t width = 0;  ///< values per output row, a multiple of kCombinedLanes
   /// Output row r stops at r + 1 values rounded up to kCombinedLanes (at most `width`): the
   /// values past r + 1 are the upper triangle's, for the caller to overwrite.
   bool lower_triangle = false;
-  double* out = nullptr;                   ///< row r at out + r * out_stride
+  double* out = nullptr;  ///< row r at out + r * out_stride
   std::size_t out_stride = 0;
 };
 

@@ -6,8 +6,8 @@
 // runs in an order written here, so every variant gives the same bits. The transpositions
 // between the products move 8 x 8 blocks through registers with shuffles (GCC vector
 // extensions, lowered to each variant's own; copies, so the same bits too).
-#include "nav/core/kernel_isa_variant.hpp"
 #include "nav/needle/needle_lane_kernels.hpp"
+#include "nav/core/kernel_isa_variant.hpp"
 
 namespace nav::detail::NAV_KERNEL_ISA_NAMESPACE {
 namespace {
@@ -27,7 +27,8 @@ void add_column(const double* __restrict column, Index m, double change, double*
 }
 
 /// gaps += W[:, first:first + size] change, in one pass over the gaps for a full point.
-void add_columns(const double* w, Index m, Index stride, Index first, Index size, const double* change, double* __restrict gaps) {
+void add_columns(const double* w, Index m, Index stride, Index first, Index size, const double* change,
+                 double* __restrict gaps) {
   const double* __restrict a = w + first * stride;
   if (size == 3) {
     const double* __restrict b = a + stride;
@@ -80,7 +81,8 @@ void solve_point(const SweepProblem& p, Index first) {
     if (row.law == RowLaw::coulomb_second || inverse_diagonal[i] == 0.0) continue;
     if (row.law == RowLaw::coulomb_pair && i + 1 < Size) {
       // Both tangent rows, then back onto the disk of radius mu * normal force.
-      double f1 = forces[r] - gap_now(i, i) * inverse_diagonal[i], f2 = forces[r + 1] - gap_now(i + 1, i) * inverse_diagonal[i + 1];
+      double f1 = forces[r] - gap_now(i, i) * inverse_diagonal[i],
+             f2 = forces[r + 1] - gap_now(i + 1, i) * inverse_diagonal[i + 1];
       const double limit = row_force_limit_n(row, forces), length = __builtin_sqrt(f1 * f1 + f2 * f2);
       if (length > limit) {
         f1 *= limit / length;
@@ -111,9 +113,15 @@ void gauss_seidel(const SweepProblem& p, int sweeps) noexcept {
   for (int sweep = 0; sweep < sweeps; ++sweep)
     for (std::int32_t first = 0; first >= 0; first = p.rows[first].next_point) {
       switch (p.rows[first].point_rows) {
-        case 3: solve_point<3>(p, static_cast<Index>(first)); break;
-        case 2: solve_point<2>(p, static_cast<Index>(first)); break;
-        default: solve_point<1>(p, static_cast<Index>(first)); break;
+        case 3:
+          solve_point<3>(p, static_cast<Index>(first));
+          break;
+        case 2:
+          solve_point<2>(p, static_cast<Index>(first));
+          break;
+        default:
+          solve_point<1>(p, static_cast<Index>(first));
+          break;
       }
     }
 }
@@ -136,15 +144,24 @@ void combine_rows(const RowCombination& p) noexcept {
   const double* rows[kMaxCombinedTerms] = {};
   for (Index r = 0; r < p.rows; ++r) {
     const double* c = p.coefficients + r * p.term_stride;
-    for (Index k = 0; k < p.terms; ++k) rows[k] = p.dense + static_cast<Index>(p.sources[r * p.term_stride + k]) * p.dense_stride;
+    for (Index k = 0; k < p.terms; ++k)
+      rows[k] = p.dense + static_cast<Index>(p.sources[r * p.term_stride + k]) * p.dense_stride;
     const Index lanes = kCombinedLanes, triangle = (r + lanes) / lanes * lanes;  // r + 1 rounded up
     const Index width = p.lower_triangle && triangle < p.width ? triangle : p.width;
     double* out = p.out + r * p.out_stride;
     switch (p.terms) {
-      case 3: combine_row<3>(c, rows, 3, width, out); break;
-      case 6: combine_row<6>(c, rows, 6, width, out); break;
-      case 9: combine_row<9>(c, rows, 9, width, out); break;
-      default: combine_row<0>(c, rows, p.terms, width, out); break;
+      case 3:
+        combine_row<3>(c, rows, 3, width, out);
+        break;
+      case 6:
+        combine_row<6>(c, rows, 6, width, out);
+        break;
+      case 9:
+        combine_row<9>(c, rows, 9, width, out);
+        break;
+      default:
+        combine_row<0>(c, rows, p.terms, width, out);
+        break;
     }
   }
 }
@@ -188,7 +205,8 @@ void transpose_values(const Transposition& t, Index row_begin, Index row_end, In
 void transpose(const Transposition& t) noexcept {
   const Index whole_rows = t.rows / 8 * 8, whole_cols = t.cols / 8 * 8;
   for (Index r = 0; r < whole_rows; r += 8)
-    for (Index c = 0; c < whole_cols; c += 8) transpose_8x8(t.src + r * t.src_stride + c, t.src_stride, t.dst + c * t.dst_stride + r, t.dst_stride);
+    for (Index c = 0; c < whole_cols; c += 8)
+      transpose_8x8(t.src + r * t.src_stride + c, t.src_stride, t.dst + c * t.dst_stride + r, t.dst_stride);
   transpose_values(t, 0, whole_rows, whole_cols, t.cols);
   transpose_values(t, whole_rows, t.rows, 0, t.cols);
 }
@@ -209,8 +227,8 @@ void mirror_lower(double* a, Index n, Index stride) noexcept {
 
 /// Squared distance of node n from the query's point, summed x, y, then z.
 template <bool Displaced>
-[[gnu::always_inline]] inline double squared_distance(const double* __restrict rest, const double* __restrict u, Index n, double px,
-                                                      double py, double pz) {
+[[gnu::always_inline]] inline double squared_distance(const double* __restrict rest, const double* __restrict u,
+                                                      Index n, double px, double py, double pz) {
   double x = rest[3 * n], y = rest[3 * n + 1], z = rest[3 * n + 2];
   if constexpr (Displaced) {
     x += u[3 * n];
@@ -222,7 +240,8 @@ template <bool Displaced>
 }
 
 /// Lane `lane`'s best becomes node n when n is strictly nearer (a NaN distance never is).
-[[gnu::always_inline]] inline void keep_nearer(double d2, Index n, Index lane, double* __restrict best, std::int64_t* __restrict index) {
+[[gnu::always_inline]] inline void keep_nearer(double d2, Index n, Index lane, double* __restrict best,
+                                               std::int64_t* __restrict index) {
   const bool nearer = d2 < best[lane];
   best[lane] = nearer ? d2 : best[lane];
   index[lane] = nearer ? static_cast<std::int64_t>(n) : index[lane];
@@ -232,7 +251,8 @@ template <bool Displaced>
 /// lane keeping the first of its strictly nearest: the distances of a block of nodes and
 /// their comparisons run across the lanes.
 template <bool Displaced>
-void scan_nodes(const NearestNodeQuery& q, Index begin, Index end, double* __restrict best, std::int64_t* __restrict index) {
+void scan_nodes(const NearestNodeQuery& q, Index begin, Index end, double* __restrict best,
+                std::int64_t* __restrict index) {
   constexpr Index lanes = kCombinedLanes;
   const double px = q.point_m[0], py = q.point_m[1], pz = q.point_m[2];
   Index n = begin;
@@ -274,10 +294,8 @@ namespace nav::detail {
 
 extern const NeedleLaneKernels NAV_KERNEL_ISA_NAME(needle_lane_kernels_);
 const NeedleLaneKernels NAV_KERNEL_ISA_NAME(needle_lane_kernels_){
-    NAV_KERNEL_ISA_NAMESPACE::gauss_seidel,
-    NAV_KERNEL_ISA_NAMESPACE::combine_rows,
-    NAV_KERNEL_ISA_NAMESPACE::nearest_node,
-    NAV_KERNEL_ISA_NAMESPACE::transpose,
+    NAV_KERNEL_ISA_NAMESPACE::gauss_seidel, NAV_KERNEL_ISA_NAMESPACE::combine_rows,
+    NAV_KERNEL_ISA_NAMESPACE::nearest_node, NAV_KERNEL_ISA_NAMESPACE::transpose,
     NAV_KERNEL_ISA_NAMESPACE::mirror_lower,
 };
 

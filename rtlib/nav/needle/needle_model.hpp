@@ -33,7 +33,8 @@ struct NeedleInputs {
 
 /// What the last needle step did.
 struct NeedleStepReport {
-  std::array<double, 3> base_force_n{};  ///< force the holder exerts on the needle's base (the needle pushes the holder with its opposite)
+  std::array<double, 3> base_force_n{};  ///< force the holder exerts on the needle's base (the needle pushes the holder
+                                         ///< with its opposite)
   int rejected_poses = 0;                ///< poses refused since the data was made
   bool pose_rejected = false;            ///< the last step's pose was refused (state kept)
 };
@@ -45,7 +46,7 @@ struct NeedleModel {
   int element_count = 0;
   double element_length_m = 0.0;
   BeamStiffness local_stiffness;
-  std::array<double, 2> end_and_inner_mass_kg{};           ///< lumped mass of end and inner nodes
+  std::array<double, 2> end_and_inner_mass_kg{};               ///< lumped mass of end and inner nodes
   std::array<double, 2> end_and_inner_rotary_inertia_kg_m2{};  ///< rho J l per node (isotropic)
 
   int node_count() const { return element_count + 1; }
@@ -56,19 +57,19 @@ struct NeedleModel {
 /// State and workspace of one needle, carved from one arena at init.
 struct NeedleData {
   Arena arena;
-  std::span<double> positions_m;            ///< 3 per node
-  std::span<double> rotations_wxyz;         ///< 4 per node, node frames (x along the shaft at rest)
-  std::span<double> velocities_m_s;         ///< 3 per node
+  std::span<double> positions_m;               ///< 3 per node
+  std::span<double> rotations_wxyz;            ///< 4 per node, node frames (x along the shaft at rest)
+  std::span<double> velocities_m_s;            ///< 3 per node
   std::span<double> angular_velocities_rad_s;  ///< 3 per node, world axes
-  HealthFlags health;                       ///< raised by steps, cleared by the caller
+  HealthFlags health;                          ///< raised by steps, cleared by the caller
   NeedleStepReport report;
   std::int64_t steps = 0;
 
   // Last good state, restored when a step fails.
   std::span<double> start_positions_m, start_rotations_wxyz, start_velocities_m_s, start_angular_velocities_rad_s;
   // Workspace (meaningless between steps, except the factor, kept for constraint solves).
-  std::span<double> forces, residual;       ///< 6 per node
-  BlockTridiagonal system;                  ///< over the free nodes 1..n
+  std::span<double> forces, residual;  ///< 6 per node
+  BlockTridiagonal system;             ///< over the free nodes 1..n
   std::span<double> inverse_diagonal, inverse_column;
   /// A^-1's translational part over the free nodes, dense, row-major, translational_stride
   /// values per row (3 per free node, padded to whole lanes of the needle's kernels, which

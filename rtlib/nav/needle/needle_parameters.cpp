@@ -18,17 +18,20 @@ bool in_range(double value, double low, double high) { return std::isfinite(valu
 
 Status validate_needle_parameters(const NeedleParameters& p) {
   if (!in_range(p.length_m, 1e-3, 1.0)) return field_error("length_m", "must be within [1 mm, 1 m]");
-  if (!in_range(p.outer_diameter_m, 1e-5, 0.01)) return field_error("outer_diameter_m", "must be within [10 um, 10 mm]");
+  if (!in_range(p.outer_diameter_m, 1e-5, 0.01))
+    return field_error("outer_diameter_m", "must be within [10 um, 10 mm]");
   if (!in_range(p.inner_diameter_m, 0.0, p.outer_diameter_m) || !(p.inner_diameter_m < p.outer_diameter_m))
     return field_error("inner_diameter_m", "must be within [0, outer_diameter_m)");
-  if (!in_range(p.youngs_modulus_pa, 1e6, 1e12)) return field_error("youngs_modulus_pa", "must be within [1 MPa, 1 TPa]");
+  if (!in_range(p.youngs_modulus_pa, 1e6, 1e12))
+    return field_error("youngs_modulus_pa", "must be within [1 MPa, 1 TPa]");
   if (!in_range(p.poisson_ratio, 0.0, 0.49)) return field_error("poisson_ratio", "must be within [0, 0.49]");
   if (!in_range(p.density_kg_m3, 100.0, 30000.0)) return field_error("density_kg_m3", "must be within [100, 30000]");
   if (!in_range(p.bevel_angle_rad, 0.05, std::numbers::pi / 2))
     return field_error("bevel_angle_rad", "must be within [0.05, pi/2] (pi/2 is a blunt, symmetric tip)");
   if (p.element_count < 1 || p.element_count > 256) return field_error("element_count", "must be within [1, 256]");
   if (!in_range(p.step_s, 1e-6, 1.0)) return field_error("step_s", "must be within [1 us, 1 s]");
-  if (p.newton_iterations < 1 || p.newton_iterations > 100) return field_error("newton_iterations", "must be within [1, 100]");
+  if (p.newton_iterations < 1 || p.newton_iterations > 100)
+    return field_error("newton_iterations", "must be within [1, 100]");
   if (!in_range(p.rayleigh_mass_per_s, 0.0, 1e6)) return field_error("rayleigh_mass_per_s", "must be within [0, 1e6]");
   if (!in_range(p.max_pose_jump_m, 0.0, 1.0) || p.max_pose_jump_m == 0.0)
     return field_error("max_pose_jump_m", "must be within (0, 1 m]");

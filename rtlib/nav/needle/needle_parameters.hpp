@@ -29,12 +29,12 @@ struct NeedleParameters {
   double youngs_modulus_pa = 200e9;   ///< stainless steel
   double poisson_ratio = 0.3;
   double density_kg_m3 = 7850.0;
-  double bevel_angle_rad = 0.5236;    ///< angle between the bevel face and the shaft (30 deg)
+  double bevel_angle_rad = 0.5236;  ///< angle between the bevel face and the shaft (30 deg)
   BeamTheory theory = BeamTheory::timoshenko;
   int element_count = 20;
   NeedleIntegrator integrator = NeedleIntegrator::implicit_euler;
   double step_s = 1e-3;
-  int newton_iterations = 1;          ///< fixed count per step
+  int newton_iterations = 1;  ///< fixed count per step
   double rayleigh_mass_per_s = 0.0;
   /// A base pose that moves farther than this in one step is rejected as a tracking glitch.
   double max_pose_jump_m = 0.01;
@@ -43,9 +43,9 @@ struct NeedleParameters {
 /// Cross-section constants of the tube, in SI units.
 struct NeedleSection {
   double area_m2 = 0.0;
-  double second_moment_m4 = 0.0;     ///< I about either bending axis
-  double polar_moment_m4 = 0.0;      ///< J = 2 I
-  double shear_coefficient = 0.0;    ///< Cowper's kappa for a hollow circle
+  double second_moment_m4 = 0.0;   ///< I about either bending axis
+  double polar_moment_m4 = 0.0;    ///< J = 2 I
+  double shear_coefficient = 0.0;  ///< Cowper's kappa for a hollow circle
   double shear_modulus_pa = 0.0;
 };
 

@@ -46,18 +46,21 @@ void assemble(const NeedleModel& model, NeedleData& data, const NeedleInputs& in
     const BeamResponse response = corotational_beam_response(model.local_stiffness, model.element_length_m, ends);
     Eigen::Map<Vector12d>(data.forces.data() + 6 * static_cast<std::size_t>(e)) += response.forces;
     // Free node k has block row k - 1.
-    if (e >= 1) Eigen::Map<Matrix6d>(data.system.diagonal.data() + 36 * static_cast<std::size_t>(e - 1)) += response.tangent_aa;
+    if (e >= 1)
+      Eigen::Map<Matrix6d>(data.system.diagonal.data() + 36 * static_cast<std::size_t>(e - 1)) += response.tangent_aa;
     Eigen::Map<Matrix6d>(data.system.diagonal.data() + 36 * static_cast<std::size_t>(e)) += response.tangent_bb;
-    if (e >= 1) Eigen::Map<Matrix6d>(data.system.upper.data() + 36 * static_cast<std::size_t>(e - 1)) += response.tangent_ab;
+    if (e >= 1)
+      Eigen::Map<Matrix6d>(data.system.upper.data() + 36 * static_cast<std::size_t>(e - 1)) += response.tangent_ab;
   }
   for (int node = 1; node < n; ++node) {
     const std::size_t i = static_cast<std::size_t>(node);
     const Eigen::Vector3d dx = node_position_m(data.positions_m, node) - node_position_m(data.start_positions_m, node);
-    const Eigen::Vector3d dtheta = rotation_vector_from_quaternion(node_rotation(data.rotations_wxyz, node) *
-                                                                   node_rotation(data.start_rotations_wxyz, node).conjugate());
+    const Eigen::Vector3d dtheta = rotation_vector_from_quaternion(
+        node_rotation(data.rotations_wxyz, node) * node_rotation(data.start_rotations_wxyz, node).conjugate());
     const double m = model.node_mass_kg(node), j = model.node_rotary_inertia_kg_m2(node);
     Eigen::Map<Vector6d> r(data.residual.data() + 6 * i);
-    r.head<3>() = -ConstVec3Map(data.forces.data() + 6 * i) - m * (a * dx - b * ConstVec3Map(data.start_velocities_m_s.data() + 3 * i));
+    r.head<3>() = -ConstVec3Map(data.forces.data() + 6 * i) -
+                  m * (a * dx - b * ConstVec3Map(data.start_velocities_m_s.data() + 3 * i));
     r.tail<3>() = -ConstVec3Map(data.forces.data() + 6 * i + 3) -
                   j * (a * dtheta - b * ConstVec3Map(data.start_angular_velocities_rad_s.data() + 3 * i));
     if (node == n - 1) {
@@ -77,8 +80,8 @@ void move_free_nodes(const NeedleModel& model, NeedleData& data, std::span<const
   for (int node = 1; node < model.node_count(); ++node) {
     const std::size_t i = static_cast<std::size_t>(node);
     Vec3Map(data.positions_m.data() + 3 * i) += ConstVec3Map(delta.data() + 6 * i);
-    const Eigen::Quaterniond turned =
-        quaternion_from_rotation_vector(ConstVec3Map(delta.data() + 6 * i + 3)) * node_rotation(data.rotations_wxyz, node);
+    const Eigen::Quaterniond turned = quaternion_from_rotation_vector(ConstVec3Map(delta.data() + 6 * i + 3)) *
+                                      node_rotation(data.rotations_wxyz, node);
     set_node_rotation(data.rotations_wxyz, node, turned.normalized());
   }
 }
@@ -92,7 +95,8 @@ void update_velocities(const NeedleModel& model, NeedleData& data) {
         (node_position_m(data.positions_m, node) - node_position_m(data.start_positions_m, node)) / h;
     Vec3Map(data.angular_velocities_rad_s.data() + 3 * i) =
         rotation_vector_from_quaternion(node_rotation(data.rotations_wxyz, node) *
-                                        node_rotation(data.start_rotations_wxyz, node).conjugate()) / h;
+                                        node_rotation(data.start_rotations_wxyz, node).conjugate()) /
+        h;
   }
 }
 
@@ -137,7 +141,8 @@ bool needle_free_motion(const NeedleModel& model, NeedleData& data, const Needle
   // Carry the whole needle rigidly with the base increment: the first Newton iterate.
   const Eigen::Quaterniond base_rotation = pose_rotation(inputs.base);
   const Eigen::Quaterniond turn = base_rotation * node_rotation(data.rotations_wxyz, 0).conjugate();
-  const Eigen::Vector3d old_base = node_position_m(data.positions_m, 0), new_base = ConstVec3Map(inputs.base.position_m.data());
+  const Eigen::Vector3d old_base = node_position_m(data.positions_m, 0),
+                        new_base = ConstVec3Map(inputs.base.position_m.data());
   for (int node = 0; node < model.node_count(); ++node) {
     Vec3Map p(data.positions_m.data() + 3 * static_cast<std::size_t>(node));
     p = new_base + turn * (Eigen::Vector3d(p) - old_base);

@@ -39,7 +39,8 @@ inline const double* needle_compliance_row(const NeedleData& data, int node) noe
 inline Eigen::Matrix3d needle_compliance_block(const NeedleData& data, int node_i, int node_j) noexcept {
   const std::size_t stride = data.translational_stride;
   return Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>, 0, Eigen::OuterStride<>>(
-      data.translational_compliance.data() + 3 * static_cast<std::size_t>(node_i - 1) * stride + 3 * static_cast<std::size_t>(node_j - 1),
+      data.translational_compliance.data() + 3 * static_cast<std::size_t>(node_i - 1) * stride +
+          3 * static_cast<std::size_t>(node_j - 1),
       Eigen::OuterStride<>(static_cast<Eigen::Index>(stride)));
 }
 

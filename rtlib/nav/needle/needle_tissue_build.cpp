@@ -10,7 +10,9 @@ namespace nav {
 
 namespace {
 
-Error scene_error(const std::string& field, const char* message) { return Error{.message = message, .field = "scene." + field}; }
+Error scene_error(const std::string& field, const char* message) {
+  return Error{.message = message, .field = "scene." + field};
+}
 
 bool positive(double v) { return std::isfinite(v) && v > 0.0; }
 bool non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
@@ -19,28 +21,37 @@ Status validate_scene(const NeedleTissueScene& s) {
   for (std::size_t l = 0; l < s.layers.size(); ++l) {
     const TissueLayer& layer = s.layers[l];
     const std::string at = "layers[" + std::to_string(l) + "].";
-    const double n2 = layer.outward_normal[0] * layer.outward_normal[0] + layer.outward_normal[1] * layer.outward_normal[1] +
+    const double n2 = layer.outward_normal[0] * layer.outward_normal[0] +
+                      layer.outward_normal[1] * layer.outward_normal[1] +
                       layer.outward_normal[2] * layer.outward_normal[2];
     if (!(std::abs(n2 - 1.0) < 1e-9)) return scene_error(at + "outward_normal", "must be a unit vector");
     for (double v : layer.surface_point_m)
       if (!std::isfinite(v)) return scene_error(at + "surface_point_m", "must be finite");
     if (!positive(layer.puncture_force_n)) return scene_error(at + "puncture_force_n", "must be positive");
     if (!non_negative(layer.cutting_force_n)) return scene_error(at + "cutting_force_n", "must be finite and >= 0");
-    if (!non_negative(layer.friction_per_length_n_m)) return scene_error(at + "friction_per_length_n_m", "must be finite and >= 0");
-    if (!non_negative(layer.surface_friction_coefficient)) return scene_error(at + "surface_friction_coefficient", "must be finite and >= 0");
+    if (!non_negative(layer.friction_per_length_n_m))
+      return scene_error(at + "friction_per_length_n_m", "must be finite and >= 0");
+    if (!non_negative(layer.surface_friction_coefficient))
+      return scene_error(at + "surface_friction_coefficient", "must be finite and >= 0");
   }
   if (s.layers.size() > 16) return scene_error("layers", "at most 16 layers");
   if (!positive(s.point_compliance_m_per_n)) return scene_error("point_compliance_m_per_n", "must be positive");
-  if (!positive(s.compliance_correlation_length_m)) return scene_error("compliance_correlation_length_m", "must be positive");
-  if (!non_negative(s.shaft_friction_coefficient)) return scene_error("shaft_friction_coefficient", "must be finite and >= 0");
+  if (!positive(s.compliance_correlation_length_m))
+    return scene_error("compliance_correlation_length_m", "must be positive");
+  if (!non_negative(s.shaft_friction_coefficient))
+    return scene_error("shaft_friction_coefficient", "must be finite and >= 0");
   if (!positive(s.path_spacing_m)) return scene_error("path_spacing_m", "must be positive");
-  if (s.max_path_points < 0 || s.max_path_points > 256) return scene_error("max_path_points", "must be within [0, 256]");
+  if (s.max_path_points < 0 || s.max_path_points > 256)
+    return scene_error("max_path_points", "must be within [0, 256]");
   if (!positive(s.hole_radius_m)) return scene_error("hole_radius_m", "must be positive");
-  if (!non_negative(s.bevel_steering_gain) || s.bevel_steering_gain > 1.0) return scene_error("bevel_steering_gain", "must be within [0, 1]");
-  if (s.gauss_seidel_sweeps < 1 || s.gauss_seidel_sweeps > 1000) return scene_error("gauss_seidel_sweeps", "must be within [1, 1000]");
+  if (!non_negative(s.bevel_steering_gain) || s.bevel_steering_gain > 1.0)
+    return scene_error("bevel_steering_gain", "must be within [0, 1]");
+  if (s.gauss_seidel_sweeps < 1 || s.gauss_seidel_sweeps > 1000)
+    return scene_error("gauss_seidel_sweeps", "must be within [1, 1000]");
   if (!positive(s.residual_bound_m)) return scene_error("residual_bound_m", "must be positive");
   if (!kernel_isa_available(s.kernel_isa))
-    return Error{.message = "this build or CPU has no " + std::string(kernel_isa_name(s.kernel_isa)) + " kernels", .field = "scene.kernel_isa"};
+    return Error{.message = "this build or CPU has no " + std::string(kernel_isa_name(s.kernel_isa)) + " kernels",
+                 .field = "scene.kernel_isa"};
   return Done{};
 }
 
@@ -51,14 +62,16 @@ Result<NeedleTissueModel> make_needle_tissue_model(const NeedleParameters& needl
   auto needle_model = make_needle_model(needle);
   if (!needle_model.ok()) return needle_model.error();
   if (auto valid = validate_scene(scene); !valid) return valid.error();
-  if (tissue_rest_m.size() % 3 != 0) return Error{.message = "must hold 3 coordinates per node", .field = "tissue_rest_m"};
+  if (tissue_rest_m.size() % 3 != 0)
+    return Error{.message = "must hold 3 coordinates per node", .field = "tissue_rest_m"};
   NeedleTissueModel model;
   model.needle = std::move(needle_model).value();
   model.scene = scene;
   model.tissue_rest_m.assign(tissue_rest_m.begin(), tissue_rest_m.end());
   model.lane_kernels = &detail::needle_lane_kernels(scene.kernel_isa);
   model.compliance_tensor_m_per_n = scene.point_compliance_m_per_n * Eigen::Matrix3d::Identity();
-  if (scene.bevel_steering) model.bevel_tilt_rad = scene.bevel_steering_gain * (0.5 * std::numbers::pi - needle.bevel_angle_rad);
+  if (scene.bevel_steering)
+    model.bevel_tilt_rad = scene.bevel_steering_gain * (0.5 * std::numbers::pi - needle.bevel_angle_rad);
   return model;
 }
 
@@ -78,15 +91,17 @@ Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model,
   // W: rows of m values padded to whole lanes of the kernels (the last lower-triangle row
   // may run past its last padded row up to the lanes' multiple). Low rank: 3 freedoms per
   // free needle node and per constraint point's tissue node, and slots for rows, padded alike.
-  const auto lanes = [](std::size_t count) { return (count + detail::kCombinedLanes - 1) / detail::kCombinedLanes * detail::kCombinedLanes; };
+  const auto lanes = [](std::size_t count) {
+    return (count + detail::kCombinedLanes - 1) / detail::kCombinedLanes * detail::kCombinedLanes;
+  };
   const std::size_t padded_slots = lanes(slots), compliance = slots * padded_slots + detail::kCombinedLanes;
   const std::size_t needle_freedoms = rank > 0 ? lanes(3 * static_cast<std::size_t>(model.needle.element_count)) : 0;
   const std::size_t tissue_freedoms = lanes(3 * points), freedoms = needle_freedoms + tissue_freedoms;
   const std::size_t entries = rank > 0 ? detail::kMaxCombinedTerms * slots : 0;
   plan.add<std::int32_t>(entries).add<std::int32_t>(entries);
   // The buffers of doubles, each starting on a whole lanes' width for the kernels' loads.
-  for (std::size_t count : {slots, slots, compliance, slots, slots, 6 * nodes, tissue_freedoms * tissue_freedoms, entries,
-                            freedoms * padded_slots, freedoms * padded_slots})
+  for (std::size_t count : {slots, slots, compliance, slots, slots, 6 * nodes, tissue_freedoms * tissue_freedoms,
+                            entries, freedoms * padded_slots, freedoms * padded_slots})
     plan.add<double>(count, detail::kLaneBytes);
   NeedleTissueData data(Arena("needle_tissue_data", plan.bytes()), std::move(needle).value());
   auto layer_states = data.arena.allocate<LayerState>("layers", layers);

@@ -97,19 +97,19 @@ struct InsertionForces {
   double total_n = 0.0;
   double stiffness_n = 0.0;  ///< surfaces pushed before they give way
   double cutting_n = 0.0;
-  double friction_n = 0.0;   ///< shaft friction
+  double friction_n = 0.0;  ///< shaft friction
 };
 
 /// What the last interaction step did.
 struct NeedleTissueReport {
   InsertionForces forces;
   double contact_force_n = 0.0;  ///< largest normal force on a touched surface
-  double residual_m = 0.0;     ///< largest law violation after the fixed Gauss-Seidel sweeps
+  double residual_m = 0.0;       ///< largest law violation after the fixed Gauss-Seidel sweeps
   int active_rows = 0;
   int active_path_points = 0;
-  int lost_path_points = 0;    ///< path points that found the pool full, since the data was made
-  int punctures = 0;           ///< surfaces punctured, since the data was made
-  double tip_depth_m = 0.0;    ///< tip depth below the outermost surface
+  int lost_path_points = 0;  ///< path points that found the pool full, since the data was made
+  int punctures = 0;         ///< surfaces punctured, since the data was made
+  double tip_depth_m = 0.0;  ///< tip depth below the outermost surface
 };
 
 namespace detail {
@@ -119,11 +119,11 @@ namespace detail {
 /// in NeedleData, and the tissue's V_a V_b^T), each row of H with 9 entries: 3 per needle
 /// node it weighs, 3 on its tissue node.
 struct LowRankWorkspace {
-  std::span<double> tissue_compliance;   ///< dense, row-major, 3 per distinct tissue node
-  std::span<double> coefficients;        ///< 9 per row: H's entries
+  std::span<double> tissue_compliance;             ///< dense, row-major, 3 per distinct tissue node
+  std::span<double> coefficients;                  ///< 9 per row: H's entries
   std::span<std::int32_t> local_sources, sources;  ///< 9 per row: their freedoms, in each part, in both
-  std::span<double> row_fields;          ///< per row, C H^T's column (needle then tissue freedoms)
-  std::span<double> fields;              ///< its transpose: per freedom, one value per row
+  std::span<double> row_fields;                    ///< per row, C H^T's column (needle then tissue freedoms)
+  std::span<double> fields;                        ///< its transpose: per freedom, one value per row
 };
 
 }  // namespace detail
@@ -137,13 +137,13 @@ struct NeedleTissueData {
   std::int64_t steps = 0;
   std::span<LayerState> layers;
   std::span<PathPoint> path;
-  TissuePoint tip_anchor;         ///< the tissue point at the tip (where the next path point goes)
-  std::span<double> slot_forces;  ///< per slot: last solution (warm start)
+  TissuePoint tip_anchor;            ///< the tissue point at the tip (where the next path point goes)
+  std::span<double> slot_forces;     ///< per slot: last solution (warm start)
   std::span<double> applied_forces;  ///< per slot: forces the tissue model already carries
   // Workspace of one step.
   std::span<ConstraintRow> rows;
   std::span<double> compliance, row_forces, row_gaps, nodal_forces;
-  std::size_t compliance_stride = 0;  ///< between W's rows: row_count padded to whole kernel lanes
+  std::size_t compliance_stride = 0;       ///< between W's rows: row_count padded to whole kernel lanes
   std::span<detail::SweepRow> sweep_rows;  ///< the Gauss-Seidel workspace
   // Low-rank tissue only: the distinct tissue nodes of the constraint points and each
   // point's index among them.

@@ -13,21 +13,23 @@ namespace {
 Eigen::Vector3d vec(const Point3& p) { return Eigen::Vector3d(p[0], p[1], p[2]); }
 
 /// Two unit vectors completing `axis` to an orthonormal frame, the first taken from `hint`.
-void complete_frame(const Eigen::Vector3d& axis, const Eigen::Vector3d& hint, Eigen::Vector3d& first, Eigen::Vector3d& second) {
+void complete_frame(const Eigen::Vector3d& axis, const Eigen::Vector3d& hint, Eigen::Vector3d& first,
+                    Eigen::Vector3d& second) {
   first = (hint - hint.dot(axis) * axis).normalized();
   second = axis.cross(first);
 }
 
-double signed_distance_m(const NeedleTissueModel& model, const NeedleTissueData& data, int layer, const Eigen::Vector3d& x,
-                         std::span<const double> displacements_m) {
-  const Eigen::Vector3d surface = tissue_point_position_m(data.layers[static_cast<std::size_t>(layer)].surface, displacements_m);
+double signed_distance_m(const NeedleTissueModel& model, const NeedleTissueData& data, int layer,
+                         const Eigen::Vector3d& x, std::span<const double> displacements_m) {
+  const Eigen::Vector3d surface =
+      tissue_point_position_m(data.layers[static_cast<std::size_t>(layer)].surface, displacements_m);
   return vec(model.scene.layers[static_cast<std::size_t>(layer)].outward_normal).dot(x - surface);
 }
 
 /// Appends one row and returns its index.
 int add_row(NeedleTissueData& data, RowLaw law, int slot, int node, double weight, const Eigen::Vector3d& direction,
-            const Eigen::Vector3d& needle_point_m, const Eigen::Vector3d& tissue_point_m, std::int32_t tissue_node, double cap,
-            double mu) {
+            const Eigen::Vector3d& needle_point_m, const Eigen::Vector3d& tissue_point_m, std::int32_t tissue_node,
+            double cap, double mu) {
   ConstraintRow& row = data.rows[static_cast<std::size_t>(data.row_count)];
   row.law = law;
   row.slot = slot;
@@ -44,15 +46,18 @@ int add_row(NeedleTissueData& data, RowLaw law, int slot, int node, double weigh
   return data.row_count++;
 }
 
-void add_contact_rows(const NeedleTissueModel& model, NeedleTissueData& data, int layer, std::span<const double> displacements_m) {
+void add_contact_rows(const NeedleTissueModel& model, NeedleTissueData& data, int layer,
+                      std::span<const double> displacements_m) {
   const TissueLayer& spec = model.scene.layers[static_cast<std::size_t>(layer)];
   const int tip_node = model.needle.element_count, slot = 3 * layer;
   const Eigen::Vector3d n = vec(spec.outward_normal), tip = needle_tip_m(data.needle);
-  const Eigen::Vector3d contact = tissue_point_position_m(data.layers[static_cast<std::size_t>(layer)].contact, displacements_m);
+  const Eigen::Vector3d contact =
+      tissue_point_position_m(data.layers[static_cast<std::size_t>(layer)].contact, displacements_m);
   Eigen::Vector3d t1, t2;
   complete_frame(n, std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY(), t1, t2);
   const std::int32_t node = data.layers[static_cast<std::size_t>(layer)].contact.node;
-  const int normal = add_row(data, RowLaw::unilateral_capped, slot, tip_node, 0.0, n, tip, contact, node, spec.puncture_force_n, 0.0);
+  const int normal =
+      add_row(data, RowLaw::unilateral_capped, slot, tip_node, 0.0, n, tip, contact, node, spec.puncture_force_n, 0.0);
   const int first = add_row(data, RowLaw::coulomb_pair, slot + 1, tip_node, 0.0, t1, tip, contact, node, 0.0,
                             spec.surface_friction_coefficient);
   const int second = add_row(data, RowLaw::coulomb_second, slot + 2, tip_node, 0.0, t2, tip, contact, node, 0.0,
@@ -61,32 +66,39 @@ void add_contact_rows(const NeedleTissueModel& model, NeedleTissueData& data, in
   data.rows[static_cast<std::size_t>(second)].linked[0] = normal;
 }
 
-void add_tip_row(const NeedleTissueModel& model, NeedleTissueData& data, int layer, std::span<const double> displacements_m) {
+void add_tip_row(const NeedleTissueModel& model, NeedleTissueData& data, int layer,
+                 std::span<const double> displacements_m) {
   const int tip_node = model.needle.element_count;
   const Eigen::Vector3d d = needle_tip_direction(data.needle), tip = needle_tip_m(data.needle);
   const TissuePoint& front = data.layers[static_cast<std::size_t>(layer)].cut_front;
-  add_row(data, RowLaw::unilateral_capped, model.tip_slot(), tip_node, 0.0, -d, tip, tissue_point_position_m(front, displacements_m),
-          front.node, model.scene.layers[static_cast<std::size_t>(layer)].cutting_force_n, 0.0);
+  add_row(data, RowLaw::unilateral_capped, model.tip_slot(), tip_node, 0.0, -d, tip,
+          tissue_point_position_m(front, displacements_m), front.node,
+          model.scene.layers[static_cast<std::size_t>(layer)].cutting_force_n, 0.0);
 }
 
-void add_path_rows(const NeedleTissueModel& model, NeedleTissueData& data, int point, std::span<const double> displacements_m) {
+void add_path_rows(const NeedleTissueModel& model, NeedleTissueData& data, int point,
+                   std::span<const double> displacements_m) {
   const PathPoint& path = data.path[static_cast<std::size_t>(point)];
   const NeedleFrameAt at = needle_frame_at(model.needle, data.needle, path.arclength_m);
   const Eigen::Vector3d tissue = tissue_point_position_m(path.tissue, displacements_m);
   const int slot = model.path_slot(point);
   const TissueLayer& layer = model.scene.layers[static_cast<std::size_t>(path.layer)];
   const std::int32_t node = path.tissue.node;
-  const int first = add_row(data, RowLaw::bilateral, slot, at.node, at.weight, at.normal1, at.point_m, tissue, node, 0.0, 0.0);
-  const int second = add_row(data, RowLaw::bilateral, slot + 1, at.node, at.weight, at.normal2, at.point_m, tissue, node, 0.0, 0.0);
-  const int axial = add_row(data, RowLaw::friction_axial, slot + 2, at.node, at.weight, at.tangent, at.point_m, tissue, node,
-                            layer.friction_per_length_n_m * model.scene.path_spacing_m, model.scene.shaft_friction_coefficient);
+  const int first =
+      add_row(data, RowLaw::bilateral, slot, at.node, at.weight, at.normal1, at.point_m, tissue, node, 0.0, 0.0);
+  const int second =
+      add_row(data, RowLaw::bilateral, slot + 1, at.node, at.weight, at.normal2, at.point_m, tissue, node, 0.0, 0.0);
+  const int axial =
+      add_row(data, RowLaw::friction_axial, slot + 2, at.node, at.weight, at.tangent, at.point_m, tissue, node,
+              layer.friction_per_length_n_m * model.scene.path_spacing_m, model.scene.shaft_friction_coefficient);
   data.rows[static_cast<std::size_t>(axial)].linked[0] = first;
   data.rows[static_cast<std::size_t>(axial)].linked[1] = second;
 }
 
 /// Node `node`'s 3 x rank rows of the low-rank tissue compliance.
 const double* node_factors(const NeedleTissueModel& model, std::int32_t node) {
-  return model.compliance_factors.data() + 3 * static_cast<std::size_t>(node) * static_cast<std::size_t>(model.compliance_rank);
+  return model.compliance_factors.data() +
+         3 * static_cast<std::size_t>(node) * static_cast<std::size_t>(model.compliance_rank);
 }
 
 double dot(const double* a, const double* b, int n) {
@@ -128,7 +140,8 @@ void tissue_node_compliance(const NeedleTissueModel& model, NeedleTissueData& da
       }
       double* dense = data.low_rank.tissue_compliance.data();
       for (std::size_t i = 0; i < 3; ++i)
-        for (std::size_t j = 0; j < 3; ++j) dense[(3 * k + i) * stride + 3 * l + j] = dense[(3 * l + j) * stride + 3 * k + i] = sums[i][j];
+        for (std::size_t j = 0; j < 3; ++j)
+          dense[(3 * k + i) * stride + 3 * l + j] = dense[(3 * l + j) * stride + 3 * k + i] = sums[i][j];
     }
 }
 
@@ -144,11 +157,13 @@ void factor_sum(const NeedleTissueModel& model, const NeedleTissueData& data, Fo
     Eigen::Vector3d on_node = Eigen::Vector3d::Zero();
     for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
       if (static_cast<std::size_t>(data.point_tissue_index[p]) != k) continue;
-      for (auto r = static_cast<std::size_t>(data.point_first_row[p]); r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
+      for (auto r = static_cast<std::size_t>(data.point_first_row[p]);
+           r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
         on_node += force(r) * data.rows[r].direction;
     }
     const double* v = node_factors(model, data.distinct_tissue_nodes[k]);
-    for (int j = 0; j < rank; ++j) sum[j] += (v[j] * on_node.x() + v[rank + j] * on_node.y()) + v[2 * rank + j] * on_node.z();
+    for (int j = 0; j < rank; ++j)
+      sum[j] += (v[j] * on_node.x() + v[rank + j] * on_node.y()) + v[2 * rank + j] * on_node.z();
   }
 }
 
@@ -158,13 +173,17 @@ void factor_sum(const NeedleTissueModel& model, const NeedleTissueData& data, Fo
 void remove_applied_response(const NeedleTissueModel& model, NeedleTissueData& data) {
   const int rank = model.compliance_rank;
   double carried[kMaxComplianceRank];
-  factor_sum(model, data, [&](std::size_t r) { return data.applied_forces[static_cast<std::size_t>(data.rows[r].slot)]; }, carried);
+  factor_sum(
+      model, data, [&](std::size_t r) { return data.applied_forces[static_cast<std::size_t>(data.rows[r].slot)]; },
+      carried);
   for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
     const std::int32_t node = data.distinct_tissue_nodes[static_cast<std::size_t>(data.point_tissue_index[p])];
     if (node < 0) continue;
     const double* v = node_factors(model, node);
-    const Eigen::Vector3d response(dot(v, carried, rank), dot(v + rank, carried, rank), dot(v + 2 * rank, carried, rank));
-    for (auto r = static_cast<std::size_t>(data.point_first_row[p]); r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
+    const Eigen::Vector3d response(dot(v, carried, rank), dot(v + rank, carried, rank),
+                                   dot(v + 2 * rank, carried, rank));
+    for (auto r = static_cast<std::size_t>(data.point_first_row[p]);
+         r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
       data.rows[r].gap_free_m -= data.rows[r].direction.dot(response);
   }
 }
@@ -211,28 +230,31 @@ void assemble_low_rank(const NeedleTissueModel& model, NeedleTissueData& data, i
   const std::size_t needle_freedoms = padded(3 * needle_nodes), tissue_freedoms = padded(3 * distinct);
   const std::size_t freedoms = needle_freedoms + tissue_freedoms;
   for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p)
-    for (auto r = static_cast<std::size_t>(data.point_first_row[p]); r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
+    for (auto r = static_cast<std::size_t>(data.point_first_row[p]);
+         r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
       fill_row_entries(data, r, static_cast<std::size_t>(data.point_tissue_index[p]), first_block, needle_freedoms);
   const NeedleLaneKernels& kernels = *model.lane_kernels;
   // C H^T, one row of fields per constraint row: its needle part, then its tissue part.
   kernels.combine_rows({m, 6, kMaxCombinedTerms, work.coefficients.data(), work.local_sources.data(),
-                        needle_compliance_row(data.needle, first_block + 1), data.needle.translational_stride, needle_freedoms, false,
-                        work.row_fields.data(), freedoms});
+                        needle_compliance_row(data.needle, first_block + 1), data.needle.translational_stride,
+                        needle_freedoms, false, work.row_fields.data(), freedoms});
   kernels.combine_rows({m, 3, kMaxCombinedTerms, work.coefficients.data() + 6, work.local_sources.data() + 6,
-                        work.tissue_compliance.data(), tissue_freedoms, tissue_freedoms, false, work.row_fields.data() + needle_freedoms,
-                        freedoms});
+                        work.tissue_compliance.data(), tissue_freedoms, tissue_freedoms, false,
+                        work.row_fields.data() + needle_freedoms, freedoms});
   // Only the freedoms in use: no row of H names the padding.
   kernels.transpose({work.row_fields.data(), freedoms, m, 3 * needle_nodes, work.fields.data(), padded_m});
-  kernels.transpose({work.row_fields.data() + needle_freedoms, freedoms, m, 3 * distinct, work.fields.data() + needle_freedoms * padded_m,
-                     padded_m});
+  kernels.transpose({work.row_fields.data() + needle_freedoms, freedoms, m, 3 * distinct,
+                     work.fields.data() + needle_freedoms * padded_m, padded_m});
   const std::size_t stride = data.compliance_stride;
-  kernels.combine_rows({m, kMaxCombinedTerms, kMaxCombinedTerms, work.coefficients.data(), work.sources.data(), work.fields.data(),
-                        padded_m, padded_m, true, data.compliance.data(), stride});
+  kernels.combine_rows({m, kMaxCombinedTerms, kMaxCombinedTerms, work.coefficients.data(), work.sources.data(),
+                        work.fields.data(), padded_m, padded_m, true, data.compliance.data(), stride});
   for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
-    const auto begin = static_cast<std::size_t>(data.point_first_row[p]), end = static_cast<std::size_t>(data.point_first_row[p + 1]);
+    const auto begin = static_cast<std::size_t>(data.point_first_row[p]),
+               end = static_cast<std::size_t>(data.point_first_row[p + 1]);
     for (std::size_t r = begin; r < end; ++r)
       for (std::size_t s = begin; s <= r; ++s)
-        data.compliance[r * stride + s] += model.scene.point_compliance_m_per_n * data.rows[r].direction.dot(data.rows[s].direction);
+        data.compliance[r * stride + s] +=
+            model.scene.point_compliance_m_per_n * data.rows[r].direction.dot(data.rows[s].direction);
   }
   kernels.mirror_lower(data.compliance.data(), m, stride);
 }
@@ -250,10 +272,12 @@ NeedleFrameAt needle_frame_at(const NeedleModel& model, const NeedleData& data, 
   const double position = arclength_m / model.element_length_m;
   at.node = std::clamp(static_cast<int>(std::floor(position)), 0, model.element_count - 1);
   at.weight = std::clamp(position - at.node, 0.0, 1.0);
-  const Eigen::Vector3d a = node_position_m(data.positions_m, at.node), b = node_position_m(data.positions_m, at.node + 1);
+  const Eigen::Vector3d a = node_position_m(data.positions_m, at.node),
+                        b = node_position_m(data.positions_m, at.node + 1);
   at.point_m = (1.0 - at.weight) * a + at.weight * b;
   at.tangent = (b - a).normalized();
-  complete_frame(at.tangent, node_rotation(data.rotations_wxyz, at.node) * Eigen::Vector3d::UnitY(), at.normal1, at.normal2);
+  complete_frame(at.tangent, node_rotation(data.rotations_wxyz, at.node) * Eigen::Vector3d::UnitY(), at.normal1,
+                 at.normal2);
   return at;
 }
 
@@ -268,20 +292,24 @@ int cutting_layer(const NeedleTissueModel& model, const NeedleTissueData& data, 
 
 Eigen::Vector3d bevel_force_n(const NeedleTissueModel& model, const NeedleTissueData& data) noexcept {
   if (model.bevel_tilt_rad == 0.0) return Eigen::Vector3d::Zero();
-  const Eigen::Vector3d side = node_rotation(data.needle.rotations_wxyz, model.needle.element_count) * Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d side =
+      node_rotation(data.needle.rotations_wxyz, model.needle.element_count) * Eigen::Vector3d::UnitY();
   return std::tan(model.bevel_tilt_rad) * data.slot_forces[static_cast<std::size_t>(model.tip_slot())] * side;
 }
 
-void build_rows(const NeedleTissueModel& model, NeedleTissueData& data, std::span<const double> displacements_m) noexcept {
+void build_rows(const NeedleTissueModel& model, NeedleTissueData& data,
+                std::span<const double> displacements_m) noexcept {
   data.row_count = 0;
   const Eigen::Vector3d tip = needle_tip_m(data.needle);
   for (int l = 0; l < model.layer_count(); ++l) {
     LayerState& layer = data.layers[static_cast<std::size_t>(l)];
     const double distance_m = signed_distance_m(model, data, l, tip, displacements_m);
     if (layer.phase == LayerPhase::outside && distance_m < 0.0) {
-      const Eigen::Vector3d on_surface = tip - distance_m * vec(model.scene.layers[static_cast<std::size_t>(l)].outward_normal);
+      const Eigen::Vector3d on_surface =
+          tip - distance_m * vec(model.scene.layers[static_cast<std::size_t>(l)].outward_normal);
       const bool through_hole =
-          layer.holed && (tissue_point_position_m(layer.hole, displacements_m) - on_surface).norm() <= model.scene.hole_radius_m;
+          layer.holed &&
+          (tissue_point_position_m(layer.hole, displacements_m) - on_surface).norm() <= model.scene.hole_radius_m;
       if (through_hole) {
         layer.phase = LayerPhase::punctured;
       } else {
@@ -309,7 +337,10 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
   // Constraint points (rows sharing a needle point and a tissue point).
   const int rank = model.compliance_rank;
   for (std::size_t r = 0; r < m; ++r) {
-    const std::size_t first = data.point_count > 0 ? static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(data.point_count - 1)]) : 0;
+    const std::size_t first =
+        data.point_count > 0
+            ? static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(data.point_count - 1)])
+            : 0;
     if (r == 0 || r - first >= kMaxRowsPerPoint || !same_constraint_point(data.rows[first], data.rows[r]))
       data.point_first_row[static_cast<std::size_t>(data.point_count++)] = static_cast<std::int32_t>(r);
   }
@@ -355,7 +386,8 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
         for (std::size_t s = q_begin; s < q_end && s <= r; ++s) {
           ConstraintRow& other = data.rows[s];
           const double tissue_entry = decay * other.direction.dot(tissue_row);
-          data.compliance[r * stride + s] = data.compliance[s * stride + r] = needle_row.dot(other.direction) + tissue_entry;
+          data.compliance[r * stride + s] = data.compliance[s * stride + r] =
+              needle_row.dot(other.direction) + tissue_entry;
           // The tissue displacements already hold its response to the applied forces.
           row.gap_free_m -= tissue_entry * data.applied_forces[static_cast<std::size_t>(other.slot)];
           if (s != r) other.gap_free_m -= tissue_entry * data.applied_forces[static_cast<std::size_t>(row.slot)];
@@ -383,7 +415,8 @@ Eigen::Vector3d compliant_displacement_m(const NeedleTissueModel& model, const N
       const auto begin = static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(p)]);
       const auto end = static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(p) + 1]);
       if (data.rows[begin].tissue_point_m != point_m) continue;
-      for (std::size_t r = begin; r < end; ++r) u -= model.scene.point_compliance_m_per_n * data.row_forces[r] * data.rows[r].direction;
+      for (std::size_t r = begin; r < end; ++r)
+        u -= model.scene.point_compliance_m_per_n * data.row_forces[r] * data.rows[r].direction;
       break;
     }
     return u;

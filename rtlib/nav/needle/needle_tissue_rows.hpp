@@ -28,7 +28,8 @@ Eigen::Vector3d bevel_force_n(const NeedleTissueModel& model, const NeedleTissue
 
 /// Advances the layers' phases for the free tip (first touch, re-entry through a hole) and
 /// fills data.rows (data.row_count) with warm-start forces in data.row_forces.
-void build_rows(const NeedleTissueModel& model, NeedleTissueData& data, std::span<const double> displacements_m) noexcept;
+void build_rows(const NeedleTissueModel& model, NeedleTissueData& data,
+                std::span<const double> displacements_m) noexcept;
 
 /// Fills data.compliance (row_count rows, compliance_stride apart) and takes the tissue's response to the forces it
 /// already carries (applied_forces, in the displacements) out of the rows' free gaps.

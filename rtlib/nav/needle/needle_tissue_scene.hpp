@@ -15,9 +15,9 @@ namespace nav {
 struct TissueLayer {
   Point3 surface_point_m{};
   Point3 outward_normal{0.0, 0.0, 1.0};
-  double puncture_force_n = 1.0;          ///< f_p: the surface gives way at this normal force
-  double cutting_force_n = 0.3;           ///< resists the tip advancing into uncut tissue
-  double friction_per_length_n_m = 10.0;  ///< shaft stick limit per inserted length
+  double puncture_force_n = 1.0;              ///< f_p: the surface gives way at this normal force
+  double cutting_force_n = 0.3;               ///< resists the tip advancing into uncut tissue
+  double friction_per_length_n_m = 10.0;      ///< shaft stick limit per inserted length
   double surface_friction_coefficient = 0.2;  ///< Coulomb, tip on the surface before puncture
 };
 

@@ -17,8 +17,8 @@ constexpr double kAtBound = 1e-9;
 using detail::compliant_displacement_m;
 
 /// The tissue material point now at `position_m` (after this step's forces).
-TissuePoint point_now_at(const NeedleTissueModel& model, const NeedleTissueData& data, const Eigen::Vector3d& position_m,
-                         std::span<const double> displacements_m) {
+TissuePoint point_now_at(const NeedleTissueModel& model, const NeedleTissueData& data,
+                         const Eigen::Vector3d& position_m, std::span<const double> displacements_m) {
   // The low-rank compliance needs the carrying node: the one nearest the point now.
   const std::int32_t node = model.compliance_rank > 0 ? tissue_point_at(model, position_m, displacements_m).node : -1;
   return tissue_point_at(model, position_m - compliant_displacement_m(model, data, position_m, node), displacements_m);
@@ -53,9 +53,12 @@ InsertionForces insertion_forces(const NeedleTissueModel& model, const NeedleTis
     const ConstraintRow& row = data.rows[static_cast<std::size_t>(r)];
     const double resisting = -data.row_forces[static_cast<std::size_t>(r)] * row.direction.dot(axis);
     f.total_n += resisting;
-    if (row.slot < model.tip_slot()) f.stiffness_n += resisting;
-    else if (row.slot < model.path_slot(0)) f.cutting_n += resisting;
-    else f.friction_n += resisting;
+    if (row.slot < model.tip_slot())
+      f.stiffness_n += resisting;
+    else if (row.slot < model.path_slot(0))
+      f.cutting_n += resisting;
+    else
+      f.friction_n += resisting;
   }
   return f;
 }
@@ -165,11 +168,11 @@ void step(const NeedleTissueModel& model, NeedleTissueData& data, const NeedleTi
   detail::build_rows(model, data, u);
   detail::assemble_compliance(model, data);
   const auto m = static_cast<std::size_t>(data.row_count);
-  data.report.residual_m = solve_gauss_seidel(std::span<const ConstraintRow>(data.rows.data(), m),
-                                              std::span<const double>(data.compliance.data(), m * data.compliance_stride),
-                                              data.compliance_stride, model.scene.gauss_seidel_sweeps,
-                                              data.row_forces.first(m), data.row_gaps.first(m),
-                                              GaussSeidelWorkspace{data.sweep_rows, model.lane_kernels});
+  data.report.residual_m =
+      solve_gauss_seidel(std::span<const ConstraintRow>(data.rows.data(), m),
+                         std::span<const double>(data.compliance.data(), m * data.compliance_stride),
+                         data.compliance_stride, model.scene.gauss_seidel_sweeps, data.row_forces.first(m),
+                         data.row_gaps.first(m), GaussSeidelWorkspace{data.sweep_rows, model.lane_kernels});
   const bool finite = std::all_of(data.row_forces.begin(), data.row_forces.begin() + static_cast<std::ptrdiff_t>(m),
                                   [](double f) { return std::isfinite(f); });
   if (!finite) {
@@ -187,7 +190,8 @@ void step(const NeedleTissueModel& model, NeedleTissueData& data, const NeedleTi
   data.report.contact_force_n = 0.0;
   for (int l = 0; l < model.layer_count(); ++l)
     if (data.layers[static_cast<std::size_t>(l)].phase == LayerPhase::touching)
-      data.report.contact_force_n = std::max(data.report.contact_force_n, data.slot_forces[static_cast<std::size_t>(3 * l)]);
+      data.report.contact_force_n =
+          std::max(data.report.contact_force_n, data.slot_forces[static_cast<std::size_t>(3 * l)]);
   data.report.active_rows = data.row_count;
   if (model.layer_count() > 0) {
     const TissueLayer& outer = model.scene.layers[0];
@@ -196,8 +200,8 @@ void step(const NeedleTissueModel& model, NeedleTissueData& data, const NeedleTi
   }
   update_layers(model, data, u);
   update_path(model, data, u);
-  data.report.active_path_points = static_cast<int>(
-      std::count_if(data.path.begin(), data.path.end(), [](const PathPoint& p) { return p.active; }));
+  data.report.active_path_points =
+      static_cast<int>(std::count_if(data.path.begin(), data.path.end(), [](const PathPoint& p) { return p.active; }));
   data.health.merge(data.needle.health);
   ++data.steps;
 }

@@ -28,13 +28,15 @@ Result<Eigen::VectorXd> one_step_q(const ReducedModel& tissue, const PointForce*
   step(tissue, data.value(), inputs);
   if (data.value().health.has(HealthFlag::bad_sample) || data.value().health.has(HealthFlag::non_finite_state))
     return Error{.message = "the reduced model refused the probe step", .field = "tissue"};
-  return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(data.value().q.data(), static_cast<Eigen::Index>(data.value().q.size())));
+  return Eigen::VectorXd(
+      Eigen::Map<const Eigen::VectorXd>(data.value().q.data(), static_cast<Eigen::Index>(data.value().q.size())));
 }
 
 }  // namespace
 
 Result<ReducedComplianceFactors> reduced_compliance_factors(const ReducedModel& tissue, double probe_force_n) {
-  if (!(std::isfinite(probe_force_n) && probe_force_n > 0.0)) return Error{.message = "must be positive", .field = "probe_force_n"};
+  if (!(std::isfinite(probe_force_n) && probe_force_n > 0.0))
+    return Error{.message = "must be positive", .field = "probe_force_n"};
   const int r = tissue.basis_size();
   if (r < 1 || r > kMaxComplianceRank) return Error{.message = "must be within [1, 256]", .field = "tissue.basis_size"};
   const auto n3 = static_cast<Eigen::Index>(3 * tissue.node_count());
@@ -67,15 +69,19 @@ Result<ReducedComplianceFactors> reduced_compliance_factors(const ReducedModel& 
   }
   const Eigen::MatrixXd g = forces.transpose().partialPivLu().solve(changes.transpose()).transpose();
   const Eigen::LLT<Eigen::MatrixXd> factor(0.5 * (g + g.transpose()));
-  if (factor.info() != Eigen::Success) return Error{.message = "the reduced step's response is not positive definite", .field = "tissue"};
-  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> v = basis * factor.matrixL().toDenseMatrix();
+  if (factor.info() != Eigen::Success)
+    return Error{.message = "the reduced step's response is not positive definite", .field = "tissue"};
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> v =
+      basis * factor.matrixL().toDenseMatrix();
   return ReducedComplianceFactors{r, std::vector<double>(v.data(), v.data() + v.size())};
 }
 
-Result<ReducedCoupledNeedleModel> make_coupled_needle_model(const NeedleParameters& needle, const NeedleTissueScene& scene,
-                                                            const ReducedModel& tissue, const TetMesh& mesh,
-                                                            std::size_t max_point_forces, int needle_steps_per_tissue_step) {
-  if (auto valid = detail::validate_coupling(scene, max_point_forces, needle_steps_per_tissue_step); !valid) return valid.error();
+Result<ReducedCoupledNeedleModel> make_coupled_needle_model(const NeedleParameters& needle,
+                                                            const NeedleTissueScene& scene, const ReducedModel& tissue,
+                                                            const TetMesh& mesh, std::size_t max_point_forces,
+                                                            int needle_steps_per_tissue_step) {
+  if (auto valid = detail::validate_coupling(scene, max_point_forces, needle_steps_per_tissue_step); !valid)
+    return valid.error();
   if (static_cast<std::int64_t>(mesh.nodes_m.size()) != tissue.node_count())
     return Error{.message = "has another node count than the reduced model", .field = "mesh"};
   {
@@ -99,11 +105,14 @@ Result<ReducedCoupledNeedleModel> make_coupled_needle_model(const NeedleParamete
   NeedleTissueModel& model = interaction.value();
   model.compliance_rank = factors.value().rank;
   model.compliance_factors = std::move(factors.value().factors);
-  return ReducedCoupledNeedleModel{std::move(interaction).value(), &tissue, needle_steps_per_tissue_step, max_point_forces};
+  return ReducedCoupledNeedleModel{std::move(interaction).value(), &tissue, needle_steps_per_tissue_step,
+                                   max_point_forces};
 }
 
-Result<ReducedCoupledNeedleData> make_coupled_needle_data(const ReducedCoupledNeedleModel& model, const NeedlePose& base) {
-  return detail::make_coupled_data(model, base, make_reduced_data(*model.tissue), static_cast<std::size_t>(model.tissue->node_count()),
+Result<ReducedCoupledNeedleData> make_coupled_needle_data(const ReducedCoupledNeedleModel& model,
+                                                          const NeedlePose& base) {
+  return detail::make_coupled_data(model, base, make_reduced_data(*model.tissue),
+                                   static_cast<std::size_t>(model.tissue->node_count()),
                                    refresh_capacity(model.interaction));
 }
 

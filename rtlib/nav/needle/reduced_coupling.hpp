@@ -38,10 +38,12 @@ using ReducedCoupledNeedleData = CoupledNeedleDataOf<ReducedData>;
 
 /// Builds the coupled model on `tissue`, built on `mesh` (whose rest nodes the tissue points
 /// attach to); `max_point_forces` must not exceed the reduced model's scene's (checked).
-Result<ReducedCoupledNeedleModel> make_coupled_needle_model(const NeedleParameters& needle, const NeedleTissueScene& scene,
-                                                            const ReducedModel& tissue, const TetMesh& mesh,
-                                                            std::size_t max_point_forces, int needle_steps_per_tissue_step);
+Result<ReducedCoupledNeedleModel> make_coupled_needle_model(const NeedleParameters& needle,
+                                                            const NeedleTissueScene& scene, const ReducedModel& tissue,
+                                                            const TetMesh& mesh, std::size_t max_point_forces,
+                                                            int needle_steps_per_tissue_step);
 
-Result<ReducedCoupledNeedleData> make_coupled_needle_data(const ReducedCoupledNeedleModel& model, const NeedlePose& base);
+Result<ReducedCoupledNeedleData> make_coupled_needle_data(const ReducedCoupledNeedleModel& model,
+                                                          const NeedlePose& base);
 
 }  // namespace nav

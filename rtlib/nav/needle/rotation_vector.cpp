@@ -24,7 +24,8 @@ Eigen::Vector3d rotation_vector_from_quaternion(const Eigen::Quaterniond& q) noe
   constexpr double kSeriesRatio = 0.05;
   if (s < kSeriesRatio * w) {
     const double x = s / w, x2 = x * x;
-    const double atan_over_x = 1.0 - x2 * (1.0 / 3.0 - x2 * (1.0 / 5.0 - x2 * (1.0 / 7.0 - x2 * (1.0 / 9.0 - x2 / 11.0))));
+    const double atan_over_x =
+        1.0 - x2 * (1.0 / 3.0 - x2 * (1.0 / 5.0 - x2 * (1.0 / 7.0 - x2 * (1.0 / 9.0 - x2 / 11.0))));
     return (2.0 * atan_over_x / w) * v;
   }
   return (2.0 * std::atan2(s, w) / s) * v;

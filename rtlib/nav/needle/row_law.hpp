@@ -8,12 +8,12 @@ namespace nav {
 
 /// The (gap, force) graph of a row, Duriez's characteristic graphs (section 2.5).
 enum class RowLaw : std::uint8_t {
-  bilateral,         ///< gap = 0, force free (path and tip lateral directions)
-  unilateral_capped, ///< gap >= 0, 0 <= force <= cap, gap <= 0 allowed at the cap
-                     ///< (puncture up to f_p, cutting up to the cutting force)
-  friction_axial,    ///< |force| <= cap + mu |lateral force of the two linked rows|, stick or slip
-  coulomb_pair,      ///< first of two tangent rows: |(f1, f2)| <= mu * force of the linked normal row
-  coulomb_second,    ///< second of those rows, solved with the first
+  bilateral,          ///< gap = 0, force free (path and tip lateral directions)
+  unilateral_capped,  ///< gap >= 0, 0 <= force <= cap, gap <= 0 allowed at the cap
+                      ///< (puncture up to f_p, cutting up to the cutting force)
+  friction_axial,     ///< |force| <= cap + mu |lateral force of the two linked rows|, stick or slip
+  coulomb_pair,       ///< first of two tangent rows: |(f1, f2)| <= mu * force of the linked normal row
+  coulomb_second,     ///< second of those rows, solved with the first
 };
 
 /// Rows of one constraint point: at most this many, consecutive, sharing the needle point

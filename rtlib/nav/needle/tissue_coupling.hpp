@@ -23,7 +23,8 @@ struct ProbedCompliance {
 
 /// Probes `tissue` at the node nearest `point_m` with `probe_force_n` along each axis (one
 /// tissue step from rest each); the Error names the field at fault. Init-time.
-Result<ProbedCompliance> probe_tet_fem_compliance(const TetFemModel& tissue, const Point3& point_m, double probe_force_n);
+Result<ProbedCompliance> probe_tet_fem_compliance(const TetFemModel& tissue, const Point3& point_m,
+                                                  double probe_force_n);
 
 /// The needle coupled to the full-order tissue, and its state.
 using CoupledNeedleModel = CoupledNeedleModelOf<TetFemModel>;

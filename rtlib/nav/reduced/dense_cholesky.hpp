@@ -26,7 +26,8 @@ inline double dot(const double* a, const double* b, int n) noexcept {
 
 /// out = identity_coefficient I + stiffness_coefficient K + spring_coefficient Ks.
 inline void system_matrix(std::span<const double> k, std::span<const double> ks, double identity_coefficient,
-                          double stiffness_coefficient, double spring_coefficient, int r, std::span<double> out) noexcept {
+                          double stiffness_coefficient, double spring_coefficient, int r,
+                          std::span<double> out) noexcept {
   for (int i = 0; i < r * r; ++i) out[i] = stiffness_coefficient * k[i] + spring_coefficient * ks[i];
   for (int i = 0; i < r; ++i) out[i * r + i] += identity_coefficient;
 }

@@ -14,7 +14,9 @@
 namespace nav {
 namespace {
 
-Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
+Error error(std::string message, std::string field) {
+  return Error{.message = std::move(message), .field = std::move(field)};
+}
 
 /// Most rows (r per snapshot) of the ECSW training matrix: its snapshots are spread evenly.
 constexpr Eigen::Index kMaxTrainingRows = 512;
@@ -33,34 +35,44 @@ Result<TrainingStates> training_states(const detail::FullSystem& system, const R
   const auto n3 = static_cast<std::size_t>(3 * tables.node_count);
   Eigen::MatrixXd u_free(system.mass_kg.size(), basis.basis_size);
   for (int j = 0; j < basis.basis_size; ++j)
-    u_free.col(j) = detail::restrict_free(tables, std::span<const double>(basis.basis).subspan(static_cast<std::size_t>(j) * n3, n3));
-  TrainingStates states{u_free.transpose() * system.mass_kg.asDiagonal() * free.value(), Eigen::MatrixXd(3, snapshot_count)};
+    u_free.col(j) = detail::restrict_free(
+        tables, std::span<const double>(basis.basis).subspan(static_cast<std::size_t>(j) * n3, n3));
+  TrainingStates states{u_free.transpose() * system.mass_kg.asDiagonal() * free.value(),
+                        Eigen::MatrixXd(3, snapshot_count)};
   for (int k = 0; k < snapshot_count; ++k)
-    states.d.col(k) = detail::prescribed_displacement(tables, snapshots_m.subspan(n3 * static_cast<std::size_t>(k), n3));
+    states.d.col(k) =
+        detail::prescribed_displacement(tables, snapshots_m.subspan(n3 * static_cast<std::size_t>(k), n3));
   return states;
 }
 
 /// Reduced non-linear remainders U_e^T (f_e + K_e u_e) of the elements (samples of weight 1)
 /// at `state`, into rows [row, row + r) of `columns`.
-void element_forces(const detail::ReducedTables& t, const detail::ReducedState& state, Eigen::Index row, Eigen::MatrixXd& columns) {
+void element_forces(const detail::ReducedTables& t, const detail::ReducedState& state, Eigen::Index row,
+                    Eigen::MatrixXd& columns) {
   constexpr std::size_t L = detail::kSampleLanes;
   const auto r = static_cast<std::size_t>(t.r);
   const std::size_t lanes = static_cast<std::size_t>(t.sample_blocks) * L;
-  std::vector<double> displacements(12 * lanes), rotations(9 * lanes, 0.0), gradients(10 * lanes), lane_forces(r * lanes, 0.0);
-  for (std::size_t k = 0; k < 3; ++k) std::fill_n(rotations.begin() + static_cast<std::ptrdiff_t>(4 * k * lanes), lanes, 1.0);
+  std::vector<double> displacements(12 * lanes), rotations(9 * lanes, 0.0), gradients(10 * lanes),
+      lane_forces(r * lanes, 0.0);
+  for (std::size_t k = 0; k < 3; ++k)
+    std::fill_n(rotations.begin() + static_cast<std::ptrdiff_t>(4 * k * lanes), lanes, 1.0);
   const detail::SampleWork work{displacements.data(), rotations.data(), gradients.data(), lane_forces.data(), true};
-  if (t.force_kind == ReducedForceKind::stvk_cubature) detail::add_stvk_forces(t, state, true, work);
-  else detail::add_corotational_forces(t, state, true, work);  // a lane with det F <= 0 keeps the identity
+  if (t.force_kind == ReducedForceKind::stvk_cubature)
+    detail::add_stvk_forces(t, state, true, work);
+  else
+    detail::add_corotational_forces(t, state, true, work);  // a lane with det F <= 0 keeps the identity
   for (std::size_t e = 0; e < static_cast<std::size_t>(t.sample_count); ++e)
     for (std::size_t j = 0; j < r; ++j)
-      columns(row + static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(e)) = lane_forces[(e / L * r + j) * L + e % L];
+      columns(row + static_cast<Eigen::Index>(j), static_cast<Eigen::Index>(e)) =
+          lane_forces[(e / L * r + j) * L + e % L];
 }
 
 /// The largest error |residual_k| over the snapshot blocks of `block` rows (each block is
 /// scaled by its snapshot's whole reduced force: a relative error).
 double worst_relative_error(const Eigen::VectorXd& residual, Eigen::Index block) {
   double worst = 0.0;
-  for (Eigen::Index k = 0; k + block <= residual.size(); k += block) worst = std::max(worst, residual.segment(k, block).norm());
+  for (Eigen::Index k = 0; k + block <= residual.size(); k += block)
+    worst = std::max(worst, residual.segment(k, block).norm());
   return worst;
 }
 
@@ -78,7 +90,8 @@ Status select_samples(const Eigen::MatrixXd& columns, const Eigen::VectorXd& tar
     const Eigen::VectorXd score = columns.transpose() * residual;
     Eigen::Index best = -1;
     for (Eigen::Index e = 0; e < columns.cols(); ++e)
-      if (std::find(selected.begin(), selected.end(), e) == selected.end() && score[e] > 0.0 && (best < 0 || score[e] > score[best]))
+      if (std::find(selected.begin(), selected.end(), e) == selected.end() && score[e] > 0.0 &&
+          (best < 0 || score[e] > score[best]))
         best = e;
     if (best < 0) break;
     selected.push_back(best);
@@ -94,7 +107,8 @@ Status select_samples(const Eigen::MatrixXd& columns, const Eigen::VectorXd& tar
   basis.sample_weights.clear();
   std::vector<std::pair<Eigen::Index, double>> kept;
   for (std::size_t k = 0; k < selected.size(); ++k)
-    if (weights[static_cast<Eigen::Index>(k)] > 0.0) kept.emplace_back(selected[k], weights[static_cast<Eigen::Index>(k)]);
+    if (weights[static_cast<Eigen::Index>(k)] > 0.0)
+      kept.emplace_back(selected[k], weights[static_cast<Eigen::Index>(k)]);
   std::sort(kept.begin(), kept.end());
   for (const auto& [element, weight] : kept) {
     basis.sample_tets.push_back(static_cast<std::int32_t>(element));
@@ -105,10 +119,13 @@ Status select_samples(const Eigen::MatrixXd& columns, const Eigen::VectorXd& tar
 
 /// The exact cubic polynomial of the reduced St Venant-Kirchhoff force.
 Status add_polynomial(const detail::FullSystem& system, const TissueSolverOptions& solver, ReducedBasis& basis) {
-  if (solver.law != ElementLaw::st_venant_kirchhoff) return error("the cubic polynomial needs the St Venant-Kirchhoff law", "law");
+  if (solver.law != ElementLaw::st_venant_kirchhoff)
+    return error("the cubic polynomial needs the St Venant-Kirchhoff law", "law");
   if (solver.incompressibility_gain_pa != 0.0)
-    return error("the incompressibility penalty is not a polynomial: the cubic polynomial needs it off", "incompressibility_gain_pa");
-  if (!basis.diaphragm_lift.empty()) return error("the cubic polynomial force has no diaphragm lift", "prescribed_nodes");
+    return error("the incompressibility penalty is not a polynomial: the cubic polynomial needs it off",
+                 "incompressibility_gain_pa");
+  if (!basis.diaphragm_lift.empty())
+    return error("the cubic polynomial force has no diaphragm lift", "prescribed_nodes");
   const auto n3 = 3 * static_cast<std::size_t>(basis.node_count);
   const auto r = static_cast<std::size_t>(basis.basis_size);
   std::vector<double> rows(n3 * r);
@@ -123,18 +140,22 @@ Status add_polynomial(const detail::FullSystem& system, const TissueSolverOption
 Status add_force_reduction(const TetMesh& mesh, const TissueScene& scene, const TissueSolverOptions& solver,
                            const ReductionOptions& options, std::span<const double> snapshots_m, int snapshot_count,
                            ReducedBasis& basis) {
-  if (basis.mesh_fingerprint != mesh_fingerprint(mesh)) return error("the basis belongs to another mesh", "mesh_fingerprint");
+  if (basis.mesh_fingerprint != mesh_fingerprint(mesh))
+    return error("the basis belongs to another mesh", "mesh_fingerprint");
   if (options.max_cubature_samples < 1) return error("at least one cubature sample is needed", "max_cubature_samples");
-  if (!(options.cubature_relative_tolerance >= 0.0)) return error("the tolerance must be non-negative", "cubature_relative_tolerance");
+  if (!(options.cubature_relative_tolerance >= 0.0))
+    return error("the tolerance must be non-negative", "cubature_relative_tolerance");
   auto system = detail::make_full_system(mesh, scene, solver);
   if (!system.ok()) return system.error();
-  if (basis.basis.size() != 3 * mesh.nodes_m.size() * static_cast<std::size_t>(std::max(basis.basis_size, 0)) || basis.basis_size < 1)
+  if (basis.basis.size() != 3 * mesh.nodes_m.size() * static_cast<std::size_t>(std::max(basis.basis_size, 0)) ||
+      basis.basis_size < 1)
     return error("the basis is not 3 node_count x basis_size", "basis");
   auto states = training_states(system.value(), basis, snapshots_m, snapshot_count);
   if (!states.ok()) return states.error();
   const Eigen::MatrixXd& q = states.value().q;
   basis.training_q_bound.assign(static_cast<std::size_t>(basis.basis_size), 0.0);
-  for (int j = 0; j < basis.basis_size; ++j) basis.training_q_bound[static_cast<std::size_t>(j)] = q.row(j).cwiseAbs().maxCoeff();
+  for (int j = 0; j < basis.basis_size; ++j)
+    basis.training_q_bound[static_cast<std::size_t>(j)] = q.row(j).cwiseAbs().maxCoeff();
   basis.training_residual_bound = 0.0;
   basis.sample_tets.clear();
   basis.sample_weights.clear();
@@ -176,7 +197,8 @@ Status add_force_reduction(const TetMesh& mesh, const TissueScene& scene, const 
     return error("the training snapshots have no non-linear force to reduce (use the linear force)", "snapshots_m");
   if (auto s = select_samples(columns, target, r, options, basis); !s) return s;
   Eigen::VectorXd approximation = Eigen::VectorXd::Zero(target.size());
-  for (std::size_t s = 0; s < basis.sample_tets.size(); ++s) approximation += basis.sample_weights[s] * columns.col(basis.sample_tets[s]);
+  for (std::size_t s = 0; s < basis.sample_tets.size(); ++s)
+    approximation += basis.sample_weights[s] * columns.col(basis.sample_tets[s]);
   basis.training_residual_bound = worst_relative_error(approximation - target, r);
   return Done{};
 }

@@ -31,8 +31,10 @@ Result<FullSystem> make_full_system(const TetMesh& mesh, const TissueScene& scen
         const std::int32_t fb = tables.free_index[node_b];
         for (int i = 0; i < 3; ++i)
           for (int j = 0; j < 3; ++j) {
-            if (fb >= 0) triplets.emplace_back(3 * fa + i, 3 * fb + j, ke(3 * a + i, 3 * b + j));
-            else if (tables.node_kind[node_b] == NodeKind::prescribed) coupling(3 * fa + i, j) += ke(3 * a + i, 3 * b + j);
+            if (fb >= 0)
+              triplets.emplace_back(3 * fa + i, 3 * fb + j, ke(3 * a + i, 3 * b + j));
+            else if (tables.node_kind[node_b] == NodeKind::prescribed)
+              coupling(3 * fa + i, j) += ke(3 * a + i, 3 * b + j);
           }
       }
     }
@@ -46,7 +48,8 @@ Result<FullSystem> make_full_system(const TetMesh& mesh, const TissueScene& scen
                     Eigen::VectorXd(free_dofs), std::move(coupling)};
   system.stiffness.setFromTriplets(triplets.begin(), triplets.end());
   const TetFemTables& t = system.model.tables();
-  for (Eigen::Index i = 0; i < free_dofs; ++i) system.mass_kg[i] = t.mass_kg[static_cast<std::size_t>(t.free_nodes[i / 3])];
+  for (Eigen::Index i = 0; i < free_dofs; ++i)
+    system.mass_kg[i] = t.mass_kg[static_cast<std::size_t>(t.free_nodes[i / 3])];
   return system;
 }
 
@@ -60,7 +63,8 @@ Eigen::VectorXd expand_free(const TetFemTables& tables, const Eigen::VectorXd& f
 Eigen::VectorXd restrict_free(const TetFemTables& tables, std::span<const double> full) {
   Eigen::VectorXd free(static_cast<Eigen::Index>(3 * tables.free_nodes.size()));
   for (std::size_t f = 0; f < tables.free_nodes.size(); ++f)
-    for (int c = 0; c < 3; ++c) free[static_cast<Eigen::Index>(3 * f) + c] = full[3 * static_cast<std::size_t>(tables.free_nodes[f]) + c];
+    for (int c = 0; c < 3; ++c)
+      free[static_cast<Eigen::Index>(3 * f) + c] = full[3 * static_cast<std::size_t>(tables.free_nodes[f]) + c];
   return free;
 }
 
@@ -69,7 +73,9 @@ Result<std::vector<double>> diaphragm_lift(const FullSystem& system) {
   if (tables.prescribed_nodes.empty()) return std::vector<double>{};
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(system.stiffness);
   if (factor.info() != Eigen::Success)
-    return Error{.message = "the stiffness with the supports applied is singular: the lift needs fixed nodes or springs", .field = "fixed_nodes"};
+    return Error{
+        .message = "the stiffness with the supports applied is singular: the lift needs fixed nodes or springs",
+        .field = "fixed_nodes"};
   const auto n3 = static_cast<std::size_t>(3 * tables.node_count);
   std::vector<double> lift(3 * n3, 0.0);
   for (int c = 0; c < 3; ++c) {

@@ -16,10 +16,10 @@ namespace nav::detail {
 
 /// A scene's rest system over its free dofs (3 per free node, in TetFemTables::free_nodes order).
 struct FullSystem {
-  TetFemModel model;                        ///< element tables, masses and supports
-  Eigen::SparseMatrix<double> stiffness;    ///< K + Ks over free dofs (both triangles)
-  Eigen::VectorXd mass_kg;                  ///< lumped mass per free dof
-  Eigen::MatrixXd prescribed_coupling;      ///< free dofs x 3: K times a unit move of every prescribed node along x, y, z
+  TetFemModel model;                      ///< element tables, masses and supports
+  Eigen::SparseMatrix<double> stiffness;  ///< K + Ks over free dofs (both triangles)
+  Eigen::VectorXd mass_kg;                ///< lumped mass per free dof
+  Eigen::MatrixXd prescribed_coupling;    ///< free dofs x 3: K times a unit move of every prescribed node along x, y, z
 };
 
 /// Builds the scene's FullSystem. Errors are those of make_tet_fem_model.

@@ -44,7 +44,9 @@ class ShiftInvertOperator {
 /// nothing (its rigid motions are then modes of w^2 = 0), far below the first elastic w^2.
 constexpr double kShift = -1.0;
 
-Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
+Error error(std::string message, std::string field) {
+  return Error{.message = std::move(message), .field = std::move(field)};
+}
 
 /// The `count` lowest modes (free-dof columns) and their w^2.
 Result<std::pair<Eigen::MatrixXd, Eigen::VectorXd>> lowest_modes(const FullSystem& system, Eigen::Index count) {
@@ -65,12 +67,14 @@ Result<std::pair<Eigen::MatrixXd, Eigen::VectorXd>> lowest_modes(const FullSyste
     values = solver.eigenvalues().head(count);
     vectors = solver.eigenvectors().leftCols(count);
   } else {
-    Spectra::SymGEigsShiftSolver<ShiftInvertOperator, Spectra::SparseSymMatProd<double>, Spectra::GEigsMode::ShiftInvert>
+    Spectra::SymGEigsShiftSolver<ShiftInvertOperator, Spectra::SparseSymMatProd<double>,
+                                 Spectra::GEigsMode::ShiftInvert>
         solver(op, mass_op, count, ncv, kShift);
     if (!op.factored()) return error("the shifted stiffness cannot be factored", "fixed_nodes");
     solver.init();
     solver.compute(Spectra::SortRule::LargestMagn, 1000, 1e-12, Spectra::SortRule::SmallestAlge);
-    if (solver.info() != Spectra::CompInfo::Successful) return error("the Lanczos iteration did not converge", "basis_size");
+    if (solver.info() != Spectra::CompInfo::Successful)
+      return error("the Lanczos iteration did not converge", "basis_size");
     values = solver.eigenvalues();
     vectors = solver.eigenvectors();
   }
@@ -115,7 +119,8 @@ Result<Eigen::MatrixXd> with_modal_derivatives(const FullSystem& system, const E
   const TetFemTables& tables = system.model.tables();
   Eigen::SimplicialLDLT<SparseMatrix> factor(system.stiffness);
   if (factor.info() != Eigen::Success)
-    return error("modal derivatives need a stiffness made regular by fixed nodes, springs or a prescribed region", "fixed_nodes");
+    return error("modal derivatives need a stiffness made regular by fixed nodes, springs or a prescribed region",
+                 "fixed_nodes");
   const Eigen::Index k = modes.cols();
   Eigen::MatrixXd columns(modes.rows(), k + k * (k + 1) / 2);
   columns.leftCols(k) = modes;
@@ -124,8 +129,10 @@ Result<Eigen::MatrixXd> with_modal_derivatives(const FullSystem& system, const E
   for (Eigen::Index i = 0; i < k; ++i) full[static_cast<std::size_t>(i)] = detail::expand_free(tables, modes.col(i));
   for (Eigen::Index j = 0; j < k; ++j)
     for (Eigen::Index i = 0; i <= j; ++i) {
-      const Eigen::VectorXd force = force_second_derivative(tables, full[static_cast<std::size_t>(i)], full[static_cast<std::size_t>(j)]);
-      columns.col(next++) = factor.solve(detail::restrict_free(tables, std::span<const double>(force.data(), static_cast<std::size_t>(force.size()))));
+      const Eigen::VectorXd force =
+          force_second_derivative(tables, full[static_cast<std::size_t>(i)], full[static_cast<std::size_t>(j)]);
+      columns.col(next++) = factor.solve(
+          detail::restrict_free(tables, std::span<const double>(force.data(), static_cast<std::size_t>(force.size()))));
     }
   return columns;
 }

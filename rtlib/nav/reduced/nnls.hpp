@@ -17,6 +17,7 @@ struct NnlsResult {
 /// warm-starts it with the solution of the same problem on A's first start.size() columns:
 /// its positive entries, the least-squares solution on their columns, are where it begins
 /// (one outer iteration for each column that enters, instead of one for each column used).
-NnlsResult nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& start = {}, int max_iterations = 0);
+NnlsResult nnls(const Eigen::MatrixXd& a, const Eigen::VectorXd& b, const Eigen::VectorXd& start = {},
+                int max_iterations = 0);
 
 }  // namespace nav::detail

@@ -18,12 +18,14 @@ Result<ReducedBasis> make_pod_basis(const TetMesh& mesh, const TissueScene& scen
   if (!snapshots.ok()) return snapshots.error();
   const Eigen::MatrixXd& s = snapshots.value();
   if (options.basis_size < 1 || options.basis_size > snapshot_count)
-    return Error{.message = "the basis size must be between 1 and the " + std::to_string(snapshot_count) + " snapshots", .field = "basis_size"};
+    return Error{.message = "the basis size must be between 1 and the " + std::to_string(snapshot_count) + " snapshots",
+                 .field = "basis_size"};
   const Eigen::VectorXd& mass = system.value().mass_kg;
   // Correlation S^T M S: its eigenvectors a give the modes S a / sqrt(lambda).
   const Eigen::MatrixXd correlation = s.transpose() * mass.asDiagonal() * s;
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(correlation);
-  if (eigen.info() != Eigen::Success) return Error{.message = "the snapshot correlation has no eigen decomposition", .field = "snapshots_m"};
+  if (eigen.info() != Eigen::Success)
+    return Error{.message = "the snapshot correlation has no eigen decomposition", .field = "snapshots_m"};
   const Eigen::Index count = correlation.rows();
   const double total = eigen.eigenvalues().cwiseMax(0.0).sum();
   if (!(total > 0.0)) return Error{.message = "every snapshot is zero over the free nodes", .field = "snapshots_m"};
@@ -37,7 +39,8 @@ Result<ReducedBasis> make_pod_basis(const TetMesh& mesh, const TissueScene& scen
   constexpr double kDropFraction = 1e-10;
   const Eigen::MatrixXd columns = detail::mass_orthonormalize(candidates, mass, kDropFraction, options.basis_size);
   if (columns.cols() < options.basis_size)
-    return Error{.message = "the snapshots span only " + std::to_string(columns.cols()) + " directions", .field = "basis_size"};
+    return Error{.message = "the snapshots span only " + std::to_string(columns.cols()) + " directions",
+                 .field = "basis_size"};
   auto basis = detail::pack_basis(mesh, system.value(), columns, ReducedBasisSource::pod, options.force_kind);
   if (!basis.ok()) return basis;
   double captured = 0.0;

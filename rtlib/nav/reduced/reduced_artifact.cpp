@@ -35,19 +35,29 @@ constexpr std::uint32_t kSectionCount = 7;
 
 const char* section_name(std::uint32_t id) {
   switch (id) {
-    case basis_section: return "basis";
-    case column_values_section: return "column_values";
-    case diaphragm_lift_section: return "diaphragm_lift";
-    case sample_tets_section: return "sample_tets";
-    case sample_weights_section: return "sample_weights";
-    case polynomial_section: return "polynomial_coefficients";
-    case q_bound_section: return "training_q_bound";
-    default: return "unknown";
+    case basis_section:
+      return "basis";
+    case column_values_section:
+      return "column_values";
+    case diaphragm_lift_section:
+      return "diaphragm_lift";
+    case sample_tets_section:
+      return "sample_tets";
+    case sample_weights_section:
+      return "sample_weights";
+    case polynomial_section:
+      return "polynomial_coefficients";
+    case q_bound_section:
+      return "training_q_bound";
+    default:
+      return "unknown";
   }
 }
 
 /// The checksum of a section or of the whole file.
-std::uint64_t checksum(std::span<const std::uint8_t> bytes) { return fnv1a(kFnvOffsetBasis, bytes.data(), bytes.size()); }
+std::uint64_t checksum(std::span<const std::uint8_t> bytes) {
+  return fnv1a(kFnvOffsetBasis, bytes.data(), bytes.size());
+}
 
 // ---- writing ----
 
@@ -94,7 +104,9 @@ class Reader {
     return fail(what, "truncated at byte " + std::to_string(bytes_.size()) + " (needs " + std::to_string(count) +
                           " bytes from byte " + std::to_string(position_) + ")");
   }
-  Error fail(const std::string& field, const std::string& message) const { return Error{.message = message, .file = name_, .field = field}; }
+  Error fail(const std::string& field, const std::string& message) const {
+    return Error{.message = message, .file = name_, .field = field};
+  }
 
   std::uint32_t u32() {
     std::uint32_t v = 0;
@@ -117,7 +129,8 @@ class Reader {
 
 /// Reads section `id` of element kind `kind` into `out` (a vector of double or int32).
 template <typename T>
-std::optional<Error> read_section(Reader& in, std::span<const std::uint8_t> bytes, std::uint32_t id, std::vector<T>& out) {
+std::optional<Error> read_section(Reader& in, std::span<const std::uint8_t> bytes, std::uint32_t id,
+                                  std::vector<T>& out) {
   constexpr std::uint32_t kind = std::is_same_v<T, double> ? kF64 : kI32;
   constexpr std::size_t element_bytes = sizeof(T);
   const std::string name = section_name(id);
@@ -129,7 +142,8 @@ std::optional<Error> read_section(Reader& in, std::span<const std::uint8_t> byte
   if (read_id != id)
     return in.fail(name, "expected section " + std::to_string(id) + " (" + name + ") at byte " + std::to_string(start) +
                              ", found id " + std::to_string(read_id));
-  if (read_kind != kind) return in.fail(name, "element kind " + std::to_string(read_kind) + ", expected " + std::to_string(kind));
+  if (read_kind != kind)
+    return in.fail(name, "element kind " + std::to_string(read_kind) + ", expected " + std::to_string(kind));
   if (count > (in.remaining() / element_bytes)) {
     return in.fail(name, "truncated at byte " + std::to_string(bytes.size()) + " (section declares " +
                              std::to_string(count) + " elements from byte " + std::to_string(in.position()) + ")");
@@ -150,7 +164,8 @@ std::optional<Error> read_section(Reader& in, std::span<const std::uint8_t> byte
 
 /// Dimensions and values that every basis must satisfy, whatever its mesh.
 std::optional<Error> check_consistency(const ReducedBasis& b, const Reader& in) {
-  if (b.node_count <= 0) return in.fail("node_count", "inconsistent dimensions: node count " + std::to_string(b.node_count));
+  if (b.node_count <= 0)
+    return in.fail("node_count", "inconsistent dimensions: node count " + std::to_string(b.node_count));
   if (b.basis_size <= 0) return in.fail("basis_size", "inconsistent dimensions: r " + std::to_string(b.basis_size));
   if (static_cast<std::uint32_t>(b.source) > static_cast<std::uint32_t>(ReducedBasisSource::pod))
     return in.fail("source", "unknown basis source " + std::to_string(static_cast<std::uint32_t>(b.source)));
@@ -161,8 +176,10 @@ std::optional<Error> check_consistency(const ReducedBasis& b, const Reader& in) 
   const auto dimension_error = [&](const char* field, std::size_t found, const std::string& expected) {
     return in.fail(field, "inconsistent dimensions: " + std::to_string(found) + " values, expected " + expected);
   };
-  if (b.basis.size() != rows * r) return dimension_error("basis", b.basis.size(), "3 n r = " + std::to_string(rows * r));
-  if (b.column_values.size() != r) return dimension_error("column_values", b.column_values.size(), "r = " + std::to_string(r));
+  if (b.basis.size() != rows * r)
+    return dimension_error("basis", b.basis.size(), "3 n r = " + std::to_string(rows * r));
+  if (b.column_values.size() != r)
+    return dimension_error("column_values", b.column_values.size(), "r = " + std::to_string(r));
   if (!b.diaphragm_lift.empty() && b.diaphragm_lift.size() != rows * 3)
     return dimension_error("diaphragm_lift", b.diaphragm_lift.size(), "0 or 9 n = " + std::to_string(rows * 3));
   if (b.sample_weights.size() != b.sample_tets.size())
@@ -176,8 +193,11 @@ std::optional<Error> check_consistency(const ReducedBasis& b, const Reader& in) 
   for (const double w : b.sample_weights)
     if (!(w >= 0.0) || !std::isfinite(w)) return in.fail("sample_weights", "weight not finite and non-negative");
   const std::pair<const char*, const std::vector<double>*> arrays[] = {
-      {"basis", &b.basis},         {"column_values", &b.column_values}, {"diaphragm_lift", &b.diaphragm_lift},
-      {"polynomial_coefficients", &b.polynomial_coefficients}, {"training_q_bound", &b.training_q_bound}};
+      {"basis", &b.basis},
+      {"column_values", &b.column_values},
+      {"diaphragm_lift", &b.diaphragm_lift},
+      {"polynomial_coefficients", &b.polynomial_coefficients},
+      {"training_q_bound", &b.training_q_bound}};
   for (const auto& [field, values] : arrays)
     if (!all_finite(*values)) return in.fail(field, "non-finite value");
   if (!std::isfinite(b.training_residual_bound)) return in.fail("training_residual_bound", "non-finite value");
@@ -233,10 +253,11 @@ Result<ReducedBasis> decode_reduced_basis(std::span<const std::uint8_t> bytes, c
     return in.fail("section_count", std::to_string(sections) + " sections, expected " + std::to_string(kSectionCount));
   const std::uint64_t declared_size = in.u64();
   if (declared_size > bytes.size())
-    return in.fail("file_size", "truncated at byte " + std::to_string(bytes.size()) + " of " + std::to_string(declared_size));
+    return in.fail("file_size",
+                   "truncated at byte " + std::to_string(bytes.size()) + " of " + std::to_string(declared_size));
   if (declared_size < bytes.size())
-    return in.fail("file_size", std::to_string(bytes.size() - declared_size) + " bytes after the declared end at byte " +
-                                    std::to_string(declared_size));
+    return in.fail("file_size", std::to_string(bytes.size() - declared_size) +
+                                    " bytes after the declared end at byte " + std::to_string(declared_size));
   ReducedBasis basis;
   basis.mesh_fingerprint = in.u64();
   basis.node_count = in.i32();
@@ -258,10 +279,12 @@ Result<ReducedBasis> decode_reduced_basis(std::span<const std::uint8_t> bytes, c
   if (auto e = check_consistency(basis, in)) return *e;
   if (expected_mesh) {
     const std::uint64_t fingerprint = mesh_fingerprint(*expected_mesh);
-    if (fingerprint != basis.mesh_fingerprint || static_cast<std::size_t>(basis.node_count) != expected_mesh->nodes_m.size())
-      return in.fail("mesh_fingerprint", "belongs to another mesh (artifact fingerprint " + hex(basis.mesh_fingerprint) + ", " +
-                                             std::to_string(basis.node_count) + " nodes; this mesh " + hex(fingerprint) +
-                                             ", " + std::to_string(expected_mesh->nodes_m.size()) + " nodes)");
+    if (fingerprint != basis.mesh_fingerprint ||
+        static_cast<std::size_t>(basis.node_count) != expected_mesh->nodes_m.size())
+      return in.fail("mesh_fingerprint", "belongs to another mesh (artifact fingerprint " +
+                                             hex(basis.mesh_fingerprint) + ", " + std::to_string(basis.node_count) +
+                                             " nodes; this mesh " + hex(fingerprint) + ", " +
+                                             std::to_string(expected_mesh->nodes_m.size()) + " nodes)");
     for (const std::int32_t t : basis.sample_tets)
       if (static_cast<std::size_t>(t) >= expected_mesh->tets.size())
         return in.fail("sample_tets", "tetrahedron " + std::to_string(t) + " out of range for this mesh");

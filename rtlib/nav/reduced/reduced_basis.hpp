@@ -30,7 +30,7 @@ enum class ReducedForceKind : std::uint32_t {
 struct ReducedBasis {
   std::uint64_t mesh_fingerprint = 0;  ///< mesh_fingerprint() of the mesh it belongs to
   std::int32_t node_count = 0;
-  std::int32_t basis_size = 0;         ///< r
+  std::int32_t basis_size = 0;  ///< r
   ReducedBasisSource source = ReducedBasisSource::pod;
   ReducedForceKind force_kind = ReducedForceKind::corotational_cubature;
   /// Column-major (3 node_count) x r, mass-orthonormal; rows of fixed nodes are zero.

@@ -17,10 +17,13 @@ namespace {
 using detail::ReducedTables;
 using detail::TetFemTables;
 
-Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
+Error error(std::string message, std::string field) {
+  return Error{.message = std::move(message), .field = std::move(field)};
+}
 
 Status check_options(const ReducedSolverOptions& o) {
-  if (!(std::isfinite(o.step_s) && o.step_s > 0.0)) return error("the step must be a positive number of seconds", "step_s");
+  if (!(std::isfinite(o.step_s) && o.step_s > 0.0))
+    return error("the step must be a positive number of seconds", "step_s");
   if (o.newton_iterations < 1) return error("at least one Newton iteration is needed", "newton_iterations");
   if (!(o.rayleigh_mass_per_s >= 0.0 && std::isfinite(o.rayleigh_mass_per_s)))
     return error("Rayleigh damping must be a non-negative number", "rayleigh_mass_per_s");
@@ -36,26 +39,33 @@ Status check_options(const ReducedSolverOptions& o) {
 Status check_basis(const TetMesh& mesh, const ReducedBasis& b) {
   const auto n3 = 3 * mesh.nodes_m.size();
   const auto r = static_cast<std::size_t>(b.basis_size);
-  if (b.mesh_fingerprint != mesh_fingerprint(mesh)) return error("the basis belongs to another mesh", "mesh_fingerprint");
-  if (b.node_count != static_cast<std::int32_t>(mesh.nodes_m.size())) return error("the node count differs from the mesh's", "node_count");
+  if (b.mesh_fingerprint != mesh_fingerprint(mesh))
+    return error("the basis belongs to another mesh", "mesh_fingerprint");
+  if (b.node_count != static_cast<std::int32_t>(mesh.nodes_m.size()))
+    return error("the node count differs from the mesh's", "node_count");
   if (b.basis_size < 1 || b.basis.size() != n3 * r) return error("the basis is not 3 node_count x basis_size", "basis");
-  if (!b.diaphragm_lift.empty() && b.diaphragm_lift.size() != 3 * n3) return error("the lift is not 3 node_count x 3", "diaphragm_lift");
-  if (b.sample_tets.size() != b.sample_weights.size()) return error("one weight per sampled tetrahedron is needed", "sample_weights");
+  if (!b.diaphragm_lift.empty() && b.diaphragm_lift.size() != 3 * n3)
+    return error("the lift is not 3 node_count x 3", "diaphragm_lift");
+  if (b.sample_tets.size() != b.sample_weights.size())
+    return error("one weight per sampled tetrahedron is needed", "sample_weights");
   for (std::size_t s = 0; s < b.sample_tets.size(); ++s) {
     if (b.sample_tets[s] < 0 || static_cast<std::size_t>(b.sample_tets[s]) >= mesh.tets.size())
       return error("sample " + std::to_string(s) + " is not a tetrahedron of the mesh", "sample_tets");
     if (!(b.sample_weights[s] >= 0.0 && std::isfinite(b.sample_weights[s])))
       return error("sample " + std::to_string(s) + " has a negative or non-finite weight", "sample_weights");
   }
-  const bool cubature = b.force_kind == ReducedForceKind::corotational_cubature || b.force_kind == ReducedForceKind::stvk_cubature;
+  const bool cubature =
+      b.force_kind == ReducedForceKind::corotational_cubature || b.force_kind == ReducedForceKind::stvk_cubature;
   if (cubature && b.sample_tets.empty()) return error("a cubature force needs sampled tetrahedra", "sample_tets");
   if (b.force_kind == ReducedForceKind::stvk_cubic_polynomial) {
     if (b.polynomial_coefficients.size() != detail::stvk_polynomial_size(b.basis_size))
-      return error("the cubic polynomial needs " + std::to_string(detail::stvk_polynomial_size(b.basis_size)) + " coefficients",
-                   "polynomial_coefficients");
+      return error(
+          "the cubic polynomial needs " + std::to_string(detail::stvk_polynomial_size(b.basis_size)) + " coefficients",
+          "polynomial_coefficients");
     if (!b.diaphragm_lift.empty()) return error("the cubic polynomial force has no diaphragm lift", "diaphragm_lift");
   }
-  if (!b.training_q_bound.empty() && b.training_q_bound.size() != r) return error("one bound per column is needed", "training_q_bound");
+  if (!b.training_q_bound.empty() && b.training_q_bound.size() != r)
+    return error("one bound per column is needed", "training_q_bound");
   for (double value : b.basis)
     if (!std::isfinite(value)) return error("the basis has a non-finite value", "basis");
   return Done{};
@@ -65,13 +75,15 @@ Status check_basis(const TetMesh& mesh, const ReducedBasis& b) {
 void append_rows(const ReducedBasis& b, std::int64_t node, std::vector<double>& out) {
   const auto n3 = static_cast<std::size_t>(3 * b.node_count);
   for (int c = 0; c < 3; ++c)
-    for (int j = 0; j < b.basis_size; ++j) out.push_back(b.basis[static_cast<std::size_t>(j) * n3 + 3 * static_cast<std::size_t>(node) + c]);
+    for (int j = 0; j < b.basis_size; ++j)
+      out.push_back(b.basis[static_cast<std::size_t>(j) * n3 + 3 * static_cast<std::size_t>(node) + c]);
 }
 
 void append_lift_rows(const ReducedBasis& b, std::int64_t node, std::vector<double>& out) {
   const auto n3 = static_cast<std::size_t>(3 * b.node_count);
   for (int c = 0; c < 3; ++c)
-    for (int k = 0; k < 3; ++k) out.push_back(b.diaphragm_lift[static_cast<std::size_t>(k) * n3 + 3 * static_cast<std::size_t>(node) + c]);
+    for (int k = 0; k < 3; ++k)
+      out.push_back(b.diaphragm_lift[static_cast<std::size_t>(k) * n3 + 3 * static_cast<std::size_t>(node) + c]);
 }
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
@@ -80,13 +92,14 @@ using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::R
 Status build_projections(const TetFemTables& full, ReducedTables& t) {
   const int r = t.r;
   const Eigen::Map<const RowMatrix> u(t.rows.data(), 3 * full.node_count, r);
-  Eigen::MatrixXd mass_r = Eigen::MatrixXd::Zero(r, r), stiffness = Eigen::MatrixXd::Zero(r, r), lift = Eigen::MatrixXd::Zero(r, 3);
+  Eigen::MatrixXd mass_r = Eigen::MatrixXd::Zero(r, r), stiffness = Eigen::MatrixXd::Zero(r, r),
+                  lift = Eigen::MatrixXd::Zero(r, 3);
   for (std::int64_t node = 0; node < full.node_count; ++node) {
     const auto block = u.middleRows(3 * node, 3);
     mass_r += full.mass_kg[static_cast<std::size_t>(node)] * block.transpose() * block;
   }
   if ((mass_r - Eigen::MatrixXd::Identity(r, r)).cwiseAbs().maxCoeff() > 1e-6)
-      return error("the basis is not mass-orthonormal (U^T M U differs from I by more than 1e-6)", "basis");
+    return error("the basis is not mass-orthonormal (U^T M U differs from I by more than 1e-6)", "basis");
   for (std::size_t e = 0; e < full.tets.size(); ++e) {
     Matrix43 gradients;
     for (int a = 0; a < 4; ++a)
@@ -97,7 +110,9 @@ Status build_projections(const TetFemTables& full, ReducedTables& t) {
     for (int a = 0; a < 4; ++a) {
       const std::int64_t node = full.tets[e][a];
       ue.middleRows<3>(3 * a) = u.middleRows(3 * node, 3);
-      if (t.has_lift) le.middleRows<3>(3 * a) = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(t.lift_rows.data() + 9 * node);
+      if (t.has_lift)
+        le.middleRows<3>(3 * a) =
+            Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(t.lift_rows.data() + 9 * node);
     }
     const Eigen::MatrixXd kue = ke * ue;
     stiffness += ue.transpose() * kue;
@@ -117,7 +132,8 @@ Status build_projections(const TetFemTables& full, ReducedTables& t) {
   for (std::size_t k = 0; k < full.traction_nodes.size(); ++k)
     for (int c = 0; c < 3; ++c)
       for (int j = 0; j < r; ++j)
-        t.traction_r[static_cast<std::size_t>(c * r + j)] += full.traction_area_m2[k] * u(3 * full.traction_nodes[k] + c, j);
+        t.traction_r[static_cast<std::size_t>(c * r + j)] +=
+            full.traction_area_m2[k] * u(3 * full.traction_nodes[k] + c, j);
   return Done{};
 }
 
@@ -196,11 +212,13 @@ void build_samples(const TetFemTables& full, const ReducedBasis& b, ReducedTable
   t.sample_rest_tangent_r.resize(static_cast<std::size_t>(r * r));
   Eigen::Map<RowMatrix>(t.sample_rest_tangent_r.data(), r, r) = rest_tangent;
   t.cubature_stiffness_r.resize(static_cast<std::size_t>(r * r));
-  for (std::size_t i = 0; i < t.cubature_stiffness_r.size(); ++i) t.cubature_stiffness_r[i] = t.stiffness_r[i] - t.sample_rest_tangent_r[i];
+  for (std::size_t i = 0; i < t.cubature_stiffness_r.size(); ++i)
+    t.cubature_stiffness_r[i] = t.stiffness_r[i] - t.sample_rest_tangent_r[i];
   t.cubature_stiffness_lift_r.assign(static_cast<std::size_t>(3 * r), 0.0);
   for (int i = 0; i < r; ++i)
     for (int k = 0; k < 3; ++k)
-      t.cubature_stiffness_lift_r[static_cast<std::size_t>(3 * i + k)] = t.stiffness_lift_r[static_cast<std::size_t>(3 * i + k)] - rest_lift(i, k);
+      t.cubature_stiffness_lift_r[static_cast<std::size_t>(3 * i + k)] =
+          t.stiffness_lift_r[static_cast<std::size_t>(3 * i + k)] - rest_lift(i, k);
 }
 
 /// The frozen system matrix, factored: see detail::system_coefficients.
@@ -210,8 +228,9 @@ Status build_frozen_factor(ReducedTables& t) {
   detail::system_matrix(t.stiffness_r, t.spring_stiffness_r, c.identity, c.stiffness, c.spring, t.r, t.frozen_factor);
   if (!detail::cholesky_in_place(t.frozen_factor, t.r)) {
     const bool implicit = t.options.integrator == ReducedIntegrator::implicit_euler;
-    return error(implicit ? "the reduced system is not positive definite" :
-                            "the quasi-static reduced system is singular: the scene needs fixed nodes, springs or a prescribed region",
+    return error(implicit ? "the reduced system is not positive definite"
+                          : "the quasi-static reduced system is singular: the scene needs fixed nodes, springs or a "
+                            "prescribed region",
                  implicit ? "step_s" : "fixed_nodes");
   }
   return Done{};
@@ -219,8 +238,9 @@ Status build_frozen_factor(ReducedTables& t) {
 
 }  // namespace
 
-Result<ReducedModel> make_reduced_model(const TetMesh& mesh, const TissueScene& scene, const TissueSolverOptions& solver,
-                                        const ReducedBasis& basis, const ReducedSolverOptions& options) {
+Result<ReducedModel> make_reduced_model(const TetMesh& mesh, const TissueScene& scene,
+                                        const TissueSolverOptions& solver, const ReducedBasis& basis,
+                                        const ReducedSolverOptions& options) {
   if (auto s = check_options(options); !s) return s.error();
   if (auto s = check_basis(mesh, basis); !s) return s.error();
   if (scene.probe_stiffness_n_m > 0.0) return error("the reduced model has no probe contact", "probe_stiffness_n_m");
@@ -245,7 +265,8 @@ Result<ReducedModel> make_reduced_model(const TetMesh& mesh, const TissueScene& 
   }
   if (auto s = build_projections(full, *t); !s) return s.error();
   build_springs(full, *t);
-  if (basis.force_kind == ReducedForceKind::corotational_cubature || basis.force_kind == ReducedForceKind::stvk_cubature)
+  if (basis.force_kind == ReducedForceKind::corotational_cubature ||
+      basis.force_kind == ReducedForceKind::stvk_cubature)
     build_samples(full, basis, *t);
   if (basis.force_kind == ReducedForceKind::stvk_cubic_polynomial) t->polynomial = basis.polynomial_coefficients;
   if (auto s = build_frozen_factor(*t); !s) return s.error();
@@ -259,11 +280,15 @@ Result<ReducedData> make_reduced_data(const ReducedModel& model) {
   const detail::ForceScratchSizes sizes = detail::force_scratch_sizes(t);
   ArenaPlan plan;
   const std::size_t monomial_count = t.polynomial.empty() ? 0 : r * (r + 1) / 2 + r * (r + 1) * (r + 2) / 6;
-  plan.add<double>(9 * r).add<double>(2 * r * r).add<double>(sizes.displacements).add<double>(sizes.rotations).add<double>(sizes.tangent_rows);
+  plan.add<double>(9 * r)
+      .add<double>(2 * r * r)
+      .add<double>(sizes.displacements)
+      .add<double>(sizes.rotations)
+      .add<double>(sizes.tangent_rows);
   plan.add<double>(monomial_count);
   ReducedData data(Arena("reduced_data", plan.bytes()));
-  std::span<double>* vectors[] = {&data.q, &data.q_velocity, &data.q_start, &data.v_start, &data.v_iterate,
-                                  &data.force, &data.external, &data.residual, &data.correction};
+  std::span<double>* vectors[] = {&data.q,     &data.q_velocity, &data.q_start,  &data.v_start,   &data.v_iterate,
+                                  &data.force, &data.external,   &data.residual, &data.correction};
   for (std::span<double>* vector : vectors) {
     auto carved = data.arena.allocate<double>("reduced vector", r);
     if (!carved.ok()) return carved.error();
@@ -289,7 +314,8 @@ Result<ReducedData> make_reduced_data(const ReducedModel& model) {
   data.sample_tangent_rows = strains.value();
   std::fill(data.sample_rotations.begin(), data.sample_rotations.end(), 0.0);
   const std::size_t lanes = sizes.rotations / 9;  // identities, k-major over the lanes
-  for (std::size_t d = 0; d < 3; ++d) std::fill_n(data.sample_rotations.begin() + static_cast<std::ptrdiff_t>(4 * d * lanes), lanes, 1.0);
+  for (std::size_t d = 0; d < 3; ++d)
+    std::fill_n(data.sample_rotations.begin() + static_cast<std::ptrdiff_t>(4 * d * lanes), lanes, 1.0);
   return data;
 }
 
@@ -305,11 +331,14 @@ Result<ReducedDisplaySet> make_reduced_display_set(const ReducedModel& model, st
   if (t.has_lift) display.lift_panels.assign(panels * 3 * L, 0.0);
   for (std::size_t k = 0; k < nodes.size(); ++k) {
     if (nodes[k] < 0 || nodes[k] >= t.node_count)
-      return error("display node " + std::to_string(k) + " (" + std::to_string(nodes[k]) + ") is not a node of the model", "nodes");
+      return error(
+          "display node " + std::to_string(k) + " (" + std::to_string(nodes[k]) + ") is not a node of the model",
+          "nodes");
     for (std::size_t c = 0; c < 3; ++c) {
       const std::size_t v = 3 * k + c, row = 3 * static_cast<std::size_t>(nodes[k]) + c;
       for (std::size_t j = 0; j < r; ++j) display.panels[(v / L * r + j) * L + v % L] = t.rows[row * r + j];
-      for (std::size_t j = 0; j < 3 && t.has_lift; ++j) display.lift_panels[(v / L * 3 + j) * L + v % L] = t.lift_rows[3 * row + j];
+      for (std::size_t j = 0; j < 3 && t.has_lift; ++j)
+        display.lift_panels[(v / L * 3 + j) * L + v % L] = t.lift_rows[3 * row + j];
     }
   }
   return display;
@@ -324,11 +353,26 @@ int ReducedModel::sample_count() const { return tables_->sample_count; }
 std::int64_t ReducedModel::memory_bytes() const {
   const ReducedTables& t = *tables_;
   std::size_t doubles = 0;
-  for (const std::vector<double>* v : {&t.rows, &t.lift_rows, &t.gravity_r, &t.traction_r, &t.stiffness_r, &t.stiffness_lift_r,
-                                       &t.spring_stiffness_r, &t.frozen_factor, &t.spring_rest_m,
-                                       &t.sample_rows, &t.sample_lift, &t.sample_rest_m, &t.sample_gradients,
-                                       &t.sample_root_stiffness, &t.sample_weight_volume, &t.sample_rest_tangent_r, &t.cubature_stiffness_r,
-                                       &t.cubature_stiffness_lift_r, &t.polynomial, &t.q_bound})
+  for (const std::vector<double>* v : {&t.rows,
+                                       &t.lift_rows,
+                                       &t.gravity_r,
+                                       &t.traction_r,
+                                       &t.stiffness_r,
+                                       &t.stiffness_lift_r,
+                                       &t.spring_stiffness_r,
+                                       &t.frozen_factor,
+                                       &t.spring_rest_m,
+                                       &t.sample_rows,
+                                       &t.sample_lift,
+                                       &t.sample_rest_m,
+                                       &t.sample_gradients,
+                                       &t.sample_root_stiffness,
+                                       &t.sample_weight_volume,
+                                       &t.sample_rest_tangent_r,
+                                       &t.cubature_stiffness_r,
+                                       &t.cubature_stiffness_lift_r,
+                                       &t.polynomial,
+                                       &t.q_bound})
     doubles += v->size();
   return static_cast<std::int64_t>(sizeof(ReducedTables) + 8 * doubles + 4 * t.spring_nodes.size() +
                                    sizeof(LameParameters) * t.sample_lame.size());

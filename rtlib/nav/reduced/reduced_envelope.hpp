@@ -9,12 +9,15 @@ namespace nav::detail {
 
 /// The largest |q_i| / bound_i; a direction with a zero bound (never met in training) counts
 /// as twice `envelope_factor` when it moves. 0 without bounds.
-inline double envelope_ratio(std::span<const double> bound, double envelope_factor, std::span<const double> q) noexcept {
+inline double envelope_ratio(std::span<const double> bound, double envelope_factor,
+                             std::span<const double> q) noexcept {
   double ratio = 0.0;
   for (std::size_t i = 0; i < bound.size(); ++i) {
     const double magnitude = std::abs(q[i]);
-    if (bound[i] > 0.0) ratio = std::max(ratio, magnitude / bound[i]);
-    else if (magnitude > 0.0) ratio = std::max(ratio, 2.0 * envelope_factor);
+    if (bound[i] > 0.0)
+      ratio = std::max(ratio, magnitude / bound[i]);
+    else if (magnitude > 0.0)
+      ratio = std::max(ratio, 2.0 * envelope_factor);
   }
   return ratio;
 }

@@ -11,8 +11,8 @@ namespace {
 constexpr int L = kSampleLanes;
 
 /// force = -A q - B d (A r x r, B r x 3, row-major).
-void stiffness_force(const ReducedTables& t, std::span<const double> a, std::span<const double> b, const ReducedState& state,
-                     std::span<double> force) {
+void stiffness_force(const ReducedTables& t, std::span<const double> a, std::span<const double> b,
+                     const ReducedState& state, std::span<double> force) {
   const int r = t.r;
   for (int i = 0; i < r; ++i) {
     double value = dot(a.data() + i * r, state.q.data(), r);
@@ -33,8 +33,8 @@ ForceScratchSizes force_scratch_sizes(const ReducedTables& t) noexcept {
   return {12 * lanes, 9 * lanes, static_cast<std::size_t>(t.r) * L + 10 * lanes + corotational_tangent_work_size(t.r)};
 }
 
-int evaluate_internal_force(const ReducedTables& t, const ReducedState& state, ForceScratch scratch, std::span<double> force,
-                            std::span<double> tangent) noexcept {
+int evaluate_internal_force(const ReducedTables& t, const ReducedState& state, ForceScratch scratch,
+                            std::span<double> force, std::span<double> tangent) noexcept {
   const int r = t.r;
   const bool with_tangent = !tangent.empty();
   if (t.force_kind == ReducedForceKind::stvk_cubic_polynomial) {
@@ -55,10 +55,13 @@ int evaluate_internal_force(const ReducedTables& t, const ReducedState& state, F
   std::fill(lane_forces.begin(), lane_forces.end(), 0.0);
   const bool corotational = t.force_kind == ReducedForceKind::corotational_cubature;
   const SampleWork work{scratch.displacements.data(), scratch.rotations.data(), gradients.data(), lane_forces.data()};
-  const int inverted = corotational ? add_corotational_forces(t, state, false, work) : add_stvk_forces(t, state, false, work);
+  const int inverted =
+      corotational ? add_corotational_forces(t, state, false, work) : add_stvk_forces(t, state, false, work);
   for (int b = 0; b < t.sample_blocks && with_tangent; ++b) {
-    if (corotational) add_corotational_tangent_block(t, b, work, rows_work, tangent);
-    else add_stvk_tangent_block(t, b, work, tangent);
+    if (corotational)
+      add_corotational_tangent_block(t, b, work, rows_work, tangent);
+    else
+      add_stvk_tangent_block(t, b, work, tangent);
   }
   // The lanes' sums, combined in a fixed tree.
   static_assert(L == 8, "the lane sum below is written for 8 lanes");
@@ -68,7 +71,8 @@ int evaluate_internal_force(const ReducedTables& t, const ReducedState& state, F
   }
   if (with_tangent && corotational)  // the blocks filled the upper triangle
     for (int i = 1; i < r; ++i)
-      for (int j = 0; j < i; ++j) tangent[static_cast<std::size_t>(i * r + j)] = tangent[static_cast<std::size_t>(j * r + i)];
+      for (int j = 0; j < i; ++j)
+        tangent[static_cast<std::size_t>(i * r + j)] = tangent[static_cast<std::size_t>(j * r + i)];
   return inverted;
 }
 

@@ -37,7 +37,7 @@ ForceScratchSizes force_scratch_sizes(const ReducedTables& t) noexcept;
 /// force = reduced elastic force at `state` (springs excluded); when `tangent` is not empty it
 /// gets the reduced elastic tangent (K_r - K_S + the samples' tangents). Returns how many
 /// samples had det F <= 0 (they keep their previous rotation).
-int evaluate_internal_force(const ReducedTables& t, const ReducedState& state, ForceScratch scratch, std::span<double> force,
-                            std::span<double> tangent) noexcept;
+int evaluate_internal_force(const ReducedTables& t, const ReducedState& state, ForceScratch scratch,
+                            std::span<double> force, std::span<double> tangent) noexcept;
 
 }  // namespace nav::detail

@@ -18,9 +18,11 @@ const double* block(const std::vector<double>& table, int b, int per_sample) {
 
 /// Lane l of block b's deformation gradient in work (entry (i, j) at [(3 j + i) lanes + s]).
 Eigen::Matrix3d lane_gradient(const ReducedTables& t, const SampleWork& work, int b, int l) {
-  const std::size_t lanes = static_cast<std::size_t>(t.sample_blocks) * L, s = static_cast<std::size_t>(b) * L + static_cast<std::size_t>(l);
+  const std::size_t lanes = static_cast<std::size_t>(t.sample_blocks) * L,
+                    s = static_cast<std::size_t>(b) * L + static_cast<std::size_t>(l);
   Eigen::Matrix3d m;
-  for (std::size_t k = 0; k < 9; ++k) m(static_cast<Eigen::Index>(k % 3), static_cast<Eigen::Index>(k / 3)) = work.gradients[k * lanes + s];
+  for (std::size_t k = 0; k < 9; ++k)
+    m(static_cast<Eigen::Index>(k % 3), static_cast<Eigen::Index>(k / 3)) = work.gradients[k * lanes + s];
   return m;
 }
 
@@ -32,10 +34,13 @@ std::size_t sample(int b, int l) { return static_cast<std::size_t>(b) * L + stat
 const ReducedLaneKernels& reduced_lane_kernels(KernelIsa isa) noexcept {
   switch (resolve_kernel_isa(isa)) {
 #if NAV_KERNEL_ISA_X86
-    case KernelIsa::avx2: return reduced_lane_kernels_avx2;
-    case KernelIsa::avx512: return reduced_lane_kernels_avx512;
+    case KernelIsa::avx2:
+      return reduced_lane_kernels_avx2;
+    case KernelIsa::avx512:
+      return reduced_lane_kernels_avx512;
 #endif
-    default: return reduced_lane_kernels_baseline;
+    default:
+      return reduced_lane_kernels_baseline;
   }
 }
 
@@ -50,11 +55,13 @@ CubatureView cubature_view(const ReducedTables& t) noexcept {
           t.sample_root_stiffness.data()};
 }
 
-int add_corotational_forces(const ReducedTables& t, const ReducedState& state, bool remainder, const SampleWork& work) noexcept {
+int add_corotational_forces(const ReducedTables& t, const ReducedState& state, bool remainder,
+                            const SampleWork& work) noexcept {
   return kernels_of(t).corotational_forces(cubature_view(t), lane_state(state), remainder, work);
 }
 
-int add_stvk_forces(const ReducedTables& t, const ReducedState& state, bool remainder, const SampleWork& work) noexcept {
+int add_stvk_forces(const ReducedTables& t, const ReducedState& state, bool remainder,
+                    const SampleWork& work) noexcept {
   const ReducedLaneKernels& kernels = kernels_of(t);
   const CubatureView view = cubature_view(t);
   const int inverted = kernels.deformations(view, lane_state(state), work);
@@ -66,7 +73,8 @@ int add_stvk_forces(const ReducedTables& t, const ReducedState& state, bool rema
       const Eigen::Matrix3d stress = stvk_stress(lane_gradient(t, work, b, l), t.sample_lame[sample(b, l)], t.gain_pa);
       const double scale = -weight_volume[l];
       for (int a = 0; a < 4; ++a) {
-        const Eigen::Vector3d out = scale * (stress * Eigen::Vector3d(g[(3 * a) * L + l], g[(3 * a + 1) * L + l], g[(3 * a + 2) * L + l]));
+        const Eigen::Vector3d out =
+            scale * (stress * Eigen::Vector3d(g[(3 * a) * L + l], g[(3 * a + 1) * L + l], g[(3 * a + 2) * L + l]));
         for (int c = 0; c < 3; ++c) f[3 * a + c][l] = out[c];
       }
     }
@@ -91,7 +99,9 @@ void add_stvk_tangent_block(const ReducedTables& t, int b, const SampleWork& wor
   const double* weight_volume = block(t.sample_weight_volume, b, 1);
   for (int l = 0; l < L && sample(b, l) < static_cast<std::size_t>(t.sample_count); ++l) {
     auto row = [&](int i, int j) { return rows[static_cast<std::size_t>((i * r + j) * L + l)]; };
-    auto gradient = [&](int a) { return Eigen::Vector3d(g[(3 * a) * L + l], g[(3 * a + 1) * L + l], g[(3 * a + 2) * L + l]); };
+    auto gradient = [&](int a) {
+      return Eigen::Vector3d(g[(3 * a) * L + l], g[(3 * a + 1) * L + l], g[(3 * a + 2) * L + l]);
+    };
     const Eigen::Matrix3d f = lane_gradient(t, work, b, l);
     const LameParameters& lame = t.sample_lame[sample(b, l)];
     const Eigen::Matrix3d tangent_stress = stvk_tangent_stress(f, lame);

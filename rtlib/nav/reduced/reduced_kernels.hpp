@@ -26,7 +26,8 @@ struct ReducedState {
 /// work.lane_forces; with `remainder`, the non-linear remainder U_s^T (f_s + w K_s u_s)
 /// instead. The rotations of all samples are found together (their iterations interleave).
 /// A sample with det F <= 0 keeps its previous rotation. Returns how many had det F <= 0.
-int add_corotational_forces(const ReducedTables& t, const ReducedState& state, bool remainder, const SampleWork& work) noexcept;
+int add_corotational_forces(const ReducedTables& t, const ReducedState& state, bool remainder,
+                            const SampleWork& work) noexcept;
 
 /// The same for the St Venant-Kirchhoff law (with the tables' incompressibility gain).
 int add_stvk_forces(const ReducedTables& t, const ReducedState& state, bool remainder, const SampleWork& work) noexcept;

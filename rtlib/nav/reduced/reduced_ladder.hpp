@@ -99,11 +99,11 @@ struct ReducedLadderData {
   std::vector<ReducedData> reduced;  ///< one per reduced rung; never resized after init
   std::optional<TetFemData> full;    ///< the full-order rung's data, when the ladder has one
   int active_rung = 0;
-  int flagged_steps = 0;             ///< consecutive steps with the indicator up
-  int inside_steps = 0;              ///< consecutive steps fit for stepping down
-  std::int64_t steps = 0;            ///< steps taken (refused steps not counted)
+  int flagged_steps = 0;   ///< consecutive steps with the indicator up
+  int inside_steps = 0;    ///< consecutive steps fit for stepping down
+  std::int64_t steps = 0;  ///< steps taken (refused steps not counted)
   std::int64_t escalations = 0, de_escalations = 0;
-  HealthFlags health;                ///< raised by steps, cleared by the caller
+  HealthFlags health;  ///< raised by steps, cleared by the caller
   ReducedLadderReport report;
   Arena arena;
 
@@ -120,8 +120,9 @@ struct ReducedLadderData {
 /// (its step_s and integrator must match the rungs'). Precomputes the transfer operators.
 /// Errors name the field at fault (rungs[i].basis..., step_s, integrator, ladder options).
 Result<ReducedLadderModel> make_reduced_ladder_model(const TetMesh& mesh, const TissueScene& scene,
-                                                     const TissueSolverOptions& solver, std::span<const ReducedRungSpec> rungs,
-                                                     bool full_order_on_top, const ReducedLadderOptions& options);
+                                                     const TissueSolverOptions& solver,
+                                                     std::span<const ReducedRungSpec> rungs, bool full_order_on_top,
+                                                     const ReducedLadderOptions& options);
 
 /// The data of every rung, at rest, on rung 0.
 Result<ReducedLadderData> make_reduced_ladder_data(const ReducedLadderModel& model);

@@ -13,11 +13,13 @@ Result<ReducedBasis> extend_basis(const TetMesh& mesh, const TissueScene& scene,
                                   const ReducedBasis& lower, int basis_size, std::span<const double> snapshots_m,
                                   int snapshot_count) {
   const auto n3 = 3 * mesh.nodes_m.size();
-  if (lower.mesh_fingerprint != mesh_fingerprint(mesh)) return Error{.message = "the basis belongs to another mesh", .field = "mesh_fingerprint"};
+  if (lower.mesh_fingerprint != mesh_fingerprint(mesh))
+    return Error{.message = "the basis belongs to another mesh", .field = "mesh_fingerprint"};
   if (lower.basis_size < 1 || lower.basis.size() != n3 * static_cast<std::size_t>(lower.basis_size))
     return Error{.message = "the basis is not 3 node_count x basis_size", .field = "basis"};
   if (basis_size <= lower.basis_size)
-    return Error{.message = "the extended basis must have more than " + std::to_string(lower.basis_size) + " columns", .field = "basis_size"};
+    return Error{.message = "the extended basis must have more than " + std::to_string(lower.basis_size) + " columns",
+                 .field = "basis_size"};
   auto system = detail::make_full_system(mesh, scene, solver);
   if (!system.ok()) return system.error();
   const detail::TetFemTables& tables = system.value().model.tables();
@@ -29,11 +31,13 @@ Result<ReducedBasis> extend_basis(const TetMesh& mesh, const TissueScene& scene,
   const Eigen::Index r = lower.basis_size;
   Eigen::MatrixXd kept(mass.size(), r);
   for (Eigen::Index j = 0; j < r; ++j)
-    kept.col(j) = detail::restrict_free(tables, std::span<const double>(lower.basis).subspan(static_cast<std::size_t>(j) * n3, n3));
+    kept.col(j) = detail::restrict_free(
+        tables, std::span<const double>(lower.basis).subspan(static_cast<std::size_t>(j) * n3, n3));
   // The snapshots' part the lower basis misses, and its POD (method of snapshots).
   const Eigen::MatrixXd missed = snapshots.value() - kept * (kept.transpose() * mass.asDiagonal() * snapshots.value());
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(missed.transpose() * mass.asDiagonal() * missed);
-  if (eigen.info() != Eigen::Success) return Error{.message = "the snapshot correlation has no eigen decomposition", .field = "snapshots_m"};
+  if (eigen.info() != Eigen::Success)
+    return Error{.message = "the snapshot correlation has no eigen decomposition", .field = "snapshots_m"};
   const Eigen::Index count = missed.cols();
   Eigen::MatrixXd candidates(mass.size(), r + count);
   candidates.leftCols(r) = kept;
@@ -41,7 +45,8 @@ Result<ReducedBasis> extend_basis(const TetMesh& mesh, const TissueScene& scene,
   constexpr double kDropFraction = 1e-6;  // what is left of a direction after removing the kept ones
   Eigen::MatrixXd columns = detail::mass_orthonormalize(candidates, mass, kDropFraction, basis_size);
   if (columns.cols() < basis_size)
-    return Error{.message = "the snapshots add only " + std::to_string(columns.cols() - r) + " directions to the basis", .field = "basis_size"};
+    return Error{.message = "the snapshots add only " + std::to_string(columns.cols() - r) + " directions to the basis",
+                 .field = "basis_size"};
   columns.leftCols(r) = kept;  // the lower rung's columns exactly (Gram-Schmidt changed them by rounding only)
   auto basis = detail::pack_basis(mesh, system.value(), columns, lower.source, lower.force_kind);
   if (!basis.ok()) return basis;

@@ -12,12 +12,15 @@ namespace {
 
 using detail::ReducedLadderTables;
 
-Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
+Error error(std::string message, std::string field) {
+  return Error{.message = std::move(message), .field = std::move(field)};
+}
 
 std::string rung_field(std::size_t i, const std::string& field) { return "rungs[" + std::to_string(i) + "]." + field; }
 
 Status check_ladder_options(const ReducedLadderOptions& o) {
-  if (o.escalate_after_steps < 1) return error("at least one flagged step must trigger an escalation", "escalate_after_steps");
+  if (o.escalate_after_steps < 1)
+    return error("at least one flagged step must trigger an escalation", "escalate_after_steps");
   if (o.de_escalate_after_steps < 0) return error("the count must be 0 (never) or positive", "de_escalate_after_steps");
   if (!(o.de_escalation_envelope_ratio >= 0.0 && std::isfinite(o.de_escalation_envelope_ratio)))
     return error("the ratio must be a non-negative number", "de_escalation_envelope_ratio");
@@ -33,20 +36,26 @@ Status check_rungs(std::span<const ReducedRungSpec> rungs, bool full_order_on_to
   if (rungs.empty()) return error("a ladder needs at least one reduced rung", "rungs");
   const ReducedSolverOptions& first = rungs[0].options;
   for (std::size_t i = 0; i < rungs.size(); ++i) {
-    if (rungs[i].options.step_s != first.step_s) return error("every rung must have rung 0's step", rung_field(i, "options.step_s"));
+    if (rungs[i].options.step_s != first.step_s)
+      return error("every rung must have rung 0's step", rung_field(i, "options.step_s"));
     if (rungs[i].options.integrator != first.integrator)
       return error("every rung must have rung 0's integrator", rung_field(i, "options.integrator"));
     if (i > 0 && rungs[i].basis.basis_size <= rungs[i - 1].basis.basis_size)
       return error("basis sizes must grow strictly from rung to rung", rung_field(i, "basis.basis_size"));
     const bool below_another = i + 1 < rungs.size() || full_order_on_top;
-    if (below_another && options.de_escalate_after_steps > 0 && !(options.de_escalation_envelope_ratio < rungs[i].options.envelope_factor))
-      return error("the de-escalation ratio must be below every lower rung's envelope factor", "de_escalation_envelope_ratio");
+    if (below_another && options.de_escalate_after_steps > 0 &&
+        !(options.de_escalation_envelope_ratio < rungs[i].options.envelope_factor))
+      return error("the de-escalation ratio must be below every lower rung's envelope factor",
+                   "de_escalation_envelope_ratio");
   }
   if (!full_order_on_top) return Done{};
   if (solver.step_s != first.step_s) return error("the full order's step must be the reduced rungs' step", "step_s");
-  const bool same_integrator = (first.integrator == ReducedIntegrator::implicit_euler && solver.integrator == Integrator::implicit_euler) ||
-                               (first.integrator == ReducedIntegrator::quasi_static && solver.integrator == Integrator::quasi_static);
-  if (!same_integrator) return error("the full order's integrator must be the reduced rungs' (implicit Euler or quasi-static)", "integrator");
+  const bool same_integrator =
+      (first.integrator == ReducedIntegrator::implicit_euler && solver.integrator == Integrator::implicit_euler) ||
+      (first.integrator == ReducedIntegrator::quasi_static && solver.integrator == Integrator::quasi_static);
+  if (!same_integrator)
+    return error("the full order's integrator must be the reduced rungs' (implicit Euler or quasi-static)",
+                 "integrator");
   return Done{};
 }
 
@@ -57,7 +66,8 @@ Eigen::Map<const Eigen::MatrixXd> basis_of(const ReducedBasis& b) {
 }
 
 /// U_big^T M U_small (row-major) and its loss 1 - min_j |T e_j|^2.
-void add_transfer(const ReducedBasis& small, const ReducedBasis& big, const Eigen::VectorXd& mass, ReducedLadderTables& t) {
+void add_transfer(const ReducedBasis& small, const ReducedBasis& big, const Eigen::VectorXd& mass,
+                  ReducedLadderTables& t) {
   const RowMatrix transfer = basis_of(big).transpose() * mass.asDiagonal() * basis_of(small);
   double smallest = 1.0;
   for (Eigen::Index j = 0; j < transfer.cols(); ++j) smallest = std::min(smallest, transfer.col(j).squaredNorm());
@@ -83,14 +93,21 @@ int ReducedLadderModel::reduced_rung_count() const { return static_cast<int>(tab
 bool ReducedLadderModel::has_full_order() const { return tables_->full.has_value(); }
 std::int64_t ReducedLadderModel::node_count() const { return tables_->node_count; }
 const ReducedLadderOptions& ReducedLadderModel::options() const { return tables_->options; }
-const ReducedModel& ReducedLadderModel::reduced_rung(int rung) const { return tables_->rungs[static_cast<std::size_t>(rung)]; }
+const ReducedModel& ReducedLadderModel::reduced_rung(int rung) const {
+  return tables_->rungs[static_cast<std::size_t>(rung)];
+}
 const TetFemModel& ReducedLadderModel::full_order() const { return *tables_->full; }
-double ReducedLadderModel::transfer_loss(int lower_rung) const { return tables_->transfer_loss[static_cast<std::size_t>(lower_rung)]; }
-std::span<const double> ReducedLadderModel::transfer(int lower_rung) const { return tables_->transfer[static_cast<std::size_t>(lower_rung)]; }
+double ReducedLadderModel::transfer_loss(int lower_rung) const {
+  return tables_->transfer_loss[static_cast<std::size_t>(lower_rung)];
+}
+std::span<const double> ReducedLadderModel::transfer(int lower_rung) const {
+  return tables_->transfer[static_cast<std::size_t>(lower_rung)];
+}
 
 Result<ReducedLadderModel> make_reduced_ladder_model(const TetMesh& mesh, const TissueScene& scene,
-                                                     const TissueSolverOptions& solver, std::span<const ReducedRungSpec> rungs,
-                                                     bool full_order_on_top, const ReducedLadderOptions& options) {
+                                                     const TissueSolverOptions& solver,
+                                                     std::span<const ReducedRungSpec> rungs, bool full_order_on_top,
+                                                     const ReducedLadderOptions& options) {
   if (Status status = check_ladder_options(options); !status.ok()) return status.error();
   if (Status status = check_rungs(rungs, full_order_on_top, solver, options); !status.ok()) return status.error();
   // The full order's lumped masses give the transfers; without a full-order rung its rest

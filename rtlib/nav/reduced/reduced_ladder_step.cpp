@@ -24,14 +24,17 @@ double dot(const double* a, const double* b, int n) {
 
 /// out = a x, a rows x cols row-major.
 void multiply(const std::vector<double>& a, int rows, int cols, std::span<const double> x, std::span<double> out) {
-  for (int i = 0; i < rows; ++i) out[static_cast<std::size_t>(i)] = dot(a.data() + static_cast<std::size_t>(i * cols), x.data(), cols);
+  for (int i = 0; i < rows; ++i)
+    out[static_cast<std::size_t>(i)] = dot(a.data() + static_cast<std::size_t>(i * cols), x.data(), cols);
 }
 
 /// out = a^T x, a rows x cols row-major.
-void multiply_transposed(const std::vector<double>& a, int rows, int cols, std::span<const double> x, std::span<double> out) {
+void multiply_transposed(const std::vector<double>& a, int rows, int cols, std::span<const double> x,
+                         std::span<double> out) {
   std::fill(out.begin(), out.begin() + cols, 0.0);
   for (int i = 0; i < rows; ++i)
-    for (int j = 0; j < cols; ++j) out[static_cast<std::size_t>(j)] += a[static_cast<std::size_t>(i * cols + j)] * x[static_cast<std::size_t>(i)];
+    for (int j = 0; j < cols; ++j)
+      out[static_cast<std::size_t>(j)] += a[static_cast<std::size_t>(i * cols + j)] * x[static_cast<std::size_t>(i)];
 }
 
 /// The lift's displacement of dof i under d (0 without a lift).
@@ -41,12 +44,13 @@ double lifted(const ReducedLadderTables& t, std::size_t dof, const double d[3]) 
 
 /// The indicator of reduced rung `rung` at q, as its own step measures it.
 double ladder_envelope_ratio(const ReducedLadderTables& t, int rung, std::span<const double> q) {
-  return detail::envelope_ratio(t.q_bound[static_cast<std::size_t>(rung)], t.rungs[static_cast<std::size_t>(rung)].options().envelope_factor, q);
+  return detail::envelope_ratio(t.q_bound[static_cast<std::size_t>(rung)],
+                                t.rungs[static_cast<std::size_t>(rung)].options().envelope_factor, q);
 }
 
 /// Puts (q, v, d) into reduced rung `rung`, its report describing that state.
-void place(const ReducedLadderTables& t, ReducedLadderData& data, int rung, std::span<const double> q, std::span<const double> v,
-           const double d[3]) {
+void place(const ReducedLadderTables& t, ReducedLadderData& data, int rung, std::span<const double> q,
+           std::span<const double> v, const double d[3]) {
   ReducedData& target = data.reduced[static_cast<std::size_t>(rung)];
   const auto r = static_cast<std::size_t>(size_of(t, rung));
   std::copy(q.begin(), q.begin() + static_cast<std::ptrdiff_t>(r), target.q.begin());
@@ -54,13 +58,14 @@ void place(const ReducedLadderTables& t, ReducedLadderData& data, int rung, std:
   std::copy(d, d + 3, target.prescribed_m);
   target.report = {};
   target.report.envelope_ratio = ladder_envelope_ratio(t, rung, target.q);
-  target.report.out_of_envelope = target.report.envelope_ratio > t.rungs[static_cast<std::size_t>(rung)].options().envelope_factor;
+  target.report.out_of_envelope =
+      target.report.envelope_ratio > t.rungs[static_cast<std::size_t>(rung)].options().envelope_factor;
 }
 
 /// Carries the state (q, v, d) of reduced rung `from` to the rung above: q_big = T q, v_big =
 /// T v, or on the full order x = X + U q + L d, v = U q_dot.
-void carry_up(const ReducedLadderTables& t, ReducedLadderData& data, int from, std::span<const double> q, std::span<const double> v,
-              const double d[3]) {
+void carry_up(const ReducedLadderTables& t, ReducedLadderData& data, int from, std::span<const double> q,
+              std::span<const double> v, const double d[3]) {
   const int to = from + 1;
   if (is_reduced(t, to)) {
     const std::vector<double>& transfer = t.transfer[static_cast<std::size_t>(from)];
@@ -137,7 +142,8 @@ HealthFlags step_rung(const ReducedLadderTables& t, ReducedLadderData& data, int
 
 /// The indicator of a step on a reduced rung: out of its envelope, or undone as non-finite.
 bool indicator_fired(const ReducedLadderTables& t, int rung, HealthFlags raised) {
-  return is_reduced(t, rung) && (raised.has(HealthFlag::reduced_out_of_envelope) || raised.has(HealthFlag::non_finite_state));
+  return is_reduced(t, rung) &&
+         (raised.has(HealthFlag::reduced_out_of_envelope) || raised.has(HealthFlag::non_finite_state));
 }
 
 /// Counts the steps whose state fits the rung below and steps down when they are enough.
@@ -187,9 +193,11 @@ void step(const ReducedLadderModel& model, ReducedLadderData& data, const Tissue
   std::copy(inputs.prescribed_displacement_m.begin(), inputs.prescribed_displacement_m.end(), data.prescribed_m);
   ++data.steps;
   const bool fired = indicator_fired(t, rung, raised);
-  if (is_reduced(t, rung)) data.report.envelope_ratio = data.reduced[static_cast<std::size_t>(rung)].report.envelope_ratio;
+  if (is_reduced(t, rung))
+    data.report.envelope_ratio = data.reduced[static_cast<std::size_t>(rung)].report.envelope_ratio;
   data.flagged_steps = fired ? data.flagged_steps + 1 : 0;
-  const bool escalate = fired && o.escalation_allowed && rung + 1 < model.rung_count() && data.flagged_steps >= o.escalate_after_steps;
+  const bool escalate =
+      fired && o.escalation_allowed && rung + 1 < model.rung_count() && data.flagged_steps >= o.escalate_after_steps;
   if (!escalate) {
     consider_stepping_down(t, data);
     data.report.rung = data.active_rung;
@@ -237,7 +245,8 @@ void reconstruct_displacements_m(const ReducedLadderModel& model, const ReducedL
   for (std::size_t k = 0; k < count; ++k) {
     const bool valid = nodes[k] >= 0 && nodes[k] < t.node_count;
     const auto base = 3 * static_cast<std::size_t>(valid ? nodes[k] : 0);
-    for (std::size_t c = 0; c < 3; ++c) out_xyz[3 * k + c] = valid ? data.full->positions_m[base + c] - rest[base + c] : 0.0;
+    for (std::size_t c = 0; c < 3; ++c)
+      out_xyz[3 * k + c] = valid ? data.full->positions_m[base + c] - rest[base + c] : 0.0;
   }
 }
 

@@ -40,7 +40,7 @@ struct SampleWork {
   double* rotations;      ///< 9 lanes, column-major 3x3: the last good rotations (read and written)
   double* gradients;      ///< 10 lanes: 9 of deformation gradients (the polar iterates, in place), 1 of det F > 0 flags
   double* lane_forces;    ///< reduced forces per lane, [j kSampleLanes + l] (+ r kSampleLanes b when per_block)
-  bool per_block = false; ///< each block its own r kSampleLanes lane forces (else one set for all)
+  bool per_block = false;  ///< each block its own r kSampleLanes lane forces (else one set for all)
 };
 
 /// Per-lane forces of one block: component i of lane l at [i][l].
@@ -51,12 +51,14 @@ struct ReducedLaneKernels {
   /// Adds each lane's U_s^T f_s, f_s = -R G^T G (R^T x - X), to work.lane_forces (with
   /// `remainder`: U_s^T (f_s + w K_s u_s)); a sample with det F <= 0 keeps its previous
   /// rotation. Returns how many had det F <= 0.
-  int (*corotational_forces)(const CubatureView& view, const LaneState& state, bool remainder, const SampleWork& work) noexcept;
+  int (*corotational_forces)(const CubatureView& view, const LaneState& state, bool remainder,
+                             const SampleWork& work) noexcept;
   /// The displacements u = U_s q + L_s d and deformation gradients of every block into
   /// work (det F > 0 flags in row 9). Returns how many had det F <= 0.
   int (*deformations)(const CubatureView& view, const LaneState& state, const SampleWork& work) noexcept;
   /// Adds U_s^T f of block b (with `remainder`, U_s^T (f + w K_s u)) to its lane forces.
-  void (*add_block_forces)(const CubatureView& view, int b, bool remainder, const LaneForces& f, const SampleWork& work) noexcept;
+  void (*add_block_forces)(const CubatureView& view, int b, bool remainder, const LaneForces& f,
+                           const SampleWork& work) noexcept;
   /// Adds sum over block b's lanes of V^T V, V = G blockdiag(R^T) U_s, to the upper triangle
   /// (at least) of the row-major r x r `tangent`; `rows_work` holds 6 kSampleLanes rows of r
   /// rounded up to kTangentTile.
@@ -67,8 +69,8 @@ struct ReducedLaneKernels {
   /// Newton iterations, interleaved).
   void (*polar_rotations)(double* a, std::size_t lanes) noexcept;
   /// out[v] = row v of the display panels times q (+ the lift panels times d when not null).
-  void (*panel_times)(const double* panels, const double* lift_panels, const double* q, int r, const double* prescribed_m,
-                      double* out, std::size_t values) noexcept;
+  void (*panel_times)(const double* panels, const double* lift_panels, const double* q, int r,
+                      const double* prescribed_m, double* out, std::size_t values) noexcept;
 };
 
 extern const ReducedLaneKernels reduced_lane_kernels_baseline;

@@ -2,8 +2,8 @@
 // nav/core/kernel_isa_variant.hpp): the sampled tetrahedra kSampleLanes at a time in
 // structure-of-arrays form, plain loops over the lanes that the compiler vectorizes to the
 // variant's width, every sum in an order written here.
-#include "nav/core/kernel_isa_variant.hpp"
 #include "nav/reduced/reduced_lane_kernels.hpp"
+#include "nav/core/kernel_isa_variant.hpp"
 #include "nav/tissue/polar_iterations.hpp"
 
 namespace nav::detail::NAV_KERNEL_ISA_NAMESPACE {
@@ -97,7 +97,8 @@ int deformation(const CubatureView& t, int b, const Lanes& u, const Lanes& f, bo
     }
   int inverted = 0;
   for (int l = 0; l < L; ++l) {
-    const double det = f(0, l) * (f(4, l) * f(8, l) - f(7, l) * f(5, l)) - f(3, l) * (f(1, l) * f(8, l) - f(7, l) * f(2, l)) +
+    const double det = f(0, l) * (f(4, l) * f(8, l) - f(7, l) * f(5, l)) -
+                       f(3, l) * (f(1, l) * f(8, l) - f(7, l) * f(2, l)) +
                        f(6, l) * (f(1, l) * f(5, l) - f(4, l) * f(2, l));
     const bool positive = det > 0.0;
     f(9, l) = positive ? 1.0 : 0.0;
@@ -148,14 +149,16 @@ void corotational_block_forces(const CubatureView& t, int b, const Lanes& u, con
         const double x0 = rest[(3 * a) * L + l] + u(3 * a, l);
         const double x1 = rest[(3 * a + 1) * L + l] + u(3 * a + 1, l);
         const double x2 = rest[(3 * a + 2) * L + l] + u(3 * a + 2, l);
-        local[3 * a + k][l] = (rotation(0, k, l) * x0 + rotation(1, k, l) * x1 + rotation(2, k, l) * x2) - rest[(3 * a + k) * L + l];
+        local[3 * a + k][l] =
+            (rotation(0, k, l) * x0 + rotation(1, k, l) * x1 + rotation(2, k, l) * x2) - rest[(3 * a + k) * L + l];
       }
   double back[12][L];
   root_stiffness_product(g, local, back);
   for (int a = 0; a < 4; ++a)
     for (int c = 0; c < 3; ++c)
       for (int l = 0; l < L; ++l)
-        f[3 * a + c][l] = -(rotation(c, 0, l) * back[3 * a][l] + rotation(c, 1, l) * back[3 * a + 1][l] + rotation(c, 2, l) * back[3 * a + 2][l]);
+        f[3 * a + c][l] = -(rotation(c, 0, l) * back[3 * a][l] + rotation(c, 1, l) * back[3 * a + 1][l] +
+                            rotation(c, 2, l) * back[3 * a + 2][l]);
 }
 
 double* forces_of(const CubatureView& t, const SampleWork& work, int b) {
@@ -235,7 +238,8 @@ NAV_LANES_NOT_LOOP void panel_times(const double* panels, const double* lift_pan
 /// in the first-level cache from the gather to the scatter.
 constexpr int kBlocksTogether = 1;
 
-int corotational_forces(const CubatureView& t, const LaneState& state, bool remainder, const SampleWork& work) noexcept {
+int corotational_forces(const CubatureView& t, const LaneState& state, bool remainder,
+                        const SampleWork& work) noexcept {
   const Index lanes = lane_count(t);
   int inverted = 0;
   for (int first = 0; first < t.sample_blocks; first += kBlocksTogether) {
@@ -250,7 +254,8 @@ int corotational_forces(const CubatureView& t, const LaneState& state, bool rema
     const double* positive = work.gradients + 9 * lanes;
     for (Index k = 0; k < 9; ++k)
       for (Index n = first_lane; n < first_lane + count; ++n)
-        work.rotations[k * lanes + n] = positive[n] > 0.0 ? work.gradients[k * lanes + n] : work.rotations[k * lanes + n];
+        work.rotations[k * lanes + n] =
+            positive[n] > 0.0 ? work.gradients[k * lanes + n] : work.rotations[k * lanes + n];
     for (int b = first; b < end; ++b) {
       const Lanes u = lanes_of(work.displacements, t, b);
       double f[12][L];
@@ -272,7 +277,8 @@ int deformations(const CubatureView& t, const LaneState& state, const SampleWork
   return inverted;
 }
 
-void add_block_forces(const CubatureView& t, int b, bool remainder, const LaneForces& forces, const SampleWork& work) noexcept {
+void add_block_forces(const CubatureView& t, int b, bool remainder, const LaneForces& forces,
+                      const SampleWork& work) noexcept {
   double f[12][L];
   for (int k = 0; k < 12; ++k)
     for (int l = 0; l < L; ++l) f[k][l] = forces[k][l];
@@ -292,7 +298,8 @@ void add_corotational_tangent_block(const CubatureView& t, int b, const SampleWo
     for (int a = 0; a < 4; ++a)
       for (int k = 0; k < 3; ++k)
         for (int l = 0; l < L; ++l)
-          h[12 * i + 3 * a + k][l] = g[(12 * i + 3 * a) * L + l] * rot(k, l) + g[(12 * i + 3 * a + 1) * L + l] * rot(3 + k, l) +
+          h[12 * i + 3 * a + k][l] = g[(12 * i + 3 * a) * L + l] * rot(k, l) +
+                                     g[(12 * i + 3 * a + 1) * L + l] * rot(3 + k, l) +
                                      g[(12 * i + 3 * a + 2) * L + l] * rot(6 + k, l);
   // V = H U_s, stored as W (6 L x stride): row p = L i + l holds lane l's row i of V.
   double* w = rows_work;
@@ -339,12 +346,9 @@ namespace nav::detail {
 
 extern const ReducedLaneKernels NAV_KERNEL_ISA_NAME(reduced_lane_kernels_);
 const ReducedLaneKernels NAV_KERNEL_ISA_NAME(reduced_lane_kernels_){
-    NAV_KERNEL_ISA_NAMESPACE::corotational_forces,
-    NAV_KERNEL_ISA_NAMESPACE::deformations,
-    NAV_KERNEL_ISA_NAMESPACE::add_block_forces,
-    NAV_KERNEL_ISA_NAMESPACE::add_corotational_tangent_block,
-    NAV_KERNEL_ISA_NAMESPACE::polar_rotations,
-    NAV_KERNEL_ISA_NAMESPACE::panel_times,
+    NAV_KERNEL_ISA_NAMESPACE::corotational_forces, NAV_KERNEL_ISA_NAMESPACE::deformations,
+    NAV_KERNEL_ISA_NAMESPACE::add_block_forces,    NAV_KERNEL_ISA_NAMESPACE::add_corotational_tangent_block,
+    NAV_KERNEL_ISA_NAMESPACE::polar_rotations,     NAV_KERNEL_ISA_NAMESPACE::panel_times,
 };
 
 }  // namespace nav::detail

@@ -79,12 +79,12 @@ class ReducedModel {
 /// The state and workspace of one ReducedModel, carved from one arena at init.
 struct ReducedData {
   Arena arena;
-  std::span<double> q;           ///< reduced coordinates (r)
-  std::span<double> q_velocity;  ///< their rates (r), per second
+  std::span<double> q;                       ///< reduced coordinates (r)
+  std::span<double> q_velocity;              ///< their rates (r), per second
   double prescribed_m[3] = {0.0, 0.0, 0.0};  ///< the diaphragm displacement d of the state
-  HealthFlags health;            ///< raised by steps, cleared by the caller
-  ReducedStepReport report;      ///< what the last step did
-  std::int64_t steps = 0;        ///< steps taken (refused steps not counted)
+  HealthFlags health;                        ///< raised by steps, cleared by the caller
+  ReducedStepReport report;                  ///< what the last step did
+  std::int64_t steps = 0;                    ///< steps taken (refused steps not counted)
 
   // Workspace (meaningless between steps).
   std::span<double> q_start, v_start, v_iterate, force, external, residual, correction, tangent, factor;
@@ -95,8 +95,9 @@ struct ReducedData {
 
 /// Builds the model from a basis of `mesh` and `scene` (checked by fingerprint and sizes).
 /// Errors name the field at fault.
-Result<ReducedModel> make_reduced_model(const TetMesh& mesh, const TissueScene& scene, const TissueSolverOptions& solver,
-                                        const ReducedBasis& basis, const ReducedSolverOptions& options);
+Result<ReducedModel> make_reduced_model(const TetMesh& mesh, const TissueScene& scene,
+                                        const TissueSolverOptions& solver, const ReducedBasis& basis,
+                                        const ReducedSolverOptions& options);
 
 /// The data of `model`, at rest with zero velocity.
 Result<ReducedData> make_reduced_data(const ReducedModel& model);
@@ -113,7 +114,8 @@ void reconstruct_displacements_m(const ReducedModel& model, const ReducedData& d
                                  std::span<const std::int32_t> nodes, std::span<double> out_xyz) noexcept;
 
 /// Displacements from rest of every node (3 node_count values).
-void reconstruct_all_displacements_m(const ReducedModel& model, const ReducedData& data, std::span<double> out) noexcept;
+void reconstruct_all_displacements_m(const ReducedModel& model, const ReducedData& data,
+                                     std::span<double> out) noexcept;
 
 /// The basis rows of a fixed set of nodes (a display surface), laid out for a fast
 /// reconstruction: panels of 8 values, each column's 8 values contiguous. Built at init.

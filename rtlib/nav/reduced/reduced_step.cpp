@@ -94,13 +94,17 @@ std::span<const double> forces_and_factor(const ReducedTables& t, ReducedData& d
   const int r = t.r;
   // Outside the training envelope the rest tangent may be far from the current one (a frozen
   // Newton iteration then diverges at long steps): the tangent is rebuilt there.
-  const bool rebuild = (!t.options.frozen_tangent || data.report.out_of_envelope) && t.force_kind != ReducedForceKind::linear;
+  const bool rebuild =
+      (!t.options.frozen_tangent || data.report.out_of_envelope) && t.force_kind != ReducedForceKind::linear;
   const detail::ReducedState state{q, d};
-  const detail::ForceScratch scratch{data.sample_displacements, data.sample_rotations, data.sample_tangent_rows, data.monomials};
-  const int inverted = detail::evaluate_internal_force(t, state, scratch, data.force, rebuild ? data.tangent : std::span<double>{});
+  const detail::ForceScratch scratch{data.sample_displacements, data.sample_rotations, data.sample_tangent_rows,
+                                     data.monomials};
+  const int inverted =
+      detail::evaluate_internal_force(t, state, scratch, data.force, rebuild ? data.tangent : std::span<double>{});
   data.report.inverted_samples = std::max(data.report.inverted_samples, inverted);
   for (int i = 0; i < r; ++i)
-    data.force[static_cast<std::size_t>(i)] += data.external[static_cast<std::size_t>(i)] - product_row(t.spring_stiffness_r, q, r, i);
+    data.force[static_cast<std::size_t>(i)] +=
+        data.external[static_cast<std::size_t>(i)] - product_row(t.spring_stiffness_r, q, r, i);
   if (!rebuild) {
     std::copy(t.stiffness_r.begin(), t.stiffness_r.end(), data.tangent.begin());
     return t.frozen_factor;
@@ -120,13 +124,15 @@ void implicit_euler(const ReducedTables& t, ReducedData& data, const double d[3]
   std::copy(data.v_start.begin(), data.v_start.end(), data.v_iterate.begin());
   for (int iteration = 0; iteration < o.newton_iterations; ++iteration) {
     for (int i = 0; i < r; ++i)
-      data.q[static_cast<std::size_t>(i)] = data.q_start[static_cast<std::size_t>(i)] + h * data.v_iterate[static_cast<std::size_t>(i)];
+      data.q[static_cast<std::size_t>(i)] =
+          data.q_start[static_cast<std::size_t>(i)] + h * data.v_iterate[static_cast<std::size_t>(i)];
     const std::span<const double> factor = forces_and_factor(t, data, data.q, d);
     double scale = 0.0;
     for (int i = 0; i < r; ++i) {
       const auto k = static_cast<std::size_t>(i);
       const double change = data.v_iterate[k] - data.v_start[k];
-      const double damping = o.rayleigh_mass_per_s * data.v_iterate[k] + o.rayleigh_stiffness_s * product_row(data.tangent, data.v_iterate, r, i);
+      const double damping = o.rayleigh_mass_per_s * data.v_iterate[k] +
+                             o.rayleigh_stiffness_s * product_row(data.tangent, data.v_iterate, r, i);
       data.residual[k] = h * (data.force[k] - damping) - change;
       scale += h * h * data.force[k] * data.force[k] + change * change;
     }
@@ -196,12 +202,15 @@ void step(const ReducedModel& model, ReducedData& data, const TissueInputs& inpu
   }
   std::copy(data.q.begin(), data.q.end(), data.q_start.begin());
   std::copy(data.q_velocity.begin(), data.q_velocity.end(), data.v_start.begin());
-  const double d[3] = {t.has_lift ? inputs.prescribed_displacement_m[0] : 0.0, t.has_lift ? inputs.prescribed_displacement_m[1] : 0.0,
+  const double d[3] = {t.has_lift ? inputs.prescribed_displacement_m[0] : 0.0,
+                       t.has_lift ? inputs.prescribed_displacement_m[1] : 0.0,
                        t.has_lift ? inputs.prescribed_displacement_m[2] : 0.0};
   data.report.inverted_samples = 0;
   external_force(t, inputs, d, data.external);
-  if (t.options.integrator == ReducedIntegrator::implicit_euler) implicit_euler(t, data, d);
-  else quasi_static(t, data, d);
+  if (t.options.integrator == ReducedIntegrator::implicit_euler)
+    implicit_euler(t, data, d);
+  else
+    quasi_static(t, data, d);
   if (!all_finite(data.q) || !all_finite(data.q_velocity)) {
     std::copy(data.q_start.begin(), data.q_start.end(), data.q.begin());
     std::copy(data.v_start.begin(), data.v_start.end(), data.q_velocity.begin());
@@ -214,8 +223,8 @@ void step(const ReducedModel& model, ReducedData& data, const TissueInputs& inpu
   ++data.steps;
 }
 
-void reconstruct_displacements_m(const ReducedModel& model, const ReducedData& data, std::span<const std::int32_t> nodes,
-                                 std::span<double> out_xyz) noexcept {
+void reconstruct_displacements_m(const ReducedModel& model, const ReducedData& data,
+                                 std::span<const std::int32_t> nodes, std::span<double> out_xyz) noexcept {
   const ReducedTables& t = model.tables();
   const int r = t.r;
   const std::size_t count = std::min(nodes.size(), out_xyz.size() / 3);
@@ -229,13 +238,16 @@ void reconstruct_displacements_m(const ReducedModel& model, const ReducedData& d
     for (int c = 0; c < 3; ++c) {
       double value = detail::dot(rows + c * r, data.q.data(), r);
       if (t.has_lift)
-        for (int j = 0; j < 3; ++j) value += t.lift_rows[9 * static_cast<std::size_t>(node) + static_cast<std::size_t>(3 * c + j)] * data.prescribed_m[j];
+        for (int j = 0; j < 3; ++j)
+          value += t.lift_rows[9 * static_cast<std::size_t>(node) + static_cast<std::size_t>(3 * c + j)] *
+                   data.prescribed_m[j];
       out_xyz[3 * k + static_cast<std::size_t>(c)] = value;
     }
   }
 }
 
-void reconstruct_all_displacements_m(const ReducedModel& model, const ReducedData& data, std::span<double> out) noexcept {
+void reconstruct_all_displacements_m(const ReducedModel& model, const ReducedData& data,
+                                     std::span<double> out) noexcept {
   const ReducedTables& t = model.tables();
   const int r = t.r;
   const std::size_t values = std::min(out.size(), 3 * static_cast<std::size_t>(t.node_count));
@@ -251,8 +263,9 @@ void reconstruct_display_m(const ReducedModel& model, const ReducedData& data, c
                            std::span<double> out_xyz) noexcept {
   const std::size_t values = std::min(out_xyz.size(), 3 * display.nodes.size());
   if (display.basis_size != model.basis_size()) return;
-  model.tables().lane_kernels->panel_times(display.panels.data(), display.lift_panels.empty() ? nullptr : display.lift_panels.data(),
-                                           data.q.data(), display.basis_size, data.prescribed_m, out_xyz.data(), values);
+  model.tables().lane_kernels->panel_times(
+      display.panels.data(), display.lift_panels.empty() ? nullptr : display.lift_panels.data(), data.q.data(),
+      display.basis_size, data.prescribed_m, out_xyz.data(), values);
 }
 
 }  // namespace nav

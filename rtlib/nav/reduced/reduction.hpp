@@ -25,8 +25,8 @@ struct ReductionOptions {
 /// LDL^T; M-orthonormal columns, w^2 in column_values. With source modal_derivatives the
 /// first modes are completed by their St Venant-Kirchhoff modal derivatives up to basis_size.
 /// Fills diaphragm_lift when the scene prescribes nodes.
-Result<ReducedBasis> make_modal_basis(const TetMesh& mesh, const TissueScene& scene,
-                                      const TissueSolverOptions& solver, const ReductionOptions& options);
+Result<ReducedBasis> make_modal_basis(const TetMesh& mesh, const TissueScene& scene, const TissueSolverOptions& solver,
+                                      const ReductionOptions& options);
 
 /// Mass-weighted POD (method of snapshots) of displacement snapshots (column-major
 /// 3 node_count x snapshot_count, metres from rest): the leading basis_size M-orthonormal

@@ -16,8 +16,9 @@ Result<Eigen::MatrixXd> free_snapshots(const FullSystem& system, const std::vect
   const TetFemTables& tables = system.model.tables();
   const auto n3 = static_cast<std::size_t>(3 * tables.node_count);
   if (snapshot_count < 1 || snapshots_m.size() != n3 * static_cast<std::size_t>(snapshot_count))
-    return Error{.message = "expected " + std::to_string(snapshot_count) + " snapshots of " + std::to_string(n3) + " values, got " +
-                     std::to_string(snapshots_m.size()) + " values", .field = "snapshots_m"};
+    return Error{.message = "expected " + std::to_string(snapshot_count) + " snapshots of " + std::to_string(n3) +
+                            " values, got " + std::to_string(snapshots_m.size()) + " values",
+                 .field = "snapshots_m"};
   for (std::size_t i = 0; i < snapshots_m.size(); ++i)
     if (!std::isfinite(snapshots_m[i]))
       return Error{.message = "snapshot " + std::to_string(i / n3) + " has a non-finite value", .field = "snapshots_m"};

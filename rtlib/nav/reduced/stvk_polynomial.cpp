@@ -9,7 +9,9 @@ namespace nav::detail {
 namespace {
 
 std::size_t pairs(int r) { return static_cast<std::size_t>(r) * static_cast<std::size_t>(r + 1) / 2; }
-std::size_t triples(int r) { return static_cast<std::size_t>(r) * static_cast<std::size_t>(r + 1) * static_cast<std::size_t>(r + 2) / 6; }
+std::size_t triples(int r) {
+  return static_cast<std::size_t>(r) * static_cast<std::size_t>(r + 1) * static_cast<std::size_t>(r + 2) / 6;
+}
 
 /// Position of the pair {a, b} among the sorted pairs (x <= y) in lexicographic order.
 Eigen::Index pair_index(int a, int b, int r) {
@@ -38,7 +40,9 @@ Voigt elastic(const Voigt& x, const LameParameters& lame) {
 
 }  // namespace
 
-std::size_t stvk_polynomial_size(int r) { return static_cast<std::size_t>(r) * (static_cast<std::size_t>(r) + pairs(r) + triples(r)); }
+std::size_t stvk_polynomial_size(int r) {
+  return static_cast<std::size_t>(r) * (static_cast<std::size_t>(r) + pairs(r) + triples(r));
+}
 
 std::vector<double> build_stvk_polynomial(const TetFemTables& tables, std::span<const double> rows, int r) {
   // Per element, with H_j = sum_a U_aj g_a^T, A_j = sym H_j and B_jk = sym(H_j^T H_k) / 2:
@@ -75,9 +79,9 @@ std::vector<double> build_stvk_polynomial(const TetFemTables& tables, std::span<
         b.col(j * r + k) = voigt(0.25 * (p + p.transpose()));
         cb.col(j * r + k) = elastic(b.col(j * r + k), lame);
       }
-    linear.noalias() += volume * a.transpose() * ca;  // (i, j): A_i . C(A_j)
+    linear.noalias() += volume * a.transpose() * ca;     // (i, j): A_i . C(A_j)
     quadratic.noalias() += volume * a.transpose() * cb;  // (i, jk): A_i . C(B_jk)
-    const Eigen::MatrixXd ca_b = ca.transpose() * b;      // (k, j i): C(A_k) . B_ji
+    const Eigen::MatrixXd ca_b = ca.transpose() * b;     // (k, j i): C(A_k) . B_ji
     for (int i = 0; i < r; ++i)
       for (int j = 0; j < r; ++j)
         for (int k = 0; k < r; ++k) quadratic(i, j * r + k) += 2.0 * volume * ca_b(k, j * r + i);
@@ -94,7 +98,8 @@ std::vector<double> build_stvk_polynomial(const TetFemTables& tables, std::span<
     for (int j = 0; j < r; ++j) coefficients.push_back(linear(i, j));
   for (int i = 0; i < r; ++i)
     for (int j = 0; j < r; ++j)
-      for (int k = j; k < r; ++k) coefficients.push_back(quadratic(i, j * r + k) + (j != k ? quadratic(i, k * r + j) : 0.0));
+      for (int k = j; k < r; ++k)
+        coefficients.push_back(quadratic(i, j * r + k) + (j != k ? quadratic(i, k * r + j) : 0.0));
   for (int i = 0; i < r; ++i)
     for (int x = 0; x < r; ++x)
       for (int y = x; y < r; ++y)
@@ -105,7 +110,8 @@ std::vector<double> build_stvk_polynomial(const TetFemTables& tables, std::span<
           for (int p = 0; p < 6; ++p) {
             bool repeated = false;
             for (int q = 0; q < p; ++q)
-              repeated = repeated || (perms[q][0] == perms[p][0] && perms[q][1] == perms[p][1] && perms[q][2] == perms[p][2]);
+              repeated =
+                  repeated || (perms[q][0] == perms[p][0] && perms[q][1] == perms[p][1] && perms[q][2] == perms[p][2]);
             if (!repeated) sum += cubic(pair_index(perms[p][0], i, r), pair_index(perms[p][1], perms[p][2], r));
           }
           coefficients.push_back(sum);
@@ -123,16 +129,18 @@ void evaluate_stvk_polynomial(const ReducedTables& t, std::span<const double> q,
   for (int x = 0; x < r; ++x)
     for (int y = x; y < r; ++y) {
       m2[n2++] = q[static_cast<std::size_t>(x)] * q[static_cast<std::size_t>(y)];
-      for (int z = y; z < r; ++z) m3[n3++] = q[static_cast<std::size_t>(x)] * q[static_cast<std::size_t>(y)] * q[static_cast<std::size_t>(z)];
+      for (int z = y; z < r; ++z)
+        m3[n3++] = q[static_cast<std::size_t>(x)] * q[static_cast<std::size_t>(y)] * q[static_cast<std::size_t>(z)];
     }
   // m3 was filled in (x, y, z) order within each x, y: the same lexicographic order.
   const double* k1 = t.polynomial.data();
   const double* qc = k1 + static_cast<std::size_t>(r) * static_cast<std::size_t>(r);
   const double* tc = qc + static_cast<std::size_t>(r) * p2;
   for (int i = 0; i < r; ++i)
-    force[static_cast<std::size_t>(i)] = -(dot(k1 + static_cast<std::size_t>(i) * static_cast<std::size_t>(r), q.data(), r) +
-                                           dot(qc + static_cast<std::size_t>(i) * p2, m2, static_cast<int>(p2)) +
-                                           dot(tc + static_cast<std::size_t>(i) * p3, m3, static_cast<int>(p3)));
+    force[static_cast<std::size_t>(i)] =
+        -(dot(k1 + static_cast<std::size_t>(i) * static_cast<std::size_t>(r), q.data(), r) +
+          dot(qc + static_cast<std::size_t>(i) * p2, m2, static_cast<int>(p2)) +
+          dot(tc + static_cast<std::size_t>(i) * p3, m3, static_cast<int>(p3)));
   if (tangent.empty()) return;
   for (int i = 0; i < r * r; ++i) tangent[static_cast<std::size_t>(i)] = k1[i];
   for (int i = 0; i < r; ++i) {
@@ -156,7 +164,8 @@ void evaluate_stvk_polynomial(const ReducedTables& t, std::span<const double> q,
   }
   for (int i = 0; i < r; ++i)
     for (int j = 0; j < i; ++j) {
-      const double mean = 0.5 * (tangent[static_cast<std::size_t>(i * r + j)] + tangent[static_cast<std::size_t>(j * r + i)]);
+      const double mean =
+          0.5 * (tangent[static_cast<std::size_t>(i * r + j)] + tangent[static_cast<std::size_t>(j * r + i)]);
       tangent[static_cast<std::size_t>(i * r + j)] = mean;
       tangent[static_cast<std::size_t>(j * r + i)] = mean;
     }

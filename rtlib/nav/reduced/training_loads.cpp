@@ -37,7 +37,9 @@ Point3 rotated(const Point3& v, const Point3& axis, double angle_rad) {
 }
 
 /// A uniform draw in [lo, hi].
-double uniform(std::mt19937_64& rng, double lo, double hi) { return std::uniform_real_distribution<double>(lo, hi)(rng); }
+double uniform(std::mt19937_64& rng, double lo, double hi) {
+  return std::uniform_real_distribution<double>(lo, hi)(rng);
+}
 
 /// Boundary nodes and their area-weighted outward normals.
 struct Surface {
@@ -77,8 +79,8 @@ std::size_t pick(std::size_t size, int k, LoadSet set) {
 
 /// The `candidates` within `radius_m` of node `centre`, nearest first, at most `count` (the
 /// centre alone when none is).
-std::vector<std::int32_t> patch_around(const TetMesh& mesh, const std::vector<std::int32_t>& candidates, std::int32_t centre,
-                                       double radius_m, std::size_t count) {
+std::vector<std::int32_t> patch_around(const TetMesh& mesh, const std::vector<std::int32_t>& candidates,
+                                       std::int32_t centre, double radius_m, std::size_t count) {
   std::vector<std::pair<double, std::int32_t>> near;
   const Point3& c = mesh.nodes_m[static_cast<std::size_t>(centre)];
   for (const std::int32_t n : candidates) {
@@ -102,11 +104,10 @@ double largest_move_m(std::span<const double> a, std::span<const double> b) {
   return std::sqrt(largest_m2);
 }
 
-
 /// Solves `load` from rest, ramping it over `ramp_steps`, and appends the equilibrium at each
 /// of options.snapshot_fractions to `snapshots` (3 n each); counts the steps taken.
-Status solve_one(const TetFemModel& model, TetFemData& data, const TrainingLoad& load, const StaticSolveOptions& options,
-                 int ramp_steps, int& total_steps, std::vector<double>& snapshots) {
+Status solve_one(const TetFemModel& model, TetFemData& data, const TrainingLoad& load,
+                 const StaticSolveOptions& options, int ramp_steps, int& total_steps, std::vector<double>& snapshots) {
   const std::span<const double> rest = model.rest_positions_m();
   std::copy(rest.begin(), rest.end(), data.positions_m.begin());
   std::fill(data.velocities_m_s.begin(), data.velocities_m_s.end(), 0.0);
@@ -124,7 +125,8 @@ Status solve_one(const TetFemModel& model, TetFemData& data, const TrainingLoad&
       if (data.health.has(HealthFlag::non_finite_state) || data.health.has(HealthFlag::inverted_element)) {
         snapshots.resize(first_snapshot);
         return Error{.message = "full-order solve failed (non-finite state or inverted elements) at load fraction " +
-                         std::to_string(fraction) + " with a ramp over " + std::to_string(ramp_steps) + " steps", .field = load.name};
+                                std::to_string(fraction) + " with a ramp over " + std::to_string(ramp_steps) + " steps",
+                     .field = load.name};
       }
       last_move_m = largest_move_m(data.positions_m, previous);
       std::copy(data.positions_m.begin(), data.positions_m.end(), previous.begin());
@@ -132,8 +134,10 @@ Status solve_one(const TetFemModel& model, TetFemData& data, const TrainingLoad&
     }
     if (!converged) {
       snapshots.resize(first_snapshot);
-      return Error{.message = "full-order solve did not converge at load fraction " + std::to_string(target) + " (ramp over " +
-                       std::to_string(ramp_steps) + " steps; last step moved " + std::to_string(last_move_m) + " m)", .field = load.name};
+      return Error{.message = "full-order solve did not converge at load fraction " + std::to_string(target) +
+                              " (ramp over " + std::to_string(ramp_steps) + " steps; last step moved " +
+                              std::to_string(last_move_m) + " m)",
+                   .field = load.name};
     }
     for (std::size_t i = 0; i < rest.size(); ++i) snapshots.push_back(data.positions_m[i] - rest[i]);
     reached = target;
@@ -198,7 +202,8 @@ std::vector<TrainingLoad> make_training_loads(const TetMesh& mesh, const TissueS
     for (int k = 0; k < count(options.gravity_tilts); ++k) {
       const Point3& axis = axes[static_cast<std::size_t>(held_out ? options.gravity_tilts + k : k)];
       const double angle_rad = (held_out ? 0.6 : 1.0) * options.gravity_tilt_rad;
-      loads.push_back({named("gravity tilt (rad)", angle_rad) + " #" + std::to_string(k), rotated(g0, axis, angle_rad), {}, {}});
+      loads.push_back(
+          {named("gravity tilt (rad)", angle_rad) + " #" + std::to_string(k), rotated(g0, axis, angle_rad), {}, {}});
     }
   }
   // Probe pushes: inward along the surface normal, tilted up to 30 degrees.
@@ -211,7 +216,8 @@ std::vector<TrainingLoad> make_training_loads(const TetMesh& mesh, const TissueS
     const Point3 push = normalized(rotated(-1.0 * surface.normals[v], axis, uniform(rng, 0.0, std::numbers::pi / 6.0)));
     const double force_n = (held_out ? uniform(rng, 0.4, 0.9) : 1.0) * options.probe_force_n;
     TrainingLoad load{"push " + std::to_string(k), g0, {}, {}};
-    const auto patch = patch_around(mesh, free_surface_nodes, surface.nodes[v], options.probe_patch_radius_m, patch_size);
+    const auto patch =
+        patch_around(mesh, free_surface_nodes, surface.nodes[v], options.probe_patch_radius_m, patch_size);
     for (const std::int32_t n : patch)
       load.point_forces.push_back({n, (force_n / static_cast<double>(patch.size())) * push});
     loads.push_back(std::move(load));
@@ -226,7 +232,8 @@ std::vector<TrainingLoad> make_training_loads(const TetMesh& mesh, const TissueS
     const double force_n = (held_out ? uniform(rng, 0.4, 0.9) : 1.0) * options.needle_force_n;
     TrainingLoad load{"needle " + std::to_string(k), g0, {}, {}};
     const auto tip = patch_around(mesh, free_nodes, node, options.needle_radius_m, patch_size);
-    for (const std::int32_t n : tip) load.point_forces.push_back({n, (force_n / static_cast<double>(tip.size())) * direction});
+    for (const std::int32_t n : tip)
+      load.point_forces.push_back({n, (force_n / static_cast<double>(tip.size())) * direction});
     loads.push_back(std::move(load));
   }
   // Diaphragm: sampled directions, mostly along gravity (breathing pushes the liver down).
@@ -294,7 +301,8 @@ Result<Snapshots> solve_static_loads(const TetMesh& mesh, const TissueScene& sce
   const std::size_t rows = 3 * mesh.nodes_m.size();
   out.displacements_m.reserve(rows * loads.size() * options.snapshot_fractions.size());
   for (const TrainingLoad& load : loads) {
-    auto cached = std::find_if(models.begin(), models.end(), [&](const auto& m) { return m.first == load.gravity_m_s2; });
+    auto cached =
+        std::find_if(models.begin(), models.end(), [&](const auto& m) { return m.first == load.gravity_m_s2; });
     if (cached == models.end()) {
       auto model = make_tet_fem_model(mesh, scene_for_load(scene, load), options.solver);
       if (!model.ok()) return model.error();
@@ -308,7 +316,8 @@ Result<Snapshots> solve_static_loads(const TetMesh& mesh, const TissueScene& sce
     // A concentrated load can make the relaxed Newton steps overshoot: a slower ramp then.
     Status solved = Done{};
     for (int attempt = 0; attempt < 3; ++attempt) {
-      solved = solve_one(model, data, load, options, options.ramp_steps << (2 * attempt), out.total_steps, out.displacements_m);
+      solved = solve_one(model, data, load, options, options.ramp_steps << (2 * attempt), out.total_steps,
+                         out.displacements_m);
       if (solved.ok()) break;
     }
     if (!solved.ok()) return solved.error();
@@ -317,15 +326,17 @@ Result<Snapshots> solve_static_loads(const TetMesh& mesh, const TissueScene& sce
   return out;
 }
 
-Result<std::vector<double>> solve_reduced_static(const TetMesh& mesh, const TissueScene& scene, const ReducedBasis& basis,
-                                                 const TrainingLoad& load, const ReducedStaticOptions& options) {
+Result<std::vector<double>> solve_reduced_static(const TetMesh& mesh, const TissueScene& scene,
+                                                 const ReducedBasis& basis, const TrainingLoad& load,
+                                                 const ReducedStaticOptions& options) {
   ReducedSolverOptions o;
   o.integrator = ReducedIntegrator::quasi_static;
   o.step_s = StaticSolveOptions::default_solver().step_s;
   o.newton_iterations = options.newton_iterations;
   o.frozen_tangent = false;
   o.rayleigh_mass_per_s = options.relaxation_per_s;
-  const auto model = make_reduced_model(mesh, scene_for_load(scene, load), reduction_solver_options(basis.force_kind), basis, o);
+  const auto model =
+      make_reduced_model(mesh, scene_for_load(scene, load), reduction_solver_options(basis.force_kind), basis, o);
   if (!model.ok()) return model.error();
   auto data = make_reduced_data(model.value());
   if (!data.ok()) return data.error();
@@ -341,7 +352,8 @@ Result<std::vector<double>> solve_reduced_static(const TetMesh& mesh, const Tiss
     previous = u;
     if (fraction >= 1.0 && last_move_m <= options.converged_step_m) return u;
   }
-  return Error{.message = "reduced solve did not converge (last step moved " + std::to_string(last_move_m) + " m)", .field = load.name};
+  return Error{.message = "reduced solve did not converge (last step moved " + std::to_string(last_move_m) + " m)",
+               .field = load.name};
 }
 
 DisplacementError displacement_error(std::span<const double> u_m, std::span<const double> reference_m,

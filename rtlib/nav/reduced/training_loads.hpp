@@ -19,10 +19,10 @@ namespace nav {
 
 /// One static load case, owning what a TissueInputs points at.
 struct TrainingLoad {
-  std::string name;                     ///< "gravity 2", "push 5", ... for reports
-  Point3 gravity_m_s2{};                ///< replaces the scene's gravity for this load
-  std::vector<PointForce> point_forces; ///< a probe's or a needle tip's patch of forces
-  Point3 prescribed_displacement_m{};   ///< of the scene's diaphragm nodes
+  std::string name;                      ///< "gravity 2", "push 5", ... for reports
+  Point3 gravity_m_s2{};                 ///< replaces the scene's gravity for this load
+  std::vector<PointForce> point_forces;  ///< a probe's or a needle tip's patch of forces
+  Point3 prescribed_displacement_m{};    ///< of the scene's diaphragm nodes
 
   /// The inputs at `fraction` of this load (load_scale and prescribed displacement scaled).
   TissueInputs inputs(double fraction = 1.0) const;
@@ -33,15 +33,15 @@ struct TrainingLoad {
 struct TrainingLoadOptions {
   std::uint64_t seed = 1;
   std::vector<double> gravity_scales{0.5, 1.0};  ///< along the scene's gravity
-  int gravity_tilts = 3;            ///< full-gravity loads tilted from the scene's direction
-  double gravity_tilt_rad = 0.35;   ///< by this angle, about sampled axes
-  int probe_pushes = 8;             ///< at sampled surface points, along the inward normal
-  double probe_force_n = 0.1;       ///< total force of one push
-  double probe_patch_radius_m = 0.012;  ///< surface nodes within this of the point share it
-  int needle_forces = 6;            ///< forces at sampled interior nodes, in a sampled direction
+  int gravity_tilts = 3;                         ///< full-gravity loads tilted from the scene's direction
+  double gravity_tilt_rad = 0.35;                ///< by this angle, about sampled axes
+  int probe_pushes = 8;                          ///< at sampled surface points, along the inward normal
+  double probe_force_n = 0.1;                    ///< total force of one push
+  double probe_patch_radius_m = 0.012;           ///< surface nodes within this of the point share it
+  int needle_forces = 6;                         ///< forces at sampled interior nodes, in a sampled direction
   double needle_force_n = 0.05;
-  double needle_radius_m = 0.004;   ///< free nodes within this of the node share it (a tip)
-  int diaphragm_moves = 4;          ///< prescribed displacements (scenes with prescribed nodes)
+  double needle_radius_m = 0.004;  ///< free nodes within this of the node share it (a tip)
+  int diaphragm_moves = 4;         ///< prescribed displacements (scenes with prescribed nodes)
   double diaphragm_amplitude_m = 0.005;
 };
 
@@ -65,7 +65,7 @@ struct StaticSolveOptions {
   /// The load grows linearly over these quasi-static steps; a solve that inverts elements or
   /// does not converge is tried again with a ramp 4 and 16 times longer.
   int ramp_steps = 20;
-  int max_steps = 300;       ///< after the ramp's end: more is an Error (no convergence)
+  int max_steps = 300;  ///< after the ramp's end: more is an Error (no convergence)
   /// The load fractions whose equilibria are kept, ascending, ending at 1 (the solve goes
   /// from one to the next): the half load samples the non-linear path for POD.
   std::vector<double> snapshot_fractions{0.5, 1.0};
@@ -91,8 +91,8 @@ Result<Snapshots> solve_static_loads(const TetMesh& mesh, const TissueScene& sce
 
 /// How a reduced model is brought to static equilibrium under one load.
 struct ReducedStaticOptions {
-  int ramp_steps = 20;       ///< quasi-static reduced steps over which the load grows
-  int max_steps = 400;       ///< after the ramp's end
+  int ramp_steps = 20;             ///< quasi-static reduced steps over which the load grows
+  int max_steps = 400;             ///< after the ramp's end
   double converged_step_m = 1e-7;  ///< done when no reconstructed node moved more in a step
   int newton_iterations = 2;       ///< per step, on the current tangent (not frozen)
   double relaxation_per_s = 40.0;  ///< Rayleigh mass damping of the steps (as the full order)
@@ -101,8 +101,9 @@ struct ReducedStaticOptions {
 /// Static displacements from rest (3 n, metres) of `load` with the reduced model of `basis`
 /// (built on scene_for_load(scene, load) with reduction_solver_options(basis.force_kind)).
 /// Errors: the model's own, or no convergence (naming the load).
-Result<std::vector<double>> solve_reduced_static(const TetMesh& mesh, const TissueScene& scene, const ReducedBasis& basis,
-                                                 const TrainingLoad& load, const ReducedStaticOptions& options = {});
+Result<std::vector<double>> solve_reduced_static(const TetMesh& mesh, const TissueScene& scene,
+                                                 const ReducedBasis& basis, const TrainingLoad& load,
+                                                 const ReducedStaticOptions& options = {});
 
 /// Nodal displacement errors of `u_m` against `reference_m` (both 3 n): the RMS and largest
 /// nodal error, and the error at `target_node`, in metres, and the reference's largest

@@ -12,7 +12,8 @@ LameParameters lame_parameters(const ElasticMaterial& material) {
 
 Status check_material(const ElasticMaterial& material, const std::string& field) {
   if (!(std::isfinite(material.youngs_modulus_pa) && material.youngs_modulus_pa > 0.0))
-    return Error{.message = "Young's modulus must be a positive number of pascals", .field = field + ".youngs_modulus_pa"};
+    return Error{.message = "Young's modulus must be a positive number of pascals",
+                 .field = field + ".youngs_modulus_pa"};
   if (!(material.poisson_ratio > -1.0 && material.poisson_ratio < 0.5))
     return Error{.message = "Poisson's ratio must lie in (-1, 0.5)", .field = field + ".poisson_ratio"};
   if (!(std::isfinite(material.density_kg_m3) && material.density_kg_m3 > 0.0))

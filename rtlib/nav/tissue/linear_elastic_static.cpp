@@ -30,7 +30,8 @@ const ElasticMaterial& material_of(const TetMesh& mesh, std::size_t tet, const S
 
 Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const StaticLoadCase& load_case) {
   const auto node_count = static_cast<std::int64_t>(mesh.nodes_m.size());
-  if (load_case.fixed_nodes.empty()) return Error{.message = "no fixed node: the system has rigid motions", .field = "fixed_nodes"};
+  if (load_case.fixed_nodes.empty())
+    return Error{.message = "no fixed node: the system has rigid motions", .field = "fixed_nodes"};
 
   // Free dof numbering: -1 for fixed components.
   std::vector<std::int64_t> dof_index(3 * node_count, 0);
@@ -54,7 +55,8 @@ Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const StaticLoad
     std::array<Point3, 4> x;
     for (int a = 0; a < 4; ++a) {
       if (tet[a] < 0 || tet[a] >= node_count)
-        return Error{.message = "element " + std::to_string(e) + " refers to node " + std::to_string(tet[a]), .field = "tets"};
+        return Error{.message = "element " + std::to_string(e) + " refers to node " + std::to_string(tet[a]),
+                     .field = "tets"};
       x[a] = mesh.nodes_m[tet[a]];
     }
     const double volume_m3 = signed_tet_volume_m3(x[0], x[1], x[2], x[3]);
@@ -91,7 +93,8 @@ Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const StaticLoad
   Eigen::SparseMatrix<double> stiffness(free_dofs, free_dofs);
   stiffness.setFromTriplets(triplets.begin(), triplets.end());
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(stiffness);
-  if (solver.info() != Eigen::Success) return Error{.message = "the stiffness matrix could not be factorised", .field = "stiffness"};
+  if (solver.info() != Eigen::Success)
+    return Error{.message = "the stiffness matrix could not be factorised", .field = "stiffness"};
   const Eigen::VectorXd u = solver.solve(force);
 
   StaticSolution solution;

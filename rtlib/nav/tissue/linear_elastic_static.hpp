@@ -27,10 +27,10 @@ struct StaticLoadCase {
 
 /// The equilibrium displacement field and what it implies.
 struct StaticSolution {
-  std::vector<Point3> displacement_m;          // per node
-  std::vector<double> von_mises_stress_pa;     // per element (constant in a linear tet)
+  std::vector<Point3> displacement_m;             // per node
+  std::vector<double> von_mises_stress_pa;        // per element (constant in a linear tet)
   std::vector<double> nodal_von_mises_stress_pa;  // volume-weighted average of incident elements
-  double relative_residual = 0.0;              // |K u - f| / |f|
+  double relative_residual = 0.0;                 // |K u - f| / |f|
   std::int64_t free_dofs = 0;
 };
 

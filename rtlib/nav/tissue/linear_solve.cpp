@@ -21,7 +21,8 @@ double dot(std::span<const double> a, std::span<const double> b) {
 }
 
 /// out = A p on free nodes, zero on constrained ones.
-void apply_system(const TetFemTables& tables, const TetFemData& data, std::span<const double> p, std::span<double> out) {
+void apply_system(const TetFemTables& tables, const TetFemData& data, std::span<const double> p,
+                  std::span<double> out) {
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = tables.mass_coefficient * tables.mass_kg[i / 3] * p[i];
   add_stiffness_product(tables, data.positions_m, data.element_rotations, data.tangent_stresses, p,
                         tables.stiffness_coefficient, out);

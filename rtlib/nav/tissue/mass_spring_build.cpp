@@ -26,15 +26,18 @@ Result<MassSpringModel> make_mass_spring_model(const TetMesh& mesh, const Tissue
   if (!supports.ok()) return supports.error();
   const detail::TetFemTables& fem = supports.value().tables();
 
-  auto tables = std::make_shared<MassSpringTables>(MassSpringTables{options, supports.value(), {}, {}, {}, {}, {}, 0.0, 0.0});
+  auto tables =
+      std::make_shared<MassSpringTables>(MassSpringTables{options, supports.value(), {}, {}, {}, {}, {}, 0.0, 0.0});
   std::map<std::array<std::int32_t, 2>, double> edge_stiffness;  // ordered: springs come out sorted
   for (std::size_t e = 0; e < fem.tets.size(); ++e) {
     const double modulus_pa = fem.lame[e].mu_pa * (3.0 * fem.lame[e].lambda_pa + 2.0 * fem.lame[e].mu_pa) /
                               (fem.lame[e].lambda_pa + fem.lame[e].mu_pa);
     for (int a = 0; a < 4; ++a)
       for (int b = a + 1; b < 4; ++b) {
-        const std::array<std::int32_t, 2> edge{std::min(fem.tets[e][a], fem.tets[e][b]), std::max(fem.tets[e][a], fem.tets[e][b])};
-        const double length_m = norm(mesh.nodes_m[static_cast<std::size_t>(edge[0])] - mesh.nodes_m[static_cast<std::size_t>(edge[1])]);
+        const std::array<std::int32_t, 2> edge{std::min(fem.tets[e][a], fem.tets[e][b]),
+                                               std::max(fem.tets[e][a], fem.tets[e][b])};
+        const double length_m =
+            norm(mesh.nodes_m[static_cast<std::size_t>(edge[0])] - mesh.nodes_m[static_cast<std::size_t>(edge[1])]);
         edge_stiffness[edge] += modulus_pa * fem.volume_m3[e] / (length_m * length_m);
       }
   }
@@ -42,12 +45,14 @@ Result<MassSpringModel> make_mass_spring_model(const TetMesh& mesh, const Tissue
   for (const auto& [edge, stiffness_n_m] : edge_stiffness) {
     tables->springs.push_back(edge);
     tables->stiffness_n_m.push_back(stiffness_n_m);
-    tables->rest_length_m.push_back(norm(mesh.nodes_m[static_cast<std::size_t>(edge[0])] - mesh.nodes_m[static_cast<std::size_t>(edge[1])]));
+    tables->rest_length_m.push_back(
+        norm(mesh.nodes_m[static_cast<std::size_t>(edge[0])] - mesh.nodes_m[static_cast<std::size_t>(edge[1])]));
     for (std::int32_t node : edge) stiffness_sum[static_cast<std::size_t>(node)] += stiffness_n_m;
   }
   double omega_squared_max = 0.0;  // Gershgorin: row sums of |M^-1 K| are 2 sum k / m
   for (std::int32_t node : fem.free_nodes)
-    omega_squared_max = std::max(omega_squared_max, 2.0 * stiffness_sum[static_cast<std::size_t>(node)] / fem.mass_kg[static_cast<std::size_t>(node)]);
+    omega_squared_max = std::max(omega_squared_max, 2.0 * stiffness_sum[static_cast<std::size_t>(node)] /
+                                                        fem.mass_kg[static_cast<std::size_t>(node)]);
   tables->stable_step_s = omega_squared_max > 0.0 ? 2.0 / std::sqrt(omega_squared_max) : 0.0;
 
   const TetMeshBoundary boundary = extract_boundary(mesh);
@@ -56,7 +61,8 @@ Result<MassSpringModel> make_mass_spring_model(const TetMesh& mesh, const Tissue
     std::array<std::int32_t, 3> nodes{};
     for (int a = 0; a < 3; ++a) {
       nodes[a] = boundary.mesh_node_of_vertex[static_cast<std::size_t>(triangle[a])];
-      if (fem.free_index[static_cast<std::size_t>(nodes[a])] >= 0) tables->constraint_mask[static_cast<std::size_t>(nodes[a])] = 1.0;
+      if (fem.free_index[static_cast<std::size_t>(nodes[a])] >= 0)
+        tables->constraint_mask[static_cast<std::size_t>(nodes[a])] = 1.0;
     }
     tables->boundary_triangles.push_back(nodes);
   }
@@ -87,7 +93,8 @@ double enclosed_volume_m3(std::span<const std::array<std::int32_t, 3>> triangles
     const double* a = x.data() + 3 * static_cast<std::size_t>(t[0]);
     const double* b = x.data() + 3 * static_cast<std::size_t>(t[1]);
     const double* c = x.data() + 3 * static_cast<std::size_t>(t[2]);
-    six_volume += a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+    six_volume +=
+        a[0] * (b[1] * c[2] - b[2] * c[1]) + a[1] * (b[2] * c[0] - b[0] * c[2]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
   }
   return six_volume / 6.0;
 }

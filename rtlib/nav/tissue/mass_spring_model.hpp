@@ -19,10 +19,10 @@ namespace nav {
 
 /// Settings of a mass-spring tissue.
 struct MassSpringOptions {
-  double step_s = 1e-4;               ///< explicit step; above stable_step_s() raises a flag
-  double damping_per_s = 0.0;         ///< mass-proportional damping
-  bool keep_volume = true;            ///< Promayon's constraint on the boundary's volume
-  int volume_newton_iterations = 8;   ///< fixed count for the cubic in the multiplier
+  double step_s = 1e-4;              ///< explicit step; above stable_step_s() raises a flag
+  double damping_per_s = 0.0;        ///< mass-proportional damping
+  bool keep_volume = true;           ///< Promayon's constraint on the boundary's volume
+  int volume_newton_iterations = 8;  ///< fixed count for the cubic in the multiplier
 };
 
 /// The precomputed tables of a MassSpringModel.
@@ -32,7 +32,7 @@ struct MassSpringTables {
   std::vector<std::array<std::int32_t, 2>> springs;
   std::vector<double> rest_length_m, stiffness_n_m;
   std::vector<std::array<std::int32_t, 3>> boundary_triangles;  ///< outward, mesh node indices
-  std::vector<double> constraint_mask;  ///< 1 per node: 1 on free boundary nodes, else 0
+  std::vector<double> constraint_mask;                          ///< 1 per node: 1 on free boundary nodes, else 0
   double stable_step_s = 0.0;
   double rest_volume_m3 = 0.0;
 };

@@ -96,7 +96,8 @@ void step(const MassSpringModel& model, MassSpringData& data, const TissueInputs
                                     data.velocities_m_s);
   if (tables.options.keep_volume) {
     const double lambda = project_volume(tables, data.positions_m, data.volume_gradient);
-    for (std::size_t i = 0; i < data.velocities_m_s.size(); ++i) data.velocities_m_s[i] += lambda * data.volume_gradient[i] / h;
+    for (std::size_t i = 0; i < data.velocities_m_s.size(); ++i)
+      data.velocities_m_s[i] += lambda * data.volume_gradient[i] / h;
   }
   if (h > tables.stable_step_s) data.health.raise(HealthFlag::unstable_step);
   data.report.inverted_elements = detail::count_inverted_elements(fem, data.positions_m);
@@ -107,8 +108,9 @@ void step(const MassSpringModel& model, MassSpringData& data, const TissueInputs
     data.health.raise(HealthFlag::non_finite_state);
     return;
   }
-  data.volume_change_pct =
-      100.0 * (enclosed_volume_m3(tables.boundary_triangles, data.positions_m) - tables.rest_volume_m3) / tables.rest_volume_m3;
+  data.volume_change_pct = 100.0 *
+                           (enclosed_volume_m3(tables.boundary_triangles, data.positions_m) - tables.rest_volume_m3) /
+                           tables.rest_volume_m3;
   ++data.steps;
 }
 

@@ -16,7 +16,9 @@ namespace {
 using detail::TetFemTables;
 using Gradients = Eigen::Map<const Eigen::Matrix<double, 4, 3, Eigen::RowMajor>>;
 
-Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
+Error error(std::string message, std::string field) {
+  return Error{.message = std::move(message), .field = std::move(field)};
+}
 
 /// Largest line-search halvings before the increment is declared failed.
 constexpr int kMaxHalvings = 40;

@@ -82,7 +82,8 @@ double stable_step_estimate(const TetFemTables& tables) {
     for (int d = 0; d < 3; ++d) identity_rotations[9 * e + 4 * d] = 1.0;
   const std::vector<double> rest_stresses(9 * tables.tets.size(), 0.0);  // S = 0 at rest
   std::vector<double> x(n3), scaled(n3), product(n3);
-  for (std::size_t i = 0; i < n3; ++i) x[i] = (i % 7 == 0 ? 1.0 : 0.0) + 1e-3 * static_cast<double>(i % 13) - (i % 2 ? 0.5 : 0.0);
+  for (std::size_t i = 0; i < n3; ++i)
+    x[i] = (i % 7 == 0 ? 1.0 : 0.0) + 1e-3 * static_cast<double>(i % 13) - (i % 2 ? 0.5 : 0.0);
   double eigenvalue = 0.0;
   for (int iteration = 0; iteration < kPowerIterations; ++iteration) {
     zero_constrained(tables, x);
@@ -117,7 +118,8 @@ constexpr double kPenaltyDesignDilation = 0.1;
 /// 2 gain |J - 1| to the P-wave modulus lambda + 2 mu, and the step limit goes as one over the
 /// P-wave speed. The worst element decides.
 double penalty_step_factor(const TetFemTables& tables) {
-  const double gain_pa = tables.options.law == ElementLaw::st_venant_kirchhoff ? tables.options.incompressibility_gain_pa : 0.0;
+  const double gain_pa =
+      tables.options.law == ElementLaw::st_venant_kirchhoff ? tables.options.incompressibility_gain_pa : 0.0;
   double factor = 1.0;
   for (const LameParameters& lame : tables.lame) {
     const double p_wave_pa = lame.lambda_pa + 2.0 * lame.mu_pa;
@@ -132,7 +134,9 @@ Status build_rest_system(TetFemTables& tables) {
   set_coefficients(tables);
   const bool quasi_static = tables.options.integrator == Integrator::quasi_static;
   if (quasi_static && tables.fixed_nodes.empty() && tables.prescribed_nodes.empty() && tables.spring_nodes.empty())
-    return Error{.message = "a quasi-static model needs fixed nodes, springs or a prescribed region to remove rigid motions", .field = "fixed_nodes"};
+    return Error{
+        .message = "a quasi-static model needs fixed nodes, springs or a prescribed region to remove rigid motions",
+        .field = "fixed_nodes"};
   const Eigen::SparseMatrix<double> matrix = assemble(tables);
   const bool needs_factor = tables.options.integrator != Integrator::explicit_central_difference &&
                             tables.options.solver == LinearSolver::ldlt_warped;

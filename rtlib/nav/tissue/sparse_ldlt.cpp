@@ -6,11 +6,11 @@ namespace nav {
 
 Status SparseLdlt::factor(const Eigen::SparseMatrix<double>& matrix, const char* field) {
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt(matrix);
-  if (ldlt.info() != Eigen::Success)
-    return Error{.message = "the sparse LDL^T factorisation failed", .field = field};
+  if (ldlt.info() != Eigen::Success) return Error{.message = "the sparse LDL^T factorisation failed", .field = field};
   const Eigen::VectorXd d = ldlt.vectorD();
   for (Eigen::Index i = 0; i < d.size(); ++i)
-    if (!(d[i] > 0.0)) return Error{.message = "the matrix is not positive definite (rigid motions left free?)", .field = field};
+    if (!(d[i] > 0.0))
+      return Error{.message = "the matrix is not positive definite (rigid motions left free?)", .field = field};
   const Eigen::SparseMatrix<double>& l = ldlt.matrixL().nestedExpression();  // strictly lower part is L
   permutation_.assign(ldlt.permutationP().indices().data(), ldlt.permutationP().indices().data() + d.size());
   diagonal_.assign(d.data(), d.data() + d.size());

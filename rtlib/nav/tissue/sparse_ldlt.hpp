@@ -26,7 +26,7 @@ class SparseLdlt {
   std::int64_t factor_nonzeros() const { return static_cast<std::int64_t>(values_.size()); }
 
  private:
-  std::vector<std::int32_t> permutation_;   // row i of A goes to row permutation_[i] of P A P^T
+  std::vector<std::int32_t> permutation_;    // row i of A goes to row permutation_[i] of P A P^T
   std::vector<std::int32_t> column_starts_;  // L in compressed columns, unit diagonal left out
   std::vector<std::int32_t> rows_;
   std::vector<double> values_;

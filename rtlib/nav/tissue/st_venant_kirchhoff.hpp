@@ -87,7 +87,8 @@ inline double stvk_energy_density(const Eigen::Matrix3d& f, const LameParameters
   const Eigen::Matrix3d e = green_strain(f);
   const double trace = e.trace();
   const double dilation = std::abs(f.determinant() - 1.0);
-  return 0.5 * lame.lambda_pa * trace * trace + lame.mu_pa * e.squaredNorm() + gain_pa * dilation * dilation * dilation / 3.0;
+  return 0.5 * lame.lambda_pa * trace * trace + lame.mu_pa * e.squaredNorm() +
+         gain_pa * dilation * dilation * dilation / 3.0;
 }
 
 }  // namespace nav

@@ -17,10 +17,13 @@ namespace {
 using detail::NodeKind;
 using detail::TetFemTables;
 
-Error error(std::string message, std::string field) { return Error{.message = std::move(message), .field = std::move(field)}; }
+Error error(std::string message, std::string field) {
+  return Error{.message = std::move(message), .field = std::move(field)};
+}
 
 Status check_options(const TissueSolverOptions& options) {
-  if (!(std::isfinite(options.step_s) && options.step_s > 0.0)) return error("the step must be a positive number of seconds", "step_s");
+  if (!(std::isfinite(options.step_s) && options.step_s > 0.0))
+    return error("the step must be a positive number of seconds", "step_s");
   if (options.cg_iterations < 1) return error("at least one CG iteration is needed", "cg_iterations");
   if (!(options.rayleigh_mass_per_s >= 0.0 && std::isfinite(options.rayleigh_mass_per_s)))
     return error("Rayleigh damping must be a non-negative number", "rayleigh_mass_per_s");
@@ -110,7 +113,8 @@ Status build_supports(const TissueScene& scene, TetFemTables& tables) {
     tables.node_kind[static_cast<std::size_t>(node)] = NodeKind::prescribed;
   }
   for (std::int64_t node = 0; node < n; ++node)
-    if (tables.mass_kg[static_cast<std::size_t>(node)] == 0.0) tables.node_kind[static_cast<std::size_t>(node)] = NodeKind::fixed;
+    if (tables.mass_kg[static_cast<std::size_t>(node)] == 0.0)
+      tables.node_kind[static_cast<std::size_t>(node)] = NodeKind::fixed;
   tables.free_index.assign(static_cast<std::size_t>(n), -1);
   for (std::int64_t node = 0; node < n; ++node) {
     const NodeKind kind = tables.node_kind[static_cast<std::size_t>(node)];
@@ -134,7 +138,8 @@ Status build_traction(const TetMesh& mesh, const TissueScene& scene, TetFemTable
         return error("node " + std::to_string(node) + " is out of range", "traction_triangles");
     const Point3& a = mesh.nodes_m[static_cast<std::size_t>(triangle[0])];
     const double third_m2 = norm(cross(mesh.nodes_m[static_cast<std::size_t>(triangle[1])] - a,
-                                       mesh.nodes_m[static_cast<std::size_t>(triangle[2])] - a)) / 6.0;
+                                       mesh.nodes_m[static_cast<std::size_t>(triangle[2])] - a)) /
+                            6.0;
     for (std::int32_t node : triangle) area_m2[static_cast<std::size_t>(node)] += third_m2;
   }
   for (std::int64_t node = 0; node < tables.node_count; ++node)
@@ -147,7 +152,8 @@ Status build_traction(const TetMesh& mesh, const TissueScene& scene, TetFemTable
 
 }  // namespace
 
-Result<TetFemModel> make_tet_fem_model(const TetMesh& mesh, const TissueScene& scene, const TissueSolverOptions& options) {
+Result<TetFemModel> make_tet_fem_model(const TetMesh& mesh, const TissueScene& scene,
+                                       const TissueSolverOptions& options) {
   if (auto s = check_options(options); !s) return s.error();
   if (auto s = check_material(scene.default_material, "default_material"); !s) return s.error();
   for (const auto& [region, material] : scene.region_materials)
@@ -186,9 +192,17 @@ Result<TetFemData> make_tet_fem_data(const TetFemModel& model) {
   const std::size_t stress_count = tables.options.law == ElementLaw::st_venant_kirchhoff ? e9 : 0;
   plan.add<double>(2 * free3).add<double>(e9).add<double>(3 * n3).add<double>(stress_count);
   TetFemData data(Arena("tet_fem_data", plan.bytes()));
-  std::span<double>* full[] = {&data.positions_m, &data.velocities_m_s, &data.forces_n, &data.rhs, &data.solution,
-                               &data.residual, &data.preconditioned, &data.direction, &data.product,
-                               &data.backup_positions_m, &data.backup_velocities_m_s};
+  std::span<double>* full[] = {&data.positions_m,
+                               &data.velocities_m_s,
+                               &data.forces_n,
+                               &data.rhs,
+                               &data.solution,
+                               &data.residual,
+                               &data.preconditioned,
+                               &data.direction,
+                               &data.product,
+                               &data.backup_positions_m,
+                               &data.backup_velocities_m_s};
   for (std::span<double>* buffer : full) {
     auto carved = data.arena.allocate<double>("node vector", n3);
     if (!carved.ok()) return carved.error();

@@ -23,7 +23,9 @@ void scatter_add(const std::array<std::int32_t, 4>& tet, const Matrix34& values,
     for (int i = 0; i < 3; ++i) v[3 * static_cast<std::size_t>(tet[a]) + i] += values(i, a);
 }
 
-Gradients gradients_of(const TetFemTables& tables, std::size_t e) { return Gradients(tables.gradients.data() + 12 * e); }
+Gradients gradients_of(const TetFemTables& tables, std::size_t e) {
+  return Gradients(tables.gradients.data() + 12 * e);
+}
 
 /// Element e's 3x3 matrix (column-major) in a table of 9 per element.
 Eigen::Map<const Eigen::Matrix3d> matrix_of(std::span<const double> matrices, std::size_t e) {
@@ -32,7 +34,8 @@ Eigen::Map<const Eigen::Matrix3d> matrix_of(std::span<const double> matrices, st
 
 }  // namespace
 
-int update_element_rotations(const TetFemTables& tables, std::span<const double> x, std::span<double> rotations) noexcept {
+int update_element_rotations(const TetFemTables& tables, std::span<const double> x,
+                             std::span<double> rotations) noexcept {
   int inverted = 0;
   const bool corotational = tables.options.rotation == ElementRotation::corotational;
   const auto load = [&](std::size_t e, Eigen::Matrix3d& f) {
@@ -114,8 +117,8 @@ void add_stiffness_product(const TetFemTables& tables, std::span<const double> x
     const Eigen::Matrix3d df = gather(tables.tets[e], p) * g;
     Eigen::Matrix3d stress;
     if (stvk) {
-      stress = stvk_stress_derivative(gather(tables.tets[e], x) * g, df, matrix_of(tangent_stresses, e),
-                                      tables.lame[e], gain_pa);
+      stress = stvk_stress_derivative(gather(tables.tets[e], x) * g, df, matrix_of(tangent_stresses, e), tables.lame[e],
+                                      gain_pa);
     } else {
       const auto r = matrix_of(rotations, e);
       stress = r * linear_stress(r.transpose() * df, tables.lame[e]);
@@ -132,7 +135,8 @@ double elastic_energy(const TetFemTables& tables, std::span<const double> x) noe
   for (std::size_t e = 0; e < tables.tets.size(); ++e) {
     const Eigen::Matrix3d f = gather(tables.tets[e], x) * gradients_of(tables, e);
     if (stvk) {
-      energy_j += tables.volume_m3[e] * stvk_energy_density(f, tables.lame[e], tables.options.incompressibility_gain_pa);
+      energy_j +=
+          tables.volume_m3[e] * stvk_energy_density(f, tables.lame[e], tables.options.incompressibility_gain_pa);
       continue;
     }
     Eigen::Matrix3d h = f;

@@ -10,7 +10,8 @@ namespace nav::detail {
 
 /// Recomputes each element's rotation from positions `x` (identity for linear models).
 /// An element with det F <= 0 keeps its previous rotation; returns how many there were.
-int update_element_rotations(const TetFemTables& tables, std::span<const double> x, std::span<double> rotations) noexcept;
+int update_element_rotations(const TetFemTables& tables, std::span<const double> x,
+                             std::span<double> rotations) noexcept;
 
 /// How many elements have det F <= 0 at positions x (or a non-finite one).
 int count_inverted_elements(const TetFemTables& tables, std::span<const double> x) noexcept;

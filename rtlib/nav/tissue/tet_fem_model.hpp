@@ -50,11 +50,11 @@ class TetFemModel {
 /// The state and workspace of one TetFemModel, carved from one arena at init.
 struct TetFemData {
   Arena arena;
-  std::span<double> positions_m;      ///< 3 per node
-  std::span<double> velocities_m_s;   ///< 3 per node
-  HealthFlags health;                 ///< raised by steps, cleared by the caller
-  TissueStepReport report;            ///< what the last step did
-  std::int64_t steps = 0;             ///< steps taken (refused steps not counted)
+  std::span<double> positions_m;     ///< 3 per node
+  std::span<double> velocities_m_s;  ///< 3 per node
+  HealthFlags health;                ///< raised by steps, cleared by the caller
+  TissueStepReport report;           ///< what the last step did
+  std::int64_t steps = 0;            ///< steps taken (refused steps not counted)
 
   // Workspace (meaningless between steps).
   std::span<double> forces_n, rhs, solution, residual, preconditioned, direction, product;
@@ -69,7 +69,8 @@ struct TetFemData {
 /// Builds the model. Errors name the parameter or region at fault: a material out of range,
 /// an element inverted or flat, a node index out of range, a quasi-static or implicit
 /// system left singular, a step that is not positive.
-Result<TetFemModel> make_tet_fem_model(const TetMesh& mesh, const TissueScene& scene, const TissueSolverOptions& options);
+Result<TetFemModel> make_tet_fem_model(const TetMesh& mesh, const TissueScene& scene,
+                                       const TissueSolverOptions& options);
 
 /// The data of `model`, at rest with zero velocity.
 Result<TetFemData> make_tet_fem_data(const TetFemModel& model);

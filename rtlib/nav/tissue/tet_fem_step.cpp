@@ -90,9 +90,15 @@ void step(const TetFemModel& model, TetFemData& data, const TissueInputs& inputs
   detail::move_kinematic_nodes(tables, inputs, tables.options.step_s, data.positions_m, data.velocities_m_s);
   compute_forces(tables, data, inputs);
   switch (tables.options.integrator) {
-    case Integrator::implicit_euler: implicit_euler(tables, data); break;
-    case Integrator::quasi_static: quasi_static(tables, data); break;
-    case Integrator::explicit_central_difference: central_difference(tables, data); break;
+    case Integrator::implicit_euler:
+      implicit_euler(tables, data);
+      break;
+    case Integrator::quasi_static:
+      quasi_static(tables, data);
+      break;
+    case Integrator::explicit_central_difference:
+      central_difference(tables, data);
+      break;
   }
   if (!all_finite(data.positions_m) || !all_finite(data.velocities_m_s)) {
     std::copy(data.backup_positions_m.begin(), data.backup_positions_m.end(), data.positions_m.begin());

@@ -19,13 +19,13 @@ enum class NodeKind : std::uint8_t { free, fixed, prescribed };
 struct TetFemTables {
   TissueSolverOptions options;
   std::int64_t node_count = 0;
-  std::vector<double> rest_m;                 // 3 per node
-  std::vector<double> mass_kg;                // 1 per node
+  std::vector<double> rest_m;   // 3 per node
+  std::vector<double> mass_kg;  // 1 per node
   std::vector<NodeKind> node_kind;
-  std::vector<std::int32_t> free_index;       // node -> index among free nodes, -1 if constrained
-  std::vector<std::int32_t> free_nodes;       // ascending
+  std::vector<std::int32_t> free_index;  // node -> index among free nodes, -1 if constrained
+  std::vector<std::int32_t> free_nodes;  // ascending
   std::vector<std::int32_t> fixed_nodes, prescribed_nodes, spring_nodes, probe_nodes;
-  std::vector<std::int32_t> traction_nodes;   // ascending, with their share of the loaded area
+  std::vector<std::int32_t> traction_nodes;  // ascending, with their share of the loaded area
   std::vector<double> traction_area_m2;
   double spring_stiffness_n_m = 0.0;
   double probe_stiffness_n_m = 0.0;
@@ -33,7 +33,7 @@ struct TetFemTables {
   std::size_t max_point_forces = 0;
 
   std::vector<std::array<std::int32_t, 4>> tets;
-  std::vector<double> gradients;              // 12 per element: row a = grad of vertex a, row-major
+  std::vector<double> gradients;  // 12 per element: row a = grad of vertex a, row-major
   std::vector<double> volume_m3;
   std::vector<LameParameters> lame;
 
@@ -41,9 +41,9 @@ struct TetFemTables {
   double mass_coefficient = 0.0;
   double stiffness_coefficient = 0.0;
   double spring_coefficient = 0.0;
-  SparseLdlt factor;                          // of the rest A over free nodes (ldlt_warped)
-  std::vector<double> block_inverse;          // 9 per node: inverse of the rest A's 3x3 block
-  std::vector<double> diagonal_inverse;       // 3 per node: inverse of the rest A's diagonal
+  SparseLdlt factor;                     // of the rest A over free nodes (ldlt_warped)
+  std::vector<double> block_inverse;     // 9 per node: inverse of the rest A's 3x3 block
+  std::vector<double> diagonal_inverse;  // 3 per node: inverse of the rest A's diagonal
   double stable_step_s = 0.0;
 };
 

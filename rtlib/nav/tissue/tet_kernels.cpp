@@ -59,10 +59,10 @@ void polar_rotations(PolarBatch& batch) noexcept {
       const double c10 = a02 * a21 - a01 * a22, c11 = a00 * a22 - a02 * a20, c12 = a01 * a20 - a00 * a21;
       const double c20 = a01 * a12 - a02 * a11, c21 = a02 * a10 - a00 * a12, c22 = a00 * a11 - a01 * a10;
       const double det = a00 * c00 + a01 * c01 + a02 * c02;
-      const double norm_a = a00 * a00 + a10 * a10 + a20 * a20 + a01 * a01 + a11 * a11 + a21 * a21 + a02 * a02 +
-                            a12 * a12 + a22 * a22;
-      const double norm_c = c00 * c00 + c10 * c10 + c20 * c20 + c01 * c01 + c11 * c11 + c21 * c21 + c02 * c02 +
-                            c12 * c12 + c22 * c22;
+      const double norm_a =
+          a00 * a00 + a10 * a10 + a20 * a20 + a01 * a01 + a11 * a11 + a21 * a21 + a02 * a02 + a12 * a12 + a22 * a22;
+      const double norm_c =
+          c00 * c00 + c10 * c10 + c20 * c20 + c01 * c01 + c11 * c11 + c21 * c21 + c02 * c02 + c12 * c12 + c22 * c22;
       // g^4 = |R^-T|^2 / |R|^2; R <- (g R + cofactor / (g det)) / 2.
       const double scale = std::sqrt(std::sqrt(norm_c / (det * det * norm_a)));
       const double own = 0.5 * scale, inverse = 0.5 / (scale * det);
@@ -82,7 +82,11 @@ void polar_rotations(PolarBatch& batch) noexcept {
 Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& f) {
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
   for_each_polar_rotation(
-      1, [&](std::size_t, Eigen::Matrix3d& out) { out = f; return true; },
+      1,
+      [&](std::size_t, Eigen::Matrix3d& out) {
+        out = f;
+        return true;
+      },
       [&](std::size_t, const Eigen::Matrix3d& r) { rotation = r; });
   return rotation;
 }

@@ -9,7 +9,8 @@ bool finite(const Point3& p) { return std::isfinite(p[0]) && std::isfinite(p[1])
 
 /// Rotation matrix (row-major) of the normalised quaternion (w, x, y, z).
 std::array<double, 9> rotation_matrix(const std::array<double, 4>& q_wxyz) {
-  const double norm = std::sqrt(q_wxyz[0] * q_wxyz[0] + q_wxyz[1] * q_wxyz[1] + q_wxyz[2] * q_wxyz[2] + q_wxyz[3] * q_wxyz[3]);
+  const double norm =
+      std::sqrt(q_wxyz[0] * q_wxyz[0] + q_wxyz[1] * q_wxyz[1] + q_wxyz[2] * q_wxyz[2] + q_wxyz[3] * q_wxyz[3]);
   const double w = q_wxyz[0] / norm, x = q_wxyz[1] / norm, y = q_wxyz[2] / norm, z = q_wxyz[3] / norm;
   return {1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),
           2 * (x * y + w * z),     1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
@@ -94,14 +95,16 @@ void add_external_forces(const TetFemTables& tables, const TissueInputs& inputs,
   }
   report.probe_contacts = 0;
   report.probe_force_n = 0.0;
-  if (inputs.probe.active && tables.probe_stiffness_n_m > 0.0) add_probe_forces(tables, inputs.probe, x, forces, report);
+  if (inputs.probe.active && tables.probe_stiffness_n_m > 0.0)
+    add_probe_forces(tables, inputs.probe, x, forces, report);
 }
 
 void add_spring_product(const TetFemTables& tables, std::span<const double> p, double scale,
                         std::span<double> out) noexcept {
   const double k = scale * tables.spring_stiffness_n_m;
   for (std::int32_t node : tables.spring_nodes)
-    for (int c = 0; c < 3; ++c) out[3 * static_cast<std::size_t>(node) + c] += k * p[3 * static_cast<std::size_t>(node) + c];
+    for (int c = 0; c < 3; ++c)
+      out[3 * static_cast<std::size_t>(node) + c] += k * p[3 * static_cast<std::size_t>(node) + c];
 }
 
 void zero_constrained(const TetFemTables& tables, std::span<double> v) noexcept {

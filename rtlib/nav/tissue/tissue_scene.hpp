@@ -65,10 +65,10 @@ enum class Integrator {
 /// on the system rotated by each element's rotation, at most cg_iterations iterations (fewer
 /// only when the residual reaches rounding level), with one of three preconditioners.
 enum class LinearSolver {
-  ldlt_warped,       ///< LDL^T of the rest system factored at init, warped by node rotations
-                     ///< (Courtecuisse et al.); exact in one iteration for linear elements
-  cg_jacobi,         ///< the rest system's diagonal
-  cg_block_jacobi,   ///< the rest system's 3x3 node blocks, warped by node rotations
+  ldlt_warped,      ///< LDL^T of the rest system factored at init, warped by node rotations
+                    ///< (Courtecuisse et al.); exact in one iteration for linear elements
+  cg_jacobi,        ///< the rest system's diagonal
+  cg_block_jacobi,  ///< the rest system's 3x3 node blocks, warped by node rotations
 };
 
 /// Numerical settings of a tissue model.
@@ -133,7 +133,7 @@ struct TissueStepReport {
   int solver_iterations = 0;
   int inverted_elements = 0;
   int probe_contacts = 0;
-  double probe_force_n = 0.0;             ///< magnitude of the probe's total force on the tissue
+  double probe_force_n = 0.0;  ///< magnitude of the probe's total force on the tissue
 };
 
 }  // namespace nav

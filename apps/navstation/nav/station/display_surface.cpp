@@ -10,8 +10,11 @@ namespace nav::station {
 Result<DisplaySurface> make_display_surface(const TetMesh& mesh) {
   TetMeshBoundary boundary = extract_boundary(mesh);
   if (boundary.mesh_node_of_vertex.size() > dds::kMaxSurfaceVertices)
-    return Error{.message = "the liver's boundary has " + std::to_string(boundary.mesh_node_of_vertex.size()) + " vertices, more than a "
-                 "DeformedSurface holds (" + std::to_string(dds::kMaxSurfaceVertices) + ")", .field = "liver.mesh"};
+    return Error{.message = "the liver's boundary has " + std::to_string(boundary.mesh_node_of_vertex.size()) +
+                            " vertices, more than a "
+                            "DeformedSurface holds (" +
+                            std::to_string(dds::kMaxSurfaceVertices) + ")",
+                 .field = "liver.mesh"};
   DisplaySurface surface;
   surface.nodes = std::move(boundary.mesh_node_of_vertex);
   surface.rest_m = std::move(boundary.surface.vertices_m);
@@ -33,13 +36,15 @@ std::string surface_obj(const DisplaySurface& surface) {
   return text;
 }
 
-Result<SurfaceReconstruction> SurfaceReconstruction::create(const OperatingLoopModel& loop, const DisplaySurface& surface) {
+Result<SurfaceReconstruction> SurfaceReconstruction::create(const OperatingLoopModel& loop,
+                                                            const DisplaySurface& surface) {
   auto scratch = make_liver_display_scratch(loop);
   if (!scratch.ok()) return scratch.error();
   return SurfaceReconstruction(loop, surface, std::move(scratch).value());
 }
 
-SurfaceReconstruction::SurfaceReconstruction(const OperatingLoopModel& loop, const DisplaySurface& surface, LiverDisplayScratch scratch)
+SurfaceReconstruction::SurfaceReconstruction(const OperatingLoopModel& loop, const DisplaySurface& surface,
+                                             LiverDisplayScratch scratch)
     : loop_(&loop), surface_(&surface), scratch_(std::move(scratch)), displacements_m_(3 * surface.nodes.size()) {}
 
 void SurfaceReconstruction::reconstruct(const OperatingLoopOutputs& outputs, dds::DeformedSurface& out) {

@@ -22,8 +22,8 @@ inline constexpr std::uint32_t kLiverSurfaceId = 1;
 
 /// The liver's boundary as displays draw it.
 struct DisplaySurface {
-  std::vector<std::int32_t> nodes;                   ///< surface vertex -> mesh node
-  std::vector<Point3> rest_m;                        ///< rest positions of the vertices (model frame)
+  std::vector<std::int32_t> nodes;                     ///< surface vertex -> mesh node
+  std::vector<Point3> rest_m;                          ///< rest positions of the vertices (model frame)
   std::vector<std::array<std::int32_t, 3>> triangles;  ///< vertex indices, outward
 };
 

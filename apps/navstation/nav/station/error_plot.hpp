@@ -9,7 +9,7 @@ namespace nav::station {
 /// One curve: its points (x, y) and how it is drawn.
 struct PlotSeries {
   std::string name;
-  std::string colour;   ///< an SVG colour, e.g. "#1f77b4"
+  std::string colour;  ///< an SVG colour, e.g. "#1f77b4"
   bool dashed = false;
   std::vector<double> x, y;
 };

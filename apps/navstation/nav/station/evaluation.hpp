@@ -5,8 +5,8 @@
 // The truth is interpolated linearly between its samples; a prediction stamped t with horizon
 // h is compared with the truth at t + h. Report-time code.
 #include <cstdint>
-#include <string>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "nav/core/clock.hpp"
@@ -33,15 +33,15 @@ struct EvaluationInput {
 struct Evaluation {
   std::int64_t tumour_now_count = 0, tumour_ahead_count = 0, needle_tip_count = 0;
   double tumour_now_rms_m = 0.0, tumour_ahead_rms_m = 0.0, needle_tip_rms_m = 0.0;
-  TimeNs horizon_ns = 0;                ///< the predictions ahead's horizon (the newest seen)
-  std::int64_t without_truth = 0;       ///< outputs outside the truth's span (or before settle_ns), not compared
+  TimeNs horizon_ns = 0;           ///< the predictions ahead's horizon (the newest seen)
+  std::int64_t without_truth = 0;  ///< outputs outside the truth's span (or before settle_ns), not compared
   /// From the station's tick (a prediction's source time) to its arrival here (its receive
   /// time), both on this host's monotonic clock, over the predictions that carry one.
   LatencyStatistics tick_to_reader;
   /// The predictions of the tumour now by the liver rung that made them (0: the scene's
   /// reduced rung, 1 ...: the escalation ladder's rungs above it).
   std::map<std::uint32_t, std::int64_t> predictions_by_rung;
-  std::vector<PlotSeries> series;       ///< tumour now and ahead, needle tip: error (mm) over time (s from the first truth)
+  std::vector<PlotSeries> series;  ///< tumour now and ahead, needle tip: error (mm) over time (s from the first truth)
 };
 
 /// The truth's linear interpolation between samples further apart than this is refused (a gap).

@@ -41,7 +41,8 @@ void add_ladder(const ReducedLadderModel& ladder, const ReducedLadderData& data,
   for (int k = 0; k < ladder.reduced_rung_count(); ++k) {
     const std::string rung = "rung " + std::to_string(k) + " ";
     f.lines.push_back({"liver", rung + "reduced tables", ladder.reduced_rung(k).memory_bytes(), false});
-    f.lines.push_back({"liver", rung + "data arena", arena_bytes(data.reduced[static_cast<std::size_t>(k)].arena), false});
+    f.lines.push_back(
+        {"liver", rung + "data arena", arena_bytes(data.reduced[static_cast<std::size_t>(k)].arena), false});
   }
   if (ladder.has_full_order()) {
     const std::string rung = "rung " + std::to_string(ladder.reduced_rung_count()) + " ";
@@ -52,7 +53,8 @@ void add_ladder(const ReducedLadderModel& ladder, const ReducedLadderData& data,
   for (int k = 0; k + 1 < ladder.reduced_rung_count(); ++k)
     transfer_bytes += static_cast<std::int64_t>(ladder.transfer(k).size_bytes());
   f.lines.push_back({"liver", "ladder transfers", transfer_bytes, false});
-  if (ladder.has_full_order()) f.lines.push_back({"liver", "ladder full-order transfer", full_order_transfer_estimate(ladder), true});
+  if (ladder.has_full_order())
+    f.lines.push_back({"liver", "ladder full-order transfer", full_order_transfer_estimate(ladder), true});
   f.lines.push_back({"liver", "ladder data arena", arena_bytes(data.arena), false});
 }
 
@@ -113,7 +115,8 @@ std::string format_footprint(const MemoryFootprint& footprint) {
     text += line;
   }
   std::snprintf(line, sizeof line, "%-35s %13lld  (%.2f MiB; ~ estimated from element counts)\n", "total",
-                static_cast<long long>(footprint.total_bytes()), static_cast<double>(footprint.total_bytes()) / (1024.0 * 1024.0));
+                static_cast<long long>(footprint.total_bytes()),
+                static_cast<double>(footprint.total_bytes()) / (1024.0 * 1024.0));
   text += line;
   return text;
 }

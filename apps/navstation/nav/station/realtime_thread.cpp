@@ -13,7 +13,9 @@ namespace nav::station {
 
 namespace {
 
-std::string errno_text(int error) { return std::string(std::strerror(error)) + " (errno " + std::to_string(error) + ")"; }
+std::string errno_text(int error) {
+  return std::string(std::strerror(error)) + " (errno " + std::to_string(error) + ")";
+}
 
 /// The cores this process may run on, space-separated ("0 1").
 std::string allowed_cores() {
@@ -37,9 +39,12 @@ std::string limit_text(int resource, const char* unit) {
 
 const char* outcome_name(SetupOutcome outcome) {
   switch (outcome) {
-    case SetupOutcome::applied: return "applied";
-    case SetupOutcome::not_permitted: return "not permitted";
-    case SetupOutcome::unavailable: return "unavailable";
+    case SetupOutcome::applied:
+      return "applied";
+    case SetupOutcome::not_permitted:
+      return "not permitted";
+    case SetupOutcome::unavailable:
+      return "unavailable";
   }
   return "unavailable";
 }
@@ -59,8 +64,8 @@ SetupStep pin_to_core(int core) {
     step.detail = "pinned to core " + std::to_string(core);
   } else {
     step.outcome = error == EPERM ? SetupOutcome::not_permitted : SetupOutcome::unavailable;
-    step.detail = "cannot pin to core " + std::to_string(core) + ": " + errno_text(error) + "; this process may use cores " +
-                  allowed_cores() + "; the thread runs unpinned";
+    step.detail = "cannot pin to core " + std::to_string(core) + ": " + errno_text(error) +
+                  "; this process may use cores " + allowed_cores() + "; the thread runs unpinned";
   }
   return step;
 }
@@ -94,7 +99,8 @@ SetupStep request_fifo(int priority) {
   }
   step.outcome = error == EPERM ? SetupOutcome::not_permitted : SetupOutcome::unavailable;
   step.detail = "SCHED_FIFO " + std::to_string(priority) + " refused: " + errno_text(error) + " (RLIMIT_RTPRIO " +
-                limit_text(RLIMIT_RTPRIO, "") + ", CAP_SYS_NICE needed beyond it); the thread keeps the normal scheduler";
+                limit_text(RLIMIT_RTPRIO, "") +
+                ", CAP_SYS_NICE needed beyond it); the thread keeps the normal scheduler";
   return step;
 }
 

@@ -17,9 +17,9 @@ enum class SetupOutcome {
 
 /// One setup step and what became of it.
 struct SetupStep {
-  std::string name;     ///< "pin to core", "lock memory", "SCHED_FIFO"
+  std::string name;  ///< "pin to core", "lock memory", "SCHED_FIFO"
   SetupOutcome outcome = SetupOutcome::unavailable;
-  std::string detail;   ///< one sentence: what happened and what the station does about it
+  std::string detail;  ///< one sentence: what happened and what the station does about it
 };
 
 /// Pins the calling thread to `core` (pthread_setaffinity_np).

@@ -57,7 +57,8 @@ StationSettings read_station(MapReader r) {
   cores.finish();
   s.realtime_priority = static_cast<int>(r.integer("realtime_priority", 1, 99, 80));
   s.io_priority = static_cast<int>(r.integer("io_priority", 0, 98, std::min(kIoPriority, s.realtime_priority - 1)));
-  if (s.io_priority >= s.realtime_priority) r.fail_at("io_priority", "must be below realtime_priority (the loop preempts the I/O thread)");
+  if (s.io_priority >= s.realtime_priority)
+    r.fail_at("io_priority", "must be below realtime_priority (the loop preempts the I/O thread)");
   s.lock_memory = r.boolean("lock_memory", true);
   r.finish();
   return s;
@@ -94,7 +95,8 @@ LiverMeshSettings read_mesh(MapReader& liver, const std::string& scene_path) {
 void read_full_order(MapReader& r, double tissue_rate_hz, TissueSolverOptions& o) {
   o.law = static_cast<ElementLaw>(r.choice("law", {"linear_elastic", "st_venant_kirchhoff"}));
   o.rotation = static_cast<ElementRotation>(r.choice("rotation", {"corotational", "none"}, 0));
-  o.integrator = static_cast<Integrator>(r.choice("integrator", {"implicit_euler", "quasi_static", "explicit_central_difference"}));
+  o.integrator = static_cast<Integrator>(
+      r.choice("integrator", {"implicit_euler", "quasi_static", "explicit_central_difference"}));
   o.solver = static_cast<LinearSolver>(r.choice("solver", {"ldlt_warped", "cg_jacobi", "cg_block_jacobi"}, 0));
   o.cg_iterations = static_cast<int>(r.integer("cg_iterations", 1, 500, 3));
   o.incompressibility_gain_pa = r.number("incompressibility_gain_pa", kNonNegative, 0.0);
@@ -110,15 +112,18 @@ EscalationSettings read_escalation(MapReader r, const std::string& scene_path, d
   if (!rungs.IsSequence() || rungs.size() == 0 || rungs.size() > 8)
     r.fail_at("rungs", "expected a list of 1 to 8 reduced-basis artifacts (navtool reduce --extend)");
   for (std::size_t i = 0; i < rungs.size(); ++i) {
-    const std::string path = detail::scalar_text(r.file(), rungs[i], r.mark(), r.path_of("rungs") + "[" + std::to_string(i) + "]");
+    const std::string path =
+        detail::scalar_text(r.file(), rungs[i], r.mark(), r.path_of("rungs") + "[" + std::to_string(i) + "]");
     e.rungs.push_back({resolve(scene_path, path), rungs[i].Mark().is_null() ? e.line : rungs[i].Mark().line + 1});
   }
   e.full_order_on_top = r.boolean("full_order_on_top", false);
   ReducedLadderOptions& o = e.options;
   o.escalation_allowed = r.boolean("allowed", o.escalation_allowed);
   o.escalate_after_steps = static_cast<int>(r.integer("escalate_after_steps", 1, 1000000, o.escalate_after_steps));
-  o.de_escalate_after_steps = static_cast<int>(r.integer("de_escalate_after_steps", 0, 1000000, o.de_escalate_after_steps));
-  o.de_escalation_envelope_ratio = r.number("de_escalation_envelope_ratio", Range{0.0, 100.0}, o.de_escalation_envelope_ratio);
+  o.de_escalate_after_steps =
+      static_cast<int>(r.integer("de_escalate_after_steps", 0, 1000000, o.de_escalate_after_steps));
+  o.de_escalation_envelope_ratio =
+      r.number("de_escalation_envelope_ratio", Range{0.0, 100.0}, o.de_escalation_envelope_ratio);
   if (o.de_escalate_after_steps > 0 && !(o.de_escalation_envelope_ratio < envelope_factor))
     r.fail_at("de_escalation_envelope_ratio",
               "must be below liver.model.envelope_factor, or the ladder would step down only to escalate again");
@@ -171,7 +176,8 @@ TissueLayer read_layer(MapReader r) {
   layer.puncture_force_n = r.number("puncture_force_n", kPositive, layer.puncture_force_n);
   layer.cutting_force_n = r.number("cutting_force_n", kNonNegative, layer.cutting_force_n);
   layer.friction_per_length_n_m = r.number("friction_per_length_n_m", kNonNegative, layer.friction_per_length_n_m);
-  layer.surface_friction_coefficient = r.number("surface_friction_coefficient", kNonNegative, layer.surface_friction_coefficient);
+  layer.surface_friction_coefficient =
+      r.number("surface_friction_coefficient", kNonNegative, layer.surface_friction_coefficient);
   r.finish();
   return layer;
 }
@@ -200,7 +206,8 @@ NeedleSettings read_needle(MapReader r, double loop_rate_hz) {
     if (!layers.IsSequence()) r.fail_at("layers", "expected a list of layers");
     if (layers.size() > 16) r.fail_at("layers", "at most 16 layers");
     for (std::size_t i = 0; i < layers.size(); ++i)
-      s.layers.push_back(read_layer(MapReader(r.file(), layers[i], r.path_of("layers") + "[" + std::to_string(i) + "]", r.mark())));
+      s.layers.push_back(
+          read_layer(MapReader(r.file(), layers[i], r.path_of("layers") + "[" + std::to_string(i) + "]", r.mark())));
   }
   s.point_compliance_m_per_n = r.number("point_compliance_m_per_n", kPositive, s.point_compliance_m_per_n);
   s.max_path_points = static_cast<int>(r.integer("max_path_points", 0, 256, s.max_path_points));
@@ -235,9 +242,11 @@ LigamentSettings read_ligaments(MapReader r) {
   if (r.optional("material")) l.material = read_material(r.map("material"), l.material);
   l.rayleigh_mass_per_s = r.number("rayleigh_mass_per_s", kNonNegative, l.rayleigh_mass_per_s);
   const YAML::Node blocks = r.required("blocks");
-  if (!blocks.IsSequence() || blocks.size() == 0 || blocks.size() > 8) r.fail_at("blocks", "expected a list of 1 to 8 ligament blocks");
+  if (!blocks.IsSequence() || blocks.size() == 0 || blocks.size() > 8)
+    r.fail_at("blocks", "expected a list of 1 to 8 ligament blocks");
   for (std::size_t i = 0; i < blocks.size(); ++i)
-    l.blocks.push_back(read_block(MapReader(r.file(), blocks[i], r.path_of("blocks") + "[" + std::to_string(i) + "]", r.mark())));
+    l.blocks.push_back(
+        read_block(MapReader(r.file(), blocks[i], r.path_of("blocks") + "[" + std::to_string(i) + "]", r.mark())));
   r.finish();
   return l;
 }
@@ -254,7 +263,8 @@ ToolIds read_tool_roles(MapReader roles, long long min, long long max, ToolIds d
   ids.respiratory = static_cast<std::uint32_t>(roles.integer("respiratory", min, max, defaults.respiratory));
   if (roles.optional("reference")) ids.reference = static_cast<std::uint32_t>(roles.integer("reference", min, max));
   const bool shared = ids.needle == ids.probe || ids.needle == ids.respiratory || ids.probe == ids.respiratory ||
-                      (ids.reference && (*ids.reference == ids.needle || *ids.reference == ids.probe || *ids.reference == ids.respiratory));
+                      (ids.reference && (*ids.reference == ids.needle || *ids.reference == ids.probe ||
+                                         *ids.reference == ids.respiratory));
   if (shared) roles.fail_at("", "needle, probe, respiratory and reference need an id each");
   roles.finish();
   return ids;
@@ -277,7 +287,8 @@ std::map<std::string, std::vector<ToolTag>> read_tag_bodies(MapReader r, const T
   std::map<std::string, std::vector<ToolTag>> bodies;
   for (const char* role : {"needle", "probe", "respiratory", "reference"}) {
     if (!r.optional(role)) continue;
-    if (std::string(role) == "reference" && !tools.reference) r.fail_at(role, "no reference tool is declared in devices.tracker.tools");
+    if (std::string(role) == "reference" && !tools.reference)
+      r.fail_at(role, "no reference tool is declared in devices.tracker.tools");
     const YAML::Node list = r.required(role);
     if (!list.IsSequence() || list.size() == 0 || list.size() > kMaxBodyTags)
       r.fail_at(role, "expected a list of 1 to 8 tags, each {id: N, xyz: [x, y, z], rpy: [r, p, y]}");
@@ -325,7 +336,8 @@ TrackerSettings read_tracker(MapReader r, const std::string& scene_path) {
       t.dropout_probability = r.number("dropout_probability", kFraction, t.dropout_probability);
       t.seed = static_cast<std::uint64_t>(r.integer("seed", 0, 1LL << 62, 1));
       if (r.optional("tracker_from_reference")) {
-        if (!t.tools.reference) r.fail_at("tracker_from_reference", "places the reference tool: declare it in tools (reference: ID)");
+        if (!t.tools.reference)
+          r.fail_at("tracker_from_reference", "places the reference tool: declare it in tools (reference: ID)");
         t.tracker_from_reference = read_pose(r.map("tracker_from_reference"));
       }
       break;
@@ -335,7 +347,9 @@ TrackerSettings read_tracker(MapReader r, const std::string& scene_path) {
         t.serial_device = r.text("serial");
         t.baud = static_cast<int>(r.integer("baud", 9600, 921600, t.baud));
         if (std::find(std::begin(kNdiSerialBauds), std::end(kNdiSerialBauds), t.baud) == std::end(kNdiSerialBauds))
-          r.fail_at("baud", "an NDI device's rate (COMM) that this host can set: 9600, 19200, 38400, 57600, 115200, 230400 or 921600");
+          r.fail_at("baud",
+                    "an NDI device's rate (COMM) that this host can set: 9600, 19200, 38400, 57600, 115200, 230400 or "
+                    "921600");
       } else {
         t.host = r.text("host");
         t.port = static_cast<int>(r.integer("port", 1, 65535));
@@ -357,7 +371,8 @@ TrackerSettings read_tracker(MapReader r, const std::string& scene_path) {
       if (r.optional("tags")) t.tag_ids = read_tool_roles(r.map("tags"), 0, kMaxTag36h11Id, t.tag_ids);
       if (r.optional("bodies")) t.tag_bodies = read_tag_bodies(r.map("bodies"), t.tools);
       // A reference on a body needs no tag of its own in tags to be one of the tracked tools.
-      if (t.tag_bodies.count("reference") != 0 && !t.tag_ids.reference) t.tag_ids.reference = t.tag_bodies.at("reference").front().id;
+      if (t.tag_bodies.count("reference") != 0 && !t.tag_ids.reference)
+        t.tag_ids.reference = t.tag_bodies.at("reference").front().id;
       check_tags_distinct(r, t);
       t.rate_hz = r.number("rate_hz", Range{0.0, 1000.0, true}, t.rate_hz);
       break;
@@ -420,14 +435,18 @@ DeviceSettings read_devices(MapReader r, const std::string& scene_path) {
 
 /// A DDS topic name: letters, digits, '_' and '/', not starting with '/' or a digit, and not
 /// the name of a topic read before it (`taken`: name -> key).
-std::string read_topic(MapReader& r, const std::string& key, const std::string& fallback, std::map<std::string, std::string>& taken) {
+std::string read_topic(MapReader& r, const std::string& key, const std::string& fallback,
+                       std::map<std::string, std::string>& taken) {
   std::string name = r.text(key.c_str(), fallback.c_str());
   bool valid = name.size() <= 200 && name.front() != '/' && !(name.front() >= '0' && name.front() <= '9');
   for (char c : name)
-    valid = valid && ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '/');
+    valid =
+        valid && ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '/');
   if (!valid) r.fail_at(key, "'" + name + "' is not a topic name (letters, digits, '_' and '/')");
   const auto [other, added] = taken.emplace(name, key);
-  if (!added) r.fail_at(key, "'" + name + "' is already the name of topics." + other->second + " (every topic needs its own name)");
+  if (!added)
+    r.fail_at(key,
+              "'" + name + "' is already the name of topics." + other->second + " (every topic needs its own name)");
   return name;
 }
 
@@ -435,8 +454,12 @@ TopicSettings read_topics(MapReader r) {
   TopicSettings t;
   std::map<std::string, std::string> taken;
   t.domain_id = static_cast<std::uint32_t>(r.integer("domain_id", 0, 232, 0));
-  for (auto [key, name] : {std::pair{"poses", &t.poses}, {"images", &t.images}, {"predictions", &t.predictions},
-                           {"surfaces", &t.surfaces}, {"needle_states", &t.needle_states}, {"health", &t.health},
+  for (auto [key, name] : {std::pair{"poses", &t.poses},
+                           {"images", &t.images},
+                           {"predictions", &t.predictions},
+                           {"surfaces", &t.surfaces},
+                           {"needle_states", &t.needle_states},
+                           {"health", &t.health},
                            {"ground_truth", &t.ground_truth}})
     *name = read_topic(r, key, *name, taken);
   r.finish();
@@ -462,8 +485,11 @@ NetworkSettings read_network(MapReader r) {
 SecuritySettings read_security(MapReader r, const std::string& scene_path) {
   SecuritySettings s;
   s.line = r.line();
-  for (auto [key, path] : {std::pair{"ca", &s.ca}, {"certificate", &s.certificate}, {"private_key", &s.private_key},
-                           {"governance", &s.governance}, {"permissions", &s.permissions}})
+  for (auto [key, path] : {std::pair{"ca", &s.ca},
+                           {"certificate", &s.certificate},
+                           {"private_key", &s.private_key},
+                           {"governance", &s.governance},
+                           {"permissions", &s.permissions}})
     *path = resolve(scene_path, r.text(key));
   r.finish();
   return s;
@@ -495,7 +521,8 @@ std::vector<ToolRole> tool_roles(const ToolIds& tools, const ToolIds& device_ids
   std::vector<ToolRole> roles{{"needle", "needle_marker", tools.needle, device_ids.needle},
                               {"probe", "probe_marker", tools.probe, device_ids.probe},
                               {"respiratory", "respiratory_marker", tools.respiratory, device_ids.respiratory}};
-  if (tools.reference && device_ids.reference) roles.push_back({"reference", "reference_marker", *tools.reference, *device_ids.reference});
+  if (tools.reference && device_ids.reference)
+    roles.push_back({"reference", "reference_marker", *tools.reference, *device_ids.reference});
   return roles;
 }
 

@@ -30,14 +30,14 @@ inline constexpr std::size_t kMaxSceneBytes = 1u << 20;
 /// `station:` rates, latency and the two cores of the station's threads.
 struct StationSettings {
   std::string name;
-  double loop_rate_hz = 1000.0;        ///< the real-time loop (needle and forces), at most 1 kHz
-  double tissue_rate_hz = 100.0;       ///< the tissue step; divides loop_rate_hz
-  double display_latency_ms = 50.0;    ///< how far ahead predictions look
-  int realtime_core = 1;               ///< core of the real-time loop
-  int io_core = 0;                     ///< core of the I/O thread (DDS, drivers, images)
-  int realtime_priority = 80;          ///< SCHED_FIFO priority asked for, 1..99
-  int io_priority = 20;                ///< the I/O thread's SCHED_FIFO priority, below realtime_priority; 0: normal scheduling
-  bool lock_memory = true;             ///< mlockall(MCL_CURRENT | MCL_FUTURE) at start
+  double loop_rate_hz = 1000.0;      ///< the real-time loop (needle and forces), at most 1 kHz
+  double tissue_rate_hz = 100.0;     ///< the tissue step; divides loop_rate_hz
+  double display_latency_ms = 50.0;  ///< how far ahead predictions look
+  int realtime_core = 1;             ///< core of the real-time loop
+  int io_core = 0;                   ///< core of the I/O thread (DDS, drivers, images)
+  int realtime_priority = 80;        ///< SCHED_FIFO priority asked for, 1..99
+  int io_priority = 20;     ///< the I/O thread's SCHED_FIFO priority, below realtime_priority; 0: normal scheduling
+  bool lock_memory = true;  ///< mlockall(MCL_CURRENT | MCL_FUTURE) at start
 };
 
 /// `frames:` the URDF of the station's rigid frames.
@@ -52,9 +52,9 @@ enum class LiverMeshSource { generated, file };
 /// `liver.mesh:` the embedded default liver, or a tetrahedral mesh file.
 struct LiverMeshSettings {
   LiverMeshSource source = LiverMeshSource::generated;
-  std::string path;                      ///< file only, resolved against the scene's folder
-  LengthUnit unit = LengthUnit::metre;   ///< file only
-  double element_size_m = 0.012;         ///< generated only
+  std::string path;                     ///< file only, resolved against the scene's folder
+  LengthUnit unit = LengthUnit::metre;  ///< file only
+  double element_size_m = 0.012;        ///< generated only
 };
 
 /// The liver's rung on the model ladder.
@@ -97,8 +97,8 @@ struct LiverSettings {
 
 /// `needle:` the needle and what it meets (present only when the scene has a needle).
 struct NeedleSettings {
-  NeedleParameters parameters;     ///< step_s comes from loop_rate_hz
-  NeedleTissueScene interaction;   ///< its layers and constraint settings
+  NeedleParameters parameters;    ///< step_s comes from loop_rate_hz
+  NeedleTissueScene interaction;  ///< its layers and constraint settings
   int line = 0;
 };
 
@@ -134,10 +134,10 @@ struct ToolTag {
 struct TrackerSettings {
   TrackerKind kind = TrackerKind::simulated;
   // every kind: where and how fast a tool can plausibly be (dds::PoseBounds)
-  double volume_radius_m = 3.0;     ///< of the tracker's measurement volume, around its origin
-  double max_speed_m_per_s = 2.0;   ///< of any tracked tool
-  ToolIds tools;                    ///< every kind: the tools' ids on nav/tool_pose
-  double rate_hz = 60.0;             ///< simulated: its sample rate; ndi: how often it is polled; apriltag: a file's pace
+  double volume_radius_m = 3.0;    ///< of the tracker's measurement volume, around its origin
+  double max_speed_m_per_s = 2.0;  ///< of any tracked tool
+  ToolIds tools;                   ///< every kind: the tools' ids on nav/tool_pose
+  double rate_hz = 60.0;           ///< simulated: its sample rate; ndi: how often it is polled; apriltag: a file's pace
   // simulated
   double latency_ms = 0.0;
   double position_noise_m = 0.0;
@@ -191,10 +191,10 @@ enum class UltrasoundKind { simulated, plus, capture };
 /// frame grabber, video or image sequence read through OpenCV's capture.
 struct UltrasoundSettings {
   UltrasoundKind kind = UltrasoundKind::simulated;
-  double rate_hz = 20.0;            ///< simulated; capture: the pace of a file or sequence (a grabber keeps its own)
-  double target_noise_m = 0.0;      ///< simulated: the filter's noise of the tumour point found in the frames
-  std::uint64_t seed = 1;           ///< simulated
-  std::string recording_path;       ///< plus, resolved against the scene's folder
+  double rate_hz = 20.0;        ///< simulated; capture: the pace of a file or sequence (a grabber keeps its own)
+  double target_noise_m = 0.0;  ///< simulated: the filter's noise of the tumour point found in the frames
+  std::uint64_t seed = 1;       ///< simulated
+  std::string recording_path;   ///< plus, resolved against the scene's folder
   /// plus: the image's pixel spacing when the recording's is not it (a PLUS recording of a
   /// tracked probe says 1 x 1 and keeps the spacing in its probe calibration: the spacing
   /// navtool calib probe prints); without it, the recording's own
@@ -212,9 +212,9 @@ struct UltrasoundSettings {
 /// `devices.clock:` how the devices' stamps relate to this host's monotonic clock, and how
 /// far a stamp may lie from its sample's arrival before the station refuses the sample.
 struct DeviceClockSettings {
-  double offset_ms = 0.0;         ///< added to a device's stamp to put it on this host's monotonic clock
-  double max_ahead_ms = 50.0;     ///< a stamp this much later than its arrival is refused
-  double max_behind_ms = 1000.0;  ///< a stamp this much earlier than its arrival is refused
+  double offset_ms = 0.0;              ///< added to a device's stamp to put it on this host's monotonic clock
+  double max_ahead_ms = 50.0;          ///< a stamp this much later than its arrival is refused
+  double max_behind_ms = 1000.0;       ///< a stamp this much earlier than its arrival is refused
   double bad_sample_hold_ms = 2000.0;  ///< a refused sample keeps bad_sample raised on the station's health this long
 };
 

@@ -1,13 +1,13 @@
 #include "nav/station/security_roles.hpp"
 
-
 namespace nav::station {
 namespace {
 
 /// `path` with every "{role}" replaced by `role`.
 std::string with_role(std::string path, const std::string& role) {
   static constexpr std::string_view kPlaceholder = "{role}";
-  for (std::size_t at = path.find(kPlaceholder); at != std::string::npos; at = path.find(kPlaceholder, at + role.size()))
+  for (std::size_t at = path.find(kPlaceholder); at != std::string::npos;
+       at = path.find(kPlaceholder, at + role.size()))
     path.replace(at, kPlaceholder.size(), role);
   return path;
 }
@@ -16,25 +16,33 @@ std::string with_role(std::string path, const std::string& role) {
 
 const char* role_name(Role role) {
   switch (role) {
-    case Role::station: return "station";
-    case Role::devices: return "devices";
-    case Role::display: return "display";
-    case Role::tool: return "tool";
+    case Role::station:
+      return "station";
+    case Role::devices:
+      return "devices";
+    case Role::display:
+      return "display";
+    case Role::tool:
+      return "tool";
   }
   return "station";
 }
 
 RoleTopics role_topics(Role role) {
   using dds::Topic;
-  const std::vector<Topic> all{Topic::tool_pose,         Topic::ultrasound_frame, Topic::needle_state, Topic::target_prediction,
-                               Topic::deformed_surface, Topic::station_health,   Topic::ground_truth};
+  const std::vector<Topic> all{Topic::tool_pose,         Topic::ultrasound_frame, Topic::needle_state,
+                               Topic::target_prediction, Topic::deformed_surface, Topic::station_health,
+                               Topic::ground_truth};
   switch (role) {
     case Role::station:
       return {{Topic::needle_state, Topic::target_prediction, Topic::deformed_surface, Topic::station_health},
               {Topic::tool_pose, Topic::ultrasound_frame}};
-    case Role::devices: return {{Topic::tool_pose, Topic::ultrasound_frame, Topic::ground_truth}, {Topic::station_health}};
-    case Role::display: return {{}, all};
-    case Role::tool: return {all, all};
+    case Role::devices:
+      return {{Topic::tool_pose, Topic::ultrasound_frame, Topic::ground_truth}, {Topic::station_health}};
+    case Role::display:
+      return {{}, all};
+    case Role::tool:
+      return {all, all};
   }
   return {};
 }

@@ -25,8 +25,8 @@ struct Arrival {
 
 /// Reads the recording's poses and frames into loop samples on the recording's own clock
 /// (loop time 0 at the first arrival), each frame observed for its tumour point.
-Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader, const ProbeImaging& imaging, const DdsRunOptions& boundary,
-                                                   SessionReplay& out) {
+Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader, const ProbeImaging& imaging,
+                                                   const DdsRunOptions& boundary, SessionReplay& out) {
   const ToolIds& tools = boundary.tools;
   const TimeNs device_to_host_ns = boundary.arrival.source_clock_offset_ns;
   std::vector<Arrival> arrivals;
@@ -37,9 +37,11 @@ Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader,
       continue;
     }
     const dds::Topic topic = record.value().topic;
-    if (topic == dds::Topic::tool_pose || topic == dds::Topic::ultrasound_frame) arrivals.push_back({record.value().receive_time_ns, i});
+    if (topic == dds::Topic::tool_pose || topic == dds::Topic::ultrasound_frame)
+      arrivals.push_back({record.value().receive_time_ns, i});
   }
-  std::stable_sort(arrivals.begin(), arrivals.end(), [](const Arrival& a, const Arrival& b) { return a.received_ns < b.received_ns; });
+  std::stable_sort(arrivals.begin(), arrivals.end(),
+                   [](const Arrival& a, const Arrival& b) { return a.received_ns < b.received_ns; });
   std::vector<DeviceSample> samples;
   if (arrivals.empty()) return samples;
   const TimeNs origin_ns = arrivals.front().received_ns;
@@ -67,7 +69,8 @@ Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader,
       if (fault == dds::SampleFault::none) fault = pose_boundary.admit(pose, a.received_ns);
       if (fault == dds::SampleFault::none) fault = inbox->offer(pose);
       if (!admitted(fault)) continue;
-      const std::optional<DeviceSample> sample = device_sample_of(pose, device_to_loop_ns, delivered_ns, tools, registration);
+      const std::optional<DeviceSample> sample =
+          device_sample_of(pose, device_to_loop_ns, delivered_ns, tools, registration);
       if (!sample) continue;  // the reference, or a pose before it
       ++out.poses;
       if (std::optional<DeviceSample> for_loop = loop_sample(observer, *sample, {})) samples.push_back(*for_loop);
@@ -81,7 +84,8 @@ Result<std::vector<DeviceSample>> observed_session(dds::RecordingReader& reader,
     sample.kind = SampleKind::ultrasound_frame;
     sample.measured_ns = frame->source_time_ns + device_to_loop_ns;
     sample.delivered_ns = delivered_ns;
-    const FrameView view{frame->pixels.data(), frame->width_px, frame->height_px, frame->pixel_spacing_m[0], frame->pixel_spacing_m[1]};
+    const FrameView view{frame->pixels.data(), frame->width_px, frame->height_px, frame->pixel_spacing_m[0],
+                         frame->pixel_spacing_m[1]};
     if (std::optional<DeviceSample> for_loop = loop_sample(observer, sample, view)) samples.push_back(*for_loop);
   }
   out.observer = observer.counts();
@@ -107,7 +111,8 @@ Result<SessionReplay> replay_session(const Scene& scene, const std::string& path
   if (!boundary.ok()) return boundary.error();
   auto samples = observed_session(*reader.value(), imaging.value(), boundary.value(), out);
   if (!samples.ok()) return samples.error();
-  if (samples.value().empty()) return Error{.message = "the recording holds no tracker poses or ultrasound frames to replay", .file = path};
+  if (samples.value().empty())
+    return Error{.message = "the recording holds no tracker poses or ultrasound frames to replay", .file = path};
   auto replay = replay_station(loop.value(), samples.value(), out.duration_ns, true);
   if (!replay.ok()) return replay.error();
   out.replay = std::move(replay).value();
@@ -123,12 +128,13 @@ std::string format_replay(const Scene& scene, const std::string& path, const Ses
                 "  refused at the station's boundary: %s\n"
                 "  last tick: tumour now (%.2f, %.2f, %.2f) mm, needle tip (%.2f, %.2f, %.2f) mm\n"
                 "  output hash %016llx\n",
-                path.c_str(), scene.station.name.c_str(), 1e-9 * static_cast<double>(r.duration_ns), r.replay.ticks.size(),
-                static_cast<long long>(r.poses), static_cast<long long>(r.frames), static_cast<long long>(r.observer.observations),
-                static_cast<long long>(r.records_refused), r.damage ? "; damaged: " : "", r.damage ? r.damage->describe().c_str() : "",
-                dds::drops_by_reason(r.boundary).c_str(),
-                1e3 * last.tumour_now_m[0], 1e3 * last.tumour_now_m[1], 1e3 * last.tumour_now_m[2], 1e3 * last.needle_tip_m[0],
-                1e3 * last.needle_tip_m[1], 1e3 * last.needle_tip_m[2], static_cast<unsigned long long>(r.replay.output_hash));
+                path.c_str(), scene.station.name.c_str(), 1e-9 * static_cast<double>(r.duration_ns),
+                r.replay.ticks.size(), static_cast<long long>(r.poses), static_cast<long long>(r.frames),
+                static_cast<long long>(r.observer.observations), static_cast<long long>(r.records_refused),
+                r.damage ? "; damaged: " : "", r.damage ? r.damage->describe().c_str() : "",
+                dds::drops_by_reason(r.boundary).c_str(), 1e3 * last.tumour_now_m[0], 1e3 * last.tumour_now_m[1],
+                1e3 * last.tumour_now_m[2], 1e3 * last.needle_tip_m[0], 1e3 * last.needle_tip_m[1],
+                1e3 * last.needle_tip_m[2], static_cast<unsigned long long>(r.replay.output_hash));
   return text;
 }
 

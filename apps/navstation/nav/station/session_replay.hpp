@@ -21,13 +21,13 @@ namespace nav::station {
 
 /// What a replay of a recorded session did.
 struct SessionReplay {
-  StationReplay replay;               ///< the ticks and the hash of their outputs
+  StationReplay replay;                ///< the ticks and the hash of their outputs
   std::int64_t poses = 0, frames = 0;  ///< taken from the recording
-  std::int64_t records_refused = 0;   ///< poses and frames unreadable, or refused at the station's boundary
-  dds::BoundaryCounts boundary{};     ///< the boundary's verdicts on the recorded poses and frames, as live
-  ObserverCounts observer;            ///< the frames and the tumour points found in them
-  std::optional<Error> damage;        ///< where the recording is damaged (its intact part played)
-  TimeNs duration_ns = 0;             ///< from the first to the last recorded sample's arrival
+  std::int64_t records_refused = 0;    ///< poses and frames unreadable, or refused at the station's boundary
+  dds::BoundaryCounts boundary{};      ///< the boundary's verdicts on the recorded poses and frames, as live
+  ObserverCounts observer;             ///< the frames and the tumour points found in them
+  std::optional<Error> damage;         ///< where the recording is damaged (its intact part played)
+  TimeNs duration_ns = 0;              ///< from the first to the last recorded sample's arrival
 };
 
 /// Replays the poses and frames of the recording at `path` through the station of `scene`.

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 #include <numbers>
+#include <numeric>
 #include <random>
 #include <span>
 #include <string>
@@ -25,18 +25,24 @@ double seconds(TimeNs t) { return 1e-9 * static_cast<double>(t); }
 TimeNs period_ns(double rate_hz) { return static_cast<TimeNs>(std::llround(1e9 / rate_hz)); }
 
 /// The patient's full-order liver: the scene's model on the patient's (softer) material.
-Result<TetFemModel> patient_liver(const StationLiver& liver, const Scene& scene, const WorldOptions& options, TimeNs step_ns) {
+Result<TetFemModel> patient_liver(const StationLiver& liver, const Scene& scene, const WorldOptions& options,
+                                  TimeNs step_ns) {
   TissueScene patient = liver.scene;
   patient.default_material.youngs_modulus_pa *= options.truth_stiffness_factor;
   TissueSolverOptions solver = scene.liver.full;
   solver.step_s = seconds(step_ns);
   auto model = make_tet_fem_model(liver.mesh, patient, solver);
-  if (!model.ok()) return Error{.message = model.error().describe(), .file = scene.source_path, .line = scene.liver.line, .field = "liver.model"};
+  if (!model.ok())
+    return Error{.message = model.error().describe(),
+                 .file = scene.source_path,
+                 .line = scene.liver.line,
+                 .field = "liver.model"};
   return model;
 }
 
 /// The diaphragm's true displacement at tissue step i: the marker's motion times the gain, late.
-TissueInputs diaphragm_inputs(const BreathingGeometry& breathing, const WorldOptions& options, TimeNs step_ns, std::size_t i) {
+TissueInputs diaphragm_inputs(const BreathingGeometry& breathing, const WorldOptions& options, TimeNs step_ns,
+                              std::size_t i) {
   const TimeNs t = static_cast<TimeNs>(i) * step_ns - options.diaphragm_lag_ns;
   const Eigen::Vector3d d = options.diaphragm_gain * breathing.diaphragm_per_marker * marker_displacement_m(options, t);
   TissueInputs inputs;
@@ -58,12 +64,14 @@ constexpr double kRunawayDisplacementM = 0.1;
 
 /// The true tumour `tumour` of tissue step i, appended, or an Error naming the liver's model
 /// when the patient's simulation ran away there (never a world that publishes it as truth).
-Status record_tumour(SimulatedWorld& world, const StationLiver& liver, const Scene& scene, const Point3& tumour, std::size_t i) {
+Status record_tumour(SimulatedWorld& world, const StationLiver& liver, const Scene& scene, const Point3& tumour,
+                     std::size_t i) {
   double moved_m2 = 0.0;
   for (std::size_t c = 0; c < 3; ++c) moved_m2 += (tumour[c] - liver.tumour_m[c]) * (tumour[c] - liver.tumour_m[c]);
   if (!(std::sqrt(moved_m2) <= kRunawayDisplacementM)) {
     char message[160];
-    std::snprintf(message, sizeof message, "the simulated patient's liver ran away at %.2f s: its tumour is %.4g mm from rest",
+    std::snprintf(message, sizeof message,
+                  "the simulated patient's liver ran away at %.2f s: its tumour is %.4g mm from rest",
                   seconds(static_cast<TimeNs>(i) * world.step_ns), 1e3 * std::sqrt(moved_m2));
     return Error{.message = message, .file = scene.source_path, .line = scene.liver.line, .field = "liver.model"};
   }
@@ -78,17 +86,22 @@ std::size_t truth_steps(const Scene& scene, const WorldOptions& options, TimeNs 
 
 /// The true tumour of every tissue step: the full-order model of the patient's material
 /// driven by the diaphragm's true motion (a scene without a needle).
-Status tumour_truth(SimulatedWorld& world, const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
-                    const WorldOptions& options) {
+Status tumour_truth(SimulatedWorld& world, const StationLiver& liver, const Scene& scene,
+                    const BreathingGeometry& breathing, const WorldOptions& options) {
   auto patient = patient_liver(liver, scene, options, world.step_ns);
   if (!patient.ok()) return patient.error();
   auto data = make_tet_fem_data(patient.value());
-  if (!data.ok()) return Error{.message = data.error().describe(), .file = scene.source_path, .line = scene.liver.line, .field = "liver.model"};
+  if (!data.ok())
+    return Error{.message = data.error().describe(),
+                 .file = scene.source_path,
+                 .line = scene.liver.line,
+                 .field = "liver.model"};
   const std::size_t steps = truth_steps(scene, options, world.step_ns);
   world.tumour_truth_m.reserve(steps);
   for (std::size_t i = 0; i < steps; ++i) {
     step(patient.value(), data.value(), diaphragm_inputs(breathing, options, world.step_ns, i));
-    if (Status kept = record_tumour(world, liver, scene, tumour_of(liver, data.value().positions_m), i); !kept.ok()) return kept;
+    if (Status kept = record_tumour(world, liver, scene, tumour_of(liver, data.value().positions_m), i); !kept.ok())
+      return kept;
   }
   return Done{};
 }
@@ -97,18 +110,21 @@ Status tumour_truth(SimulatedWorld& world, const StationLiver& liver, const Scen
 /// the scene's needle coupled to the patient's full-order liver (tissue_coupling.hpp), its
 /// base at the true needle marker pose, the tissue stepping every loop_rate/tissue_rate ticks
 /// with the needle's point forces and the diaphragm.
-Status needle_and_tumour_truth(SimulatedWorld& world, const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
-                               const WorldOptions& options) {
+Status needle_and_tumour_truth(SimulatedWorld& world, const StationLiver& liver, const Scene& scene,
+                               const BreathingGeometry& breathing, const WorldOptions& options) {
   const NeedleSettings& needle = *scene.needle;
   auto patient = patient_liver(liver, scene, options, world.step_ns);
   if (!patient.ok()) return patient.error();
   const int every = static_cast<int>(std::lround(scene.station.loop_rate_hz / scene.station.tissue_rate_hz));
-  const auto needle_error = [&](const Error& e) { return Error{.message = e.describe(), .file = scene.source_path, .line = needle.line, .field = "needle"}; };
+  const auto needle_error = [&](const Error& e) {
+    return Error{.message = e.describe(), .file = scene.source_path, .line = needle.line, .field = "needle"};
+  };
   auto model = make_coupled_needle_model(needle.parameters, needle.interaction, patient.value(),
                                          liver.scene.max_point_forces, every);
   if (!model.ok()) return needle_error(model.error());
   const RigidPose marker_from_base = needle_marker_from_base();
-  auto data = make_coupled_needle_data(model.value(), to_needle_pose(compose(world.needle_marker_at(0), marker_from_base)));
+  auto data =
+      make_coupled_needle_data(model.value(), to_needle_pose(compose(world.needle_marker_at(0), marker_from_base)));
   if (!data.ok()) return needle_error(data.error());
   CoupledNeedleData& d = data.value();  // it holds the patient's tissue state too
   const std::size_t steps = truth_steps(scene, options, world.step_ns);
@@ -124,11 +140,13 @@ Status needle_and_tumour_truth(SimulatedWorld& world, const StationLiver& liver,
       step_needle(model.value(), d, inputs);
       if (k == 0) {
         step_tissue(model.value(), d, diaphragm_inputs(breathing, options, world.step_ns, i));
-        if (Status kept = record_tumour(world, liver, scene, tumour_of(liver, d.tissue.positions_m), i); !kept.ok()) return kept;
+        if (Status kept = record_tumour(world, liver, scene, tumour_of(liver, d.tissue.positions_m), i); !kept.ok())
+          return kept;
       }
       const std::span<const double> nodes = d.interaction.needle.positions_m;
       world.needle_tip_truth_m.push_back({nodes[3 * tip_node], nodes[3 * tip_node + 1], nodes[3 * tip_node + 2]});
-      world.needle_peak_tip_force_n = std::max(world.needle_peak_tip_force_n, tip_force_n(model.value().interaction, d.interaction).norm());
+      world.needle_peak_tip_force_n =
+          std::max(world.needle_peak_tip_force_n, tip_force_n(model.value().interaction, d.interaction).norm());
     }
   }
   world.needle_punctures = d.interaction.report.punctures;
@@ -150,8 +168,8 @@ Eigen::Vector3d position_noise(std::mt19937_64& rng, double std_m) {
 }
 
 /// The tracker's frames: needle and probe markers and the respiratory marker.
-void track(const SimulatedWorld& world, const Scene& scene, const BreathingGeometry& breathing, const WorldOptions& options,
-           std::vector<DeviceSample>& out) {
+void track(const SimulatedWorld& world, const Scene& scene, const BreathingGeometry& breathing,
+           const WorldOptions& options, std::vector<DeviceSample>& out) {
   const TrackerSettings& tracker = scene.devices.tracker;
   std::mt19937_64 rng(tracker.seed);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
@@ -160,7 +178,8 @@ void track(const SimulatedWorld& world, const Scene& scene, const BreathingGeome
     if (tracker.dropout_probability > 0.0 && uniform(rng) < tracker.dropout_probability) continue;
     DeviceSample needle{SampleKind::needle_pose, t, t + latency_ns, {}, Eigen::Vector3d::Zero()};
     const RigidPose marker = world.needle_marker_at(t);
-    needle.pose = {marker.position_m + position_noise(rng, tracker.position_noise_m), rotation_noise(rng, tracker.rotation_noise_rad) * marker.rotation};
+    needle.pose = {marker.position_m + position_noise(rng, tracker.position_noise_m),
+                   rotation_noise(rng, tracker.rotation_noise_rad) * marker.rotation};
     out.push_back(needle);
     DeviceSample probe{SampleKind::probe_pose, t, t + latency_ns, {}, Eigen::Vector3d::Zero()};
     const RigidPose probe_truth = world.probe_at(t);
@@ -218,14 +237,17 @@ Point3 SimulatedWorld::tumour_at(TimeNs time_ns) const {
 }
 
 Eigen::Vector3d SimulatedWorld::needle_tip_at(TimeNs time_ns) const {
-  if (needle_tip_truth_m.empty()) return needle_start_m + seconds(std::min(time_ns, needle_stop_ns)) * needle_velocity_m_s;
-  const TimeNs clamped = std::clamp<TimeNs>(time_ns, 0, static_cast<TimeNs>(needle_tip_truth_m.size() - 1) * needle_step_ns);
+  if (needle_tip_truth_m.empty())
+    return needle_start_m + seconds(std::min(time_ns, needle_stop_ns)) * needle_velocity_m_s;
+  const TimeNs clamped =
+      std::clamp<TimeNs>(time_ns, 0, static_cast<TimeNs>(needle_tip_truth_m.size() - 1) * needle_step_ns);
   const Point3& p = needle_tip_truth_m[static_cast<std::size_t>(clamped / needle_step_ns)];
   return {p[0], p[1], p[2]};
 }
 
 RigidPose SimulatedWorld::needle_marker_at(TimeNs time_ns) const {
-  const Eigen::Quaterniond rotation = Eigen::Quaterniond::FromTwoVectors(-Eigen::Vector3d::UnitZ(), needle_velocity_m_s.normalized());
+  const Eigen::Quaterniond rotation =
+      Eigen::Quaterniond::FromTwoVectors(-Eigen::Vector3d::UnitZ(), needle_velocity_m_s.normalized());
   const Eigen::Vector3d tip = needle_start_m + seconds(std::min(time_ns, needle_stop_ns)) * needle_velocity_m_s;
   return {tip - rotation * Eigen::Vector3d{0.0, 0.0, -needle_length_m}, rotation};
 }
@@ -245,9 +267,15 @@ double marker_displacement_m(const WorldOptions& options, TimeNs time_ns) {
 }
 
 Status check_simulated_devices(const Scene& scene) {
-  if (scene.devices.tracker.kind == TrackerKind::simulated && scene.devices.ultrasound.kind == UltrasoundKind::simulated) return Done{};
-  return Error{.message = "the simulated world plays simulated devices only (kind: simulated); this scene's devices are real: run the station live "
-               "(navstation --live) with their device processes", .file = scene.source_path, .field = "devices"};
+  if (scene.devices.tracker.kind == TrackerKind::simulated &&
+      scene.devices.ultrasound.kind == UltrasoundKind::simulated)
+    return Done{};
+  return Error{.message =
+                   "the simulated world plays simulated devices only (kind: simulated); this scene's devices are real: "
+                   "run the station live "
+                   "(navstation --live) with their device processes",
+               .file = scene.source_path,
+               .field = "devices"};
 }
 
 Result<SimulatedWorld> simulate_world(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
@@ -257,7 +285,8 @@ Result<SimulatedWorld> simulate_world(const StationLiver& liver, const Scene& sc
   world.step_ns = period_ns(scene.station.tissue_rate_hz);
   world.duration_ns = options.duration_ns;
   const Eigen::Vector3d toward = -Eigen::Vector3d{0.0, 1.0, 0.25}.normalized();  // from in front, a little above
-  world.needle_start_m = Eigen::Vector3d{liver.tumour_m[0], liver.tumour_m[1], liver.tumour_m[2]} - options.needle_start_distance_m * toward;
+  world.needle_start_m = Eigen::Vector3d{liver.tumour_m[0], liver.tumour_m[1], liver.tumour_m[2]} -
+                         options.needle_start_distance_m * toward;
   world.needle_velocity_m_s = options.needle_speed_m_s * toward;
   world.needle_stop_ns = static_cast<TimeNs>(std::llround(1e9 * options.needle_travel_m / options.needle_speed_m_s));
   world.needle_length_m = scene.needle ? scene.needle->parameters.length_m : 0.15;
@@ -267,7 +296,8 @@ Result<SimulatedWorld> simulate_world(const StationLiver& liver, const Scene& sc
   auto imaging = scene_probe_imaging(scene);  // the patient's probe is the one the scene calibrated
   if (!imaging.ok()) return imaging.error();
   world.imaging = imaging.value();
-  world.probe_centre_m = Eigen::Vector3d{liver.tumour_m[0], liver.tumour_m[1], liver.tumour_m[2] + options.probe_height_m};
+  world.probe_centre_m =
+      Eigen::Vector3d{liver.tumour_m[0], liver.tumour_m[1], liver.tumour_m[2] + options.probe_height_m};
   world.probe_sweep_rad = options.probe_sweep_rad;
   world.probe_sweep_period_s = options.probe_sweep_period_s;
   track(world, scene, breathing, options, world.samples);

@@ -9,9 +9,9 @@
 // it, the respiratory marker) with the scene's rate, latency, noise and dropout, and a
 // synthetic B-mode scanner on the tracked probe (BmodeSimulator: speckle, a hypoechoic tumour,
 // vessels, capsule) imaging the tissue around the true, moving tumour at the scene's rate
-// (frame loss optional); the station finds the tumour in those frames itself. The whole world is computed at start-up into a recording: every sample with the
-// time it was measured and the time it reaches the station, in delivery order. Seeded RNGs
-// only: the same scene and options give the same recording. Init-time code.
+// (frame loss optional); the station finds the tumour in those frames itself. The whole world is computed at start-up
+// into a recording: every sample with the time it was measured and the time it reaches the station, in delivery order.
+// Seeded RNGs only: the same scene and options give the same recording. Init-time code.
 #include <cstdint>
 #include <vector>
 
@@ -30,8 +30,8 @@ namespace nav::station {
 struct WorldOptions {
   TimeNs duration_ns = 10 * kNsPerSecond;
   double breathing_period_s = 4.0;
-  double marker_amplitude_m = 0.005;        ///< the respiratory marker's amplitude (10 mm peak to peak)
-  double truth_stiffness_factor = 0.7;      ///< the patient's tissue against the scene's (model's) material
+  double marker_amplitude_m = 0.005;    ///< the respiratory marker's amplitude (10 mm peak to peak)
+  double truth_stiffness_factor = 0.7;  ///< the patient's tissue against the scene's (model's) material
   /// The true diaphragm moves this many times what the station's marker-to-diaphragm map
   /// says, and this long after the marker: the external marker is a surrogate of the motion inside.
   double diaphragm_gain = 1.3;
@@ -44,11 +44,11 @@ struct WorldOptions {
   double needle_start_distance_m = 0.083;
   double needle_speed_m_s = 0.005;
   double needle_travel_m = 0.083;
-  double probe_sweep_rad = 0.3;             ///< the probe's sweep amplitude about the model x axis
+  double probe_sweep_rad = 0.3;  ///< the probe's sweep amplitude about the model x axis
   double probe_sweep_period_s = 3.0;
-  double probe_height_m = 0.045;            ///< the probe marker above the tumour at rest (the image's depth to it)
+  double probe_height_m = 0.045;               ///< the probe marker above the tumour at rest (the image's depth to it)
   TimeNs ultrasound_delay_ns = 30 * kNsPerMs;  ///< from image capture to the frame at the station
-  double ultrasound_frame_loss = 0.0;       ///< probability that a frame is lost
+  double ultrasound_frame_loss = 0.0;          ///< probability that a frame is lost
 };
 
 /// The kinds of recorded sample.
@@ -59,11 +59,11 @@ enum class SampleKind : std::uint8_t { needle_pose, probe_pose, respiratory, tum
 /// One sample of one simulated device (tracker frame = model frame).
 struct DeviceSample {
   SampleKind kind = SampleKind::needle_pose;
-  TimeNs measured_ns = 0;   ///< when the device measured it
-  TimeNs delivered_ns = 0;  ///< when it reaches the station
-  RigidPose pose;           ///< needle and probe markers
+  TimeNs measured_ns = 0;                             ///< when the device measured it
+  TimeNs delivered_ns = 0;                            ///< when it reaches the station
+  RigidPose pose;                                     ///< needle and probe markers
   Eigen::Vector3d point_m = Eigen::Vector3d::Zero();  ///< respiratory marker, or a tumour point
-  std::int32_t frame_index = -1;  ///< ultrasound_frame: the frame in SimulatedWorld::frames
+  std::int32_t frame_index = -1;                      ///< ultrasound_frame: the frame in SimulatedWorld::frames
 };
 
 /// One B-mode frame of the simulated scanner (row-major, the probe imaging's grid).
@@ -74,24 +74,24 @@ struct UltrasoundImage {
 
 /// The simulated world: the truth at every tissue step and the devices' recording.
 struct SimulatedWorld {
-  TimeNs step_ns = 10 * kNsPerMs;          ///< the tissue step
-  TimeNs duration_ns = 0;                  ///< the devices' samples cover [0, duration_ns]
-  std::vector<Point3> tumour_truth_m;      ///< the true tumour at i * step_ns (full-order model)
+  TimeNs step_ns = 10 * kNsPerMs;      ///< the tissue step
+  TimeNs duration_ns = 0;              ///< the devices' samples cover [0, duration_ns]
+  std::vector<Point3> tumour_truth_m;  ///< the true tumour at i * step_ns (full-order model)
   /// The needle holder's motion: where the straight needle's tip would be (the marker's
   /// tip point) at time 0, and its velocity; the marker at the needle's base, length_m back.
   Eigen::Vector3d needle_start_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d needle_velocity_m_s = Eigen::Vector3d::Zero();
-  TimeNs needle_stop_ns = 0;               ///< when the holder stops (its tip at start + travel)
+  TimeNs needle_stop_ns = 0;  ///< when the holder stops (its tip at start + travel)
   double needle_length_m = 0.15;
   /// With the scene's needle: its true (bent) tip at k * needle_step_ns, from the needle
   /// coupled to the full-order liver; empty without a needle (the tip is then the straight one).
   std::vector<Point3> needle_tip_truth_m;
   TimeNs needle_step_ns = kNsPerMs;
-  double needle_peak_tip_force_n = 0.0;    ///< the true needle's largest tip force over the run
-  int needle_punctures = 0;                ///< surfaces the true needle punctured
-  std::vector<DeviceSample> samples;       ///< in delivery order
-  std::vector<UltrasoundImage> frames;     ///< the scanner's frames, by frame_index
-  ProbeImaging imaging;                    ///< the scanner's grid and probe calibration
+  double needle_peak_tip_force_n = 0.0;                      ///< the true needle's largest tip force over the run
+  int needle_punctures = 0;                                  ///< surfaces the true needle punctured
+  std::vector<DeviceSample> samples;                         ///< in delivery order
+  std::vector<UltrasoundImage> frames;                       ///< the scanner's frames, by frame_index
+  ProbeImaging imaging;                                      ///< the scanner's grid and probe calibration
   Eigen::Vector3d probe_centre_m = Eigen::Vector3d::Zero();  ///< the probe marker's position
   double probe_sweep_rad = 0.0, probe_sweep_period_s = 1.0;
   /// The true tumour at any time within the run (linear between tissue steps).

@@ -29,7 +29,10 @@ Status check_frames(const calibration::FrameTree& tree, const Scene& scene) {
   const std::vector<std::string> frames = tree.frames();
   for (const std::string& name : needed)
     if (std::find(frames.begin(), frames.end(), name) == frames.end())
-      return Error{.message = "the URDF " + scene.frames.urdf_path + " has no frame '" + name + "'", .file = scene.source_path, .line = scene.frames.line, .field = "frames.urdf"};
+      return Error{.message = "the URDF " + scene.frames.urdf_path + " has no frame '" + name + "'",
+                   .file = scene.source_path,
+                   .line = scene.frames.line,
+                   .field = "frames.urdf"};
   return Done{};
 }
 
@@ -53,7 +56,8 @@ Error ladder_error(const Error& inner, const Scene& scene) {
   } else {
     field.clear();
   }
-  return at_section(Error{.message = inner.message, .file = inner.file, .line = inner.line, .field = field}, scene, line, key);
+  return at_section(Error{.message = inner.message, .file = inner.file, .line = inner.line, .field = field}, scene,
+                    line, key);
 }
 
 /// The full-order law of the reduced rungs' force kind, with their step, integrator and damping
@@ -61,7 +65,8 @@ Error ladder_error(const Error& inner, const Scene& scene) {
 TissueSolverOptions ladder_solver(ReducedForceKind kind, const ReducedSolverOptions& reduced) {
   TissueSolverOptions solver = reduction_solver_options(kind);
   solver.step_s = reduced.step_s;
-  solver.integrator = reduced.integrator == ReducedIntegrator::quasi_static ? Integrator::quasi_static : Integrator::implicit_euler;
+  solver.integrator =
+      reduced.integrator == ReducedIntegrator::quasi_static ? Integrator::quasi_static : Integrator::implicit_euler;
   solver.rayleigh_mass_per_s = reduced.rayleigh_mass_per_s;
   solver.rayleigh_stiffness_s = reduced.rayleigh_stiffness_s;
   return solver;
@@ -110,7 +115,11 @@ Result<std::vector<ReducedRungSpec>> load_reduced_rungs(const Scene& scene, cons
     auto basis = load_reduced_basis(e.rungs[i].artifact_path, &mesh);
     if (!basis.ok()) return at_section(basis.error(), scene, e.rungs[i].line, key);
     if (basis.value().force_kind != rungs[0].basis.force_kind)
-      return Error{.message = e.rungs[i].artifact_path + ": its force kind differs from liver.model.artifact's (the rungs share one element law)", .file = scene.source_path, .line = e.rungs[i].line, .field = key};
+      return Error{.message = e.rungs[i].artifact_path +
+                              ": its force kind differs from liver.model.artifact's (the rungs share one element law)",
+                   .file = scene.source_path,
+                   .line = e.rungs[i].line,
+                   .field = key};
     rungs.push_back({std::move(basis).value(), settings.reduced});
   }
   return rungs;
@@ -118,7 +127,8 @@ Result<std::vector<ReducedRungSpec>> load_reduced_rungs(const Scene& scene, cons
 
 Result<ReducedModel> make_scene_reduced_model(const Scene& scene, const TetMesh& mesh, const TissueScene& tissue,
                                               const ReducedRungSpec& rung) {
-  auto model = make_reduced_model(mesh, tissue, reduction_solver_options(rung.basis.force_kind), rung.basis, rung.options);
+  auto model =
+      make_reduced_model(mesh, tissue, reduction_solver_options(rung.basis.force_kind), rung.basis, rung.options);
   if (!model.ok()) return at_section(model.error(), scene, scene.liver.line, "liver.model");
   return model;
 }
@@ -175,13 +185,19 @@ Result<BuiltStation> build_station(Scene scene) {
   const Status network = dds::check_network(station_network(scene.topics.domain_id, "nav_station", scene.network));
   if (!network.ok()) {
     const std::string& field = network.error().field;
-    return Error{.message = network.error().message, .file = scene.source_path, .line = scene.network.line, .field = field == "local_address" ? "network.local_address" : "network.peers"};
+    return Error{.message = network.error().message,
+                 .file = scene.source_path,
+                 .line = scene.network.line,
+                 .field = field == "local_address" ? "network.local_address" : "network.peers"};
   }
   // The station's own identity only: each host holds the keys of the roles it runs.
   const Status secured = dds::check_security(security_files(scene.network.security, Role::station));
   if (!secured.ok()) {
     const Error& e = secured.error();
-    return Error{.message = e.message + (e.file.empty() ? "" : ": " + e.file) + " (the station's files)", .file = scene.source_path, .line = scene.network.security.line, .field = e.field};
+    return Error{.message = e.message + (e.file.empty() ? "" : ": " + e.file) + " (the station's files)",
+                 .file = scene.source_path,
+                 .line = scene.network.security.line,
+                 .field = e.field};
   }
   BuiltStation built{StationModels{std::move(scene), std::move(frames).value(), {}, {}, {}, {}, {}}, {}};
   StationModels& models = built.models;

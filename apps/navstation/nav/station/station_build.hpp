@@ -1,8 +1,8 @@
 #pragma once
 // Builds what a scene declares, and only that: the frame tree, the liver mesh and its model
-// (full order, reduced, or the reduced escalation ladder), the needle (if `needle:`), the ligaments (if `ligaments:`), each
-// with its data at rest, and reports their memory footprint. Init-time code: it reads files,
-// allocates and returns errors that name the scene file, the section's line and its key.
+// (full order, reduced, or the reduced escalation ladder), the needle (if `needle:`), the ligaments (if `ligaments:`),
+// each with its data at rest, and reports their memory footprint. Init-time code: it reads files, allocates and returns
+// errors that name the scene file, the section's line and its key.
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -16,8 +16,8 @@
 #include "nav/needle/needle_tissue_model.hpp"
 #include "nav/reduced/reduced_ladder.hpp"
 #include "nav/reduced/reduced_model.hpp"
-#include "nav/tissue/tet_fem_model.hpp"
 #include "nav/station/scene.hpp"
+#include "nav/tissue/tet_fem_model.hpp"
 
 namespace nav::station {
 
@@ -48,8 +48,8 @@ struct StationModels {
 
 /// One line of the footprint: a part of one model and its bytes.
 struct FootprintLine {
-  std::string model;   ///< "liver", "needle", "ligaments"
-  std::string part;    ///< "mesh", "tables", "data arena", ...
+  std::string model;  ///< "liver", "needle", "ligaments"
+  std::string part;   ///< "mesh", "tables", "data arena", ...
   std::int64_t bytes = 0;
   bool estimated = false;  ///< from element counts, where the model does not report its size
 };

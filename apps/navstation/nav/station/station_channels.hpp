@@ -15,8 +15,8 @@
 
 namespace nav::station {
 
-inline constexpr std::size_t kRingCapacity = 1024;      // samples in flight from the I/O thread
-inline constexpr TimeNs kIoPeriodNs = kNsPerMs / 10;    // the I/O thread's polling period
+inline constexpr std::size_t kRingCapacity = 1024;    // samples in flight from the I/O thread
+inline constexpr TimeNs kIoPeriodNs = kNsPerMs / 10;  // the I/O thread's polling period
 
 /// What the two threads share.
 struct StationChannels {
@@ -24,7 +24,7 @@ struct StationChannels {
   TripleBuffer<OperatingLoopOutputs> outputs;
   dds::StationOutbox* outbox = nullptr;  ///< with DDS: the real-time thread's outputs for the I/O thread to publish
   MonotonicClock clock;
-  TimeNs start_ns = 0;               ///< written by the real-time thread before `started`
+  TimeNs start_ns = 0;  ///< written by the real-time thread before `started`
   std::atomic<bool> started{false};
   std::atomic<bool> realtime_done{false};
 
@@ -47,8 +47,8 @@ struct StationDdsLink;
 /// and feeds the ring; an output thread beside it publishes the outbox and the surface; with a
 /// `world`, the in-process devices' participant plays its recording (station_dds.cpp),
 /// without, the devices are other processes.
-void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, const ProbeImaging& imaging, StationChannels& ch,
-                   StationRun& run, const StationRunOptions& options, StationDdsLink& link);
+void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, const ProbeImaging& imaging,
+                   StationChannels& ch, StationRun& run, const StationRunOptions& options, StationDdsLink& link);
 
 /// How the real-time thread stamps the outputs it hands to DDS.
 struct OutputStamps {
@@ -61,7 +61,7 @@ struct OutputStamps {
 /// needle at each liver step, health every health_every_ticks ticks), stamped on the host's
 /// clock. The needle is the needle model's centreline with its tip force when the loop steps
 /// one, its tip otherwise. No allocation, never blocks.
-void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& outputs, const OutputStamps& stamps, std::int64_t health_every_ticks,
-                  std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept;
+void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& outputs, const OutputStamps& stamps,
+                  std::int64_t health_every_ticks, std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept;
 
 }  // namespace nav::station

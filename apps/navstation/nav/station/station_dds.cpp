@@ -19,7 +19,8 @@ constexpr TimeNs kMatchTimeoutNs = 10 * kNsPerSecond;
 constexpr TimeNs kAcknowledgmentTimeoutNs = 1 * kNsPerSecond;
 constexpr TimeNs kPeerWatchPeriodNs = 5 * kNsPerMs;  // how often the I/O thread counts the matched pose writers
 constexpr std::uint32_t kTumourTargetId = 1;
-static_assert(kLoopMaxNeedleNodes <= static_cast<int>(dds::kMaxNeedlePoints), "a NeedleState holds every node of the loop's needle");
+static_assert(kLoopMaxNeedleNodes <= static_cast<int>(dds::kMaxNeedlePoints),
+              "a NeedleState holds every node of the loop's needle");
 
 dds::Vector3 vector_of(const Point3& p) { return {p[0], p[1], p[2]}; }
 
@@ -42,7 +43,8 @@ std::vector<double> latencies_us(const std::vector<Receipt>& receipts, const std
 /// The devices' side: plays the world's recording on its own participant, each sample when
 /// its delivery time comes; during an outage the participant is destroyed (and the samples
 /// due are lost), then created again.
-void device_thread(WorldPlayer& player, StationChannels& ch, const DdsRunOptions& options, StationDdsLink& link, DdsRunReport& report) {
+void device_thread(WorldPlayer& player, StationChannels& ch, const DdsRunOptions& options, StationDdsLink& link,
+                   DdsRunReport& report) {
   // The simulated devices stamp on their clock: this host's monotonic clock less the scene's
   // declared offset (the station adds it back).
   player.set_world_to_device_ns(ch.start_ns - options.arrival.source_clock_offset_ns);
@@ -57,7 +59,8 @@ void device_thread(WorldPlayer& player, StationChannels& ch, const DdsRunOptions
       // are still being advertised.
       const TimeNs creating_ns = ch.run_time_ns();
       auto node = make_station_node(link.domain_id, "nav_demo_devices", link.names, link.network, Role::devices);
-      if (node.ok() && node.value()->advertise<dds::ToolPose>().ok() && node.value()->advertise<dds::UltrasoundFrame>().ok()) {
+      if (node.ok() && node.value()->advertise<dds::ToolPose>().ok() &&
+          node.value()->advertise<dds::UltrasoundFrame>().ok()) {
         link.devices = std::move(node).value();
         report.device_back_ns = creating_ns;
       }
@@ -71,7 +74,8 @@ void device_thread(WorldPlayer& player, StationChannels& ch, const DdsRunOptions
 /// the run has a surface (I/O thread).
 class DisplaySurfacePublisher {
  public:
-  DisplaySurfacePublisher(const OperatingLoopModel& loop, const DdsRunOptions& options) : period_ns_(options.surface_period_ns) {
+  DisplaySurfacePublisher(const OperatingLoopModel& loop, const DdsRunOptions& options)
+      : period_ns_(options.surface_period_ns) {
     if (options.surface == nullptr) return;
     auto made = SurfaceReconstruction::create(loop, *options.surface);
     if (!made.ok()) return;
@@ -123,13 +127,15 @@ dds::PerInput<std::uint64_t> input_refusals(const StationDdsLink& link) {
 /// SCHED_FIFO priority above it where the loop's allows): the outbox (predictions, needle
 /// states, health) as soon as the loop pushes it and the deformed surface, so that a frame
 /// being searched for the tumour on the I/O thread never holds a prediction back.
-void output_thread(StationChannels& ch, const StationRunOptions& options, StationDdsLink& link, DisplaySurfacePublisher& surfaces,
-                   StationRun& run, DdsRunReport& report) {
+void output_thread(StationChannels& ch, const StationRunOptions& options, StationDdsLink& link,
+                   DisplaySurfacePublisher& surfaces, StationRun& run, DdsRunReport& report) {
   pin_to_core(options.io_core);
-  if (options.io_priority > 0) request_fifo(options.io_priority + 1 < options.realtime.priority ? options.io_priority + 1 : options.io_priority);
+  if (options.io_priority > 0)
+    request_fifo(options.io_priority + 1 < options.realtime.priority ? options.io_priority + 1 : options.io_priority);
   dds::OutboxPublisher publisher(options.dds->bad_sample_hold_ns);
   const auto publish = [&] {
-    report.outputs_published += static_cast<std::int64_t>(publisher.publish(*ch.outbox, *link.station, ch.clock.now_ns(), input_refusals(link)));
+    report.outputs_published += static_cast<std::int64_t>(
+        publisher.publish(*ch.outbox, *link.station, ch.clock.now_ns(), input_refusals(link)));
     if (!ch.outputs.update()) return;
     ++run.outputs_read;
     surfaces.publish(ch.outputs.read(), ch.start_ns, *link.station);
@@ -139,7 +145,7 @@ void output_thread(StationChannels& ch, const StationRunOptions& options, Statio
     publish();
     ch.clock.sleep_until_ns(ch.clock.now_ns() + kIoPeriodNs);
   }
-  publish();  // the loop's last outputs
+  publish();                                                         // the loop's last outputs
   link.station->wait_for_acknowledgments(kAcknowledgmentTimeoutNs);  // they reach the displays before the run closes
   report.outbox_dropped = ch.outbox->dropped();
 }
@@ -148,14 +154,15 @@ void output_thread(StationChannels& ch, const StationRunOptions& options, Statio
 void watch_peer(const dds::DdsNode& station, TimeNs now, bool& present, DdsRunReport& report) {
   const bool matched = station.matched(dds::Topic::tool_pose) > 0;
   if (present && !matched && report.peer_lost_seen_ns < 0) report.peer_lost_seen_ns = now;
-  if (!present && matched && report.peer_lost_seen_ns >= 0 && report.peer_back_seen_ns < 0) report.peer_back_seen_ns = now;
+  if (!present && matched && report.peer_lost_seen_ns >= 0 && report.peer_back_seen_ns < 0)
+    report.peer_back_seen_ns = now;
   present = matched;
 }
 
 }  // namespace
 
-std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns, const ToolIds& tools,
-                                             TrackerRegistration& registration) {
+std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs device_to_loop_ns, TimeNs received_ns,
+                                             const ToolIds& tools, TrackerRegistration& registration) {
   if (registration.take_reference(pose)) return std::nullopt;
   const bool respiratory = pose.tool_id == tools.respiratory;
   if (!respiratory && pose.tool_id != tools.needle && pose.tool_id != tools.probe) return std::nullopt;
@@ -168,7 +175,8 @@ std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs d
   s.measured_ns = pose.source_time_ns + device_to_loop_ns;
   s.delivered_ns = received_ns;
   const auto& q = pose.orientation_wxyz;
-  const RigidPose in_tracker{{pose.position_m[0], pose.position_m[1], pose.position_m[2]}, Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized()};
+  const RigidPose in_tracker{{pose.position_m[0], pose.position_m[1], pose.position_m[2]},
+                             Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized()};
   const RigidPose in_model = compose(*model_from_tracker, in_tracker);
   if (respiratory) {  // a position only
     s.kind = SampleKind::respiratory;
@@ -181,13 +189,18 @@ std::optional<DeviceSample> device_sample_of(const dds::ToolPose& pose, TimeNs d
 }
 
 std::unique_ptr<dds::PoseInbox> role_inbox(const ToolIds& t, const dds::PoseBounds& bounds) {
-  if (t.reference) return std::make_unique<dds::PoseInbox>(std::initializer_list<std::uint32_t>{*t.reference, t.needle, t.probe, t.respiratory}, bounds);
-  return std::make_unique<dds::PoseInbox>(std::initializer_list<std::uint32_t>{t.needle, t.probe, t.respiratory}, bounds);
+  if (t.reference)
+    return std::make_unique<dds::PoseInbox>(
+        std::initializer_list<std::uint32_t>{*t.reference, t.needle, t.probe, t.respiratory}, bounds);
+  return std::make_unique<dds::PoseInbox>(std::initializer_list<std::uint32_t>{t.needle, t.probe, t.respiratory},
+                                          bounds);
 }
 
 dds::TopicNames topic_names(const TopicSettings& topics) {
   dds::TopicNames names;
-  const auto set = [&names](dds::Topic topic, const std::string& name) { names[static_cast<std::size_t>(topic)] = name; };
+  const auto set = [&names](dds::Topic topic, const std::string& name) {
+    names[static_cast<std::size_t>(topic)] = name;
+  };
   set(dds::Topic::tool_pose, topics.poses);
   set(dds::Topic::ultrasound_frame, topics.images);
   set(dds::Topic::needle_state, topics.needle_states);
@@ -198,7 +211,8 @@ dds::TopicNames topic_names(const TopicSettings& topics) {
   return names;
 }
 
-dds::NetworkConfig station_network(std::uint32_t domain_id, const char* participant_name, const NetworkSettings& settings, Role role) {
+dds::NetworkConfig station_network(std::uint32_t domain_id, const char* participant_name,
+                                   const NetworkSettings& settings, Role role) {
   dds::NetworkConfig network;  // the defaults: shared memory and UDP on 127.0.0.1, unicast discovery, no multicast
   network.domain_id = domain_id;
   network.participant_name = participant_name;
@@ -214,20 +228,23 @@ dds::NetworkConfig station_network(std::uint32_t domain_id, const char* particip
 Result<SceneDds> scene_dds(const std::string& scene_path, Role role) {
   auto scene = load_scene(scene_path);
   if (!scene.ok()) return scene.error();
-  return SceneDds{station_network(scene.value().topics.domain_id, "", scene.value().network, role), topic_names(scene.value().topics)};
+  return SceneDds{station_network(scene.value().topics.domain_id, "", scene.value().network, role),
+                  topic_names(scene.value().topics)};
 }
 
-Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id, const char* participant_name, const dds::TopicNames& names,
-                                                        const NetworkSettings& network, Role role) {
+Result<std::unique_ptr<dds::DdsNode>> make_station_node(std::uint32_t domain_id, const char* participant_name,
+                                                        const dds::TopicNames& names, const NetworkSettings& network,
+                                                        Role role) {
   dds::TopicQosOptions qos;
   qos.names = names;
   return dds::DdsNode::create(station_network(domain_id, participant_name, network, role), qos);
 }
 
 Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t domain_id, const dds::TopicNames& names,
-                                                               const dds::ArrivalWindow& arrival, const dds::PoseBounds& pose_bounds,
-                                                               bool with_simulated_devices, const NetworkSettings& network,
-                                                               const ToolIds& tools) {
+                                                               const dds::ArrivalWindow& arrival,
+                                                               const dds::PoseBounds& pose_bounds,
+                                                               bool with_simulated_devices,
+                                                               const NetworkSettings& network, const ToolIds& tools) {
   auto link = std::make_unique<StationDdsLink>();
   link->poses = role_inbox(tools, pose_bounds);
   link->domain_id = domain_id;
@@ -238,8 +255,9 @@ Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t dom
   if (!station.ok()) return station.error();
   link->station = std::move(station).value();
   dds::DdsNode& s = *link->station;
-  for (const Status& status : {s.subscribe(*link->poses, arrival), s.subscribe(*link->frames, arrival), s.advertise<dds::TargetPrediction>(),
-                               s.advertise<dds::NeedleState>(), s.advertise<dds::StationHealth>(), s.advertise<dds::DeformedSurface>()})
+  for (const Status& status :
+       {s.subscribe(*link->poses, arrival), s.subscribe(*link->frames, arrival), s.advertise<dds::TargetPrediction>(),
+        s.advertise<dds::NeedleState>(), s.advertise<dds::StationHealth>(), s.advertise<dds::DeformedSurface>()})
     if (!status.ok()) return status.error();
   if (!with_simulated_devices) return link;  // the devices are other processes: they come and go
   auto devices = make_station_node(domain_id, "nav_demo_devices", names, network, Role::devices);
@@ -248,14 +266,17 @@ Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t dom
   dds::DdsNode& d = *link->devices;
   for (const Status& status : {d.advertise<dds::ToolPose>(), d.advertise<dds::UltrasoundFrame>()})
     if (!status.ok()) return status.error();
-  if (!s.wait_for_match(dds::Topic::tool_pose, 1, kMatchTimeoutNs) || !s.wait_for_match(dds::Topic::ultrasound_frame, 1, kMatchTimeoutNs) ||
-      !d.wait_for_match(dds::Topic::tool_pose, 1, kMatchTimeoutNs) || !d.wait_for_match(dds::Topic::ultrasound_frame, 1, kMatchTimeoutNs))
-    return Error{.message = "the devices' and the station's DDS participants did not match within 10 s", .field = "domain " + std::to_string(domain_id)};
+  if (!s.wait_for_match(dds::Topic::tool_pose, 1, kMatchTimeoutNs) ||
+      !s.wait_for_match(dds::Topic::ultrasound_frame, 1, kMatchTimeoutNs) ||
+      !d.wait_for_match(dds::Topic::tool_pose, 1, kMatchTimeoutNs) ||
+      !d.wait_for_match(dds::Topic::ultrasound_frame, 1, kMatchTimeoutNs))
+    return Error{.message = "the devices' and the station's DDS participants did not match within 10 s",
+                 .field = "domain " + std::to_string(domain_id)};
   return link;
 }
 
-void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, const OutputStamps& stamps, std::int64_t health_every_ticks,
-                  std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept {
+void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, const OutputStamps& stamps,
+                  std::int64_t health_every_ticks, std::uint64_t deadline_misses, TimeNs step_max_ns) noexcept {
   const TimeNs loop_to_host_ns = stamps.loop_to_host_ns;
   if (o.time_ns == o.tissue_time_ns) {
     dds::TargetPrediction prediction;
@@ -288,14 +309,15 @@ void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, con
   health.source_time_ns = o.time_ns + loop_to_host_ns;
   health.mode = o.degraded ? dds::StationMode::degraded : dds::StationMode::running;
   health.flags = health_flag_bits(o);
-  health.input_flags = {o.needle.flags.bits(), o.probe.flags.bits(), o.respiratory.flags.bits(), o.ultrasound.flags.bits()};
+  health.input_flags = {o.needle.flags.bits(), o.probe.flags.bits(), o.respiratory.flags.bits(),
+                        o.ultrasound.flags.bits()};
   health.step_time_max_ns = step_max_ns;
   health.deadline_misses = deadline_misses;
   outbox.health.try_push(health);
 }
 
-void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, const ProbeImaging& imaging, StationChannels& ch,
-                   StationRun& run, const StationRunOptions& options, StationDdsLink& link) {
+void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, const ProbeImaging& imaging,
+                   StationChannels& ch, StationRun& run, const StationRunOptions& options, StationDdsLink& link) {
   setup_io_thread(options, run);
   TumourObserver observer(imaging, options.observer);
   DdsRunReport report;
@@ -307,15 +329,22 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
   }
   DisplaySurfacePublisher surfaces(loop, *options.dds);
   std::optional<WorldPlayer> player;
-  if (world != nullptr) player.emplace(*world, false, simulated_tracker(link.tools, options.dds->simulated_tracker_from_reference, options.dds->reference_from_model));
+  if (world != nullptr)
+    player.emplace(*world, false,
+                   simulated_tracker(link.tools, options.dds->simulated_tracker_from_reference,
+                                     options.dds->reference_from_model));
   TrackerRegistration registration(options.dds->reference_from_model, link.tools.reference);
   ch.wait_for_start();
   run.resident_at_start_bytes = resident_bytes();  // every buffer is in, locked with the loop's memory
-  const TimeNs device_to_loop_ns = options.dds->arrival.source_clock_offset_ns - ch.start_ns;  // stamps onto the loop's clock
+  const TimeNs device_to_loop_ns =
+      options.dds->arrival.source_clock_offset_ns - ch.start_ns;  // stamps onto the loop's clock
   std::thread devices;
-  if (player) devices = std::thread(device_thread, std::ref(*player), std::ref(ch), std::cref(*options.dds), std::ref(link), std::ref(report));
+  if (player)
+    devices = std::thread(device_thread, std::ref(*player), std::ref(ch), std::cref(*options.dds), std::ref(link),
+                          std::ref(report));
   DdsRunReport published;  // the output thread's part of the report
-  std::thread outputs(output_thread, std::ref(ch), std::cref(options), std::ref(link), std::ref(surfaces), std::ref(run), std::ref(published));
+  std::thread outputs(output_thread, std::ref(ch), std::cref(options), std::ref(link), std::ref(surfaces),
+                      std::ref(run), std::ref(published));
   bool peer_present = link.devices != nullptr;
   TimeNs next_watch_ns = 0;
   while (!ch.realtime_done.load(std::memory_order_acquire)) {
@@ -325,7 +354,8 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
       const TimeNs received_ns = pose.receive_time_ns - ch.start_ns;
       ++report.poses_received;
       if (player) pose_receipts.push_back({pose.sequence_number, pose.receive_time_ns});
-      const std::optional<DeviceSample> sample = device_sample_of(pose, device_to_loop_ns, received_ns, link.tools, registration);
+      const std::optional<DeviceSample> sample =
+          device_sample_of(pose, device_to_loop_ns, received_ns, link.tools, registration);
       if (!sample) continue;
       const std::optional<DeviceSample> for_loop = loop_sample(observer, *sample, {});
       if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;
@@ -338,7 +368,8 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
       sample.kind = SampleKind::ultrasound_frame;
       sample.measured_ns = frame->source_time_ns + device_to_loop_ns;
       sample.delivered_ns = received_ns;
-      const FrameView view{frame->pixels.data(), frame->width_px, frame->height_px, frame->pixel_spacing_m[0], frame->pixel_spacing_m[1]};
+      const FrameView view{frame->pixels.data(), frame->width_px, frame->height_px, frame->pixel_spacing_m[0],
+                           frame->pixel_spacing_m[1]};
       const std::optional<DeviceSample> for_loop = loop_sample(observer, sample, view);
       if (for_loop && ch.samples.try_push(*for_loop)) ++run.samples_pushed;
     }

@@ -28,8 +28,8 @@ struct BreathingGeometry {
 struct StationLiver {
   TetMesh mesh;
   TissueScene scene;
-  Point3 tumour_m{};         ///< the tumour's centre at rest, model frame
-  ObservedPoint tumour;      ///< the same point as a barycentric point of one tetrahedron
+  Point3 tumour_m{};     ///< the tumour's centre at rest, model frame
+  ObservedPoint tumour;  ///< the same point as a barycentric point of one tetrahedron
 };
 
 /// The liver of `scene`: the generated liver (its own tumour unless liver.tumour_m) or the

@@ -18,8 +18,8 @@ namespace nav::station {
 
 namespace {
 
-constexpr int kTrainingSteps = 24;            // full-order quasi-static steps under diaphragm moves
-constexpr double kTrainingDiaphragmM = 0.012; // their amplitude (beyond the demo's breathing)
+constexpr int kTrainingSteps = 24;                // full-order quasi-static steps under diaphragm moves
+constexpr double kTrainingDiaphragmM = 0.012;     // their amplitude (beyond the demo's breathing)
 constexpr double kNeedleLengthToleranceM = 1e-3;  // the URDF's base-to-tip distance against the scene's needle length
 
 /// Displacement snapshots of full-order quasi-static steps under diaphragm moves.
@@ -47,7 +47,8 @@ Result<std::vector<double>> training_snapshots(const StationLiver& liver, int& c
 }
 
 /// The reduced basis trained at start-up on the full-order liver (a full-order rung).
-Result<ReducedRungSpec> trained_rung(const StationLiver& liver, const Scene& scene, const StationLoopSettings& settings) {
+Result<ReducedRungSpec> trained_rung(const StationLiver& liver, const Scene& scene,
+                                     const StationLoopSettings& settings) {
   ReductionOptions reduction;
   reduction.source = ReducedBasisSource::linear_modes;
   reduction.force_kind = ReducedForceKind::corotational_cubature;
@@ -60,15 +61,16 @@ Result<ReducedRungSpec> trained_rung(const StationLiver& liver, const Scene& sce
   int snapshot_count = 0;
   auto snapshots = training_snapshots(liver, snapshot_count);
   if (!snapshots.ok()) return snapshots.error();
-  const Status trained = add_force_reduction(liver.mesh, liver.scene, solver, reduction, snapshots.value(), snapshot_count, basis.value());
+  const Status trained =
+      add_force_reduction(liver.mesh, liver.scene, solver, reduction, snapshots.value(), snapshot_count, basis.value());
   if (!trained.ok()) return trained.error();
   ReducedSolverOptions reduced;
   reduced.step_s = 1.0 / scene.station.tissue_rate_hz;
   return ReducedRungSpec{std::move(basis).value(), reduced};
 }
 
-OperatingLoopOptions loop_options(const Scene& scene, const BreathingGeometry& breathing, const NeedleCalibration& needle,
-                                  const StationLoopSettings& settings) {
+OperatingLoopOptions loop_options(const Scene& scene, const BreathingGeometry& breathing,
+                                  const NeedleCalibration& needle, const StationLoopSettings& settings) {
   const StationSettings& station = scene.station;
   OperatingLoopOptions o;
   o.tick_period_ns = static_cast<TimeNs>(std::llround(1e9 / station.loop_rate_hz));
@@ -86,15 +88,22 @@ OperatingLoopOptions loop_options(const Scene& scene, const BreathingGeometry& b
 
 /// The filter on the tumour of rung `k` (0: liver.model.artifact, k: escalation.rungs[k - 1]);
 /// errors at that key. Its correction is sized by the artifact's training envelope.
-Result<ReducedKalmanModel> tumour_filter(const StationLiver& liver, const Scene& scene, std::size_t k, const ReducedBasis& basis,
-                                         const ReducedModel& reduced, const StationLoopSettings& settings) {
+Result<ReducedKalmanModel> tumour_filter(const StationLiver& liver, const Scene& scene, std::size_t k,
+                                         const ReducedBasis& basis, const ReducedModel& reduced,
+                                         const StationLoopSettings& settings) {
   const auto at_artifact = [&](const std::string& message) {
-    if (k == 0) return Error{.message = message, .file = scene.source_path, .line = scene.liver.line, .field = "liver.model.artifact"};
-    return Error{.message = message, .file = scene.source_path, .line = scene.liver.escalation->rungs[k - 1].line, .field = "liver.model.escalation.rungs[" + std::to_string(k - 1) + "]"};
+    if (k == 0)
+      return Error{
+          .message = message, .file = scene.source_path, .line = scene.liver.line, .field = "liver.model.artifact"};
+    return Error{.message = message,
+                 .file = scene.source_path,
+                 .line = scene.liver.escalation->rungs[k - 1].line,
+                 .field = "liver.model.escalation.rungs[" + std::to_string(k - 1) + "]"};
   };
   if (basis.training_q_bound.empty() && scene.liver.rung == LiverRung::reduced)
-    return at_artifact("the artifact has no training envelope (a basis made without training loads); the station's filter sizes "
-                       "its correction by it: make the artifact with navtool reduce");
+    return at_artifact(
+        "the artifact has no training envelope (a basis made without training loads); the station's filter sizes "
+        "its correction by it: make the artifact with navtool reduce");
   ReducedKalmanOptions options;
   options.correction_std = correction_std_from_training(basis, settings.correction_fraction);
   options.correlation_time_s = settings.correlation_time_s;
@@ -107,14 +116,15 @@ Result<ReducedKalmanModel> tumour_filter(const StationLiver& liver, const Scene&
 }
 
 /// The rungs' filters and the loop on the scene's ladder.
-Result<OperatingLoopModel> ladder_loop(const StationLiver& liver, const Scene& scene, std::span<const ReducedRungSpec> rungs,
-                                       const OperatingLoopOptions& o, const OperatingLoopNeedleOptions* needle,
-                                       const StationLoopSettings& settings) {
+Result<OperatingLoopModel> ladder_loop(const StationLiver& liver, const Scene& scene,
+                                       std::span<const ReducedRungSpec> rungs, const OperatingLoopOptions& o,
+                                       const OperatingLoopNeedleOptions* needle, const StationLoopSettings& settings) {
   auto ladder = make_scene_ladder(scene, liver.mesh, liver.scene, rungs);
   if (!ladder.ok()) return ladder.error();
   std::vector<ReducedKalmanModel> filters;
   for (std::size_t k = 0; k < rungs.size(); ++k) {
-    auto filter = tumour_filter(liver, scene, k, rungs[k].basis, ladder.value().reduced_rung(static_cast<int>(k)), settings);
+    auto filter =
+        tumour_filter(liver, scene, k, rungs[k].basis, ladder.value().reduced_rung(static_cast<int>(k)), settings);
     if (!filter.ok()) return filter.error();
     filters.push_back(std::move(filter).value());
   }
@@ -124,33 +134,43 @@ Result<OperatingLoopModel> ladder_loop(const StationLiver& liver, const Scene& s
 }  // namespace
 
 RigidPose needle_marker_from_base() {
-  return {Eigen::Vector3d::Zero(), Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitZ())};
+  return {Eigen::Vector3d::Zero(),
+          Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), -Eigen::Vector3d::UnitZ())};
 }
 
 Status check_station_loop(const Scene& scene) {
   if (scene.liver.escalation && scene.liver.escalation->full_order_on_top)
-    return Error{.message = "a running station's ladder has reduced rungs only (its filter needs reduced coordinates on every rung): "
-                 "set full_order_on_top: false", .file = scene.source_path, .line = scene.liver.escalation->line, .field = "liver.model.escalation.full_order_on_top"};
+    return Error{
+        .message =
+            "a running station's ladder has reduced rungs only (its filter needs reduced coordinates on every rung): "
+            "set full_order_on_top: false",
+        .file = scene.source_path,
+        .line = scene.liver.escalation->line,
+        .field = "liver.model.escalation.full_order_on_top"};
   if (auto registration = scene_reference_from_model(scene); !registration.ok()) return registration.error();
   return Done{};
 }
 
 Result<NeedleCalibration> scene_needle_calibration(const Scene& scene) {
-  const auto urdf_error = [&](const std::string& message) { return Error{.message = message, .file = scene.source_path, .line = scene.frames.line, .field = "frames.urdf"}; };
+  const auto urdf_error = [&](const std::string& message) {
+    return Error{.message = message, .file = scene.source_path, .line = scene.frames.line, .field = "frames.urdf"};
+  };
   auto frames = calibration::FrameTree::load(scene.frames.urdf_path);
   if (!frames.ok()) return urdf_error(frames.error().describe());
   auto base = frames.value().lookup("needle_marker", "needle_base", 0);
   auto tip = frames.value().lookup("needle_marker", "needle_tip", 0);
   if (!base.ok() || !tip.ok())
-    return urdf_error("no fixed chain from needle_marker to needle_base and needle_tip: " + (base.ok() ? tip : base).error().describe());
+    return urdf_error("no fixed chain from needle_marker to needle_base and needle_tip: " +
+                      (base.ok() ? tip : base).error().describe());
   const Eigen::Vector3d base_m = base.value().translation();
   const Eigen::Vector3d tip_m = tip.value().translation();
   const double length_m = (tip_m - base_m).norm();
-  if (length_m < 1e-3) return urdf_error("the needle's tip is at its base (needle_base_to_tip: run navtool calib pivot)");
+  if (length_m < 1e-3)
+    return urdf_error("the needle's tip is at its base (needle_base_to_tip: run navtool calib pivot)");
   if (scene.needle && std::abs(length_m - scene.needle->parameters.length_m) > kNeedleLengthToleranceM) {
     char text[256];
-    std::snprintf(text, sizeof text, "the URDF's needle is %.1f mm from base to tip (%s), the scene's %.1f mm long", 1e3 * length_m,
-                  scene.frames.urdf_path.c_str(), 1e3 * scene.needle->parameters.length_m);
+    std::snprintf(text, sizeof text, "the URDF's needle is %.1f mm from base to tip (%s), the scene's %.1f mm long",
+                  1e3 * length_m, scene.frames.urdf_path.c_str(), 1e3 * scene.needle->parameters.length_m);
     return Error{.message = text, .file = scene.source_path, .line = scene.needle->line, .field = "needle.length_m"};
   }
   NeedleCalibration calibration;
@@ -159,8 +179,8 @@ Result<NeedleCalibration> scene_needle_calibration(const Scene& scene) {
   return calibration;
 }
 
-Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
-                                             const StationLoopSettings& settings) {
+Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Scene& scene,
+                                             const BreathingGeometry& breathing, const StationLoopSettings& settings) {
   if (const Status runnable = check_station_loop(scene); !runnable.ok()) return runnable.error();
   auto calibration = scene_needle_calibration(scene);
   if (!calibration.ok()) return calibration.error();
@@ -174,13 +194,20 @@ Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Sc
     needle->max_point_forces = liver.scene.max_point_forces;
   }
   const auto loop_error = [&](const Error& e) {  // the loop's own errors: its needle's, or the liver model's
-    return e.file.empty() ? Error{.message = e.describe(), .file = scene.source_path, .line = needle ? scene.needle->line : scene.liver.line, .field = needle ? "needle" : "liver.model"}
+    return e.file.empty() ? Error{.message = e.describe(),
+                                  .file = scene.source_path,
+                                  .line = needle ? scene.needle->line : scene.liver.line,
+                                  .field = needle ? "needle" : "liver.model"}
                           : e;
   };
   std::vector<ReducedRungSpec> rungs;
   if (scene.liver.rung == LiverRung::full) {
     auto trained = trained_rung(liver, scene, settings);
-    if (!trained.ok()) return Error{.message = trained.error().describe(), .file = scene.source_path, .line = scene.liver.line, .field = "liver.model (start-up training)"};
+    if (!trained.ok())
+      return Error{.message = trained.error().describe(),
+                   .file = scene.source_path,
+                   .line = scene.liver.line,
+                   .field = "liver.model (start-up training)"};
     rungs.push_back(std::move(trained).value());
   } else {
     auto loaded = load_reduced_rungs(scene, liver.mesh);
@@ -196,8 +223,9 @@ Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Sc
   if (!reduced.ok()) return reduced.error();
   auto filter = tumour_filter(liver, scene, 0, rungs.front().basis, reduced.value(), settings);
   if (!filter.ok()) return filter.error();
-  auto loop = needle ? make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o, *needle, liver.mesh)
-                     : make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o);
+  auto loop =
+      needle ? make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o, *needle, liver.mesh)
+             : make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o);
   if (!loop.ok()) return loop_error(loop.error());
   return loop;
 }
@@ -208,8 +236,8 @@ std::string describe_station_loop(const Scene& scene, const OperatingLoopModel& 
   };
   const ReducedModel& base = loop.rungs.front().reduced;
   if (scene.liver.rung == LiverRung::full)
-    return "liver model: the scene's rung is full order; the loop runs a reduced liver trained on it at start-up, " + rung_text(base) +
-           " (vibration modes, corotational cubature on diaphragm moves)";
+    return "liver model: the scene's rung is full order; the loop runs a reduced liver trained on it at start-up, " +
+           rung_text(base) + " (vibration modes, corotational cubature on diaphragm moves)";
   std::string text = "liver model: reduced " + rung_text(base) + " from " + scene.liver.reduced_artifact_path;
   for (std::size_t k = 1; k < loop.rungs.size(); ++k)
     text += "; rung " + std::to_string(k) + ": " + rung_text(loop.rungs[k].reduced) + " from " +

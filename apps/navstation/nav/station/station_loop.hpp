@@ -17,8 +17,8 @@ namespace nav::station {
 /// How the station's loop is built around its liver model.
 struct StationLoopSettings {
   /// The reduced liver trained at start-up for a full-order rung.
-  int basis_size = 16;             ///< vibration modes kept
-  int max_cubature_samples = 32;   ///< corotational cubature tetrahedra
+  int basis_size = 16;                                  ///< vibration modes kept
+  int max_cubature_samples = 32;                        ///< corotational cubature tetrahedra
   TimeNs needle_max_extrapolation_ns = 100 * kNsPerMs;  ///< display latency plus the tracker's delay
   /// The filter's correction: its standard deviation per mode as a fraction of the training
   /// envelope, and its correlation time. The start-up training moves the diaphragm only,
@@ -38,7 +38,7 @@ RigidPose needle_marker_from_base();
 
 /// The tracked needle's calibration in the needle marker's frame.
 struct NeedleCalibration {
-  RigidPose marker_from_base;        ///< marker_from_base: origin at the base, +x along the needle to its tip
+  RigidPose marker_from_base;  ///< marker_from_base: origin at the base, +x along the needle to its tip
   Eigen::Vector3d tip_in_marker_m = Eigen::Vector3d::Zero();  ///< the straight needle's tip
 };
 
@@ -53,8 +53,8 @@ Result<NeedleCalibration> scene_needle_calibration(const Scene& scene);
 /// scene's flexible needle coupled to every rung (at the loop rate, its base at the needle
 /// marker * marker_from_base); without it, a rigid needle. Errors name the scene key
 /// (liver.model.artifact, liver.model.escalation..., needle, frames.urdf).
-Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
-                                             const StationLoopSettings& settings);
+Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Scene& scene,
+                                             const BreathingGeometry& breathing, const StationLoopSettings& settings);
 
 /// Whether the station's loop can run the scene's liver model, checked before anything is
 /// built: a ladder with the full order on top cannot (the loop's filter needs reduced

@@ -17,25 +17,42 @@ namespace nav::station {
 
 namespace {
 
-constexpr TimeNs kStartDelayNs = 20 * kNsPerMs;        // from the real-time setup to the first tick
+constexpr TimeNs kStartDelayNs = 20 * kNsPerMs;  // from the real-time setup to the first tick
 
 /// Hands one recorded sample to the loop. Real-time safe.
-void push_sample(const OperatingLoopModel& loop, OperatingLoopData& data, const DeviceSample& s, bool assimilate) noexcept {
+void push_sample(const OperatingLoopModel& loop, OperatingLoopData& data, const DeviceSample& s,
+                 bool assimilate) noexcept {
   switch (s.kind) {
-    case SampleKind::needle_pose: push_needle_pose(loop, data, {s.measured_ns, s.pose}); break;
-    case SampleKind::probe_pose: push_probe_pose(loop, data, {s.measured_ns, s.pose}); break;
-    case SampleKind::respiratory: push_respiratory_sample(loop, data, s.measured_ns, s.point_m); break;
+    case SampleKind::needle_pose:
+      push_needle_pose(loop, data, {s.measured_ns, s.pose});
+      break;
+    case SampleKind::probe_pose:
+      push_probe_pose(loop, data, {s.measured_ns, s.pose});
+      break;
+    case SampleKind::respiratory:
+      push_respiratory_sample(loop, data, s.measured_ns, s.point_m);
+      break;
     case SampleKind::tumour:
       if (assimilate) push_tumour_observation(data, s.measured_ns, {s.point_m[0], s.point_m[1], s.point_m[2]});
       break;
-    case SampleKind::ultrasound_frame: break;  // frames reach the loop as tumour points only
+    case SampleKind::ultrasound_frame:
+      break;  // frames reach the loop as tumour points only
   }
 }
 
 TickRecord record_of(const OperatingLoopOutputs& o) noexcept {
   const Point3& f = o.needle_shape.tip_force_n;
-  return {o.time_ns, o.tissue_time_ns, o.tumour_now_m, o.tumour_ahead_m, o.needle_tip_m, o.degraded, o.needle.degraded,
-          o.needle.flags.bits(), health_flag_bits(o), std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]), o.needle_shape.punctures};
+  return {o.time_ns,
+          o.tissue_time_ns,
+          o.tumour_now_m,
+          o.tumour_ahead_m,
+          o.needle_tip_m,
+          o.degraded,
+          o.needle.degraded,
+          o.needle.flags.bits(),
+          health_flag_bits(o),
+          std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]),
+          o.needle_shape.punctures};
 }
 
 template <class T>
@@ -80,9 +97,10 @@ void realtime_thread(const OperatingLoopModel& loop, OperatingLoopData& data, St
   FixedRateTimer timer(ch.clock, period, ch.start_ns);
   const auto capacity = static_cast<std::int64_t>(rec.ticks.size());
   const double miss_threshold_us = 1e-3 * static_cast<double>(options.miss_threshold_ns);
-  const std::int64_t health_every_ticks =
-      std::max<std::int64_t>(1, (options.dds ? options.dds->health_period_ns : kNsPerSecond) / loop.options.tick_period_ns);
-  const OutputStamps stamps{ch.start_ns, loop.options.display_latency_ns, options.dds ? options.dds->tools.needle : ToolIds{}.needle};
+  const std::int64_t health_every_ticks = std::max<std::int64_t>(
+      1, (options.dds ? options.dds->health_period_ns : kNsPerSecond) / loop.options.tick_period_ns);
+  const OutputStamps stamps{ch.start_ns, loop.options.display_latency_ns,
+                            options.dds ? options.dds->tools.needle : ToolIds{}.needle};
   std::uint64_t misses = 0;
   TimeNs window_max_ns = 0;
   DeviceSample sample;
@@ -122,8 +140,10 @@ void io_thread(const SimulatedWorld& world, StationChannels& ch, StationRun& run
       const DeviceSample& s = world.samples[next];
       const std::optional<DeviceSample> for_loop = loop_sample(observer, s, world_frame(world, s));
       if (!for_loop) continue;
-      if (!loop_running) ++run.samples_after_loop;
-      else if (ch.samples.try_push(*for_loop)) ++run.samples_pushed;
+      if (!loop_running)
+        ++run.samples_after_loop;
+      else if (ch.samples.try_push(*for_loop))
+        ++run.samples_pushed;
     }
   };
   while (!ch.realtime_done.load(std::memory_order_acquire)) {
@@ -143,7 +163,8 @@ void setup_io_thread(const StationRunOptions& options, StationRun& run) {
   if (options.io_priority > 0) run.io_fifo = request_fifo(options.io_priority);
 }
 
-StepStatistics step_statistics(std::vector<double> step_us, const std::vector<double>& lateness_us, double miss_threshold_us) {
+StepStatistics step_statistics(std::vector<double> step_us, const std::vector<double>& lateness_us,
+                               double miss_threshold_us) {
   StepStatistics s;
   const LatencyStatistics step = latency_statistics(std::move(step_us));
   s.ticks = step.count;
@@ -188,18 +209,20 @@ Result<StationRun> run_threads(const OperatingLoopModel& loop, const SimulatedWo
   std::unique_ptr<StationDdsLink> link;
   if (options.dds) {
     const DdsRunOptions& o = *options.dds;
-    auto created = StationDdsLink::create(o.domain_id, o.topic_names, o.arrival, o.pose_bounds, world != nullptr, o.network, o.tools);
+    auto created = StationDdsLink::create(o.domain_id, o.topic_names, o.arrival, o.pose_bounds, world != nullptr,
+                                          o.network, o.tools);
     if (!created.ok()) return created.error();
     link = std::move(created).value();
     outbox = std::make_unique<dds::StationOutbox>();
     channels->outbox = outbox.get();
   }
   StationRun run;
-  std::thread realtime(realtime_thread, std::cref(loop), std::ref(data.value()), std::ref(*channels), std::ref(rec), std::cref(options),
-                       std::ref(run.realtime_setup));
-  std::thread io = link ? std::thread(dds_io_thread, std::cref(loop), world, std::cref(imaging), std::ref(*channels), std::ref(run),
-                                      std::cref(options), std::ref(*link))
-                        : std::thread(io_thread, std::cref(*world), std::ref(*channels), std::ref(run), std::cref(options));
+  std::thread realtime(realtime_thread, std::cref(loop), std::ref(data.value()), std::ref(*channels), std::ref(rec),
+                       std::cref(options), std::ref(run.realtime_setup));
+  std::thread io =
+      link ? std::thread(dds_io_thread, std::cref(loop), world, std::cref(imaging), std::ref(*channels), std::ref(run),
+                         std::cref(options), std::ref(*link))
+           : std::thread(io_thread, std::cref(*world), std::ref(*channels), std::ref(run), std::cref(options));
   realtime.join();
   io.join();
   run.start_ns = channels->start_ns;
@@ -207,7 +230,8 @@ Result<StationRun> run_threads(const OperatingLoopModel& loop, const SimulatedWo
   rec.step_us.resize(n);
   rec.lateness_us.resize(n);
   rec.ticks.resize(n);
-  run.steps = step_statistics(std::move(rec.step_us), rec.lateness_us, 1e-3 * static_cast<double>(options.miss_threshold_ns));
+  run.steps =
+      step_statistics(std::move(rec.step_us), rec.lateness_us, 1e-3 * static_cast<double>(options.miss_threshold_ns));
   run.steps.skipped_ticks = rec.skipped;
   run.ticks = std::move(rec.ticks);
   return run;
@@ -215,12 +239,15 @@ Result<StationRun> run_threads(const OperatingLoopModel& loop, const SimulatedWo
 
 }  // namespace
 
-Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWorld& world, const StationRunOptions& options) {
+Result<StationRun> run_station(const OperatingLoopModel& loop, const SimulatedWorld& world,
+                               const StationRunOptions& options) {
   return run_threads(loop, &world, world.imaging, options);
 }
 
-Result<StationRun> run_live_station(const OperatingLoopModel& loop, const ProbeImaging& imaging, const StationRunOptions& options) {
-  if (!options.dds) return Error{.message = "a live station reads its devices on DDS: it needs DDS run options", .field = "dds"};
+Result<StationRun> run_live_station(const OperatingLoopModel& loop, const ProbeImaging& imaging,
+                                    const StationRunOptions& options) {
+  if (!options.dds)
+    return Error{.message = "a live station reads its devices on DDS: it needs DDS run options", .field = "dds"};
   return run_threads(loop, nullptr, imaging, options);
 }
 
@@ -234,14 +261,15 @@ std::uint32_t health_flag_bits(const OperatingLoopOutputs& o) noexcept {
 FrameView world_frame(const SimulatedWorld& world, const DeviceSample& sample) {
   if (sample.frame_index < 0) return {};
   const ultrasound::BmodeGeometry& g = world.imaging.geometry;
-  return {world.frames[static_cast<std::size_t>(sample.frame_index)].pixels.data(), g.width_px, g.height_px, g.spacing_m, g.spacing_m};
+  return {world.frames[static_cast<std::size_t>(sample.frame_index)].pixels.data(), g.width_px, g.height_px,
+          g.spacing_m, g.spacing_m};
 }
 
 std::optional<DeviceSample> loop_sample(TumourObserver& observer, const DeviceSample& sample, const FrameView& frame) {
   if (sample.kind == SampleKind::probe_pose) observer.add_probe_pose(sample.measured_ns, sample.pose);
   if (sample.kind != SampleKind::ultrasound_frame) return sample;
-  const std::optional<Eigen::Vector3d> tumour =
-      observer.observe(sample.measured_ns, frame.pixels, frame.width_px, frame.height_px, frame.spacing_x_m, frame.spacing_y_m);
+  const std::optional<Eigen::Vector3d> tumour = observer.observe(sample.measured_ns, frame.pixels, frame.width_px,
+                                                                 frame.height_px, frame.spacing_x_m, frame.spacing_y_m);
   if (!tumour) return std::nullopt;
   DeviceSample seen = sample;
   seen.kind = SampleKind::tumour;
@@ -250,12 +278,14 @@ std::optional<DeviceSample> loop_sample(TumourObserver& observer, const DeviceSa
   return seen;
 }
 
-std::vector<DeviceSample> observed_recording(const SimulatedWorld& world, const TumourObserverOptions& options, ObserverCounts* counts) {
+std::vector<DeviceSample> observed_recording(const SimulatedWorld& world, const TumourObserverOptions& options,
+                                             ObserverCounts* counts) {
   TumourObserver observer(world.imaging, options);
   std::vector<DeviceSample> observed;
   observed.reserve(world.samples.size());
   for (const DeviceSample& s : world.samples) {
-    if (std::optional<DeviceSample> for_loop = loop_sample(observer, s, world_frame(world, s))) observed.push_back(*for_loop);
+    if (std::optional<DeviceSample> for_loop = loop_sample(observer, s, world_frame(world, s)))
+      observed.push_back(*for_loop);
   }
   if (counts != nullptr) *counts = observer.counts();
   return observed;
@@ -274,8 +304,8 @@ LatencyStatistics latency_statistics(std::vector<double> latency_us) {
   return s;
 }
 
-Result<StationReplay> replay_station(const OperatingLoopModel& loop, std::span<const DeviceSample> samples, TimeNs duration_ns,
-                                     bool assimilate) {
+Result<StationReplay> replay_station(const OperatingLoopModel& loop, std::span<const DeviceSample> samples,
+                                     TimeNs duration_ns, bool assimilate) {
   auto data = make_operating_loop_data(loop);
   if (!data.ok()) return data.error();
   StationReplay replay;
@@ -285,7 +315,8 @@ Result<StationReplay> replay_station(const OperatingLoopModel& loop, std::span<c
   std::size_t next = 0;
   while (clock.now_ns() <= duration_ns) {
     const TimeNs now = clock.now_ns();
-    for (; next < samples.size() && samples[next].delivered_ns <= now; ++next) push_sample(loop, data.value(), samples[next], assimilate);
+    for (; next < samples.size() && samples[next].delivered_ns <= now; ++next)
+      push_sample(loop, data.value(), samples[next], assimilate);
     tick(loop, data.value(), now);
     replay.ticks.push_back(record_of(data.value().outputs));
     replay.output_hash = hash_outputs(replay.output_hash, data.value().outputs);
@@ -294,8 +325,8 @@ Result<StationReplay> replay_station(const OperatingLoopModel& loop, std::span<c
   return replay;
 }
 
-PredictionErrors prediction_errors(const SimulatedWorld& world, std::span<const TickRecord> ticks, TimeNs display_latency_ns,
-                                   TimeNs from_ns) {
+PredictionErrors prediction_errors(const SimulatedWorld& world, std::span<const TickRecord> ticks,
+                                   TimeNs display_latency_ns, TimeNs from_ns) {
   PredictionErrors e;
   double now2 = 0.0, ahead2 = 0.0, tip2 = 0.0;
   for (const TickRecord& t : ticks) {

@@ -29,7 +29,8 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-std::string format(const char* pattern, double a = 0.0, double b = 0.0, double c = 0.0, double d = 0.0, double e = 0.0) {
+std::string format(const char* pattern, double a = 0.0, double b = 0.0, double c = 0.0, double d = 0.0,
+                   double e = 0.0) {
   char text[256];
   std::snprintf(text, sizeof(text), pattern, a, b, c, d, e);
   return text;
@@ -50,11 +51,13 @@ PlotSeries tumour_series(const StationSession& s, std::span<const TickRecord> ti
 
 }  // namespace
 
-StationRunOptions station_run_options(const Scene& scene, TimeNs duration_ns, TimeNs miss_threshold_ns, bool lock_memory) {
+StationRunOptions station_run_options(const Scene& scene, TimeNs duration_ns, TimeNs miss_threshold_ns,
+                                      bool lock_memory) {
   StationRunOptions run_options;
   run_options.duration_ns = duration_ns;
   run_options.miss_threshold_ns = miss_threshold_ns;
-  run_options.realtime = {scene.station.realtime_core, scene.station.realtime_priority, scene.station.lock_memory && lock_memory};
+  run_options.realtime = {scene.station.realtime_core, scene.station.realtime_priority,
+                          scene.station.lock_memory && lock_memory};
   run_options.io_core = scene.station.io_core;
   run_options.io_priority = scene.station.io_priority;
   return run_options;
@@ -92,8 +95,10 @@ struct StationParts {
 };
 
 /// Builds the station's parts of `scene`, then calls before_run (if any) with its surface.
-Result<StationParts> build_station_parts(const Scene& scene, const BreathingGeometry& breathing, const BeforeRun& before_run) {
-  if (const Status runnable = check_station_loop(scene); !runnable.ok()) return runnable.error();  // before anything is built
+Result<StationParts> build_station_parts(const Scene& scene, const BreathingGeometry& breathing,
+                                         const BeforeRun& before_run) {
+  if (const Status runnable = check_station_loop(scene); !runnable.ok())
+    return runnable.error();  // before anything is built
   const auto start = std::chrono::steady_clock::now();
   auto liver = make_station_liver(scene);
   if (!liver.ok()) return liver.error();
@@ -101,7 +106,11 @@ Result<StationParts> build_station_parts(const Scene& scene, const BreathingGeom
   if (!loop.ok()) return loop.error();
   const double build_s = seconds_since(start);
   auto surface = make_display_surface(liver.value().mesh);
-  if (!surface.ok()) return Error{.message = surface.error().describe(), .file = scene.source_path, .line = scene.liver.line, .field = "liver.mesh"};
+  if (!surface.ok())
+    return Error{.message = surface.error().describe(),
+                 .file = scene.source_path,
+                 .line = scene.liver.line,
+                 .field = "liver.mesh"};
   if (before_run) {
     const Status ready = before_run(surface.value());
     if (!ready.ok()) return ready.error();
@@ -112,12 +121,14 @@ Result<StationParts> build_station_parts(const Scene& scene, const BreathingGeom
 }  // namespace
 
 Result<StationSession> run_session(const Scene& scene, const SessionOptions& options, const BeforeRun& before_run) {
-  if (const Status simulated = check_simulated_devices(scene); !simulated.ok()) return simulated.error();  // before anything is built
+  if (const Status simulated = check_simulated_devices(scene); !simulated.ok())
+    return simulated.error();  // before anything is built
   StationSession s;
   const BreathingGeometry breathing;
   auto parts = build_station_parts(scene, breathing, before_run);
   if (!parts.ok()) return parts.error();
-  StationParts& p = parts.value();  // the run publishes p.surface: the liver and the surface move into the session at its end
+  StationParts& p =
+      parts.value();  // the run publishes p.surface: the liver and the surface move into the session at its end
   const OperatingLoopModel& loop = p.loop;
   s.build_s = p.build_s;
   s.liver_model = describe_station_loop(scene, loop);
@@ -127,7 +138,8 @@ Result<StationSession> run_session(const Scene& scene, const SessionOptions& opt
   s.world = std::move(world).value();
   s.world_s = seconds_since(start);
 
-  StationRunOptions run_options = station_run_options(scene, options.world.duration_ns, options.miss_threshold_ns, options.lock_memory);
+  StationRunOptions run_options =
+      station_run_options(scene, options.world.duration_ns, options.miss_threshold_ns, options.lock_memory);
   if (options.dds) {
     auto dds = dds_run_options(scene, &p.surface);
     if (!dds.ok()) return dds.error();
@@ -149,11 +161,13 @@ Result<StationSession> run_session(const Scene& scene, const SessionOptions& opt
   return s;
 }
 
-Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, const BeforeRun& before_run, const std::atomic<bool>* stop) {
+Result<LiveSession> run_live_session(const Scene& scene, TimeNs duration_ns, const BeforeRun& before_run,
+                                     const std::atomic<bool>* stop) {
   LiveSession s;
   auto parts = build_station_parts(scene, BreathingGeometry{}, before_run);
   if (!parts.ok()) return parts.error();
-  StationParts& p = parts.value();  // the run publishes p.surface: the liver and the surface move into the session at its end
+  StationParts& p =
+      parts.value();  // the run publishes p.surface: the liver and the surface move into the session at its end
   const OperatingLoopModel& loop = p.loop;
   s.build_s = p.build_s;
   s.liver_model = describe_station_loop(scene, loop);
@@ -186,49 +200,61 @@ struct NeedlePeaks {
 
 NeedlePeaks needle_peaks(const std::vector<TickRecord>& ticks) {
   NeedlePeaks peaks;
-  for (const TickRecord& t : ticks) peaks.tip_force_n = std::max(peaks.tip_force_n, t.tip_force_n), peaks.punctures = std::max(peaks.punctures, t.punctures);
+  for (const TickRecord& t : ticks)
+    peaks.tip_force_n = std::max(peaks.tip_force_n, t.tip_force_n),
+    peaks.punctures = std::max(peaks.punctures, t.punctures);
   return peaks;
 }
 
 /// The figures of a real-time run: timing, the I/O thread, the ultrasound and DDS.
-std::string run_figures(const Scene& scene, const StationRun& run, const DisplaySurface& surface, TimeNs miss_threshold_ns) {
+std::string run_figures(const Scene& scene, const StationRun& run, const DisplaySurface& surface,
+                        TimeNs miss_threshold_ns) {
   const StepStatistics& t = run.steps;
   std::string out;
-  out += format("step time over %.0f ticks: median %.1f us, p99 %.1f us, p99.9 %.1f us", static_cast<double>(t.ticks), t.median_us, t.p99_us,
-                t.p999_us);
+  out += format("step time over %.0f ticks: median %.1f us, p99 %.1f us, p99.9 %.1f us", static_cast<double>(t.ticks),
+                t.median_us, t.p99_us, t.p999_us);
   out += format(", p99.99 %.1f us, max %.1f us\n", t.p9999_us, t.max_us);
-  out += format("tick lateness: jitter (std) %.1f us, p99 %.1f us, p99.99 %.1f us, max %.1f us (tick %.0f)\n", t.jitter_us, t.lateness_p99_us,
-                t.lateness_p9999_us, t.max_lateness_us, static_cast<double>(t.latest_tick));
+  out +=
+      format("tick lateness: jitter (std) %.1f us, p99 %.1f us, p99.99 %.1f us, max %.1f us (tick %.0f)\n", t.jitter_us,
+             t.lateness_p99_us, t.lateness_p9999_us, t.max_lateness_us, static_cast<double>(t.latest_tick));
   out += format("deadline misses (> %.0f ms late): %.0f (> 1 ms late: %.0f), skipped ticks: %.0f\n",
-                1e-6 * static_cast<double>(miss_threshold_ns), static_cast<double>(t.deadline_misses), static_cast<double>(t.late_over_1ms),
-                static_cast<double>(t.skipped_ticks));
+                1e-6 * static_cast<double>(miss_threshold_ns), static_cast<double>(t.deadline_misses),
+                static_cast<double>(t.late_over_1ms), static_cast<double>(t.skipped_ticks));
   out += format("I/O thread: %.0f samples pushed, %.0f outputs read\n", static_cast<double>(run.samples_pushed),
                 static_cast<double>(run.outputs_read));
   const ObserverCounts& u = run.observer;
-  out += format("ultrasound: %.0f B-mode frames, %.0f tumour points found (dropped: %.0f without a confident detection, %.0f without a probe pose)\n",
-                static_cast<double>(u.frames), static_cast<double>(u.observations), static_cast<double>(u.dropped_no_detection),
-                static_cast<double>(u.dropped_no_pose));
-  out += format("  tumour tracker per frame (I/O thread): median %.2f ms, p99 %.2f ms\n", 1e-3 * run.frame_processing.median_us,
-                1e-3 * run.frame_processing.p99_us);
+  out += format(
+      "ultrasound: %.0f B-mode frames, %.0f tumour points found (dropped: %.0f without a confident detection, %.0f "
+      "without a probe pose)\n",
+      static_cast<double>(u.frames), static_cast<double>(u.observations), static_cast<double>(u.dropped_no_detection),
+      static_cast<double>(u.dropped_no_pose));
+  out += format("  tumour tracker per frame (I/O thread): median %.2f ms, p99 %.2f ms\n",
+                1e-3 * run.frame_processing.median_us, 1e-3 * run.frame_processing.p99_us);
   if (run.dds) {
     const DdsRunReport& d = *run.dds;
-    out += format("DDS (domain %.0f; shared memory and UDP on 127.0.0.1): %.0f poses and %.0f frames received, %.0f outputs published\n",
-                  static_cast<double>(scene.topics.domain_id), static_cast<double>(d.poses_received), static_cast<double>(d.frames_received),
-                  static_cast<double>(d.outputs_published));
+    out += format(
+        "DDS (domain %.0f; shared memory and UDP on 127.0.0.1): %.0f poses and %.0f frames received, %.0f outputs "
+        "published\n",
+        static_cast<double>(scene.topics.domain_id), static_cast<double>(d.poses_received),
+        static_cast<double>(d.frames_received), static_cast<double>(d.outputs_published));
     if (d.pose_latency.count > 0)  // the devices in this process: their write times are known
-      out += format("  writer to reader: poses median %.0f us, p99 %.0f us; frames median %.0f us, p99 %.0f us\n", d.pose_latency.median_us,
-                  d.pose_latency.p99_us, d.frame_latency.median_us, d.frame_latency.p99_us);
-    out += format("  deformed surface (%.0f vertices): %.0f published; reconstruction on the I/O thread median %.0f us, p99 %.0f us\n",
-                  static_cast<double>(surface.nodes.size()), static_cast<double>(d.surfaces_published), d.surface_reconstruction.median_us,
-                  d.surface_reconstruction.p99_us);
-    out += format("  lost on the way (sent, never delivered): %.0f poses, %.0f frames\n", static_cast<double>(d.poses_lost),
-                  static_cast<double>(d.frames_lost));
+      out += format("  writer to reader: poses median %.0f us, p99 %.0f us; frames median %.0f us, p99 %.0f us\n",
+                    d.pose_latency.median_us, d.pose_latency.p99_us, d.frame_latency.median_us, d.frame_latency.p99_us);
+    out += format(
+        "  deformed surface (%.0f vertices): %.0f published; reconstruction on the I/O thread median %.0f us, p99 %.0f "
+        "us\n",
+        static_cast<double>(surface.nodes.size()), static_cast<double>(d.surfaces_published),
+        d.surface_reconstruction.median_us, d.surface_reconstruction.p99_us);
+    out += format("  lost on the way (sent, never delivered): %.0f poses, %.0f frames\n",
+                  static_cast<double>(d.poses_lost), static_cast<double>(d.frames_lost));
     out += format("  samples accepted %.0f;", static_cast<double>(d.boundary.accepted));
     out += " dropped at the boundary: " + dds::drops_by_reason(d.boundary) + "\n";
-    if (dds::refused_as_invalid(d.boundary) > 0) out += "  refused by input: " + dds::refusals_by_input(d.input_refused) + "\n";
+    if (dds::refused_as_invalid(d.boundary) > 0)
+      out += "  refused by input: " + dds::refusals_by_input(d.input_refused) + "\n";
     if (const std::optional<std::uint32_t> reference = scene.devices.tracker.tools.reference)
-      out += format("  registered to the model through the reference (tool %.0f); poses before its first, not used: %.0f\n",
-                    static_cast<double>(*reference), static_cast<double>(d.unregistered_poses));
+      out += format(
+          "  registered to the model through the reference (tool %.0f); poses before its first, not used: %.0f\n",
+          static_cast<double>(*reference), static_cast<double>(d.unregistered_poses));
   }
   return out;
 }
@@ -238,25 +264,31 @@ std::string run_figures(const Scene& scene, const StationRun& run, const Display
 std::string format_summary(const Scene& scene, const StationSession& s) {
   const StationSettings& st = scene.station;
   std::string out = "station '" + st.name + "': ";
-  out += format("%.0f Hz loop, liver every %.0f ms, display latency %.0f ms\n", st.loop_rate_hz, 1e3 / st.tissue_rate_hz,
-                1e-6 * static_cast<double>(s.display_latency_ns));
+  out += format("%.0f Hz loop, liver every %.0f ms, display latency %.0f ms\n", st.loop_rate_hz,
+                1e3 / st.tissue_rate_hz, 1e-6 * static_cast<double>(s.display_latency_ns));
   out += s.liver_model + "\n";
-  out += format("start-up: liver and reduced loop %.1f s, full-order world %.1f s (%.0f tetrahedra, %.0f samples)\n", s.build_s,
-                s.world_s, static_cast<double>(s.liver.mesh.tets.size()), static_cast<double>(s.world.samples.size()));
+  out += format("start-up: liver and reduced loop %.1f s, full-order world %.1f s (%.0f tetrahedra, %.0f samples)\n",
+                s.build_s, s.world_s, static_cast<double>(s.liver.mesh.tets.size()),
+                static_cast<double>(s.world.samples.size()));
   out += "real-time setup:";
   for (const SetupStep& step : s.run.realtime_setup) out += " " + step.name + ": " + outcome_name(step.outcome) + ";";
   out += io_setup_text(s.run);
-  out += format("prediction error against the full-order truth (RMS from %.1f s, %.0f liver steps):\n", 1e-9 * static_cast<double>(s.settle_ns),
-                s.assimilated.steps);
+  out += format("prediction error against the full-order truth (RMS from %.1f s, %.0f liver steps):\n",
+                1e-9 * static_cast<double>(s.settle_ns), s.assimilated.steps);
   out += "                         with assimilation   without\n";
-  out += format("  tumour now              %8.2f mm        %6.2f mm\n", 1e3 * s.assimilated.tumour_now_rms_m, 1e3 * s.without.tumour_now_rms_m);
-  out += format("  tumour at +%2.0f ms        %8.2f mm        %6.2f mm\n", 1e-6 * static_cast<double>(s.display_latency_ns),
-                1e3 * s.assimilated.tumour_ahead_rms_m, 1e3 * s.without.tumour_ahead_rms_m);
+  out += format("  tumour now              %8.2f mm        %6.2f mm\n", 1e3 * s.assimilated.tumour_now_rms_m,
+                1e3 * s.without.tumour_now_rms_m);
+  out += format("  tumour at +%2.0f ms        %8.2f mm        %6.2f mm\n",
+                1e-6 * static_cast<double>(s.display_latency_ns), 1e3 * s.assimilated.tumour_ahead_rms_m,
+                1e3 * s.without.tumour_ahead_rms_m);
   out += format("  needle tip              %8.2f mm\n", 1e3 * s.assimilated.needle_tip_rms_m);
   if (!s.world.needle_tip_truth_m.empty()) {
     const NeedlePeaks n = needle_peaks(s.run.ticks);
-    out += format("needle (coupled to the liver): tip force peak %.2f N, %.0f punctures; the full-order truth: %.2f N, %.0f punctures\n",
-                  n.tip_force_n, static_cast<double>(n.punctures), s.world.needle_peak_tip_force_n, static_cast<double>(s.world.needle_punctures));
+    out += format(
+        "needle (coupled to the liver): tip force peak %.2f N, %.0f punctures; the full-order truth: %.2f N, %.0f "
+        "punctures\n",
+        n.tip_force_n, static_cast<double>(n.punctures), s.world.needle_peak_tip_force_n,
+        static_cast<double>(s.world.needle_punctures));
   }
   out += run_figures(scene, s.run, s.surface, s.miss_threshold_ns);
   return out;
@@ -268,7 +300,9 @@ std::vector<DegradedPeriod> degraded_periods(const std::vector<TickRecord>& tick
   for (const TickRecord& t : ticks) {
     const bool degraded = what == DegradedWhat::outputs ? t.degraded : t.needle_degraded;
     if (degraded && !open) periods.push_back({t.time_ns, t.time_ns, 0});
-    if (degraded) periods.back().to_ns = t.time_ns, periods.back().flags |= what == DegradedWhat::outputs ? t.health_flags : t.needle_flags;
+    if (degraded)
+      periods.back().to_ns = t.time_ns,
+      periods.back().flags |= what == DegradedWhat::outputs ? t.health_flags : t.needle_flags;
     open = degraded;
   }
   return periods;
@@ -285,7 +319,8 @@ std::string format_periods(const std::vector<DegradedPeriod>& periods) {
     out += format(" %.3f-%.3f s (", 1e-9 * static_cast<double>(p.from_ns), 1e-9 * static_cast<double>(p.to_ns));
     out += health_flag_names(p.flags) + ")" + (i + 1 < periods.size() ? "," : "");
   }
-  if (periods.size() > kPeriodsShown) out += format(" and %.0f more", static_cast<double>(periods.size() - kPeriodsShown));
+  if (periods.size() > kPeriodsShown)
+    out += format(" and %.0f more", static_cast<double>(periods.size() - kPeriodsShown));
   return out + (periods.empty() ? " never\n" : "\n");
 }
 
@@ -294,13 +329,16 @@ std::string format_periods(const std::vector<DegradedPeriod>& periods) {
 std::string format_live_summary(const Scene& scene, const LiveSession& s) {
   const StationSettings& st = scene.station;
   std::string out = "station '" + st.name + "' (live: devices on DDS): ";
-  out += format("%.0f Hz loop, liver every %.0f ms, display latency %.0f ms\n", st.loop_rate_hz, 1e3 / st.tissue_rate_hz,
-                st.display_latency_ms);
+  out += format("%.0f Hz loop, liver every %.0f ms, display latency %.0f ms\n", st.loop_rate_hz,
+                1e3 / st.tissue_rate_hz, st.display_latency_ms);
   out += s.liver_model + "\n";
-  out += format("start-up: liver and reduced loop %.1f s (%.0f tetrahedra); resident memory %.1f MiB after it, %.1f MiB at most\n", s.build_s,
-                static_cast<double>(s.liver.mesh.tets.size()), mebibytes(s.resident_after_start_up_bytes), mebibytes(s.peak_resident_bytes));
-  out += format("resident memory of the run: %.1f MiB when the loop started, %.1f MiB at its end\n", mebibytes(s.run.resident_at_start_bytes),
-                mebibytes(s.resident_at_end_bytes));
+  out += format(
+      "start-up: liver and reduced loop %.1f s (%.0f tetrahedra); resident memory %.1f MiB after it, %.1f MiB at "
+      "most\n",
+      s.build_s, static_cast<double>(s.liver.mesh.tets.size()), mebibytes(s.resident_after_start_up_bytes),
+      mebibytes(s.peak_resident_bytes));
+  out += format("resident memory of the run: %.1f MiB when the loop started, %.1f MiB at its end\n",
+                mebibytes(s.run.resident_at_start_bytes), mebibytes(s.resident_at_end_bytes));
   out += "real-time setup:";
   for (const SetupStep& step : s.run.realtime_setup) out += " " + step.name + ": " + outcome_name(step.outcome) + ";";
   out += io_setup_text(s.run);
@@ -323,11 +361,14 @@ std::string json_text(const std::string& text) {
 
 /// The JSON members of a run's tick figures (each line indented, ending with a comma).
 std::string steps_json(const StepStatistics& t) {
-  std::string out = format("  \"ticks\": %.0f, \"step_us\": {\"median\": %.3f, \"p99\": %.3f, \"p999\": %.3f, \"p9999\": %.3f,",
-                           static_cast<double>(t.ticks), t.median_us, t.p99_us, t.p999_us, t.p9999_us);
-  out += format(" \"max\": %.3f},\n  \"jitter_us\": %.3f, \"lateness_us\": {\"p99\": %.3f, \"p9999\": %.3f, \"max\": %.3f},\n", t.max_us,
-                t.jitter_us, t.lateness_p99_us, t.lateness_p9999_us, t.max_lateness_us);
-  out += format("  \"max_lateness_us\": %.3f, \"late_over_1ms\": %.0f,", t.max_lateness_us, static_cast<double>(t.late_over_1ms));
+  std::string out =
+      format("  \"ticks\": %.0f, \"step_us\": {\"median\": %.3f, \"p99\": %.3f, \"p999\": %.3f, \"p9999\": %.3f,",
+             static_cast<double>(t.ticks), t.median_us, t.p99_us, t.p999_us, t.p9999_us);
+  out += format(
+      " \"max\": %.3f},\n  \"jitter_us\": %.3f, \"lateness_us\": {\"p99\": %.3f, \"p9999\": %.3f, \"max\": %.3f},\n",
+      t.max_us, t.jitter_us, t.lateness_p99_us, t.lateness_p9999_us, t.max_lateness_us);
+  out += format("  \"max_lateness_us\": %.3f, \"late_over_1ms\": %.0f,", t.max_lateness_us,
+                static_cast<double>(t.late_over_1ms));
   return out + format(" \"deadline_misses\": %.0f, \"skipped_ticks\": %.0f,\n", static_cast<double>(t.deadline_misses),
                       static_cast<double>(t.skipped_ticks));
 }
@@ -336,34 +377,42 @@ std::string steps_json(const StepStatistics& t) {
 
 std::string session_json(const Scene& scene, const StationSession& s) {
   std::string out = "{\n  \"scene\": \"" + json_text(scene.station.name) + "\",\n" + steps_json(s.run.steps);
-  out += format("  \"tumour_now_rms_mm\": {\"assimilated\": %.4f, \"without\": %.4f},\n", 1e3 * s.assimilated.tumour_now_rms_m,
-                1e3 * s.without.tumour_now_rms_m);
-  out += format("  \"tumour_ahead_rms_mm\": {\"assimilated\": %.4f, \"without\": %.4f},\n", 1e3 * s.assimilated.tumour_ahead_rms_m,
-                1e3 * s.without.tumour_ahead_rms_m);
+  out += format("  \"tumour_now_rms_mm\": {\"assimilated\": %.4f, \"without\": %.4f},\n",
+                1e3 * s.assimilated.tumour_now_rms_m, 1e3 * s.without.tumour_now_rms_m);
+  out += format("  \"tumour_ahead_rms_mm\": {\"assimilated\": %.4f, \"without\": %.4f},\n",
+                1e3 * s.assimilated.tumour_ahead_rms_m, 1e3 * s.without.tumour_ahead_rms_m);
   if (!s.world.needle_tip_truth_m.empty()) {
     const NeedlePeaks n = needle_peaks(s.run.ticks);
-    out += format("  \"needle\": {\"tip_force_peak_n\": %.4f, \"punctures\": %.0f, \"truth_tip_force_peak_n\": %.4f, \"truth_punctures\": %.0f},\n",
-                  n.tip_force_n, static_cast<double>(n.punctures), s.world.needle_peak_tip_force_n, static_cast<double>(s.world.needle_punctures));
+    out += format(
+        "  \"needle\": {\"tip_force_peak_n\": %.4f, \"punctures\": %.0f, \"truth_tip_force_peak_n\": %.4f, "
+        "\"truth_punctures\": %.0f},\n",
+        n.tip_force_n, static_cast<double>(n.punctures), s.world.needle_peak_tip_force_n,
+        static_cast<double>(s.world.needle_punctures));
   }
-  out += format("  \"needle_tip_rms_mm\": %.4f, \"display_latency_ms\": %.1f\n}\n", 1e3 * s.assimilated.needle_tip_rms_m,
-                1e-6 * static_cast<double>(s.display_latency_ns));
+  out += format("  \"needle_tip_rms_mm\": %.4f, \"display_latency_ms\": %.1f\n}\n",
+                1e3 * s.assimilated.needle_tip_rms_m, 1e-6 * static_cast<double>(s.display_latency_ns));
   return out;
 }
 
 std::string live_session_json(const Scene& scene, const LiveSession& s) {
-  std::string out = "{\n  \"scene\": \"" + json_text(scene.station.name) + "\",\n  \"liver_model\": \"" + json_text(s.liver_model) + "\",\n";
+  std::string out = "{\n  \"scene\": \"" + json_text(scene.station.name) + "\",\n  \"liver_model\": \"" +
+                    json_text(s.liver_model) + "\",\n";
   out += format("  \"start_up_s\": %.3f, \"resident_mib\": {\"after_start_up\": %.2f, \"peak\": %.2f,", s.build_s,
                 mebibytes(s.resident_after_start_up_bytes), mebibytes(s.peak_resident_bytes));
-  out += format(" \"at_loop_start\": %.2f, \"at_end\": %.2f},\n", mebibytes(s.run.resident_at_start_bytes), mebibytes(s.resident_at_end_bytes));
+  out += format(" \"at_loop_start\": %.2f, \"at_end\": %.2f},\n", mebibytes(s.run.resident_at_start_bytes),
+                mebibytes(s.resident_at_end_bytes));
   out += steps_json(s.run.steps);
   const DdsRunReport d = s.run.dds.value_or(DdsRunReport{});
-  out += format("  \"poses_received\": %.0f, \"frames_received\": %.0f, \"samples_accepted\": %.0f, \"samples_refused\": %.0f,",
-                static_cast<double>(d.poses_received), static_cast<double>(d.frames_received), static_cast<double>(d.boundary.accepted),
-                static_cast<double>(dds::refused_as_invalid(d.boundary)));
-  out += format(" \"poses_lost\": %.0f, \"frames_lost\": %.0f,", static_cast<double>(d.poses_lost), static_cast<double>(d.frames_lost));
+  out += format(
+      "  \"poses_received\": %.0f, \"frames_received\": %.0f, \"samples_accepted\": %.0f, \"samples_refused\": %.0f,",
+      static_cast<double>(d.poses_received), static_cast<double>(d.frames_received),
+      static_cast<double>(d.boundary.accepted), static_cast<double>(dds::refused_as_invalid(d.boundary)));
+  out += format(" \"poses_lost\": %.0f, \"frames_lost\": %.0f,", static_cast<double>(d.poses_lost),
+                static_cast<double>(d.frames_lost));
   out += "\n  \"refused_by_input\": {";
   for (std::size_t i = 0; i < dds::kStationInputCount; ++i)
-    out += std::string(i == 0 ? "\"" : ", \"") + dds::station_input_name(static_cast<dds::StationInput>(i)) + "\": " + std::to_string(d.input_refused[i]);
+    out += std::string(i == 0 ? "\"" : ", \"") + dds::station_input_name(static_cast<dds::StationInput>(i)) +
+           "\": " + std::to_string(d.input_refused[i]);
   out += "},";
   return out + format(" \"outputs_published\": %.0f\n}\n", static_cast<double>(d.outputs_published));
 }

@@ -21,11 +21,11 @@ namespace nav::station {
 
 /// What a session runs.
 struct SessionOptions {
-  WorldOptions world;                      ///< world.duration_ns is the run's length
-  TimeNs settle_ns = 1 * kNsPerSecond;     ///< errors are scored from here (the filter's start-up)
+  WorldOptions world;                   ///< world.duration_ns is the run's length
+  TimeNs settle_ns = 1 * kNsPerSecond;  ///< errors are scored from here (the filter's start-up)
   TimeNs miss_threshold_ns = 5 * kNsPerMs;
-  bool lock_memory = true;                 ///< false: the scene's lock_memory is not applied
-  bool dds = true;                         ///< devices and station on DDS (the scene's domain); false: direct hand-off
+  bool lock_memory = true;  ///< false: the scene's lock_memory is not applied
+  bool dds = true;          ///< devices and station on DDS (the scene's domain); false: direct hand-off
 };
 
 /// Called once the session is built, just before the station runs (e.g. to start a display
@@ -35,16 +35,16 @@ using BeforeRun = std::function<Status(const DisplaySurface&)>;
 /// A finished session.
 struct StationSession {
   StationLiver liver;
-  DisplaySurface surface;                  ///< the liver's boundary, published deformed on DDS
+  DisplaySurface surface;  ///< the liver's boundary, published deformed on DDS
   SimulatedWorld world;
-  StationRun run;                          ///< real time, with assimilation
-  StationReplay open_loop;                 ///< replay without ultrasound observations
-  PredictionErrors assimilated, without;   ///< from settle_ns
+  StationRun run;                         ///< real time, with assimilation
+  StationReplay open_loop;                ///< replay without ultrasound observations
+  PredictionErrors assimilated, without;  ///< from settle_ns
   TimeNs display_latency_ns = 0;
   TimeNs settle_ns = 0;
   TimeNs miss_threshold_ns = 0;
-  std::string liver_model;                 ///< describe_station_loop: which liver the loop ran
-  double build_s = 0.0, world_s = 0.0;     ///< start-up: liver and reduced loop; full-order world
+  std::string liver_model;              ///< describe_station_loop: which liver the loop ran
+  double build_s = 0.0, world_s = 0.0;  ///< start-up: liver and reduced loop; full-order world
 };
 
 /// Runs `scene` for options.world.duration_ns.
@@ -56,8 +56,8 @@ struct LiveSession {
   DisplaySurface surface;
   StationRun run;
   TimeNs miss_threshold_ns = 0;
-  std::string liver_model;  ///< describe_station_loop: which liver the loop ran
-  double build_s = 0.0;  ///< start-up: liver and reduced loop
+  std::string liver_model;                         ///< describe_station_loop: which liver the loop ran
+  double build_s = 0.0;                            ///< start-up: liver and reduced loop
   std::int64_t resident_after_start_up_bytes = 0;  ///< the process's resident memory once built
   std::int64_t resident_at_end_bytes = 0;          ///< at the end of the run (its growth: a leak)
   std::int64_t peak_resident_bytes = 0;            ///< its largest, at the end of the run
@@ -97,7 +97,8 @@ std::string format_live_summary(const Scene& scene, const LiveSession& session);
 std::string session_json(const Scene& scene, const StationSession& session);
 
 /// The run options of `scene`'s real-time setup (lock_memory false: not applied whatever the scene says).
-StationRunOptions station_run_options(const Scene& scene, TimeNs duration_ns, TimeNs miss_threshold_ns, bool lock_memory);
+StationRunOptions station_run_options(const Scene& scene, TimeNs duration_ns, TimeNs miss_threshold_ns,
+                                      bool lock_memory);
 
 /// The DDS options of `scene` (domain, topic names, arrival window, pose bounds), publishing `surface` when given.
 Result<DdsRunOptions> dds_run_options(const Scene& scene, const DisplaySurface* surface);

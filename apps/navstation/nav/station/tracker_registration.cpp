@@ -6,24 +6,35 @@ namespace nav::station {
 
 Result<RigidPose> scene_reference_from_model(const Scene& scene) {
   auto frames = calibration::FrameTree::load(scene.frames.urdf_path);
-  if (!frames.ok()) return Error{.message = frames.error().describe(), .file = scene.source_path, .line = scene.frames.line, .field = "frames.urdf"};
+  if (!frames.ok())
+    return Error{.message = frames.error().describe(),
+                 .file = scene.source_path,
+                 .line = scene.frames.line,
+                 .field = "frames.urdf"};
   auto joint = frames.value().lookup("reference_marker", "liver_model", 0);
   if (!joint.ok())
-    return Error{.message = "no fixed chain from reference_marker to liver_model (the registration navtool calib register writes): " +
-                     joint.error().describe(), .file = scene.source_path, .line = scene.frames.line, .field = "frames.urdf"};
+    return Error{
+        .message =
+            "no fixed chain from reference_marker to liver_model (the registration navtool calib register writes): " +
+            joint.error().describe(),
+        .file = scene.source_path,
+        .line = scene.frames.line,
+        .field = "frames.urdf"};
   return RigidPose{joint.value().translation(), Eigen::Quaterniond(joint.value().rotation()).normalized()};
 }
 
-TrackerRegistration::TrackerRegistration(const RigidPose& reference_from_model, std::optional<std::uint32_t> reference_tool)
+TrackerRegistration::TrackerRegistration(const RigidPose& reference_from_model,
+                                         std::optional<std::uint32_t> reference_tool)
     : reference_from_model_(reference_from_model), reference_tool_(reference_tool) {
-  if (!reference_tool_) model_from_tracker_ = inverse(reference_from_model_);  // the reference marker at the tracker's origin
+  if (!reference_tool_)
+    model_from_tracker_ = inverse(reference_from_model_);  // the reference marker at the tracker's origin
 }
 
 bool TrackerRegistration::take_reference(const dds::ToolPose& pose) noexcept {
   if (!reference_tool_ || pose.tool_id != *reference_tool_) return false;
   const auto& q = pose.orientation_wxyz;
   const RigidPose tracker_from_reference{{pose.position_m[0], pose.position_m[1], pose.position_m[2]},
-                                       Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized()};
+                                         Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized()};
   model_from_tracker_ = inverse(compose(tracker_from_reference, reference_from_model_));
   return true;
 }

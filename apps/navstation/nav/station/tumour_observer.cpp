@@ -9,10 +9,17 @@ namespace nav::station {
 
 Result<ProbeImaging> scene_probe_imaging(const Scene& scene) {
   auto frames = calibration::FrameTree::load(scene.frames.urdf_path);
-  if (!frames.ok()) return Error{.message = frames.error().describe(), .file = scene.source_path, .line = scene.frames.line, .field = "frames.urdf"};
+  if (!frames.ok())
+    return Error{.message = frames.error().describe(),
+                 .file = scene.source_path,
+                 .line = scene.frames.line,
+                 .field = "frames.urdf"};
   auto probe_from_image = frames.value().lookup("probe_marker", "image_plane", 0);
   if (!probe_from_image.ok())
-    return Error{.message = "no fixed chain from probe_marker to image_plane: " + probe_from_image.error().describe(), .file = scene.source_path, .line = scene.frames.line, .field = "frames.urdf"};
+    return Error{.message = "no fixed chain from probe_marker to image_plane: " + probe_from_image.error().describe(),
+                 .file = scene.source_path,
+                 .line = scene.frames.line,
+                 .field = "frames.urdf"};
   ProbeImaging imaging;
   imaging.probe_from_image = probe_from_image.value();
   return imaging;
@@ -44,15 +51,17 @@ std::optional<RigidPose> TumourObserver::probe_pose_at(TimeNs time_ns) const {
   if (before != nullptr && after != nullptr) {
     if (after->time_ns - before->time_ns > options_.max_pose_gap_ns) return std::nullopt;
     if (after->time_ns == before->time_ns) return before->pose;
-    const double f = static_cast<double>(time_ns - before->time_ns) / static_cast<double>(after->time_ns - before->time_ns);
+    const double f =
+        static_cast<double>(time_ns - before->time_ns) / static_cast<double>(after->time_ns - before->time_ns);
     return geodesic(before->pose, after->pose, f);
   }
   if (before != nullptr && time_ns - before->time_ns <= options_.max_pose_gap_ns) return before->pose;
   return std::nullopt;
 }
 
-std::optional<Eigen::Vector3d> TumourObserver::observe(TimeNs capture_ns, const std::uint8_t* pixels, std::uint32_t width_px,
-                                                       std::uint32_t height_px, double spacing_x_m, double spacing_y_m) {
+std::optional<Eigen::Vector3d> TumourObserver::observe(TimeNs capture_ns, const std::uint8_t* pixels,
+                                                       std::uint32_t width_px, std::uint32_t height_px,
+                                                       double spacing_x_m, double spacing_y_m) {
   ++counts_.frames;
   const auto start = std::chrono::steady_clock::now();
   const ultrasound::TumourDetection found = tracker_.update(pixels, width_px, height_px);
@@ -70,7 +79,8 @@ std::optional<Eigen::Vector3d> TumourObserver::observe(TimeNs capture_ns, const 
   model_from_probe.linear() = probe->rotation.toRotationMatrix();
   model_from_probe.translation() = probe->position_m;
   ++counts_.observations;
-  return ultrasound::image_point_in_world(found.u_px, found.v_px, spacing_x_m, spacing_y_m, imaging_.probe_from_image, model_from_probe);
+  return ultrasound::image_point_in_world(found.u_px, found.v_px, spacing_x_m, spacing_y_m, imaging_.probe_from_image,
+                                          model_from_probe);
 }
 
 }  // namespace nav::station

@@ -33,9 +33,9 @@ Result<ProbeImaging> scene_probe_imaging(const Scene& scene);
 
 /// How the observer decides.
 struct TumourObserverOptions {
-  double min_confidence = 0.5;                 ///< detections below it are dropped
-  TimeNs max_pose_gap_ns = 100 * kNsPerMs;     ///< probe poses further from the capture time do not place a frame
-  std::size_t pose_history = 64;               ///< probe poses kept (about 1 s at 60 Hz)
+  double min_confidence = 0.5;              ///< detections below it are dropped
+  TimeNs max_pose_gap_ns = 100 * kNsPerMs;  ///< probe poses further from the capture time do not place a frame
+  std::size_t pose_history = 64;            ///< probe poses kept (about 1 s at 60 Hz)
 };
 
 /// What the observer did with the frames it was given.

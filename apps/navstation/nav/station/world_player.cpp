@@ -27,13 +27,17 @@ dds::ToolPose WorldPlayer::reference_pose(const dds::ToolPose& respiratory) cons
   return pose;
 }
 
-SimulatedTracker simulated_tracker(const ToolIds& tools, const RigidPose& tracker_from_reference, const RigidPose& reference_from_model) {
+SimulatedTracker simulated_tracker(const ToolIds& tools, const RigidPose& tracker_from_reference,
+                                   const RigidPose& reference_from_model) {
   const RigidPose reference = tools.reference ? tracker_from_reference : RigidPose{};
   return {tools, compose(reference, reference_from_model), reference};
 }
 
 WorldPlayer::WorldPlayer(const SimulatedWorld& world, bool publish_truth, const SimulatedTracker& tracker)
-    : world_(world), publish_truth_(publish_truth), tracker_(tracker), frame_(std::make_unique<dds::UltrasoundFrame>()),
+    : world_(world),
+      publish_truth_(publish_truth),
+      tracker_(tracker),
+      frame_(std::make_unique<dds::UltrasoundFrame>()),
       written_ns_(world.samples.size(), -1) {
   const ultrasound::BmodeGeometry& g = world.imaging.geometry;
   frame_->width_px = g.width_px;
@@ -56,7 +60,9 @@ const DeviceSample* WorldPlayer::next_sample(TimeNs& later_ns) {
   later_ns = 0;
   if (repeats_ == 0) {
     // A repeating world leaves its samples at the end itself to the first repeat.
-    while (next_ < world_.samples.size() && repeat_period_ns_ > 0 && world_.samples[next_].measured_ns >= world_.duration_ns) ++next_;
+    while (next_ < world_.samples.size() && repeat_period_ns_ > 0 &&
+           world_.samples[next_].measured_ns >= world_.duration_ns)
+      ++next_;
     if (next_ < world_.samples.size()) return &world_.samples[next_];
     if (repeat_period_ns_ == 0 || cycle_.empty()) return nullptr;
     repeats_ = 1;
@@ -86,7 +92,8 @@ void WorldPlayer::write(const DeviceSample& s, TimeNs later_ns, dds::DdsNode& no
   const dds::ToolPose pose = tool_pose_of(s, sequence, to_device_ns, tracker_);
   if (written) *written = clock.now_ns();
   if (node.write(pose)) ++counts_.poses_written;
-  if (s.kind == SampleKind::respiratory && tracker_.tools.reference && node.write(reference_pose(pose))) ++counts_.poses_written;
+  if (s.kind == SampleKind::respiratory && tracker_.tools.reference && node.write(reference_pose(pose)))
+    ++counts_.poses_written;
 }
 
 TimeNs WorldPlayer::recording_time_ns(TimeNs time_ns) const noexcept {
@@ -96,7 +103,8 @@ TimeNs WorldPlayer::recording_time_ns(TimeNs time_ns) const noexcept {
 
 void WorldPlayer::play_until(TimeNs now_ns, dds::DdsNode* node, const MonotonicClock& clock) {
   TimeNs later_ns = 0;
-  for (const DeviceSample* s = next_sample(later_ns); s != nullptr && s->delivered_ns + later_ns <= now_ns; s = next_sample(later_ns)) {
+  for (const DeviceSample* s = next_sample(later_ns); s != nullptr && s->delivered_ns + later_ns <= now_ns;
+       s = next_sample(later_ns)) {
     if (node == nullptr) {
       ++sequence_;
       ++counts_.samples_lost;
@@ -119,7 +127,8 @@ void WorldPlayer::play_until(TimeNs now_ns, dds::DdsNode* node, const MonotonicC
   }
 }
 
-dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns, const SimulatedTracker& tracker) {
+dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns,
+                           const SimulatedTracker& tracker) {
   dds::ToolPose pose;
   pose.sequence_number = sequence_number;
   pose.source_time_ns = sample.measured_ns + world_to_device_ns;

@@ -35,7 +35,8 @@ struct SimulatedTracker {
 
 /// A simulated tracker of `tools` seeing the reference marker at `tracker_from_reference` (when
 /// `tools` has a reference; else at its origin) and the model on it by the URDF's `reference_from_model`.
-SimulatedTracker simulated_tracker(const ToolIds& tools, const RigidPose& tracker_from_reference, const RigidPose& reference_from_model);
+SimulatedTracker simulated_tracker(const ToolIds& tools, const RigidPose& tracker_from_reference,
+                                   const RigidPose& reference_from_model);
 
 /// Plays one world's recording, in order: once, or on and on by repeating its last period.
 class WorldPlayer {
@@ -75,7 +76,7 @@ class WorldPlayer {
   bool publish_truth_;
   SimulatedTracker tracker_;
   TimeNs world_to_device_ns_ = 0;
-  std::size_t next_ = 0;             ///< in the recording (first pass) or in cycle_ (repeats)
+  std::size_t next_ = 0;  ///< in the recording (first pass) or in cycle_ (repeats)
   TimeNs repeat_period_ns_ = 0;
   std::vector<std::size_t> cycle_;  ///< the repeated samples, in delivery order
   std::int64_t repeats_ = 0;        ///< 0: the first pass; k: the k-th repeat of the cycle
@@ -88,6 +89,7 @@ class WorldPlayer {
 
 /// A recorded tracker sample as the ToolPose `tracker` publishes (source time: its measurement
 /// time on the device's clock, world time + `world_to_device_ns`; in the tracker's frame).
-dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns, const SimulatedTracker& tracker);
+dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_number, TimeNs world_to_device_ns,
+                           const SimulatedTracker& tracker);
 
 }  // namespace nav::station

@@ -27,7 +27,8 @@ void fail(const std::string& file, const YAML::Node& node, const YAML::Mark& fal
   throw SceneFailure{std::move(error)};
 }
 
-std::string scalar_text(const std::string& file, const YAML::Node& node, const YAML::Mark& fallback, const std::string& path) {
+std::string scalar_text(const std::string& file, const YAML::Node& node, const YAML::Mark& fallback,
+                        const std::string& path) {
   if (!node.IsScalar()) fail(file, node, fallback, path, "expected a single value");
   return node.Scalar();
 }
@@ -151,7 +152,8 @@ std::vector<double> MapReader::numbers(const std::string& key, std::size_t count
     if (!YAML::convert<double>::decode(item, value) || !std::isfinite(value))
       fail(file_, item, child.Mark(), at, "expected a finite number, got '" + text + "'");
     const bool above_low = range.open_low ? value > range.low : value >= range.low;
-    if (!above_low || value > range.high) fail(file_, item, child.Mark(), at, number_text(value) + " is outside " + range_text(range));
+    if (!above_low || value > range.high)
+      fail(file_, item, child.Mark(), at, number_text(value) + " is outside " + range_text(range));
     values.push_back(value);
   }
   return values;

@@ -23,8 +23,8 @@ struct SceneFailure {
 };
 
 /// The error for `node` (or, when it has no position, `fallback`) at key path `path`.
-[[noreturn]] void fail(const std::string& file, const YAML::Node& node, const YAML::Mark& fallback, const std::string& path,
-                       const std::string& message);
+[[noreturn]] void fail(const std::string& file, const YAML::Node& node, const YAML::Mark& fallback,
+                       const std::string& path, const std::string& message);
 
 /// A range a number must lie in; `open_low` excludes the low end.
 struct Range {
@@ -87,6 +87,7 @@ class MapReader {
 };
 
 /// A string value of `node` (a scalar), or a failure naming `path`.
-std::string scalar_text(const std::string& file, const YAML::Node& node, const YAML::Mark& fallback, const std::string& path);
+std::string scalar_text(const std::string& file, const YAML::Node& node, const YAML::Mark& fallback,
+                        const std::string& path);
 
 }  // namespace nav::station::detail

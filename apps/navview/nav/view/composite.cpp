@@ -24,13 +24,14 @@ void caption(cv::Mat& panel, const char* text) {
 /// "frame 12 | target 3 (rung 2, +50 ms): 1.2 mm off plane"
 void caption_frame_panel(cv::Mat& panel, const DisplayInputs& inputs) {
   char text[160];
-  int used = inputs.frame != nullptr
-                 ? std::snprintf(text, sizeof(text), "frame %llu", static_cast<unsigned long long>(inputs.frame->sequence_number))
-                 : std::snprintf(text, sizeof(text), "waiting for ultrasound");
+  int used = inputs.frame != nullptr ? std::snprintf(text, sizeof(text), "frame %llu",
+                                                     static_cast<unsigned long long>(inputs.frame->sequence_number))
+                                     : std::snprintf(text, sizeof(text), "waiting for ultrasound");
   if (inputs.prediction != nullptr && used > 0 && static_cast<std::size_t>(used) < sizeof(text)) {
-    std::snprintf(text + used, sizeof(text) - static_cast<std::size_t>(used), " | target %u (rung %u, +%lld ms): %.1f mm off plane",
-                  inputs.prediction->target_id, inputs.prediction->model_rung,
-                  static_cast<long long>(inputs.prediction->horizon_ns / kNsPerMs), inputs.prediction->position_m[2] * 1e3);
+    std::snprintf(text + used, sizeof(text) - static_cast<std::size_t>(used),
+                  " | target %u (rung %u, +%lld ms): %.1f mm off plane", inputs.prediction->target_id,
+                  inputs.prediction->model_rung, static_cast<long long>(inputs.prediction->horizon_ns / kNsPerMs),
+                  inputs.prediction->position_m[2] * 1e3);
   }
   caption(panel, text);
 }
@@ -38,9 +39,9 @@ void caption_frame_panel(cv::Mat& panel, const DisplayInputs& inputs) {
 /// "surface 4: 2194 vertices | needle 21 points, tip force 0.55 N"
 void caption_surface_panel(cv::Mat& panel, const DisplayInputs& inputs) {
   char text[160];
-  int used = inputs.surface != nullptr
-                 ? std::snprintf(text, sizeof(text), "surface %u: %u vertices", inputs.surface->surface_id, inputs.surface->vertex_count)
-                 : std::snprintf(text, sizeof(text), "waiting for the surface");
+  int used = inputs.surface != nullptr ? std::snprintf(text, sizeof(text), "surface %u: %u vertices",
+                                                       inputs.surface->surface_id, inputs.surface->vertex_count)
+                                       : std::snprintf(text, sizeof(text), "waiting for the surface");
   if (inputs.needle != nullptr && used > 0 && static_cast<std::size_t>(used) < sizeof(text)) {
     const dds::Vector3& f = inputs.needle->tip_force_n;
     std::snprintf(text + used, sizeof(text) - static_cast<std::size_t>(used), " | needle %u points, tip force %.2f N",
@@ -53,10 +54,14 @@ constexpr int kStatusBandPx = 22;
 
 const char* mode_name(dds::StationMode mode) {
   switch (mode) {
-    case dds::StationMode::starting: return "starting";
-    case dds::StationMode::running: return "running";
-    case dds::StationMode::degraded: return "DEGRADED";
-    case dds::StationMode::stopped: return "stopped";
+    case dds::StationMode::starting:
+      return "starting";
+    case dds::StationMode::running:
+      return "running";
+    case dds::StationMode::degraded:
+      return "DEGRADED";
+    case dds::StationMode::stopped:
+      return "stopped";
   }
   return "in an unknown mode";
 }
@@ -73,9 +78,11 @@ void draw_status_band(cv::Mat& canvas, const StationStatus& status) {
   std::string text = std::string("station ") + mode_name(health.mode) + " | " + (flags.empty() ? "healthy" : flags);
   for (std::size_t i = 0; i < dds::kStationInputCount; ++i)  // the inputs in trouble, each with its own flags
     if (health.input_flags[i] != 0)
-      text += std::string(" | ") + dds::station_input_name(static_cast<dds::StationInput>(i)) + ": " + health_flag_names(health.input_flags[i]);
+      text += std::string(" | ") + dds::station_input_name(static_cast<dds::StationInput>(i)) + ": " +
+              health_flag_names(health.input_flags[i]);
   text += " | dropped at the boundary: " + status.drops;
-  cv::putText(band, text, cv::Point(6, kStatusBandPx - 7), cv::FONT_HERSHEY_SIMPLEX, kCaptionScale, palette::kText, 1, cv::LINE_AA);
+  cv::putText(band, text, cv::Point(6, kStatusBandPx - 7), cv::FONT_HERSHEY_SIMPLEX, kCaptionScale, palette::kText, 1,
+              cv::LINE_AA);
 }
 
 }  // namespace
@@ -85,8 +92,9 @@ Composer::Composer(const CompositeOptions& options, SurfaceTriangles surface_tri
 
 const cv::Mat& Composer::render(const DisplayInputs& inputs, const StationStatus* status) {
   const int height = options_.panel_height_px;
-  const int frame_width =
-      inputs.frame != nullptr ? FramePanelMapping::for_frame(*inputs.frame, height).panel_width_px(*inputs.frame) : height;
+  const int frame_width = inputs.frame != nullptr
+                              ? FramePanelMapping::for_frame(*inputs.frame, height).panel_width_px(*inputs.frame)
+                              : height;
   canvas_.create(height, frame_width + height, CV_8UC3);
   cv::Mat frame_panel = canvas_(cv::Rect(0, 0, frame_width, height));
   cv::Mat surface_panel = canvas_(cv::Rect(frame_width, 0, height, height));

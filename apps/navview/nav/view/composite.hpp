@@ -28,10 +28,10 @@ struct StationStatus {
 
 /// The composite's size and the 3-D panel's viewing angles.
 struct CompositeOptions {
-  int panel_height_px = 512;      // both panels; the 3-D panel is square
+  int panel_height_px = 512;  // both panels; the 3-D panel is square
   double view_azimuth_deg = 30.0;
   double view_elevation_deg = 20.0;
-  bool captions = true;           // one line of figures at the top of each panel
+  bool captions = true;  // one line of figures at the top of each panel
 };
 
 /// Renders composites into one canvas it keeps. The 3-D camera is fitted to the first

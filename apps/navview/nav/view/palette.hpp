@@ -5,14 +5,14 @@
 
 namespace nav::view::palette {
 
-inline const cv::Scalar kNeedle{0, 255, 255};              // yellow
-inline const cv::Scalar kTarget{0, 0, 255};                // red
-inline const cv::Scalar kUncertainty{255, 128, 0};         // azure
-inline const cv::Scalar kForce{255, 0, 255};               // magenta: the force on the needle's tip
-inline const cv::Scalar kSurface{150, 170, 230};           // flesh, lit head-on
-inline const cv::Scalar kSurfaceBackground{40, 25, 20};    // dark blue-gray
+inline const cv::Scalar kNeedle{0, 255, 255};            // yellow
+inline const cv::Scalar kTarget{0, 0, 255};              // red
+inline const cv::Scalar kUncertainty{255, 128, 0};       // azure
+inline const cv::Scalar kForce{255, 0, 255};             // magenta: the force on the needle's tip
+inline const cv::Scalar kSurface{150, 170, 230};         // flesh, lit head-on
+inline const cv::Scalar kSurfaceBackground{40, 25, 20};  // dark blue-gray
 inline const cv::Scalar kText{255, 255, 255};
-inline const cv::Scalar kStatusHealthy{40, 110, 40};      // dark green: the station runs healthy
-inline const cv::Scalar kStatusDegraded{30, 30, 170};     // dark red: degraded, a flag raised or stopped
+inline const cv::Scalar kStatusHealthy{40, 110, 40};   // dark green: the station runs healthy
+inline const cv::Scalar kStatusDegraded{30, 30, 170};  // dark red: degraded, a flag raised or stopped
 
 }  // namespace nav::view::palette

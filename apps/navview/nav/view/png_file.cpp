@@ -71,8 +71,8 @@ Status write_png(const std::string& path, const cv::Mat& image) {
   const std::vector<std::uint8_t> rows = filtered_rows(image);
   uLongf compressed_bytes = compressBound(static_cast<uLong>(rows.size()));
   std::vector<std::uint8_t> compressed(compressed_bytes);
-  if (compress2(compressed.data(), &compressed_bytes, rows.data(), static_cast<uLong>(rows.size()), kCompressionLevel) !=
-      Z_OK) {
+  if (compress2(compressed.data(), &compressed_bytes, rows.data(), static_cast<uLong>(rows.size()),
+                kCompressionLevel) != Z_OK) {
     return png_error(path, "zlib could not compress the image");
   }
   compressed.resize(compressed_bytes);
@@ -88,7 +88,8 @@ Status write_png(const std::string& path, const cv::Mat& image) {
     out.write(reinterpret_cast<const char*>(file.data()), static_cast<std::streamsize>(file.size()));
     if (!out) return png_error(partial_path, "cannot write the image file");
   }
-  if (std::rename(partial_path.c_str(), path.c_str()) != 0) return png_error(path, "cannot rename the finished image into place");
+  if (std::rename(partial_path.c_str(), path.c_str()) != 0)
+    return png_error(path, "cannot rename the finished image into place");
   return Done{};
 }
 
@@ -117,7 +118,8 @@ Result<cv::Mat> read_png(const std::string& path) {
       width = get_u32(data);
       height = get_u32(data + 4);
       colour = data[9];
-      if (data[8] != 8 || (colour != kColourRgb && colour != kColourGray) || data[10] != 0 || data[11] != 0 || data[12] != 0) {
+      if (data[8] != 8 || (colour != kColourRgb && colour != kColourGray) || data[10] != 0 || data[11] != 0 ||
+          data[12] != 0) {
         return png_error(path, "only 8-bit RGB or gray, non-interlaced PNGs are read");
       }
     } else if (name == "IDAT") {
@@ -139,7 +141,8 @@ Result<cv::Mat> read_png(const std::string& path) {
   cv::Mat image(static_cast<int>(height), static_cast<int>(width), channels == 3 ? CV_8UC3 : CV_8UC1);
   for (int y = 0; y < image.rows; ++y) {
     const std::uint8_t* row = &rows[static_cast<std::size_t>(y) * row_bytes];
-    if (row[0] != kFilterNone) return png_error(path, "row " + std::to_string(y) + " uses a PNG filter this reader does not undo");
+    if (row[0] != kFilterNone)
+      return png_error(path, "row " + std::to_string(y) + " uses a PNG filter this reader does not undo");
     std::uint8_t* out = image.ptr<std::uint8_t>(y);
     for (std::size_t x = 0; x < width; ++x) {
       if (channels == 3) {

@@ -15,8 +15,8 @@ constexpr double kFitFraction = 0.9;
 constexpr double kAmbientLight = 0.3;  // the rest is a headlight along the view direction
 constexpr int kNeedleThicknessPx = 2;
 constexpr double kTargetRadiusPx = 4.0;
-constexpr double kTipRadiusPx = 3.0;       // the needle's tip when only the tip is known
-constexpr double kForcePxPerN = 60.0;      // the tip force arrow's length per newton (in the screen plane)
+constexpr double kTipRadiusPx = 3.0;   // the needle's tip when only the tip is known
+constexpr double kForcePxPerN = 60.0;  // the tip force arrow's length per newton (in the screen plane)
 constexpr double kForceMaxPx = 90.0;
 constexpr int kForceThicknessPx = 2;
 
@@ -42,12 +42,14 @@ void draw_needle(cv::Mat& panel, const OrthoCamera& camera, const dds::NeedleSta
   const double force_n = std::sqrt(dot(needle.tip_force_n, needle.tip_force_n));
   if (force_n > 0.0) {
     const double px_per_n = std::min(kForcePxPerN * force_n, kForceMaxPx) / force_n;
-    const cv::Point2d end = tip + px_per_n * cv::Point2d(dot(needle.tip_force_n, camera.right), -dot(needle.tip_force_n, camera.up));
-    cv::arrowedLine(panel, to_fixed_point(tip), to_fixed_point(end), palette::kForce, kForceThicknessPx, cv::LINE_AA, kSubpixelBits, 0.3);
+    const cv::Point2d end =
+        tip + px_per_n * cv::Point2d(dot(needle.tip_force_n, camera.right), -dot(needle.tip_force_n, camera.up));
+    cv::arrowedLine(panel, to_fixed_point(tip), to_fixed_point(end), palette::kForce, kForceThicknessPx, cv::LINE_AA,
+                    kSubpixelBits, 0.3);
   }
   for (std::uint32_t i = 1; i < needle.point_count; ++i)
-    draw_segment(panel, camera.to_panel(needle.shape_points_m[i - 1]), camera.to_panel(needle.shape_points_m[i]), palette::kNeedle,
-                 kNeedleThicknessPx);
+    draw_segment(panel, camera.to_panel(needle.shape_points_m[i - 1]), camera.to_panel(needle.shape_points_m[i]),
+                 palette::kNeedle, kNeedleThicknessPx);
   if (needle.point_count == 1) draw_marker(panel, tip, kTipRadiusPx, palette::kNeedle);
 }
 
@@ -97,7 +99,9 @@ OrthoCamera fit_camera(const dds::DeformedSurface& surface, double azimuth_deg, 
 
 void SurfacePainter::draw_triangles(cv::Mat& panel, const OrthoCamera& camera, const dds::DeformedSurface& surface,
                                     const SurfaceTriangles& triangles) {
-  const auto vertex = [&](std::int32_t index) { return to_vector(surface.vertex_positions_m[static_cast<std::size_t>(index)]); };
+  const auto vertex = [&](std::int32_t index) {
+    return to_vector(surface.vertex_positions_m[static_cast<std::size_t>(index)]);
+  };
   depth_order_.clear();
   for (std::size_t t = 0; t < triangles.size(); ++t) {
     const auto& [a, b, c] = triangles[t];
@@ -110,7 +114,8 @@ void SurfacePainter::draw_triangles(cv::Mat& panel, const OrthoCamera& camera, c
   for (const auto& [depth, t] : depth_order_) {
     const auto& [a, b, c] = triangles[t];
     const dds::Vector3 normal = cross(minus(vertex(b), vertex(a)), minus(vertex(c), vertex(a)));
-    const cv::Point corners[3] = {to_fixed_point(camera.to_panel(vertex(a))), to_fixed_point(camera.to_panel(vertex(b))),
+    const cv::Point corners[3] = {to_fixed_point(camera.to_panel(vertex(a))),
+                                  to_fixed_point(camera.to_panel(vertex(b))),
                                   to_fixed_point(camera.to_panel(vertex(c)))};
     cv::fillConvexPoly(panel, corners, 3, shade(normal, camera.toward_viewer), cv::LINE_8, kSubpixelBits);
   }
@@ -125,11 +130,13 @@ void SurfacePainter::draw(cv::Mat& panel, const OrthoCamera& camera, const dds::
   } else {
     for (std::uint32_t i = 0; i < surface.vertex_count; ++i) {
       const cv::Point2d p = camera.to_panel(to_vector(surface.vertex_positions_m[i]));
-      cv::circle(panel, to_fixed_point(p), 1 << kSubpixelBits, palette::kSurface, cv::FILLED, cv::LINE_8, kSubpixelBits);
+      cv::circle(panel, to_fixed_point(p), 1 << kSubpixelBits, palette::kSurface, cv::FILLED, cv::LINE_8,
+                 kSubpixelBits);
     }
   }
   if (needle != nullptr) draw_needle(panel, camera, *needle);
-  if (prediction != nullptr) draw_marker(panel, camera.to_panel(prediction->position_m), kTargetRadiusPx, palette::kTarget);
+  if (prediction != nullptr)
+    draw_marker(panel, camera.to_panel(prediction->position_m), kTargetRadiusPx, palette::kTarget);
 }
 
 }  // namespace nav::view

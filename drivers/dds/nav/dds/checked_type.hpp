@@ -23,9 +23,11 @@ bool is_plain_cdr(const std::uint8_t* payload, std::size_t size) noexcept;
 /// (not plain CDR, truncated, a length past its end: whatever the decoder refuses or throws),
 /// or wrong_size (larger than the type's bound). Never throws.
 template <typename Sample>
-SampleFault checked_deserialize(typename WireTraits<Sample>::PubSubType& type, eprosima::fastrtps::rtps::SerializedPayload_t& payload,
+SampleFault checked_deserialize(typename WireTraits<Sample>::PubSubType& type,
+                                eprosima::fastrtps::rtps::SerializedPayload_t& payload,
                                 typename WireTraits<Sample>::Wire& wire) noexcept {
-  using Generated [[maybe_unused]] = typename WireTraits<Sample>::PubSubType;  // clang does not count the qualified call below as a use
+  using Generated [[maybe_unused]] =
+      typename WireTraits<Sample>::PubSubType;  // clang does not count the qualified call below as a use
   if (!is_plain_cdr(payload.data, payload.length)) return SampleFault::malformed;
   if (payload.length > type.m_typeSize) return SampleFault::wrong_size;
   try {
@@ -60,9 +62,11 @@ class CheckedPubSubType final : public WireTraits<Sample>::PubSubType {
       copy.encapsulation = payload->encapsulation;
       copy.pos = 0;
     }
-    const SampleFault fault = checked_deserialize<Sample>(*this, copied ? copy : *payload, *static_cast<typename WireTraits<Sample>::Wire*>(data));
+    const SampleFault fault = checked_deserialize<Sample>(*this, copied ? copy : *payload,
+                                                          *static_cast<typename WireTraits<Sample>::Wire*>(data));
     if (fault == SampleFault::none) return true;
-    if (copied && std::memcmp(copy.data, payload->data, copy.length) != 0) return false;  // torn by its writer while copied
+    if (copied && std::memcmp(copy.data, payload->data, copy.length) != 0)
+      return false;  // torn by its writer while copied
     counters_.count(fault);
     return false;
   }

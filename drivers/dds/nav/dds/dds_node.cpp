@@ -20,9 +20,9 @@
 #include "nav/dds/checked_type.hpp"
 #include "nav/dds/environment_guard.hpp"
 #include "nav/dds/participant_qos.hpp"
-#include "nav/dds/shared_memory_cleanup.hpp"
 #include "nav/dds/sample_boundary.hpp"
 #include "nav/dds/sample_checks.hpp"
+#include "nav/dds/shared_memory_cleanup.hpp"
 #include "nav/dds/topic_qos.hpp"
 #include "nav/dds/wire_convert.hpp"
 
@@ -89,7 +89,7 @@ class SinkListener final : public fdds::DataReaderListener, public TopicState {
 /// The participant, its entities and the listeners' state.
 struct DdsNode::Impl {
   TopicQosOptions qos;
-  BoundaryCounters counters;  ///< over every topic
+  BoundaryCounters counters;                                                    ///< over every topic
   std::array<std::unique_ptr<BoundaryCounters>, kTopicCount> topic_counters{};  ///< each counting into counters
   std::array<std::unique_ptr<TopicState>, kTopicCount> write_scratch{};
   std::array<std::unique_ptr<TopicState>, kTopicCount> listeners{};
@@ -113,7 +113,8 @@ struct DdsNode::Impl {
     topic_counters[index_of(topic)] = std::make_unique<BoundaryCounters>(counters);
     fdds::TypeSupport type(new CheckedPubSubType<Sample>(*topic_counters[index_of(topic)]));
     if (type.register_type(participant) != ReturnCode_t::RETCODE_OK) return false;
-    topics[index_of(topic)] = participant->create_topic(topic_name(topic, qos.names), type.get_type_name(), fdds::TopicQos());
+    topics[index_of(topic)] =
+        participant->create_topic(topic_name(topic, qos.names), type.get_type_name(), fdds::TopicQos());
     return topics[index_of(topic)] != nullptr;
   }
 
@@ -137,7 +138,8 @@ Result<std::unique_ptr<DdsNode>> DdsNode::create(const NetworkConfig& network, c
   impl->participant = fdds::DomainParticipantFactory::get_instance()->create_participant(
       static_cast<fdds::DomainId_t>(network.domain_id), participant_qos.value());
   if (impl->participant == nullptr) {
-    return Error{.message = "Fast DDS refused to create the participant", .field = "domain " + std::to_string(network.domain_id)};
+    return Error{.message = "Fast DDS refused to create the participant",
+                 .field = "domain " + std::to_string(network.domain_id)};
   }
   impl->publisher = impl->participant->create_publisher(fdds::PublisherQos());
   impl->subscriber = impl->participant->create_subscriber(fdds::SubscriberQos());
@@ -153,12 +155,14 @@ DdsNode::~DdsNode() = default;
 template <typename Sample>
 Status DdsNode::advertise() {
   constexpr std::size_t i = index_of(WireTraits<Sample>::topic);
-  if (impl_->writers[i] != nullptr) return Error{.message = "topic already advertised", .field = topic_name(WireTraits<Sample>::topic)};
+  if (impl_->writers[i] != nullptr)
+    return Error{.message = "topic already advertised", .field = topic_name(WireTraits<Sample>::topic)};
   auto scratch = std::make_unique<WriteScratch<Sample>>();
   if constexpr (std::is_same_v<Sample, UltrasoundFrame>) scratch->wire.pixels().reserve(kMaxFramePixels);
   impl_->writers[i] =
       impl_->publisher->create_datawriter(impl_->topics[i], writer_qos(WireTraits<Sample>::topic, impl_->qos));
-  if (impl_->writers[i] == nullptr) return Error{.message = "Fast DDS refused the writer", .field = topic_name(WireTraits<Sample>::topic)};
+  if (impl_->writers[i] == nullptr)
+    return Error{.message = "Fast DDS refused the writer", .field = topic_name(WireTraits<Sample>::topic)};
   impl_->write_scratch[i] = std::move(scratch);
   return Done{};
 }
@@ -175,11 +179,13 @@ bool DdsNode::write(const Sample& sample) {
 template <typename Sample>
 Status DdsNode::subscribe(SampleSink<Sample>& sink, std::optional<ArrivalWindow> window) {
   constexpr std::size_t i = index_of(WireTraits<Sample>::topic);
-  if (impl_->readers[i] != nullptr) return Error{.message = "topic already subscribed", .field = topic_name(WireTraits<Sample>::topic)};
+  if (impl_->readers[i] != nullptr)
+    return Error{.message = "topic already subscribed", .field = topic_name(WireTraits<Sample>::topic)};
   auto listener = std::make_unique<SinkListener<Sample>>(sink, *impl_->topic_counters[i], window);
   impl_->readers[i] = impl_->subscriber->create_datareader(
       impl_->topics[i], reader_qos(WireTraits<Sample>::topic, impl_->qos), listener.get());
-  if (impl_->readers[i] == nullptr) return Error{.message = "Fast DDS refused the reader", .field = topic_name(WireTraits<Sample>::topic)};
+  if (impl_->readers[i] == nullptr)
+    return Error{.message = "Fast DDS refused the reader", .field = topic_name(WireTraits<Sample>::topic)};
   impl_->listeners[i] = std::move(listener);
   return Done{};
 }

@@ -21,7 +21,9 @@ struct SecurityFiles {
   std::string governance;   ///< the domain's rules, signed by the CA
   std::string permissions;  ///< what this participant may read and write, signed by the CA
 
-  bool enabled() const { return !(ca.empty() && certificate.empty() && private_key.empty() && governance.empty() && permissions.empty()); }
+  bool enabled() const {
+    return !(ca.empty() && certificate.empty() && private_key.empty() && governance.empty() && permissions.empty());
+  }
 };
 
 /// The network settings of one DDS participant. The defaults keep everything on this

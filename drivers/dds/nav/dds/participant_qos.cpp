@@ -9,10 +9,10 @@
 #include <memory>
 #include <string>
 
-#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <fastrtps/utils/IPLocator.h>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 
 namespace nav::dds {
 namespace {
@@ -52,7 +52,8 @@ std::string interface_problem(const std::string& text, const in_addr& address) {
     if (reinterpret_cast<const sockaddr_in*>(entry->ifa_addr)->sin_addr.s_addr != address.s_addr) continue;
     const unsigned flags = entry->ifa_flags;
     if ((flags & IFF_UP) == 0) {
-      problem = "interface " + std::string(entry->ifa_name) + " holding '" + text + "' is down; Fast DDS would drop the UDP transport";
+      problem = "interface " + std::string(entry->ifa_name) + " holding '" + text +
+                "' is down; Fast DDS would drop the UDP transport";
     } else if ((flags & IFF_RUNNING) == 0) {
       problem = "interface " + std::string(entry->ifa_name) + " holding '" + text +
                 "' has no carrier (not running); Fast DDS would drop the UDP transport";
@@ -68,22 +69,27 @@ std::string interface_problem(const std::string& text, const in_addr& address) {
 /// Applies the XML profile named in `config` to `qos`, or returns why it cannot.
 Status apply_xml_profile(const NetworkConfig& config, fdds::DomainParticipantQos& qos) {
   if (config.xml_profile_file.empty()) {
-    if (!config.xml_profile_name.empty()) return Error{.message = "a profile name was given without a profile file", .field = "xml_profile_file"};
+    if (!config.xml_profile_name.empty())
+      return Error{.message = "a profile name was given without a profile file", .field = "xml_profile_file"};
     return Done{};
   }
   if (config.xml_profile_name.empty()) {
-    return Error{.message = "no participant profile named", .file = config.xml_profile_file, .field = "xml_profile_name"};
+    return Error{
+        .message = "no participant profile named", .file = config.xml_profile_file, .field = "xml_profile_name"};
   }
   std::error_code ignored;
   if (!std::filesystem::is_regular_file(config.xml_profile_file, ignored)) {
-    return Error{.message = "DDS profile file not found (no fallback to the library defaults)", .file = config.xml_profile_file};
+    return Error{.message = "DDS profile file not found (no fallback to the library defaults)",
+                 .file = config.xml_profile_file};
   }
   auto* factory = fdds::DomainParticipantFactory::get_instance();
   if (factory->load_XML_profiles_file(config.xml_profile_file) != ReturnCode_t::RETCODE_OK) {
     return Error{.message = "DDS profile file could not be parsed", .file = config.xml_profile_file};
   }
   if (factory->get_participant_qos_from_profile(config.xml_profile_name, qos) != ReturnCode_t::RETCODE_OK) {
-    return Error{.message = "no participant profile '" + config.xml_profile_name + "' in the file", .file = config.xml_profile_file, .field = "xml_profile_name"};
+    return Error{.message = "no participant profile '" + config.xml_profile_name + "' in the file",
+                 .file = config.xml_profile_file,
+                 .field = "xml_profile_name"};
   }
   return Done{};
 }
@@ -97,7 +103,9 @@ Status apply_security(const SecurityFiles& security, fdds::DomainParticipantQos&
     return "file://" + std::filesystem::absolute(path, ignored).string();
   };
   auto& properties = qos.properties().properties();
-  const auto set = [&properties](const std::string& name, const std::string& value) { properties.emplace_back(name, value); };
+  const auto set = [&properties](const std::string& name, const std::string& value) {
+    properties.emplace_back(name, value);
+  };
   set("dds.sec.auth.plugin", "builtin.PKI-DH");
   set("dds.sec.auth.builtin.PKI-DH.identity_ca", uri(security.ca));
   set("dds.sec.auth.builtin.PKI-DH.identity_certificate", uri(security.certificate));
@@ -140,8 +148,10 @@ Status check_security(const SecurityFiles& security) {
                         {security.permissions, "security.permissions"}};
   for (const File& file : files) {
     std::error_code ignored;
-    if (file.path.empty()) return Error{.message = "DDS Security needs all five files; this one is not given", .field = file.key};
-    if (!std::filesystem::is_regular_file(file.path, ignored)) return Error{.message = "DDS Security file not found", .file = file.path, .field = file.key};
+    if (file.path.empty())
+      return Error{.message = "DDS Security needs all five files; this one is not given", .field = file.key};
+    if (!std::filesystem::is_regular_file(file.path, ignored))
+      return Error{.message = "DDS Security file not found", .file = file.path, .field = file.key};
   }
   return Done{};
 }
@@ -179,7 +189,8 @@ Result<fdds::DomainParticipantQos> make_participant_qos(const NetworkConfig& con
   builtin.metatrafficUnicastLocatorList.push_back(local);
   builtin.initialPeersList.clear();
   builtin.initialPeersList.push_back(local);
-  for (const std::string& peer : config.peer_addresses) builtin.initialPeersList.push_back(unicast_locator(peer, "peer_addresses").value());
+  for (const std::string& peer : config.peer_addresses)
+    builtin.initialPeersList.push_back(unicast_locator(peer, "peer_addresses").value());
   // User data: no multicast; unicast locators come from the transports above (the
   // whitelisted address and, with shared memory, this host's segment).
   qos.wire_protocol().default_multicast_locator_list.clear();

@@ -2,7 +2,8 @@
 
 namespace nav::dds {
 
-PoseInbox::PoseInbox(std::initializer_list<std::uint32_t> tool_ids, const PoseBounds& bounds) noexcept : bounds_(bounds) {
+PoseInbox::PoseInbox(std::initializer_list<std::uint32_t> tool_ids, const PoseBounds& bounds) noexcept
+    : bounds_(bounds) {
   for (const std::uint32_t id : tool_ids) {
     if (tool_count_ == kMaxTools) break;
     tools_[tool_count_++].id = id;

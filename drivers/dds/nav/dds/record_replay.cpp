@@ -56,7 +56,8 @@ Result<std::size_t> Recorder::pump_one(RingSink<Sample, kRecorderQueueDepth>& si
   std::size_t written = 0;
   while (sink.try_pop(*sample)) {
     if (!encode_sample(*sample, bytes_)) continue;
-    const Status appended = writer_->append(topic_of<Sample>(), sample->source_time_ns, sample->receive_time_ns, bytes_);
+    const Status appended =
+        writer_->append(topic_of<Sample>(), sample->source_time_ns, sample->receive_time_ns, bytes_);
     if (!appended) return appended.error();
     ++written;
   }

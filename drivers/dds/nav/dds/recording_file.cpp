@@ -172,8 +172,9 @@ void RecordingReader::scan(std::uint64_t file_size) {
     offsets_.push_back(offset);
     offset += kRecordHeaderBytes + header.payload_bytes;
   }
-  damage_ = Error{.message = "no index at the end (the recorder did not close the file); " + std::to_string(offsets_.size()) +
-                      " records found by scanning", .file = path_};
+  damage_ = Error{.message = "no index at the end (the recorder did not close the file); " +
+                             std::to_string(offsets_.size()) + " records found by scanning",
+                  .file = path_};
 }
 
 Result<RecordedSample> RecordingReader::read(std::size_t index) {

@@ -16,8 +16,8 @@ bool all_finite(const Array& values) noexcept {
 }  // namespace
 
 SampleFault check_sample(const ToolPose& pose) noexcept {
-  if (!all_finite(pose.position_m) || !all_finite(pose.orientation_wxyz) ||
-      !all_finite(pose.position_covariance_m2) || !std::isfinite(pose.quality)) {
+  if (!all_finite(pose.position_m) || !all_finite(pose.orientation_wxyz) || !all_finite(pose.position_covariance_m2) ||
+      !std::isfinite(pose.quality)) {
     return SampleFault::non_finite;
   }
   double norm_squared = 0.0;
@@ -66,7 +66,8 @@ SampleFault PoseBounds::check(const ToolPose& pose, const ToolPose* previous) co
   const auto& p = pose.position_m;
   if (std::hypot(p[0], p[1], p[2]) > volume_radius_m) return SampleFault::implausible_pose;
   if (previous == nullptr) return SampleFault::none;
-  const double elapsed_s = 1e-9 * (static_cast<double>(pose.source_time_ns) - static_cast<double>(previous->source_time_ns));
+  const double elapsed_s =
+      1e-9 * (static_cast<double>(pose.source_time_ns) - static_cast<double>(previous->source_time_ns));
   if (elapsed_s < 0.0) return SampleFault::none;
   const auto& q = previous->position_m;
   const double moved_m = std::hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]);

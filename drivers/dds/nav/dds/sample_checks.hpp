@@ -27,8 +27,8 @@ SampleFault check_sample(const GroundTruth& truth) noexcept;
 /// the time reference of its stream (one sample stamped far ahead would otherwise make every
 /// later one "backwards").
 struct ArrivalWindow {
-  TimeNs source_clock_offset_ns = 0;      ///< added to a source time to put it on this host's monotonic clock
-  TimeNs max_ahead_ns = 50 * kNsPerMs;    ///< clock offsets are never known exactly
+  TimeNs source_clock_offset_ns = 0;        ///< added to a source time to put it on this host's monotonic clock
+  TimeNs max_ahead_ns = 50 * kNsPerMs;      ///< clock offsets are never known exactly
   TimeNs max_behind_ns = 1 * kNsPerSecond;  ///< the slowest device's latency, with room
 
   /// none, or time_out_of_window (also when the arithmetic would overflow).

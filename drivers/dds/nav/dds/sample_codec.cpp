@@ -38,9 +38,9 @@ SampleFault decode_sample(const std::uint8_t* bytes, std::size_t size, Sample& s
   return fault != SampleFault::none ? fault : check_sample(sample);
 }
 
-#define NAV_DDS_CODEC_SAMPLE(Sample)                                                        \
-  template Topic topic_of<Sample>() noexcept;                                               \
-  template bool encode_sample<Sample>(const Sample&, std::vector<std::uint8_t>&);           \
+#define NAV_DDS_CODEC_SAMPLE(Sample)                                              \
+  template Topic topic_of<Sample>() noexcept;                                     \
+  template bool encode_sample<Sample>(const Sample&, std::vector<std::uint8_t>&); \
   template SampleFault decode_sample<Sample>(const std::uint8_t*, std::size_t, Sample&);
 NAV_DDS_CODEC_SAMPLE(ToolPose)
 NAV_DDS_CODEC_SAMPLE(UltrasoundFrame)

@@ -7,26 +7,40 @@ namespace nav::dds {
 
 const char* sample_fault_name(SampleFault fault) noexcept {
   switch (fault) {
-    case SampleFault::none: return "none";
-    case SampleFault::malformed: return "malformed";
-    case SampleFault::wrong_size: return "wrong_size";
-    case SampleFault::non_finite: return "non_finite";
-    case SampleFault::non_unit_quaternion: return "non_unit_quaternion";
-    case SampleFault::time_backwards: return "time_backwards";
-    case SampleFault::time_out_of_window: return "time_out_of_window";
-    case SampleFault::unknown_tool: return "unknown_tool";
-    case SampleFault::implausible_pose: return "implausible_pose";
-    case SampleFault::buffer_full: return "buffer_full";
+    case SampleFault::none:
+      return "none";
+    case SampleFault::malformed:
+      return "malformed";
+    case SampleFault::wrong_size:
+      return "wrong_size";
+    case SampleFault::non_finite:
+      return "non_finite";
+    case SampleFault::non_unit_quaternion:
+      return "non_unit_quaternion";
+    case SampleFault::time_backwards:
+      return "time_backwards";
+    case SampleFault::time_out_of_window:
+      return "time_out_of_window";
+    case SampleFault::unknown_tool:
+      return "unknown_tool";
+    case SampleFault::implausible_pose:
+      return "implausible_pose";
+    case SampleFault::buffer_full:
+      return "buffer_full";
   }
   return "unknown";
 }
 
 const char* station_input_name(StationInput input) noexcept {
   switch (input) {
-    case StationInput::needle: return "needle";
-    case StationInput::probe: return "probe";
-    case StationInput::respiratory: return "respiratory";
-    case StationInput::ultrasound: return "ultrasound";
+    case StationInput::needle:
+      return "needle";
+    case StationInput::probe:
+      return "probe";
+    case StationInput::respiratory:
+      return "respiratory";
+    case StationInput::ultrasound:
+      return "ultrasound";
   }
   return "unknown";
 }
@@ -58,7 +72,8 @@ std::uint64_t refused_as_invalid(const BoundaryCounts& counts) noexcept {
 std::string refusals_by_input(const PerInput<std::uint64_t>& refused) {
   std::string text;
   for (std::size_t i = 0; i < kStationInputCount; ++i)
-    text += std::string(i == 0 ? "" : ", ") + station_input_name(static_cast<StationInput>(i)) + " " + std::to_string(refused[i]);
+    text += std::string(i == 0 ? "" : ", ") + station_input_name(static_cast<StationInput>(i)) + " " +
+            std::to_string(refused[i]);
   return text;
 }
 

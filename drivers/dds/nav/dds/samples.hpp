@@ -28,11 +28,11 @@ struct ToolPose {
   std::uint32_t tool_id = 0;
   std::uint64_t sequence_number = 0;
   TimeNs source_time_ns = 0;
-  TimeNs receive_time_ns = 0;                              // set by the receiving listener
+  TimeNs receive_time_ns = 0;  // set by the receiving listener
   Vector3 position_m{};
   std::array<double, 4> orientation_wxyz{1.0, 0.0, 0.0, 0.0};  // unit quaternion
   Covariance3 position_covariance_m2{};
-  float quality = 0.0f;                                    // tracker quality, 0 (bad) to 1
+  float quality = 0.0f;  // tracker quality, 0 (bad) to 1
   FrameName frame_to{};
   FrameName frame_from{};
 };
@@ -122,12 +122,12 @@ struct StationHealth {
   TimeNs source_time_ns = 0;
   TimeNs receive_time_ns = 0;
   StationMode mode = StationMode::starting;
-  std::uint32_t flags = 0;                 // HealthFlags bits
+  std::uint32_t flags = 0;  // HealthFlags bits
   TimeNs step_time_mean_ns = 0;
   TimeNs step_time_max_ns = 0;
   std::uint64_t deadline_misses = 0;
   BoundaryCounts boundary{};
-  PerInput<std::uint32_t> input_flags{};   // HealthFlags bits of each input (bad_sample: refused within the hold)
+  PerInput<std::uint32_t> input_flags{};    // HealthFlags bits of each input (bad_sample: refused within the hold)
   PerInput<std::uint64_t> input_refused{};  // each input's samples refused at the boundary so far
 };
 

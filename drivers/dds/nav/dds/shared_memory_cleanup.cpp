@@ -23,7 +23,8 @@ bool is_segment_lock(std::string_view name) noexcept {
   if (name.size() != kSegmentPrefix.size() + kSegmentIdDigits + kLockSuffix.size()) return false;
   if (!name.starts_with(kSegmentPrefix) || !name.ends_with(kLockSuffix)) return false;
   const std::string_view id = name.substr(kSegmentPrefix.size(), kSegmentIdDigits);
-  return std::all_of(id.begin(), id.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || (c >= 'a' && c <= 'f'); });
+  return std::all_of(id.begin(), id.end(),
+                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || (c >= 'a' && c <= 'f'); });
 }
 
 /// True when no process holds `lock_path` locked (its owner is gone). The lock is taken and

@@ -30,7 +30,8 @@ bool OutboxPublisher::RefusalHold::raised(std::uint64_t count, TimeNs now_ns, Ti
   return grew_ever && now_ns - grew_ns < hold_ns;
 }
 
-std::size_t OutboxPublisher::publish(StationOutbox& outbox, DdsNode& node, TimeNs now_ns, const PerInput<std::uint64_t>& input_refused) {
+std::size_t OutboxPublisher::publish(StationOutbox& outbox, DdsNode& node, TimeNs now_ns,
+                                     const PerInput<std::uint64_t>& input_refused) {
   constexpr auto bad_sample = static_cast<std::uint32_t>(HealthFlag::bad_sample);
   const auto as_is = [](const auto&) {};
   NeedleState needle;

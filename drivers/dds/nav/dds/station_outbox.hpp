@@ -39,7 +39,8 @@ class OutboxPublisher {
   explicit OutboxPublisher(TimeNs bad_sample_hold_ns = kBadSampleHoldNs);
   /// Publishes everything waiting in `outbox` at `now_ns` (monotonic), with `input_refused`
   /// (each input's samples refused so far); returns the number of samples written.
-  std::size_t publish(StationOutbox& outbox, DdsNode& node, TimeNs now_ns, const PerInput<std::uint64_t>& input_refused = {});
+  std::size_t publish(StationOutbox& outbox, DdsNode& node, TimeNs now_ns,
+                      const PerInput<std::uint64_t>& input_refused = {});
 
  private:
   /// When a count of refusals last grew, to hold bad_sample up after it.
@@ -53,7 +54,7 @@ class OutboxPublisher {
 
   std::unique_ptr<DeformedSurface> surface_;  // the largest output, popped into here
   TimeNs bad_sample_hold_ns_;
-  RefusalHold station_;        ///< every sample the node refused as invalid
+  RefusalHold station_;  ///< every sample the node refused as invalid
   PerInput<RefusalHold> inputs_{};
 };
 

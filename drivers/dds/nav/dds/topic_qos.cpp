@@ -24,8 +24,9 @@ Qos endpoint_qos(Topic topic, const TopicQosOptions& options) {
   qos.durability().kind =
       topic == Topic::station_health ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
   if (topic == Topic::tool_pose) {
-    qos.deadline().period = eprosima::fastrtps::Duration_t(static_cast<std::int32_t>(options.pose_deadline_ns / kNsPerSecond),
-                                                           static_cast<std::uint32_t>(options.pose_deadline_ns % kNsPerSecond));
+    qos.deadline().period =
+        eprosima::fastrtps::Duration_t(static_cast<std::int32_t>(options.pose_deadline_ns / kNsPerSecond),
+                                       static_cast<std::uint32_t>(options.pose_deadline_ns % kNsPerSecond));
   }
   if (options.data_sharing) {
     qos.data_sharing().automatic();
@@ -39,13 +40,20 @@ Qos endpoint_qos(Topic topic, const TopicQosOptions& options) {
 
 const char* topic_name(Topic topic) noexcept {
   switch (topic) {
-    case Topic::tool_pose: return "nav/tool_pose";
-    case Topic::ultrasound_frame: return "nav/ultrasound_frame";
-    case Topic::needle_state: return "nav/needle_state";
-    case Topic::target_prediction: return "nav/target_prediction";
-    case Topic::deformed_surface: return "nav/deformed_surface";
-    case Topic::station_health: return "nav/station_health";
-    case Topic::ground_truth: return "nav/ground_truth";
+    case Topic::tool_pose:
+      return "nav/tool_pose";
+    case Topic::ultrasound_frame:
+      return "nav/ultrasound_frame";
+    case Topic::needle_state:
+      return "nav/needle_state";
+    case Topic::target_prediction:
+      return "nav/target_prediction";
+    case Topic::deformed_surface:
+      return "nav/deformed_surface";
+    case Topic::station_health:
+      return "nav/station_health";
+    case Topic::ground_truth:
+      return "nav/ground_truth";
   }
   return "nav/unknown";
 }

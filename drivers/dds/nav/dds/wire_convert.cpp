@@ -8,7 +8,8 @@ namespace nav::dds {
 // The IDL and the plain structs state the same bounds.
 static_assert(nav_msgs::kMaxFrameNameChars == kMaxFrameNameChars);
 static_assert(nav_msgs::kMaxFramePixels == kMaxFramePixels);
-static_assert(nav_msgs::kMaxNeedlePoints == kMaxNeedlePoints && nav_msgs::kMaxNeedleCoordinates == 3 * kMaxNeedlePoints);
+static_assert(nav_msgs::kMaxNeedlePoints == kMaxNeedlePoints &&
+              nav_msgs::kMaxNeedleCoordinates == 3 * kMaxNeedlePoints);
 static_assert(nav_msgs::kMaxSurfaceVertices == kMaxSurfaceVertices &&
               nav_msgs::kMaxSurfaceCoordinates == 3 * kMaxSurfaceVertices);
 
@@ -108,7 +109,7 @@ SampleFault from_wire(const nav_msgs::NeedleState& wire, NeedleState& sample) no
   sample.tool_id = wire.tool_id();
   sample.tip_force_n = wire.tip_force_n();
   return unflatten(wire.shape_points_m(), sample.shape_points_m, sample.point_count) ? SampleFault::none
-                                                                                      : SampleFault::wrong_size;
+                                                                                     : SampleFault::wrong_size;
 }
 
 void to_wire(const TargetPrediction& sample, nav_msgs::TargetPrediction& wire) {
@@ -152,9 +153,8 @@ void to_wire(const DeformedSurface& sample, nav_msgs::DeformedSurface& wire) {
 SampleFault from_wire(const nav_msgs::DeformedSurface& wire, DeformedSurface& sample) noexcept {
   sample.source_time_ns = wire.source_time_ns();
   sample.surface_id = wire.surface_id();
-  return unflatten(wire.vertex_positions_m(), sample.vertex_positions_m, sample.vertex_count)
-             ? SampleFault::none
-             : SampleFault::wrong_size;
+  return unflatten(wire.vertex_positions_m(), sample.vertex_positions_m, sample.vertex_count) ? SampleFault::none
+                                                                                              : SampleFault::wrong_size;
 }
 
 void to_wire(const StationHealth& sample, nav_msgs::StationHealth& wire) {

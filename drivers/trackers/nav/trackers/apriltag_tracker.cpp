@@ -18,7 +18,8 @@ namespace {
 Eigen::Isometry3d nudge(const Eigen::Isometry3d& pose, const Eigen::Matrix<double, 6, 1>& twist) {
   Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
   const Eigen::Vector3d rotation = twist.head<3>();
-  if (rotation.norm() > 0.0) delta.linear() = Eigen::AngleAxisd(rotation.norm(), rotation.normalized()).toRotationMatrix();
+  if (rotation.norm() > 0.0)
+    delta.linear() = Eigen::AngleAxisd(rotation.norm(), rotation.normalized()).toRotationMatrix();
   delta.translation() = twist.tail<3>();
   return delta * pose;
 }
@@ -37,7 +38,8 @@ Eigen::Vector2d project(const CameraIntrinsics& camera, const Eigen::Vector3d& p
 
 Eigen::Vector2d undistort_pixel(const CameraIntrinsics& camera, const Eigen::Vector2d& seen_px) {
   const Eigen::Vector2d ideal = calibration::undistort(
-      camera.distortion, Eigen::Vector2d((seen_px.x() - camera.cx_px) / camera.fx_px, (seen_px.y() - camera.cy_px) / camera.fy_px));
+      camera.distortion,
+      Eigen::Vector2d((seen_px.x() - camera.cx_px) / camera.fx_px, (seen_px.y() - camera.cy_px) / camera.fy_px));
   return {camera.fx_px * ideal.x() + camera.cx_px, camera.fy_px * ideal.y() + camera.cy_px};
 }
 
@@ -66,9 +68,11 @@ AprilTagTracker::~AprilTagTracker() = default;
 Result<std::unique_ptr<AprilTagTracker>> AprilTagTracker::create(const CameraIntrinsics& camera, double tag_size_m,
                                                                  std::vector<TagBody> bodies) {
   if (!(tag_size_m > 0.0)) return Error{.message = "tag size must be positive", .field = "tag_size_m"};
-  if (!(camera.fx_px > 0.0 && camera.fy_px > 0.0)) return Error{.message = "focal lengths must be positive", .field = "camera"};
+  if (!(camera.fx_px > 0.0 && camera.fy_px > 0.0))
+    return Error{.message = "focal lengths must be positive", .field = "camera"};
   for (const TagBody& body : bodies) {
-    if (body.tags.empty()) return Error{.message = "a rigid body needs at least one tag", .field = "tool " + std::to_string(body.tool_id)};
+    if (body.tags.empty())
+      return Error{.message = "a rigid body needs at least one tag", .field = "tool " + std::to_string(body.tool_id)};
   }
   auto detector = std::make_unique<Detector>();
   detector->family = tag36h11_create();
@@ -76,7 +80,8 @@ Result<std::unique_ptr<AprilTagTracker>> AprilTagTracker::create(const CameraInt
   apriltag_detector_add_family(detector->detector, detector->family);
   detector->detector->quad_decimate = 1.0f;
   detector->detector->nthreads = 1;
-  return std::unique_ptr<AprilTagTracker>(new AprilTagTracker(camera, tag_size_m, std::move(bodies), std::move(detector)));
+  return std::unique_ptr<AprilTagTracker>(
+      new AprilTagTracker(camera, tag_size_m, std::move(bodies), std::move(detector)));
 }
 
 std::vector<TagObservation> AprilTagTracker::detect(const GrayImage& image) const {
@@ -113,8 +118,8 @@ std::vector<TagObservation> AprilTagTracker::detect(const GrayImage& image) cons
       observation.corners_px[k] = lens ? project(camera_, pinhole_ray(camera_, corner.x(), corner.y())) : corner;
     }
     // apriltag's pixel centres sit at +0.5: shift the principal point instead of the corners.
-    apriltag_detection_info_t info{detection, tag_size_m_, camera_.fx_px, camera_.fy_px, camera_.cx_px + 0.5,
-                                   camera_.cy_px + 0.5};
+    apriltag_detection_info_t info{detection,     tag_size_m_,         camera_.fx_px,
+                                   camera_.fy_px, camera_.cx_px + 0.5, camera_.cy_px + 0.5};
     apriltag_pose_t pose{};
     estimate_tag_pose(&info, &pose);
     Eigen::Matrix3d rotation;
@@ -168,7 +173,8 @@ bool AprilTagTracker::body_pose(const TagBody& body, const std::vector<TagObserv
       step(j) = 1e-7;
       jacobian.col(j) = (residuals(nudge(camera_from_body, step)) - residuals(nudge(camera_from_body, -step))) / 2e-7;
     }
-    const Eigen::Matrix<double, 6, 1> update = (jacobian.transpose() * jacobian).ldlt().solve(-jacobian.transpose() * r0);
+    const Eigen::Matrix<double, 6, 1> update =
+        (jacobian.transpose() * jacobian).ldlt().solve(-jacobian.transpose() * r0);
     camera_from_body = nudge(camera_from_body, update);
     if (update.norm() < 1e-12) break;
   }

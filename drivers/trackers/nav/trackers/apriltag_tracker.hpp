@@ -77,8 +77,8 @@ class AprilTagTracker {
   std::vector<TrackerSample> track(const GrayImage& image, TimeNs time_ns) const;
   /// The body pose from the observations of its tags, or nullopt-like false when unseen;
   /// `rms_px` receives the reprojection RMS.
-  bool body_pose(const TagBody& body, const std::vector<TagObservation>& observations, Eigen::Isometry3d& camera_from_body,
-                 double& rms_px) const;
+  bool body_pose(const TagBody& body, const std::vector<TagObservation>& observations,
+                 Eigen::Isometry3d& camera_from_body, double& rms_px) const;
 
  private:
   struct Detector;

@@ -8,7 +8,8 @@ namespace nav::trackers {
 
 Result<CameraIntrinsics> read_camera_intrinsics(const std::string& path) {
   std::ifstream in(path);
-  if (!in) return Error{.message = "cannot read the camera intrinsics (navtool calib camera --out writes them)", .file = path};
+  if (!in)
+    return Error{.message = "cannot read the camera intrinsics (navtool calib camera --out writes them)", .file = path};
   std::string line;
   int line_number = 0;
   while (std::getline(in, line)) {
@@ -18,8 +19,14 @@ Result<CameraIntrinsics> read_camera_intrinsics(const std::string& path) {
     double v[9];
     for (double& value : v)
       if (!(numbers >> value) || !std::isfinite(value))
-        return Error{.message = "expected the nine finite numbers fx_px fy_px cx_px cy_px k1 k2 p1 p2 k3", .file = path, .line = line_number};
-    if (!(v[0] > 0.0) || !(v[1] > 0.0)) return Error{.message = "the focal lengths fx_px and fy_px must be positive", .file = path, .line = line_number, .field = "fx_px"};
+        return Error{.message = "expected the nine finite numbers fx_px fy_px cx_px cy_px k1 k2 p1 p2 k3",
+                     .file = path,
+                     .line = line_number};
+    if (!(v[0] > 0.0) || !(v[1] > 0.0))
+      return Error{.message = "the focal lengths fx_px and fy_px must be positive",
+                   .file = path,
+                   .line = line_number,
+                   .field = "fx_px"};
     CameraIntrinsics camera;
     camera.fx_px = v[0];
     camera.fy_px = v[1];

@@ -23,7 +23,8 @@ Result<GrayImage> read_pgm(const std::string& path) {
   if (!file || width <= 0 || height <= 0 || width > 16384 || height > 16384) {
     return Error{.message = "bad image size", .file = path, .line = 1, .field = "width/height"};
   }
-  if (maxval != 255) return Error{.message = "only 8-bit PGM (maxval 255) is supported", .file = path, .line = 1, .field = "maxval"};
+  if (maxval != 255)
+    return Error{.message = "only 8-bit PGM (maxval 255) is supported", .file = path, .line = 1, .field = "maxval"};
   file.get();  // the single whitespace before the pixels
   GrayImage image{width, height, std::vector<std::uint8_t>(static_cast<std::size_t>(width) * height)};
   file.read(reinterpret_cast<char*>(image.pixels.data()), static_cast<std::streamsize>(image.pixels.size()));

@@ -17,49 +17,64 @@ namespace nav::trackers::ndi {
 
 Result<Connection> Connection::open_serial(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_CLOEXEC);
-  if (fd < 0) return Error{.message = std::string("cannot open the serial device: ") + std::strerror(errno), .file = path};
+  if (fd < 0)
+    return Error{.message = std::string("cannot open the serial device: ") + std::strerror(errno), .file = path};
   Connection connection(fd);
   connection.path_ = path;
   termios settings{};
-  if (tcgetattr(fd, &settings) != 0) return Error{.message = std::string("not a serial device: ") + std::strerror(errno), .file = path};
+  if (tcgetattr(fd, &settings) != 0)
+    return Error{.message = std::string("not a serial device: ") + std::strerror(errno), .file = path};
   cfmakeraw(&settings);
   settings.c_cflag |= CLOCAL | CREAD;
-  if (tcsetattr(fd, TCSANOW, &settings) != 0) return Error{.message = std::string("cannot set the serial line raw: ") + std::strerror(errno), .file = path};
+  if (tcsetattr(fd, TCSANOW, &settings) != 0)
+    return Error{.message = std::string("cannot set the serial line raw: ") + std::strerror(errno), .file = path};
   if (Status reset_rate = connection.set_serial_speed(kResetBaud); !reset_rate) return reset_rate.error();
   return connection;
 }
 
 std::optional<speed_t> termios_speed(int baud) {
   switch (baud) {
-    case 9600: return B9600;
-    case 19200: return B19200;
-    case 38400: return B38400;
-    case 57600: return B57600;
-    case 115200: return B115200;
-    case 230400: return B230400;
-    case 921600: return B921600;
-    default: return std::nullopt;
+    case 9600:
+      return B9600;
+    case 19200:
+      return B19200;
+    case 38400:
+      return B38400;
+    case 57600:
+      return B57600;
+    case 115200:
+      return B115200;
+    case 230400:
+      return B230400;
+    case 921600:
+      return B921600;
+    default:
+      return std::nullopt;
   }
 }
 
 Status Connection::set_serial_speed(int baud) {
   const std::optional<speed_t> speed = termios_speed(baud);
-  if (!speed) return Error{.message = "no serial rate " + std::to_string(baud) + " on this host", .file = path_, .field = "COMM"};
+  if (!speed)
+    return Error{.message = "no serial rate " + std::to_string(baud) + " on this host", .file = path_, .field = "COMM"};
   termios settings{};
   if (tcgetattr(fd_, &settings) != 0 || cfsetspeed(&settings, *speed) != 0 || tcsetattr(fd_, TCSADRAIN, &settings) != 0)
-    return Error{.message = std::string("cannot set the serial rate: ") + std::strerror(errno), .file = path_, .field = "COMM"};
+    return Error{
+        .message = std::string("cannot set the serial rate: ") + std::strerror(errno), .file = path_, .field = "COMM"};
   return Done{};
 }
 
 Status Connection::send_break() {
-  if (tcsendbreak(fd_, 0) != 0) return Error{.message = std::string("cannot send a serial break: ") + std::strerror(errno), .file = path_};
+  if (tcsendbreak(fd_, 0) != 0)
+    return Error{.message = std::string("cannot send a serial break: ") + std::strerror(errno), .file = path_};
   return Done{};
 }
 
 void Connection::discard_input() {
   if (tcflush(fd_, TCIFLUSH) == 0) return;
   char buffer[256];  // not a terminal (TCP): read what is there
-  for (pollfd waiting{fd_, POLLIN, 0}; ::poll(&waiting, 1, 0) > 0 && ::read(fd_, buffer, sizeof buffer) > 0;) waiting.revents = 0;
+  for (pollfd waiting{fd_, POLLIN, 0}; ::poll(&waiting, 1, 0) > 0 && ::read(fd_, buffer, sizeof buffer) > 0;)
+    waiting.revents = 0;
 }
 
 Result<Connection> Connection::open_tcp(const std::string& host, int port) {
@@ -139,7 +154,8 @@ Result<std::string> Connection::command(std::string_view name, std::string_view 
   if (Status sent = send(frame_command(name, arguments)); !sent) return sent.error();
   Result<std::string> reply = read_text_line("");
   if (!reply) return Error{.message = reply.error().message, .field = std::string(name)};
-  if (reply.value().rfind("ERROR", 0) == 0) return Error{.message = "device replied " + reply.value(), .field = std::string(name)};
+  if (reply.value().rfind("ERROR", 0) == 0)
+    return Error{.message = "device replied " + reply.value(), .field = std::string(name)};
   return reply;
 }
 

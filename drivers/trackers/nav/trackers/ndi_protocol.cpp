@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <charconv>
-#include <iterator>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <iterator>
 
 namespace nav::trackers::ndi {
 namespace {
@@ -198,7 +198,8 @@ Result<TrackingReply> decode_bx(std::string_view bytes) {
     HandleRecord record;
     std::uint8_t status = 0;
     if (!reader.u8(record.handle) || !reader.u8(status)) return bad("BX body too short", "BX handle");
-    if (status != kBxValid && status != kBxMissing && status != kBxDisabled) return bad("unknown handle status", "BX handle");
+    if (status != kBxValid && status != kBxMissing && status != kBxDisabled)
+      return bad("unknown handle status", "BX handle");
     if (status == kBxDisabled) {
       record.state = ToolState::disabled;
       reply.handles.push_back(record);
@@ -213,7 +214,8 @@ Result<TrackingReply> decode_bx(std::string_view bytes) {
       }
       if (!reader.f32(record.error_mm)) return bad("BX transform truncated or not finite", "BX transform");
     }
-    if (!reader.u32(record.port_status) || !reader.u32(record.frame_number)) return bad("BX body too short", "BX port status");
+    if (!reader.u32(record.port_status) || !reader.u32(record.frame_number))
+      return bad("BX body too short", "BX port status");
     record.state = state_from_bits(status == kBxMissing, false, record.port_status);
     reply.handles.push_back(record);
   }
@@ -245,7 +247,8 @@ Result<TrackingReply> decode_tx(std::string_view body) {
   Reader reader(body);
   std::string_view field;
   std::uint32_t count = 0;
-  if (!reader.text(2, field) || !parse_hex(field, count)) return bad("TX handle count is not 2 hex digits", "TX handle count");
+  if (!reader.text(2, field) || !parse_hex(field, count))
+    return bad("TX handle count is not 2 hex digits", "TX handle count");
   TrackingReply reply;
   for (std::uint32_t i = 0; i < count; ++i) {
     HandleRecord record;
@@ -270,8 +273,10 @@ Result<TrackingReply> decode_tx(std::string_view body) {
       }
       if (!parse_signed(reader, 5, 1e-4, record.error_mm)) return bad("TX error field malformed", "TX transform");
     }
-    if (!reader.text(8, field) || !parse_hex(field, record.port_status)) return bad("TX port status malformed", "TX port status");
-    if (!reader.text(8, field) || !parse_hex(field, record.frame_number)) return bad("TX frame number malformed", "TX frame");
+    if (!reader.text(8, field) || !parse_hex(field, record.port_status))
+      return bad("TX port status malformed", "TX port status");
+    if (!reader.text(8, field) || !parse_hex(field, record.frame_number))
+      return bad("TX frame number malformed", "TX frame");
     if (!reader.text(1, field) || field != "\n") return bad("TX handle record not ended by LF", "TX handle");
     record.state = state_from_bits(missing, false, record.port_status);
     reply.handles.push_back(record);
@@ -314,10 +319,14 @@ constexpr int kCommBauds[] = {9600, 14400, 19200, 38400, 57600, 115200, 230400, 
 constexpr std::string_view kCommFraming = "0000";  // 8 data bits, no parity, 1 stop bit, no handshake
 
 bool hex_value(char c, int& value) {
-  if (c >= '0' && c <= '9') value = c - '0';
-  else if (c >= 'A' && c <= 'F') value = c - 'A' + 10;
-  else if (c >= 'a' && c <= 'f') value = c - 'a' + 10;
-  else return false;
+  if (c >= '0' && c <= '9')
+    value = c - '0';
+  else if (c >= 'A' && c <= 'F')
+    value = c - 'A' + 10;
+  else if (c >= 'a' && c <= 'f')
+    value = c - 'a' + 10;
+  else
+    return false;
   return true;
 }
 
@@ -350,16 +359,21 @@ std::string encode_pvwr(const RomWrite& write) {
 }
 
 Result<RomWrite> decode_pvwr(std::string_view arguments) {
-  if (arguments.size() != 6 + 2 * kRomChunkBytes) return Error{.message = "PVWR takes a handle, an address and 64 bytes in hex", .field = "PVWR"};
+  if (arguments.size() != 6 + 2 * kRomChunkBytes)
+    return Error{.message = "PVWR takes a handle, an address and 64 bytes in hex", .field = "PVWR"};
   int digits[6 + 2 * kRomChunkBytes];
   for (std::size_t i = 0; i < arguments.size(); ++i)
-    if (!hex_value(arguments[i], digits[i])) return Error{.message = "PVWR: not a hex digit at " + std::to_string(i), .field = "PVWR"};
+    if (!hex_value(arguments[i], digits[i]))
+      return Error{.message = "PVWR: not a hex digit at " + std::to_string(i), .field = "PVWR"};
   RomWrite write;
   write.handle = static_cast<std::uint8_t>(16 * digits[0] + digits[1]);
   write.address = static_cast<std::size_t>(((digits[2] * 16 + digits[3]) * 16 + digits[4]) * 16 + digits[5]);
   if (write.address % kRomChunkBytes != 0 || write.address + kRomChunkBytes > kRomBytes)
-    return Error{.message = "PVWR: address " + std::to_string(write.address) + " is not a chunk of the 1024-byte definition", .field = "PVWR"};
-  for (std::size_t i = 0; i < kRomChunkBytes; ++i) write.bytes += static_cast<char>(16 * digits[6 + 2 * i] + digits[7 + 2 * i]);
+    return Error{
+        .message = "PVWR: address " + std::to_string(write.address) + " is not a chunk of the 1024-byte definition",
+        .field = "PVWR"};
+  for (std::size_t i = 0; i < kRomChunkBytes; ++i)
+    write.bytes += static_cast<char>(16 * digits[6 + 2 * i] + digits[7 + 2 * i]);
   return write;
 }
 

@@ -40,8 +40,8 @@ CommandLine split(std::string_view line) {
     if (command.arguments.size() < 4) return {command.name, {}, false};
     const std::string_view crc_text = line.substr(line.size() - 4);
     unsigned crc = 0;
-    command.crc_ok = std::sscanf(std::string(crc_text).c_str(), "%4X", &crc) == 1 &&
-                     crc == crc16(line.substr(0, line.size() - 4));
+    command.crc_ok =
+        std::sscanf(std::string(crc_text).c_str(), "%4X", &crc) == 1 && crc == crc16(line.substr(0, line.size() - 4));
     command.arguments.remove_suffix(4);
   }
   return command;
@@ -58,8 +58,10 @@ int parse_handle(std::string_view text) {
 SimulatedNdiDevice::SimulatedNdiDevice(std::vector<SimulatedNdiTool> tools, TimeNs frame_period_ns, int baud)
     : baud_(baud), frame_period_ns_(frame_period_ns) {
   for (SimulatedNdiTool& tool : tools) {
-    if (tool.definition.empty()) ports_.push_back({tool, false, false, {}});
-    else passive_.push_back(tool);
+    if (tool.definition.empty())
+      ports_.push_back({tool, false, false, {}});
+    else
+      passive_.push_back(tool);
   }
 }
 
@@ -134,8 +136,8 @@ std::string SimulatedNdiDevice::respond(std::string_view line) {
       const bool wanted = command.arguments == "02"   ? !port.initialized
                           : command.arguments == "03" ? port.initialized && !port.enabled
                                                       : true;
-      const std::uint16_t status = static_cast<std::uint16_t>(kPortOccupied | (port.initialized ? kPortInitialized : 0u) |
-                                                              (port.enabled ? kPortEnabled : 0u));
+      const std::uint16_t status = static_cast<std::uint16_t>(
+          kPortOccupied | (port.initialized ? kPortInitialized : 0u) | (port.enabled ? kPortEnabled : 0u));
       if (wanted) handles.push_back({port.tool.handle, status});
     }
     return frame_reply(encode_phsr(handles));
@@ -150,7 +152,8 @@ std::string SimulatedNdiDevice::respond(std::string_view line) {
   if (command.name == "PHRQ") {
     if (command.arguments != kPassiveToolRequest) return frame_reply(kBadParameter);
     std::uint8_t handle = kFirstRequestedHandle;
-    for (const Port& port : ports_) handle = std::max<std::uint8_t>(handle, static_cast<std::uint8_t>(port.tool.handle + 1));
+    for (const Port& port : ports_)
+      handle = std::max<std::uint8_t>(handle, static_cast<std::uint8_t>(port.tool.handle + 1));
     SimulatedNdiTool requested;
     requested.handle = handle;
     ports_.push_back({requested, false, false, std::string(kRomBytes, '\0')});
@@ -181,8 +184,10 @@ std::string SimulatedNdiDevice::respond(std::string_view line) {
 }
 
 NdiDeviceServer::NdiDeviceServer(int fd, SimulatedNdiDevice device, const std::string& serial_path)
-    : fd_(fd), serial_fd_(serial_path.empty() ? -1 : ::open(serial_path.c_str(), O_RDONLY | O_NOCTTY | O_CLOEXEC)),
-      device_(std::move(device)), thread_([this] { serve(); }) {}
+    : fd_(fd),
+      serial_fd_(serial_path.empty() ? -1 : ::open(serial_path.c_str(), O_RDONLY | O_NOCTTY | O_CLOEXEC)),
+      device_(std::move(device)),
+      thread_([this] { serve(); }) {}
 
 NdiDeviceServer::~NdiDeviceServer() {
   stop_.store(true);

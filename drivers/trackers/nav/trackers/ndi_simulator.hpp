@@ -23,16 +23,17 @@ namespace nav::trackers::ndi {
 struct SimulatedNdiTool {
   std::uint8_t handle = 1;
   Trajectory trajectory;
-  std::uint32_t missing_every = 0;       // every n-th frame missing (0: never)
-  std::uint32_t partly_out_every = 0;    // every n-th frame partly out of volume (0: never)
-  double error_mm = 0.12;                // reported fit error
-  std::string definition;                // a passive tool's .rom bytes: it appears when they are written (PHRQ, PVWR); empty: active
+  std::uint32_t missing_every = 0;     // every n-th frame missing (0: never)
+  std::uint32_t partly_out_every = 0;  // every n-th frame partly out of volume (0: never)
+  double error_mm = 0.12;              // reported fit error
+  std::string definition;  // a passive tool's .rom bytes: it appears when they are written (PHRQ, PVWR); empty: active
 };
 
 /// The device's state machine, independent of the link (testable on strings).
 class SimulatedNdiDevice {
  public:
-  explicit SimulatedNdiDevice(std::vector<SimulatedNdiTool> tools, TimeNs frame_period_ns = kNsPerSecond / 60, int baud = kResetBaud);
+  explicit SimulatedNdiDevice(std::vector<SimulatedNdiTool> tools, TimeNs frame_period_ns = kNsPerSecond / 60,
+                              int baud = kResetBaud);
   /// The reply bytes to one command line (without its CR): framed text or a BX reply.
   std::string respond(std::string_view line);
   /// The record of tool `index` at `frame` as the device would report it.

@@ -10,7 +10,8 @@
 namespace nav::trackers::ndi {
 namespace {
 
-constexpr TimeNs kInitProbeNs = 200 * kNsPerMs;  // INIT's answer at 9600 when the device is there (ndicapi waits 100 ms)
+constexpr TimeNs kInitProbeNs =
+    200 * kNsPerMs;  // INIT's answer at 9600 when the device is there (ndicapi waits 100 ms)
 
 std::string hex2(std::uint8_t value) {
   char text[4];
@@ -51,7 +52,10 @@ TrackerSample to_sample(const HandleRecord& record, TimeNs measured_time_ns) {
 
 Status negotiate_serial(Connection& connection, int baud) {
   const std::optional<std::string> comm = comm_arguments(baud);
-  if (!comm) return Error{.message = "no serial rate " + std::to_string(baud) + " the device and this host share", .file = connection.path(), .field = "COMM"};
+  if (!comm)
+    return Error{.message = "no serial rate " + std::to_string(baud) + " the device and this host share",
+                 .file = connection.path(),
+                 .field = "COMM"};
   if (Status reset_rate = connection.set_serial_speed(kResetBaud); !reset_rate) return reset_rate;
   connection.discard_input();
   const TimeNs reply_timeout_ns = connection.reply_timeout_ns;
@@ -63,8 +67,11 @@ Status negotiate_serial(Connection& connection, int baud) {
     if (Status broke = connection.send_break(); !broke) return broke;
     Result<std::string> reset = connection.read_reply();
     if (!reset || reset.value() != "RESET")
-      return Error{.message = "no reply to INIT at 9600 8N1, and no RESET after a serial break" + (reset ? ": the device said " + reset.value() : std::string()) +
-                       " (is the device on, and is this its port?)", .file = connection.path(), .field = "INIT"};
+      return Error{.message = "no reply to INIT at 9600 8N1, and no RESET after a serial break" +
+                              (reset ? ": the device said " + reset.value() : std::string()) +
+                              " (is the device on, and is this its port?)",
+                   .file = connection.path(),
+                   .field = "INIT"};
     Result<std::string> init = connection.command("INIT", "");
     if (!init) return init.error();
   }
@@ -84,7 +91,10 @@ Result<std::string> read_tool_definition(const std::string& path) {
   if (bytes.size() > kRomBytes) {
     std::error_code error;
     const std::uintmax_t size = std::filesystem::file_size(path, error);
-    return Error{.message = "the tool definition has " + (error ? std::string("more than 1024") : std::to_string(size)) + " bytes; a device takes at most 1024", .file = path};
+    return Error{.message = "the tool definition has " +
+                            (error ? std::string("more than 1024") : std::to_string(size)) +
+                            " bytes; a device takes at most 1024",
+                 .file = path};
   }
   return bytes;
 }

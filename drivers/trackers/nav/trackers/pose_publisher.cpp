@@ -12,10 +12,14 @@ void copy_name(const std::string& name, dds::FrameName& out) {
 
 float quality_of(ToolState state) {
   switch (state) {
-    case ToolState::ok: return 1.0f;
-    case ToolState::partly_out_of_volume: return 0.5f;
-    case ToolState::out_of_volume: return 0.25f;
-    default: return 0.0f;
+    case ToolState::ok:
+      return 1.0f;
+    case ToolState::partly_out_of_volume:
+      return 0.5f;
+    case ToolState::out_of_volume:
+      return 0.25f;
+    default:
+      return 0.0f;
   }
 }
 

@@ -10,10 +10,9 @@ std::array<double, 4> perturb(const std::array<double, 4>& q, const std::array<d
   const double angle = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   const double s = angle > 0.0 ? std::sin(0.5 * angle) / angle : 0.5;
   const std::array<double, 4> d{std::cos(0.5 * angle), s * v[0], s * v[1], s * v[2]};
-  std::array<double, 4> r{q[0] * d[0] - q[1] * d[1] - q[2] * d[2] - q[3] * d[3],
-                          q[0] * d[1] + q[1] * d[0] + q[2] * d[3] - q[3] * d[2],
-                          q[0] * d[2] - q[1] * d[3] + q[2] * d[0] + q[3] * d[1],
-                          q[0] * d[3] + q[1] * d[2] - q[2] * d[1] + q[3] * d[0]};
+  std::array<double, 4> r{
+      q[0] * d[0] - q[1] * d[1] - q[2] * d[2] - q[3] * d[3], q[0] * d[1] + q[1] * d[0] + q[2] * d[3] - q[3] * d[2],
+      q[0] * d[2] - q[1] * d[3] + q[2] * d[0] + q[3] * d[1], q[0] * d[3] + q[1] * d[2] - q[2] * d[1] + q[3] * d[0]};
   const double norm = std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2] + r[3] * r[3]);
   for (double& c : r) c /= norm;
   return r;

@@ -28,7 +28,8 @@ cv::Mat ideal_pixel_map(const CameraIntrinsics& camera, int width_px, int height
     for (int u = 0; u < width_px; ++u) {
       const Eigen::Vector2d ideal = undistort_pixel(camera, Eigen::Vector2d(u, v));
       map.at<cv::Vec2f>(v, u) = cv::Vec2f(static_cast<float>(ideal.x()), static_cast<float>(ideal.y()));
-      outside_px = std::max({outside_px, -ideal.x(), -ideal.y(), ideal.x() - (width_px - 1), ideal.y() - (height_px - 1)});
+      outside_px =
+          std::max({outside_px, -ideal.x(), -ideal.y(), ideal.x() - (width_px - 1), ideal.y() - (height_px - 1)});
     }
   }
   margin_px = static_cast<int>(std::ceil(outside_px)) + 2;
@@ -75,7 +76,8 @@ GrayImage render_tags(const std::vector<TagRendering>& tags, double tag_size_m, 
     // The map at the supersampled pixels: bilinear between the image's pixel centres (the
     // resize's centre convention matches the supersampling's), in canvas coordinates.
     cv::Mat high_map;
-    cv::resize(ideal_map, high_map, cv::Size(width_px * kSupersample, height_px * kSupersample), 0.0, 0.0, cv::INTER_LINEAR);
+    cv::resize(ideal_map, high_map, cv::Size(width_px * kSupersample, height_px * kSupersample), 0.0, 0.0,
+               cv::INTER_LINEAR);
     high_map = high_map * kSupersample + cv::Scalar(offset_high_px, offset_high_px);
     cv::Mat seen;
     cv::remap(high, seen, high_map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_CONSTANT, cv::Scalar(150));

@@ -10,21 +10,21 @@ namespace nav::trackers {
 
 /// A tool's tracking state as the device reports it.
 enum class ToolState : std::uint8_t {
-  ok,                     // seen, fully inside the measurement volume
-  partly_out_of_volume,   // seen, some markers outside the volume (pose less reliable)
-  out_of_volume,          // seen, outside the characterised volume
-  missing,                // not seen this frame (no pose)
-  disabled,               // port handle not enabled
+  ok,                    // seen, fully inside the measurement volume
+  partly_out_of_volume,  // seen, some markers outside the volume (pose less reliable)
+  out_of_volume,         // seen, outside the characterised volume
+  missing,               // not seen this frame (no pose)
+  disabled,              // port handle not enabled
 };
 
 /// One tool's pose tracker_from_tool at the device's measurement time.
 struct TrackerSample {
   std::uint32_t tool_id = 0;
-  TimeNs measured_time_ns = 0;   // when the device measured it (on the station clock)
+  TimeNs measured_time_ns = 0;  // when the device measured it (on the station clock)
   ToolState state = ToolState::missing;
   std::array<double, 3> position_m{};
   std::array<double, 4> orientation_wxyz{1.0, 0.0, 0.0, 0.0};
-  double rms_error_m = 0.0;      // the device's fit error, 0 when unknown
+  double rms_error_m = 0.0;  // the device's fit error, 0 when unknown
   std::uint32_t frame_number = 0;
 };
 

@@ -4,7 +4,8 @@
 
 namespace nav::trackers {
 
-void Trajectory::at(TimeNs time_ns, std::array<double, 3>& position_m, std::array<double, 4>& orientation_wxyz) const noexcept {
+void Trajectory::at(TimeNs time_ns, std::array<double, 3>& position_m,
+                    std::array<double, 4>& orientation_wxyz) const noexcept {
   const double t_s = static_cast<double>(time_ns) * 1e-9;
   const double heading = angular_rate_rad_s * t_s;
   position_m = {centre_m[0] + radius_m * std::cos(heading), centre_m[1] + radius_m * std::sin(heading), centre_m[2]};

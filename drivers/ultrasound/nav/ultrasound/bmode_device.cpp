@@ -12,8 +12,11 @@ void set_name(dds::FrameName& name, const char* text) {
 
 }  // namespace
 
-BmodeDevice::BmodeDevice(BmodeSimulator simulator, const Eigen::Isometry3d& probe_from_image, std::uint32_t probe_tool_id)
-    : simulator_(std::move(simulator)), probe_from_image_(probe_from_image), probe_tool_id_(probe_tool_id),
+BmodeDevice::BmodeDevice(BmodeSimulator simulator, const Eigen::Isometry3d& probe_from_image,
+                         std::uint32_t probe_tool_id)
+    : simulator_(std::move(simulator)),
+      probe_from_image_(probe_from_image),
+      probe_tool_id_(probe_tool_id),
       frame_(std::make_unique<dds::UltrasoundFrame>()) {
   const BmodeGeometry& geometry = simulator_.geometry();
   frame_->width_px = geometry.width_px;
@@ -32,7 +35,8 @@ BmodeTruth BmodeDevice::publish(dds::DdsNode& node, const Eigen::Isometry3d& liv
   pose.tool_id = probe_tool_id_;
   pose.sequence_number = sequence_number_++;
   pose.source_time_ns = time_ns;
-  pose.position_m = {liver_from_probe.translation().x(), liver_from_probe.translation().y(), liver_from_probe.translation().z()};
+  pose.position_m = {liver_from_probe.translation().x(), liver_from_probe.translation().y(),
+                     liver_from_probe.translation().z()};
   const Eigen::Quaterniond rotation(liver_from_probe.linear());
   pose.orientation_wxyz = {rotation.w(), rotation.x(), rotation.y(), rotation.z()};
   pose.quality = 1.0f;

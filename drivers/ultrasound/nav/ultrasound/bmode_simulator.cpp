@@ -42,7 +42,9 @@ BmodeScene default_bmode_scene() {
 }
 
 BmodeSimulator::BmodeSimulator(const BmodeGeometry& geometry, BmodeScene scene, std::uint64_t seed)
-    : geometry_(geometry), scene_(std::move(scene)), random_(seed),
+    : geometry_(geometry),
+      scene_(std::move(scene)),
+      random_(seed),
       echo_(std::size_t{geometry.width_px} * geometry.height_px) {}
 
 double BmodeSimulator::echogenicity(const Point3& point_m) const {

@@ -10,9 +10,8 @@ namespace nav::ultrasound {
 namespace {
 
 bool is_device_index(const std::string& source) {
-  return !source.empty() && source.size() < 6 && std::all_of(source.begin(), source.end(), [](char c) {
-    return c >= '0' && c <= '9';
-  });
+  return !source.empty() && source.size() < 6 &&
+         std::all_of(source.begin(), source.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
 /// `image` as one 8-bit grey channel (colour by luminance, 16-bit scaled by 1/256).
@@ -60,7 +59,9 @@ Result<std::unique_ptr<CaptureSource>> CaptureSource::open(const std::string& so
                       : pattern ? impl->capture.open(source, cv::CAP_IMAGES)
                                 : impl->capture.open(source, cv::CAP_FFMPEG);
   if (!opened || !impl->capture.isOpened()) {
-    return Error{.message = device ? "cannot open the capture device" : "cannot open the video file or image sequence", .file = source, .field = "source"};
+    return Error{.message = device ? "cannot open the capture device" : "cannot open the video file or image sequence",
+                 .file = source,
+                 .field = "source"};
   }
   return std::unique_ptr<CaptureSource>(new CaptureSource(std::move(impl)));
 }
@@ -79,7 +80,10 @@ Result<bool> CaptureSource::next(dds::UltrasoundFrame& frame) {
     region = cv::Rect(static_cast<int>(clip.x_px), static_cast<int>(clip.y_px), static_cast<int>(clip.width_px),
                       static_cast<int>(clip.height_px));
     if (region.x + region.width > grey.cols || region.y + region.height > grey.rows) {
-      return Error{.message = "the clip rectangle leaves the " + std::to_string(grey.cols) + "x" + std::to_string(grey.rows) + " image", .file = s.source, .field = where};
+      return Error{.message = "the clip rectangle leaves the " + std::to_string(grey.cols) + "x" +
+                              std::to_string(grey.rows) + " image",
+                   .file = s.source,
+                   .field = where};
     }
   }
   if (static_cast<std::size_t>(region.area()) > dds::kMaxFramePixels) {
@@ -104,7 +108,9 @@ Result<bool> CaptureSource::publish_next(dds::DdsNode& node) {
   Result<bool> grabbed = next(*impl_->sample);
   if (!grabbed || !grabbed.value()) return grabbed;
   if (!node.write(*impl_->sample)) {
-    return Error{.message = "DDS refused the frame", .file = impl_->source, .field = "frame " + std::to_string(impl_->sample->sequence_number)};
+    return Error{.message = "DDS refused the frame",
+                 .file = impl_->source,
+                 .field = "frame " + std::to_string(impl_->sample->sequence_number)};
   }
   return true;
 }

@@ -29,7 +29,7 @@ struct ClipRectangle {
 
 /// How grabbed frames become samples.
 struct CaptureOptions {
-  std::uint32_t probe_tool_id = 2;                     ///< stamped on the frames
+  std::uint32_t probe_tool_id = 2;                        ///< stamped on the frames
   std::array<double, 2> pixel_spacing_m{0.3e-3, 0.3e-3};  ///< along a row (x), along a column (y)
   ClipRectangle clip;
 };

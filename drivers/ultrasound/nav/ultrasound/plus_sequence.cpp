@@ -66,11 +66,13 @@ class HeaderReader {
     } else if (key == "CompressedData") {
       compressed_ = value == "True";
     } else if (key == "encoding") {
-      if (value != "raw" && value != "gz" && value != "gzip") return error(line, key, "unsupported encoding '" + std::string(value) + "'");
+      if (value != "raw" && value != "gz" && value != "gzip")
+        return error(line, key, "unsupported encoding '" + std::string(value) + "'");
       compressed_ = value != "raw";
     } else if (key == "ElementSpacing") {
       const auto numbers = parse_numbers(value, 3);
-      if (!numbers || (*numbers)[0] <= 0.0 || (*numbers)[1] <= 0.0) return error(line, key, "expected three positive numbers");
+      if (!numbers || (*numbers)[0] <= 0.0 || (*numbers)[1] <= 0.0)
+        return error(line, key, "expected three positive numbers");
       sequence_.spacing_mm = {(*numbers)[0], (*numbers)[1]};
     } else if (key == "UltrasoundImageOrientation" || key == "ultrasound image orientation") {
       sequence_.image_orientation = std::string(value);
@@ -203,7 +205,8 @@ Result<std::size_t> read_header(std::string_view bytes, bool nrrd, HeaderReader&
     std::string key;
     std::string_view value;
     if (!split_line(content, nrrd, key, value)) {
-      return reader.error(line, std::string(content.substr(0, 40)), nrrd ? "expected 'key: value' or 'key:=value'" : "expected 'Key = Value'");
+      return reader.error(line, std::string(content.substr(0, 40)),
+                          nrrd ? "expected 'key: value' or 'key:=value'" : "expected 'Key = Value'");
     }
     if (auto problem = reader.field(line, key, value)) return *problem;
     if (!nrrd && key == "ElementDataFile") {
@@ -245,7 +248,8 @@ const TransformTrack* PlusSequence::find_transform(std::string_view name) const 
   return nullptr;
 }
 
-Result<PlusSequence> parse_plus_sequence(std::string_view bytes, const std::string& name, const PlusReadOptions& options) {
+Result<PlusSequence> parse_plus_sequence(std::string_view bytes, const std::string& name,
+                                         const PlusReadOptions& options) {
   PlusSequence sequence;
   sequence.path = name;
   const bool nrrd = ends_with(name, ".nrrd");
@@ -267,7 +271,8 @@ Result<PlusSequence> parse_plus_sequence(std::string_view bytes, const std::stri
   }
   sequence.pixels.resize(wanted);
   if (reader.compressed()) {
-    if (!inflate_into(data, sequence.pixels)) return reader.error(0, "pixel data", "compressed data is corrupt or shorter than the frames");
+    if (!inflate_into(data, sequence.pixels))
+      return reader.error(0, "pixel data", "compressed data is corrupt or shorter than the frames");
   } else {
     std::copy_n(data.begin(), wanted, sequence.pixels.begin());
   }

@@ -32,9 +32,9 @@ struct PlusSequence {
   std::string path;
   std::uint32_t width_px = 0;
   std::uint32_t height_px = 0;
-  std::size_t frame_count = 0;          ///< frames listed in the header
+  std::size_t frame_count = 0;  ///< frames listed in the header
   std::array<double, 2> spacing_mm{1.0, 1.0};
-  std::string image_orientation;        ///< UltrasoundImageOrientation, e.g. "MFA"
+  std::string image_orientation;  ///< UltrasoundImageOrientation, e.g. "MFA"
   std::vector<double> timestamps_s;
   std::vector<std::uint8_t> image_valid;
   std::vector<TransformTrack> transforms;

@@ -20,7 +20,8 @@ std::string frame_prefix(std::size_t index) {
 
 std::string format_plus_sequence(const PlusSequence& sequence, bool compress) {
   const std::size_t frames = sequence.frame_pixels() > 0 ? sequence.frames_read : sequence.frame_count;
-  std::string pixels(reinterpret_cast<const char*>(sequence.pixels.data()), sequence.frame_pixels() * sequence.frames_read);
+  std::string pixels(reinterpret_cast<const char*>(sequence.pixels.data()),
+                     sequence.frame_pixels() * sequence.frames_read);
   if (compress) {
     uLongf size = compressBound(static_cast<uLong>(pixels.size()));
     std::string packed(size, '\0');
@@ -37,7 +38,8 @@ std::string format_plus_sequence(const PlusSequence& sequence, bool compress) {
   text << "DimSize = " << sequence.width_px << ' ' << sequence.height_px << ' ' << frames << '\n'
        << "ElementSpacing = " << sequence.spacing_mm[0] << ' ' << sequence.spacing_mm[1] << " 1\n"
        << "ElementType = " << (sequence.frame_pixels() > 0 ? "MET_UCHAR" : "MET_OTHER") << '\n';
-  if (!sequence.image_orientation.empty()) text << "UltrasoundImageOrientation = " << sequence.image_orientation << '\n';
+  if (!sequence.image_orientation.empty())
+    text << "UltrasoundImageOrientation = " << sequence.image_orientation << '\n';
   for (std::size_t i = 0; i < frames; ++i) {
     const std::string prefix = frame_prefix(i);
     for (const TransformTrack& track : sequence.transforms) {

@@ -55,14 +55,16 @@ Result<std::size_t> play_sequence(dds::DdsNode& node, const PlusSequence& sequen
   std::vector<const TransformTrack*> tracks;
   for (const ToolTrack& tool : options.tools) {
     tracks.push_back(sequence.find_transform(tool.transform_name));
-    if (tracks.back() == nullptr) return Error{.message = "no such transform in the sequence", .file = sequence.path, .field = tool.transform_name};
+    if (tracks.back() == nullptr)
+      return Error{.message = "no such transform in the sequence", .file = sequence.path, .field = tool.transform_name};
   }
   const bool has_images = sequence.frame_pixels() > 0;
   const std::size_t frames = has_images ? sequence.frames_read : sequence.frame_count;
   auto frame = std::make_unique<dds::UltrasoundFrame>();
   const TimeNs start_ns = clock.now_ns();
   for (std::size_t i = 0; i < frames; ++i) {
-    const auto offset_ns = static_cast<TimeNs>(std::llround((sequence.timestamps_s[i] - sequence.timestamps_s[0]) * 1e9));
+    const auto offset_ns =
+        static_cast<TimeNs>(std::llround((sequence.timestamps_s[i] - sequence.timestamps_s[0]) * 1e9));
     const TimeNs time_ns = start_ns + std::max<TimeNs>(offset_ns, 0);
     if (!options.as_fast_as_possible) clock.sleep_until_ns(time_ns);
     for (std::size_t t = 0; t < tracks.size(); ++t) {

@@ -29,7 +29,8 @@ double median_of(const cv::Mat& image) {
 TumourTracker::TumourTracker(const TumourTrackerOptions& options) : options_(options) { cv::setNumThreads(0); }
 
 TumourDetection TumourTracker::update(const std::uint8_t* pixels, std::uint32_t width_px, std::uint32_t height_px) {
-  const cv::Mat frame(static_cast<int>(height_px), static_cast<int>(width_px), CV_8U, const_cast<std::uint8_t*>(pixels));
+  const cv::Mat frame(static_cast<int>(height_px), static_cast<int>(width_px), CV_8U,
+                      const_cast<std::uint8_t*>(pixels));
   cv::Mat smooth;
   cv::GaussianBlur(frame, smooth, cv::Size(0, 0), options_.smoothing_sigma_px);
   const double median = median_of(smooth);
@@ -48,7 +49,8 @@ TumourDetection TumourTracker::update(const std::uint8_t* pixels, std::uint32_t 
     const int box_width = stats.at<int>(label, cv::CC_STAT_WIDTH);
     const int box_height = stats.at<int>(label, cv::CC_STAT_HEIGHT);
     const double area = stats.at<int>(label, cv::CC_STAT_AREA);
-    const bool touches_border = left == 0 || top == 0 || left + box_width >= frame.cols || top + box_height >= frame.rows;
+    const bool touches_border =
+        left == 0 || top == 0 || left + box_width >= frame.cols || top + box_height >= frame.rows;
     if (touches_border || area < min_area || area > max_area) continue;
     const double u = centroids.at<double>(label, 0);
     const double v = centroids.at<double>(label, 1);
@@ -68,7 +70,8 @@ TumourDetection TumourTracker::update(const std::uint8_t* pixels, std::uint32_t 
 }
 
 Eigen::Vector3d image_point_in_world(double u_px, double v_px, double spacing_x_m, double spacing_y_m,
-                                     const Eigen::Isometry3d& probe_from_image, const Eigen::Isometry3d& world_from_probe) {
+                                     const Eigen::Isometry3d& probe_from_image,
+                                     const Eigen::Isometry3d& world_from_probe) {
   return world_from_probe * (probe_from_image * Eigen::Vector3d(u_px * spacing_x_m, v_px * spacing_y_m, 0.0));
 }
 

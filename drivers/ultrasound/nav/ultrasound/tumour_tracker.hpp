@@ -12,9 +12,9 @@ namespace nav::ultrasound {
 struct TumourTrackerOptions {
   double min_radius_px = 8.0;
   double max_radius_px = 120.0;
-  double max_step_px = 40.0;         ///< beyond this from the last detection, a blob is a new target
-  double dark_fraction = 0.5;        ///< dark: smoothed intensity below this fraction of the median
-  double smoothing_sigma_px = 4.0;   ///< speckle reduction before thresholding
+  double max_step_px = 40.0;        ///< beyond this from the last detection, a blob is a new target
+  double dark_fraction = 0.5;       ///< dark: smoothed intensity below this fraction of the median
+  double smoothing_sigma_px = 4.0;  ///< speckle reduction before thresholding
 };
 
 /// One frame's result: the centre and equivalent radius of the dark region (pixels), and a
@@ -49,6 +49,7 @@ class TumourTracker {
 /// maps the image point (u * spacing_x, v * spacing_y, 0) to the probe frame, and
 /// world_from_probe (the tracked pose) the probe frame to the world.
 Eigen::Vector3d image_point_in_world(double u_px, double v_px, double spacing_x_m, double spacing_y_m,
-                                     const Eigen::Isometry3d& probe_from_image, const Eigen::Isometry3d& world_from_probe);
+                                     const Eigen::Isometry3d& probe_from_image,
+                                     const Eigen::Isometry3d& world_from_probe);
 
 }  // namespace nav::ultrasound
