@@ -17,6 +17,7 @@ station_packages=(
   libopencv-core-dev libopencv-imgproc-dev libopencv-videoio-dev
   libapriltag-dev liburdfdom-dev
   libyaml-cpp-dev libsuitesparse-dev zlib1g-dev
+  nlohmann-json3-dev  # navbench's JSON
   libx11-dev iproute2
   openssl  # navtool security init makes its test CA and identities with the openssl program
 )

@@ -1,5 +1,6 @@
 // navbench connective: see bench_connective.hpp.
 #include "bench_connective.hpp"
+#include "bench_json.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -207,16 +208,16 @@ std::vector<Record> stability_cases(const nav::TetMesh& mesh, int steps, const s
 }
 
 bool write_json(const std::string& path, const std::vector<Record>& records) {
-  std::FILE* file = navbench::open_bench_output(path);
-  if (!file) return false;
-  std::fputs("[\n", file);
-  for (std::size_t k = 0; k < records.size(); ++k) {
-    const Record& r = records[k];
-    std::fprintf(file, "  {\"case\": \"%s\"", r.name.c_str());
-    if (!r.solver.empty()) std::fprintf(file, ", \"solver\": \"%s\"", r.solver.c_str());
-    if (r.frames > 0)
-      std::fprintf(file, ", \"frames\": %lld, \"points\": %lld, \"pairs\": %lld", r.frames, r.points, r.pairs);
-    if (r.tets > 0) std::fprintf(file, ", \"tetrahedra\": %lld", r.tets);
+  std::vector<navbench::Json> json;
+  for (const Record& r : records) {
+    navbench::Json record = {{"case", r.name}};
+    if (!r.solver.empty()) record["solver"] = r.solver;
+    if (r.frames > 0) {
+      record["frames"] = r.frames;
+      record["points"] = r.points;
+      record["pairs"] = r.pairs;
+    }
+    if (r.tets > 0) record["tetrahedra"] = r.tets;
     const std::pair<const char*, double> numbers[] = {{"youngs_modulus_pa", r.youngs_modulus_pa},
                                                       {"step_us_median", r.median_us},
                                                       {"step_us_p99", r.p99_us},
@@ -225,12 +226,12 @@ bool write_json(const std::string& path, const std::vector<Record>& records) {
                                                       {"difference_rms_m", r.difference_rms_m},
                                                       {"stabilising_spring_n_m", r.spring_n_m}};
     for (const auto& [key, value] : numbers)
-      if (std::isfinite(value)) std::fprintf(file, ", \"%s\": %.6g", key, value);
-    if (r.stable >= 0) std::fprintf(file, ", \"stable\": %s", r.stable ? "true" : "false");
-    std::fprintf(file, ", \"health\": %u}%s\n", r.health, k + 1 < records.size() ? "," : "");
+      if (std::isfinite(value)) record[key] = value;
+    if (r.stable >= 0) record["stable"] = r.stable == 1;
+    record["health"] = r.health;
+    json.push_back(std::move(record));
   }
-  std::fputs("]\n", file);
-  return std::fclose(file) == 0;
+  return navbench::write_json_records(path, json);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 
 #include "bench_args.hpp"
 #include "bench_full.hpp"
+#include "bench_json.hpp"
 #include "nav/mesh/geometry.hpp"
 #include "nav/tissue/liver_scenes.hpp"
 #include "nav/tissue/mass_spring_model.hpp"
@@ -163,21 +164,20 @@ std::optional<Record> run_case(const Case& c, const nav::TetMesh& mesh, const na
 }
 
 bool write_json(const std::string& path, const std::vector<Record>& records) {
-  std::FILE* file = navbench::open_bench_output(path);
-  if (!file) return false;
-  std::fputs("[\n", file);
-  for (std::size_t k = 0; k < records.size(); ++k) {
-    const Record& r = records[k];
-    std::fprintf(file,
-                 "  {\"model\": \"%s\", \"tetrahedra\": %lld, \"integrator\": \"%s\", \"scene\": \"%s\", "
-                 "\"step_us_median\": %.1f, \"step_us_p99\": %.1f, \"error_rms_m\": %.4e, \"error_max_m\": %.4e, "
-                 "\"volume_change_pct\": %.4f, \"steps\": %d, \"healthy\": %s}%s\n",
-                 r.model.c_str(), static_cast<long long>(r.tets), r.integrator.c_str(), r.scene.c_str(),
-                 r.step_us_median, r.step_us_p99, r.error_rms_m, r.error_max_m, r.volume_change_pct, r.steps,
-                 r.healthy ? "true" : "false", k + 1 < records.size() ? "," : "");
-  }
-  std::fputs("]\n", file);
-  return std::fclose(file) == 0;
+  std::vector<navbench::Json> json;
+  for (const Record& r : records)
+    json.push_back({{"model", r.model},
+                    {"tetrahedra", r.tets},
+                    {"integrator", r.integrator},
+                    {"scene", r.scene},
+                    {"step_us_median", r.step_us_median},
+                    {"step_us_p99", r.step_us_p99},
+                    {"error_rms_m", r.error_rms_m},
+                    {"error_max_m", r.error_max_m},
+                    {"volume_change_pct", r.volume_change_pct},
+                    {"steps", r.steps},
+                    {"healthy", r.healthy}});
+  return navbench::write_json_records(path, json);
 }
 
 /// Log-log scatter of error_rms_m against step_us_median, one colour per model, circles for

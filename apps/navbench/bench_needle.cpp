@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "bench_args.hpp"
+#include "bench_json.hpp"
 #include "bench_needle.hpp"
 #include "nav/needle/tissue_coupling.hpp"
 
@@ -308,22 +309,21 @@ void write_profile_svg(const std::string& path, const std::vector<ProfilePoint>&
 }
 
 bool write_json(const std::string& path, const std::vector<Record>& records) {
-  std::FILE* file = navbench::open_bench_output(path);
-  if (!file) return false;
-  std::fputs("[\n", file);
-  for (std::size_t k = 0; k < records.size(); ++k) {
-    const Record& r = records[k];
-    std::fprintf(
-        file,
-        "  {\"case\": \"%s\", \"elements\": %d, \"constraint_points\": %d, \"rows\": %d, \"tetrahedra\": %lld, "
-        "\"needle_steps_per_tissue_step\": %d, \"basis_size\": %d, \"kernel_isa\": \"%s\", \"step_us_median\": %.2f, "
-        "\"gauss_seidel_sweeps\": %d, \"step_us_p99\": %.2f, \"residual_m\": %.3e}%s\n",
-        r.name.c_str(), r.elements, r.constraint_points, r.rows, r.tets, r.needle_steps_per_tissue_step, r.basis_size,
-        std::string(nav::kernel_isa_name(nav::resolve_kernel_isa(r.kernel_isa))).c_str(), r.median_us, r.sweeps,
-        r.p99_us, r.residual_m, k + 1 < records.size() ? "," : "");
-  }
-  std::fputs("]\n", file);
-  return std::fclose(file) == 0;
+  std::vector<navbench::Json> json;
+  for (const Record& r : records)
+    json.push_back({{"case", r.name},
+                    {"elements", r.elements},
+                    {"constraint_points", r.constraint_points},
+                    {"rows", r.rows},
+                    {"tetrahedra", r.tets},
+                    {"needle_steps_per_tissue_step", r.needle_steps_per_tissue_step},
+                    {"basis_size", r.basis_size},
+                    {"kernel_isa", std::string(nav::kernel_isa_name(nav::resolve_kernel_isa(r.kernel_isa)))},
+                    {"step_us_median", r.median_us},
+                    {"gauss_seidel_sweeps", r.sweeps},
+                    {"step_us_p99", r.p99_us},
+                    {"residual_m", r.residual_m}});
+  return navbench::write_json_records(path, json);
 }
 
 }  // namespace

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "bench_args.hpp"
+#include "bench_json.hpp"
 #include "bench_tradeoff.hpp"
 #include "nav/core/text_file.hpp"
 #include "nav/mesh/geometry.hpp"
@@ -274,21 +275,29 @@ std::vector<ReducedCase> reduced_cases(bool quick, int snapshot_count) {
   return cases;
 }
 
-std::string to_json(const Record& r) {
-  char text[1024];
-  std::snprintf(
-      text, sizeof(text),
-      "{\"mesh\": \"%s\", \"model\": \"%s\", \"r\": %d, \"sampled_elements\": %d, \"tetrahedra\": %lld, "
-      "\"step_us_median\": %.3f, \"step_us_p99\": %.3f, \"error_rms_m\": %.4e, \"error_max_m\": %.4e, "
-      "\"target_error_m\": %.4e, \"error_rms_pct\": %.3f, \"error_rms_vs_corotational_m\": %.4e, "
-      "\"error_rms_vs_corotational_pct\": %.3f, \"target_error_vs_corotational_m\": %.4e, \"memory_bytes\": %lld}",
-      r.mesh.c_str(), r.model.c_str(), r.r, r.sampled_elements, static_cast<long long>(r.tetrahedra), r.step_us_median,
-      r.step_us_p99, r.error_rms_m, r.error_max_m, r.target_error_m, r.error_rms_pct, r.error_rms_vs_corotational_m,
-      r.error_rms_vs_corotational_pct, r.target_error_vs_corotational_m, static_cast<long long>(r.memory_bytes));
-  return text;
+navbench::Json to_json(const Record& r) {
+  return {{"mesh", r.mesh},
+          {"model", r.model},
+          {"r", r.r},
+          {"sampled_elements", r.sampled_elements},
+          {"tetrahedra", r.tetrahedra},
+          {"step_us_median", r.step_us_median},
+          {"step_us_p99", r.step_us_p99},
+          {"error_rms_m", r.error_rms_m},
+          {"error_max_m", r.error_max_m},
+          {"target_error_m", r.target_error_m},
+          {"error_rms_pct", r.error_rms_pct},
+          {"error_rms_vs_corotational_m", r.error_rms_vs_corotational_m},
+          {"error_rms_vs_corotational_pct", r.error_rms_vs_corotational_pct},
+          {"target_error_vs_corotational_m", r.target_error_vs_corotational_m},
+          {"memory_bytes", r.memory_bytes}};
 }
 
-bool write_text(const std::string& path, const std::string& text) { return nav::write_text_file(path, text).ok(); }
+bool write_text(const std::string& path, const std::string& text) {
+  const auto written = nav::write_text_file(path, text);
+  if (!written.ok()) std::fprintf(stderr, "%s\n", written.error().describe().c_str());
+  return written.ok();
+}
 
 std::vector<Level> levels(bool quick) {
   std::vector<Level> out;
@@ -325,10 +334,8 @@ std::vector<Level> levels(bool quick) {
 /// Writes the records so far as JSON and as the plot (after every mesh, so that a long run
 /// leaves its finished meshes behind); false if a file cannot be written.
 bool write_outputs(const std::vector<Record>& records, const std::string& json_path, const std::string& plot_path) {
-  std::string json = "[\n";
-  for (std::size_t k = 0; k < records.size(); ++k)
-    json += "  " + to_json(records[k]) + (k + 1 < records.size() ? ",\n" : "\n");
-  json += "]\n";
+  std::vector<navbench::Json> json;
+  for (const Record& r : records) json.push_back(to_json(r));
   std::vector<PlotPoint> points;
   for (const Record& r : records)
     points.push_back(
@@ -337,9 +344,7 @@ bool write_outputs(const std::vector<Record>& records, const std::string& json_p
   const std::string svg =
       log_log_svg(points, {"median step time (us, log)", "RMS nodal error vs neo-Hookean on held-out loads (m, log)",
                            "Tissue rungs: error against step time"});
-  if (write_text(json_path, json) && write_text(plot_path, svg)) return true;
-  std::fprintf(stderr, "cannot write %s or %s\n", json_path.c_str(), plot_path.c_str());
-  return false;
+  return navbench::write_json_records(json_path, json) && write_text(plot_path, svg);
 }
 
 }  // namespace

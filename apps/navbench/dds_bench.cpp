@@ -8,7 +8,6 @@
 
 #include <atomic>
 #include <cstdio>
-#include <fstream>
 #include <thread>
 #include <tuple>
 
@@ -181,9 +180,9 @@ const LatencyReport* report_named(const std::vector<LatencyReport>& reports, con
   return nullptr;
 }
 
-/// "secured / unsecured" latency ratios of each stream and round, as JSON members (and printed).
-std::string security_cost_json(const std::vector<LatencyReport>& reports) {
-  std::string json;
+/// "secured / unsecured" latency ratios of each stream and round, as a JSON object (and printed).
+Json security_cost_json(const std::vector<LatencyReport>& reports) {
+  Json json = Json::object();
   for (const char* name : {"pose", "frame_1mib"}) {
     for (const char* round : {"", "_again"}) {
       const LatencyReport* plain = report_named(reports, std::string(name) + "_cross_process_unsecured" + round);
@@ -192,13 +191,10 @@ std::string security_cost_json(const std::vector<LatencyReport>& reports) {
       const double p50 = secured->median_us / plain->median_us, p99 = secured->p99_us / plain->p99_us;
       std::printf("security cost, %s%s: median %.1f / %.1f us = %.2fx, p99 %.1f / %.1f us = %.2fx\n", name, round,
                   secured->median_us, plain->median_us, p50, secured->p99_us, plain->p99_us, p99);
-      char member[160];
-      std::snprintf(member, sizeof member, "%s\"%s%s\": {\"median_ratio\": %.3f, \"p99_ratio\": %.3f}",
-                    json.empty() ? "" : ", ", name, round, p50, p99);
-      json += member;
+      json[std::string(name) + round] = {{"median_ratio", p50}, {"p99_ratio", p99}};
     }
   }
-  return "{" + json + "}";
+  return json;
 }
 
 /// The p99 of the named report, or -1 when it is missing or received nothing.
@@ -235,22 +231,17 @@ int run_dds_bench(const std::vector<std::string>& args) {
               pose_p99, kPoseTargetP99Us, pose_met ? "met" : "NOT met", frame_p99, kFrameTargetP99Us,
               frame_met ? "met" : "NOT met");
 
-  std::ofstream json(parsed.json_file);
-  json << "{\n  \"benchmark\": \"dds\",\n  \"hardware_threads\": " << std::thread::hardware_concurrency()
-       << ",\n  \"results\": [\n";
-  for (std::size_t i = 0; i < reports.size(); ++i) {
-    json << "    " << to_json(reports[i]) << (i + 1 < reports.size() ? ",\n" : "\n");
-  }
-  json << "  ],\n  \"targets\": {\"pose_cross_process_p99_us\": " << kPoseTargetP99Us
-       << ", \"frame_1mib_cross_process_p99_us\": " << kFrameTargetP99Us << "},\n"
-       << "  \"targets_met\": {\"pose_cross_process\": " << (pose_met ? "true" : "false")
-       << ", \"frame_1mib_cross_process\": " << (frame_met ? "true" : "false") << "}";
-  if (!parsed.security_dir.empty()) json << ",\n  \"security_cost\": " << security_cost_json(reports);
-  json << "\n}\n";
-  if (!json) {
-    std::fprintf(stderr, "navbench dds: cannot write %s\n", parsed.json_file.c_str());
-    return 1;
-  }
+  Json results = Json::array();
+  for (const LatencyReport& report : reports) results.push_back(to_json(report));
+  Json document = {
+      {"benchmark", "dds"},
+      {"hardware_threads", std::thread::hardware_concurrency()},
+      {"results", results},
+      {"targets",
+       {{"pose_cross_process_p99_us", kPoseTargetP99Us}, {"frame_1mib_cross_process_p99_us", kFrameTargetP99Us}}},
+      {"targets_met", {{"pose_cross_process", pose_met}, {"frame_1mib_cross_process", frame_met}}}};
+  if (!parsed.security_dir.empty()) document["security_cost"] = security_cost_json(reports);
+  if (!write_json_document(parsed.json_file, document)) return 1;
   return 0;
 }
 

@@ -25,15 +25,11 @@ void summarize_latencies(std::vector<nav::TimeNs>& latencies_ns, LatencyReport& 
   report.max_us = static_cast<double>(latencies_ns.back()) / 1e3;
 }
 
-std::string to_json(const LatencyReport& report) {
-  char text[512];
-  std::snprintf(text, sizeof(text),
-                "{\"name\": \"%s\", \"sent\": %llu, \"received\": %llu, \"median_us\": %.1f, \"p99_us\": %.1f, "
-                "\"p999_us\": %.1f, \"max_us\": %.1f, \"throughput_mb_per_s\": %.1f}",
-                report.name.c_str(), static_cast<unsigned long long>(report.sent),
-                static_cast<unsigned long long>(report.received), report.median_us, report.p99_us, report.p999_us,
-                report.max_us, report.throughput_mb_per_s);
-  return text;
+Json to_json(const LatencyReport& report) {
+  return {{"name", report.name},         {"sent", report.sent},
+          {"received", report.received}, {"median_us", report.median_us},
+          {"p99_us", report.p99_us},     {"p999_us", report.p999_us},
+          {"max_us", report.max_us},     {"throughput_mb_per_s", report.throughput_mb_per_s}};
 }
 
 std::string to_text(const LatencyReport& report) {

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_json.hpp"
 #include "nav/core/clock.hpp"
 
 namespace navbench {
@@ -26,7 +27,7 @@ struct LatencyReport {
 void summarize_latencies(std::vector<nav::TimeNs>& latencies_ns, LatencyReport& report);
 
 /// One JSON object, keys as in LatencyReport.
-std::string to_json(const LatencyReport& report);
+Json to_json(const LatencyReport& report);
 
 /// One line for the console.
 std::string to_text(const LatencyReport& report);

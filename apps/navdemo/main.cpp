@@ -71,8 +71,7 @@ nav::Point3 tumour_displacement_m(const nav::TetMesh& mesh, const std::vector<na
 
 /// The probe: `force_n` pushing posteriorly (-y), shared equally by the boundary nodes within
 /// `radius_m` of the anterior boundary node right above the tumour.
-std::vector<std::pair<std::int32_t, nav::Point3>> probe_forces(const nav::EmbeddedLiver& liver, double force_n,
-                                                               double radius_m) {
+std::vector<nav::PointForce> probe_forces(const nav::EmbeddedLiver& liver, double force_n, double radius_m) {
   const nav::TetMeshBoundary boundary = nav::extract_boundary(liver.mesh);
   std::int32_t contact = -1;
   double best_score = -1e300;
@@ -84,8 +83,9 @@ std::vector<std::pair<std::int32_t, nav::Point3>> probe_forces(const nav::Embedd
   std::vector<std::int32_t> patch;
   for (std::int32_t node : boundary.mesh_node_of_vertex)
     if (nav::norm(liver.mesh.nodes_m[node] - liver.mesh.nodes_m[contact]) <= radius_m) patch.push_back(node);
-  std::vector<std::pair<std::int32_t, nav::Point3>> forces;
-  for (std::int32_t node : patch) forces.push_back({node, {0.0, -force_n / static_cast<double>(patch.size()), 0.0}});
+  std::vector<nav::PointForce> forces;
+  for (std::int32_t node : patch)
+    forces.push_back({node, nav::Point3{0.0, -force_n / static_cast<double>(patch.size()), 0.0}});
   return forces;
 }
 
@@ -102,21 +102,10 @@ CaseFigures summarise(const nav::TetMesh& mesh, const std::vector<nav::Point3>& 
   return figures;
 }
 
-/// The neo-Hookean equilibrium under `load` (the same materials, supports, gravity and forces),
-/// as displacements from rest.
-nav::Result<std::vector<nav::Point3>> solve_reference(const nav::TetMesh& mesh, const nav::StaticLoadCase& load,
-                                                      int& newton_iterations) {
-  nav::TissueScene scene;
-  scene.default_material = load.default_material;
-  scene.region_materials = load.region_materials;
-  scene.gravity_m_s2 = load.gravity_m_s2;
-  scene.fixed_nodes = load.fixed_nodes;
-  std::vector<nav::PointForce> forces;
-  for (const auto& [node, force_n] : load.nodal_forces_n) forces.push_back({node, force_n});
-  scene.max_point_forces = std::max<std::size_t>(scene.max_point_forces, forces.size());
-  nav::TissueInputs inputs;
-  inputs.point_forces = forces;
-  auto solved = nav::solve_neo_hookean_static(mesh, scene, inputs, {});
+/// The neo-Hookean equilibrium of `scene` under `loads`, as displacements from rest.
+nav::Result<std::vector<nav::Point3>> solve_reference(const nav::TetMesh& mesh, const nav::TissueScene& scene,
+                                                      const nav::TissueInputs& loads, int& newton_iterations) {
+  auto solved = nav::solve_neo_hookean_static(mesh, scene, loads, {});
   if (!solved.ok()) return solved.error();
   newton_iterations = solved.value().newton_iterations;
   std::vector<nav::Point3> displacement_m(mesh.nodes_m.size());
@@ -152,31 +141,35 @@ int main(int argc, char** argv) {
               liver.tumour_centre_m[0] * 1e3, liver.tumour_centre_m[1] * 1e3, liver.tumour_centre_m[2] * 1e3,
               liver.tumour_radius_m * 1e3, liver.attachment_nodes.size());
 
-  nav::StaticLoadCase load;
-  load.default_material = {5000.0, 0.45, 1060.0};  // parenchyma
-  load.region_materials = {{static_cast<std::int32_t>(nav::TissueRegion::tumour), {20'000.0, 0.45, 1060.0}}};
-  load.gravity_m_s2 = {0.0, -9.81, 0.0};  // patient supine: gravity points posteriorly (-y)
-  load.fixed_nodes = liver.attachment_nodes;
+  // One scene and one set of loads for both solvers: the materials, supports and gravity stated here.
+  nav::TissueScene scene;
+  scene.default_material = {5000.0, 0.45, 1060.0};  // parenchyma
+  scene.region_materials = {{static_cast<std::int32_t>(nav::TissueRegion::tumour), {20'000.0, 0.45, 1060.0}}};
+  scene.gravity_m_s2 = {0.0, -9.81, 0.0};  // patient supine: gravity points posteriorly (-y)
+  scene.fixed_nodes = liver.attachment_nodes;
+  std::vector<nav::PointForce> forces;
 
   std::vector<nav::VtuField> point_fields;
   std::vector<nav::VtuField> cell_fields;
   for (const bool with_probe : {false, true}) {
-    if (with_probe) load.nodal_forces_n = probe_forces(liver, options.probe_force_n, options.probe_radius_m);
+    if (with_probe) forces = probe_forces(liver, options.probe_force_n, options.probe_radius_m);
+    scene.max_point_forces = std::max(scene.max_point_forces, forces.size());
+    nav::TissueInputs loads;
+    loads.point_forces = forces;
     const char* name = with_probe ? "gravity + probe" : "gravity";
     start = std::chrono::steady_clock::now();
     int newton_iterations = 0;
-    auto reference = solve_reference(liver.mesh, load, newton_iterations);
+    auto reference = solve_reference(liver.mesh, scene, loads, newton_iterations);
     const double reference_s = seconds_since(start);
     start = std::chrono::steady_clock::now();
-    auto linear = nav::solve_linear_static(liver.mesh, load);
+    auto linear = nav::solve_linear_static(liver.mesh, scene, loads);
     const double linear_s = seconds_since(start);
     if (!reference.ok() || !linear.ok()) {
       std::fprintf(stderr, "navdemo: %s: %s\n", name,
                    (reference.ok() ? linear.error() : reference.error()).describe().c_str());
       return 1;
     }
-    if (with_probe)
-      std::printf("probe: %.1f N on %zu surface nodes\n", options.probe_force_n, load.nodal_forces_n.size());
+    if (with_probe) std::printf("probe: %.1f N on %zu surface nodes\n", options.probe_force_n, forces.size());
     const CaseFigures figures = summarise(liver.mesh, reference.value());
     std::printf("%s: neo-Hookean static solve (%lld dofs, %d Newton iterations) in %.0f ms\n", name,
                 static_cast<long long>(linear.value().free_dofs), newton_iterations, reference_s * 1e3);

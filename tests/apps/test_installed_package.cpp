@@ -47,6 +47,9 @@ TEST(InstalledPackage, StationSoftwareFindsItBuildsAgainstItAndRunsTheOperatingL
       run_command("cmake --install " + quoted(NAV_BUILD_DIR) + " --prefix " + quoted(prefix) + " 2>&1");
   ASSERT_EQ(install.exit_code, 0) << install.output;
   EXPECT_TRUE(std::filesystem::exists(prefix + "/include/nav/loop/operating_loop.hpp"));
+  // The compile definitions the headers need travel with the package: nothing to repeat by hand.
+  const std::string targets = testing::file_text(prefix + "/lib/cmake/navrt/navrtTargets.cmake");
+  EXPECT_NE(targets.find("EIGEN_GEMM_TO_COEFFBASED_THRESHOLD=64"), std::string::npos) << targets.substr(0, 2000);
 
   const std::string flags = std::string("-Wall -Wextra -Wpedantic -Werror ") + NAV_SANITIZE_FLAGS;
   const auto configure =

@@ -318,7 +318,7 @@ LoopRun run_with_needle(const OperatingLoopModel& model, const RigidPose& marker
   OperatingLoopData data = make_operating_loop_data(model).value();
   LoopRun out;
   out.ticks.reserve(static_cast<std::size_t>(duration_ns / kTick) + 1);
-  const RigidPose marker_from_base = inverse(marker_from_base);
+  const RigidPose base_from_marker = inverse(marker_from_base);
   testing::AllocationGuard guard;
   for (TimeNs now = 0; now <= duration_ns; now += kTick) {
     if (now % (10 * kNsPerMs) == 0) push_respiratory_sample(model, data, now, {0.02, -0.01, marker_m(now, 1.0)});
@@ -328,7 +328,7 @@ LoopRun run_with_needle(const OperatingLoopModel& model, const RigidPose& marker
       const RigidPose base{
           {p.position_m[0], p.position_m[1], p.position_m[2]},
           Eigen::Quaterniond(p.rotation_wxyz[0], p.rotation_wxyz[1], p.rotation_wxyz[2], p.rotation_wxyz[3])};
-      push_needle_pose(model, data, {now, compose(base, marker_from_base)});
+      push_needle_pose(model, data, {now, compose(base, base_from_marker)});
     }
     tick(model, data, now);
     out.ticks.push_back(data.outputs);

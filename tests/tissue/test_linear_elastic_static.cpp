@@ -33,11 +33,11 @@ struct SagErrors {
 
 SagErrors hanging_column_errors(double element_size_m) {
   const TetMesh mesh = column_mesh(element_size_m);
-  StaticLoadCase load;
-  load.default_material = {10'000.0, 0.0, 1000.0};
-  load.gravity_m_s2 = {0.0, 0.0, -9.81};
-  load.fixed_nodes = nodes_where(mesh, 2, kLengthM);
-  auto solved = solve_linear_static(mesh, load);
+  TissueScene scene;
+  scene.default_material = {10'000.0, 0.0, 1000.0};
+  scene.gravity_m_s2 = {0.0, 0.0, -9.81};
+  scene.fixed_nodes = nodes_where(mesh, 2, kLengthM);
+  auto solved = solve_linear_static(mesh, scene, TissueInputs{});
   EXPECT_TRUE(solved.ok());
   EXPECT_LT(solved.value().relative_residual, 1e-10);
   const double rho_g_over_e = 1000.0 * 9.81 / 10'000.0;
@@ -73,10 +73,11 @@ TEST(LinearElasticStatic, HangingColumnConvergesToTheAnalyticSag) {
 // linear elements reproduce it exactly: u_z = F z / (E A).
 TEST(LinearElasticStatic, EndLoadGivesTheExactUniformStretch) {
   const TetMesh mesh = column_mesh(0.005);
-  StaticLoadCase load;
-  load.default_material = {10'000.0, 0.0, 1000.0};
-  load.gravity_m_s2 = {0.0, 0.0, 0.0};
-  load.fixed_nodes = nodes_where(mesh, 2, 0.0);
+  TissueScene scene;
+  scene.default_material = {10'000.0, 0.0, 1000.0};
+  scene.gravity_m_s2 = {0.0, 0.0, 0.0};
+  scene.fixed_nodes = nodes_where(mesh, 2, 0.0);
+  std::vector<PointForce> forces;
   // Consistent nodal forces of a uniform traction on the face z = L: each boundary triangle
   // of that face gives a third of its force to each of its vertices.
   const double force_n = 0.5;
@@ -90,10 +91,12 @@ TEST(LinearElasticStatic, EndLoadGivesTheExactUniformStretch) {
       continue;
     const double area_m2 = 0.5 * norm(cross(corners[1] - corners[0], corners[2] - corners[0]));
     for (int a = 0; a < 3; ++a)
-      load.nodal_forces_n.push_back(
-          {boundary.mesh_node_of_vertex[triangle[a]], {0.0, 0.0, traction_pa * area_m2 / 3.0}});
+      forces.push_back({boundary.mesh_node_of_vertex[triangle[a]], Point3{0.0, 0.0, traction_pa * area_m2 / 3.0}});
   }
-  auto solved = solve_linear_static(mesh, load);
+  scene.max_point_forces = forces.size();
+  TissueInputs loads;
+  loads.point_forces = forces;
+  auto solved = solve_linear_static(mesh, scene, loads);
   ASSERT_TRUE(solved.ok()) << solved.error().describe();
   const double strain = force_n / (10'000.0 * kWidthM * kWidthM);
   for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n) {
@@ -107,16 +110,18 @@ TEST(LinearElasticStatic, EndLoadGivesTheExactUniformStretch) {
 
 TEST(LinearElasticStatic, LoadsSuperpose) {
   const TetMesh mesh = column_mesh(0.01);
-  StaticLoadCase gravity_only;
-  gravity_only.fixed_nodes = nodes_where(mesh, 2, kLengthM);
-  StaticLoadCase force_only = gravity_only;
-  force_only.gravity_m_s2 = {0.0, 0.0, 0.0};
-  force_only.nodal_forces_n = {{0, {0.01, -0.02, 0.03}}};
-  StaticLoadCase both = gravity_only;
-  both.nodal_forces_n = force_only.nodal_forces_n;
-  const auto a = solve_linear_static(mesh, gravity_only).value();
-  const auto b = solve_linear_static(mesh, force_only).value();
-  const auto c = solve_linear_static(mesh, both).value();
+  TissueScene with_gravity;
+  with_gravity.default_material = {10'000.0, 0.0, 1000.0};
+  with_gravity.gravity_m_s2 = {0.0, 0.0, -9.81};
+  with_gravity.fixed_nodes = nodes_where(mesh, 2, kLengthM);
+  TissueScene without_gravity = with_gravity;
+  without_gravity.gravity_m_s2 = {0.0, 0.0, 0.0};
+  const PointForce force{0, Point3{0.01, -0.02, 0.03}};
+  TissueInputs with_force;
+  with_force.point_forces = std::span<const PointForce>(&force, 1);
+  const auto a = solve_linear_static(mesh, with_gravity, TissueInputs{}).value();
+  const auto b = solve_linear_static(mesh, without_gravity, with_force).value();
+  const auto c = solve_linear_static(mesh, with_gravity, with_force).value();
   for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n)
     for (int k = 0; k < 3; ++k)
       EXPECT_NEAR(c.displacement_m[n][k], a.displacement_m[n][k] + b.displacement_m[n][k],
@@ -125,17 +130,24 @@ TEST(LinearElasticStatic, LoadsSuperpose) {
 
 TEST(LinearElasticStatic, RefusesUnsupportedOrBrokenInput) {
   TetMesh mesh = column_mesh(0.01);
-  StaticLoadCase load;
-  auto floating = solve_linear_static(mesh, load);
+  TissueScene scene;
+  auto floating = solve_linear_static(mesh, scene, TissueInputs{});
   ASSERT_FALSE(floating.ok());
   EXPECT_EQ(floating.error().field, "fixed_nodes");
 
-  load.fixed_nodes = {static_cast<std::int32_t>(mesh.nodes_m.size())};
-  EXPECT_EQ(solve_linear_static(mesh, load).error().field, "fixed_nodes");
+  scene.fixed_nodes = {static_cast<std::int32_t>(mesh.nodes_m.size())};
+  EXPECT_EQ(solve_linear_static(mesh, scene, TissueInputs{}).error().field, "fixed_nodes");
 
-  load.fixed_nodes = {0};
+  scene.fixed_nodes = {0};
+  TissueScene with_springs = scene;
+  with_springs.spring_nodes = {1};
+  EXPECT_EQ(solve_linear_static(mesh, with_springs, TissueInputs{}).error().field, "spring_nodes");
+  TissueInputs with_probe;
+  with_probe.probe.active = true;
+  EXPECT_EQ(solve_linear_static(mesh, scene, with_probe).error().field, "probe");
+
   std::swap(mesh.tets[3][0], mesh.tets[3][1]);  // turn one element inside out
-  auto inverted = solve_linear_static(mesh, load);
+  auto inverted = solve_linear_static(mesh, scene, TissueInputs{});
   ASSERT_FALSE(inverted.ok());
   EXPECT_NE(inverted.error().message.find("element 3"), std::string::npos) << inverted.error().describe();
 }

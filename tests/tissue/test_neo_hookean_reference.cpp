@@ -77,11 +77,7 @@ TEST(NeoHookeanReference, SmallLoadLimitIsLinearElasticity) {
   scene.fixed_nodes = nodes_where(mesh, 2, 0.0);
   const auto reference = solve_neo_hookean_static(mesh, scene, TissueInputs{}, {});
   ASSERT_TRUE(reference.ok()) << reference.error().describe();
-  StaticLoadCase linear_case;
-  linear_case.gravity_m_s2 = scene.gravity_m_s2;
-  linear_case.fixed_nodes = scene.fixed_nodes;
-  linear_case.default_material = scene.default_material;
-  const auto linear = solve_linear_static(mesh, linear_case);
+  const auto linear = solve_linear_static(mesh, scene, TissueInputs{});
   ASSERT_TRUE(linear.ok()) << linear.error().describe();
   double largest_m = 0.0, worst_m = 0.0;
   for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n)

@@ -7,12 +7,16 @@
 
 namespace nav {
 
-/// An isotropic linear elastic material.
+/// An isotropic linear elastic material. Default-constructed, it is kLiverParenchyma.
 struct ElasticMaterial {
   double youngs_modulus_pa = 5000.0;
   double poisson_ratio = 0.45;
   double density_kg_m3 = 1060.0;
 };
+
+/// Liver parenchyma (E 5 kPa, nu 0.45, 1060 kg/m^3): what a TissueScene or a station scene
+/// that states no material gets. State it to get another.
+inline constexpr ElasticMaterial kLiverParenchyma{};
 
 /// Lamé's first parameter and the shear modulus of an ElasticMaterial.
 struct LameParameters {

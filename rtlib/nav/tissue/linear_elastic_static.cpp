@@ -18,24 +18,38 @@ double von_mises_pa(const Vector6& s) {
   return std::sqrt(0.5 * normal + 3.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
 }
 
-const ElasticMaterial& material_of(const TetMesh& mesh, std::size_t tet, const StaticLoadCase& load_case) {
+const ElasticMaterial& material_of(const TetMesh& mesh, std::size_t tet, const TissueScene& scene) {
   if (tet < mesh.tet_regions.size()) {
-    for (const auto& [region, material] : load_case.region_materials)
+    for (const auto& [region, material] : scene.region_materials)
       if (region == mesh.tet_regions[tet]) return material;
   }
-  return load_case.default_material;
+  return scene.default_material;
+}
+
+/// The first feature of `scene` or `loads` a linear static solve does not take, as an Error.
+Status check_supported(const TissueScene& scene, const TissueInputs& loads) {
+  const auto unsupported = [](const char* field) {
+    return Error{.message = "not taken by the linear static solve (give it to a tissue model)", .field = field};
+  };
+  if (!scene.prescribed_nodes.empty()) return unsupported("prescribed_nodes");
+  if (!scene.spring_nodes.empty()) return unsupported("spring_nodes");
+  if (!scene.traction_triangles.empty()) return unsupported("traction_triangles");
+  if (scene.uniform_total_mass_kg > 0.0) return unsupported("uniform_total_mass_kg");
+  if (loads.probe.active) return unsupported("probe");
+  return Done{};
 }
 
 }  // namespace
 
-Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const StaticLoadCase& load_case) {
+Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const TissueScene& scene, const TissueInputs& loads) {
   const auto node_count = static_cast<std::int64_t>(mesh.nodes_m.size());
-  if (load_case.fixed_nodes.empty())
+  if (const Status supported = check_supported(scene, loads); !supported.ok()) return supported.error();
+  if (scene.fixed_nodes.empty())
     return Error{.message = "no fixed node: the system has rigid motions", .field = "fixed_nodes"};
 
   // Free dof numbering: -1 for fixed components.
   std::vector<std::int64_t> dof_index(3 * node_count, 0);
-  for (std::int32_t node : load_case.fixed_nodes) {
+  for (std::int32_t node : scene.fixed_nodes) {
     if (node < 0 || node >= node_count)
       return Error{.message = "node " + std::to_string(node) + " is out of range", .field = "fixed_nodes"};
     for (int c = 0; c < 3; ++c) dof_index[3 * node + c] = -1;
@@ -62,7 +76,7 @@ Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const StaticLoad
     const double volume_m3 = signed_tet_volume_m3(x[0], x[1], x[2], x[3]);
     if (!(volume_m3 > 0.0))
       return Error{.message = "element " + std::to_string(e) + " is inverted or flat", .field = "tets"};
-    const ElasticMaterial& material = material_of(mesh, e, load_case);
+    const ElasticMaterial& material = material_of(mesh, e, scene);
     const Matrix43 gradients = shape_gradients(x);
     const LameParameters lame = lame_parameters(material);
     stress_from_displacement[e].noalias() = elasticity_matrix(lame) * strain_displacement(gradients);
@@ -73,7 +87,7 @@ Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const StaticLoad
       for (int i = 0; i < 3; ++i) {
         const std::int64_t row = dof_index[3 * tet[a] + i];
         if (row < 0) continue;
-        force[row] += nodal_mass_kg * load_case.gravity_m_s2[i];
+        force[row] += loads.load_scale * nodal_mass_kg * scene.gravity_m_s2[i];
         for (int b_node = 0; b_node < 4; ++b_node)
           for (int j = 0; j < 3; ++j) {
             const std::int64_t col = dof_index[3 * tet[b_node] + j];
@@ -83,11 +97,12 @@ Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const StaticLoad
     }
   }
 
-  for (const auto& [node, force_n] : load_case.nodal_forces_n) {
-    if (node < 0 || node >= node_count)
-      return Error{.message = "node " + std::to_string(node) + " is out of range", .field = "nodal_forces_n"};
+  for (const PointForce& point : loads.point_forces) {
+    if (point.node < 0 || point.node >= node_count)
+      return Error{.message = "node " + std::to_string(point.node) + " is out of range", .field = "point_forces"};
     for (int c = 0; c < 3; ++c)
-      if (dof_index[3 * node + c] >= 0) force[dof_index[3 * node + c]] += force_n[c];
+      if (dof_index[3 * point.node + c] >= 0)
+        force[dof_index[3 * point.node + c]] += loads.load_scale * point.force_n[c];
   }
 
   Eigen::SparseMatrix<double> stiffness(free_dofs, free_dofs);

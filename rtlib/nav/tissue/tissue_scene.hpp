@@ -13,16 +13,21 @@
 
 namespace nav {
 
+/// Standard gravity along -z, m/s^2: what a TissueScene that states no gravity gets (state
+/// {0, 0, 0} for none, or the patient's own direction).
+inline constexpr Point3 kGravityAlongMinusZ_m_s2{0.0, 0.0, -9.81};
+
 /// Supports, load regions and materials of one organ: fixed at init, never changed after.
-/// Node lists left empty switch the feature off.
+/// Node lists left empty switch the feature off. Unstated, the material is kLiverParenchyma
+/// and gravity kGravityAlongMinusZ_m_s2 (both named here so that a caller sees them).
 struct TissueScene {
-  ElasticMaterial default_material;
+  ElasticMaterial default_material = kLiverParenchyma;
   /// Material per TetMesh::tet_regions value (elements of unlisted regions use the default).
   std::vector<std::pair<std::int32_t, ElasticMaterial>> region_materials;
   /// When positive, every node gets an equal share of this mass instead of its lumped
   /// density-times-volume share (SOFA's UniformMass).
   double uniform_total_mass_kg = 0.0;
-  Point3 gravity_m_s2{0.0, 0.0, -9.81};
+  Point3 gravity_m_s2 = kGravityAlongMinusZ_m_s2;
   /// Nodes held at their rest position.
   std::vector<std::int32_t> fixed_nodes;
   /// Nodes moved by TissueInputs::prescribed_displacement_m (a diaphragm region).

@@ -8,8 +8,8 @@
 
 #include <Eigen/Geometry>
 
-#include "nav/calibration/frame_tree.hpp"
 #include "nav/reduced/reduction.hpp"
+#include "nav/station/scene_frames.hpp"
 #include "nav/station/station_build.hpp"
 #include "nav/station/tracker_registration.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
@@ -155,13 +155,10 @@ Result<NeedleCalibration> scene_needle_calibration(const Scene& scene) {
   const auto urdf_error = [&](const std::string& message) {
     return Error{.message = message, .file = scene.source_path, .line = scene.frames.line, .field = "frames.urdf"};
   };
-  auto frames = calibration::FrameTree::load(scene.frames.urdf_path);
-  if (!frames.ok()) return urdf_error(frames.error().describe());
-  auto base = frames.value().lookup("needle_marker", "needle_base", 0);
-  auto tip = frames.value().lookup("needle_marker", "needle_tip", 0);
-  if (!base.ok() || !tip.ok())
-    return urdf_error("no fixed chain from needle_marker to needle_base and needle_tip: " +
-                      (base.ok() ? tip : base).error().describe());
+  auto base = scene_fixed_chain(scene, "needle_marker", "needle_base");
+  if (!base.ok()) return base.error();
+  auto tip = scene_fixed_chain(scene, "needle_marker", "needle_tip");
+  if (!tip.ok()) return tip.error();
   const Eigen::Vector3d base_m = base.value().translation();
   const Eigen::Vector3d tip_m = tip.value().translation();
   const double length_m = (tip_m - base_m).norm();

@@ -1,25 +1,13 @@
 #include "nav/station/tracker_registration.hpp"
 
-#include "nav/calibration/frame_tree.hpp"
+#include "nav/station/scene_frames.hpp"
 
 namespace nav::station {
 
 Result<RigidPose> scene_reference_from_model(const Scene& scene) {
-  auto frames = calibration::FrameTree::load(scene.frames.urdf_path);
-  if (!frames.ok())
-    return Error{.message = frames.error().describe(),
-                 .file = scene.source_path,
-                 .line = scene.frames.line,
-                 .field = "frames.urdf"};
-  auto joint = frames.value().lookup("reference_marker", "liver_model", 0);
-  if (!joint.ok())
-    return Error{
-        .message =
-            "no fixed chain from reference_marker to liver_model (the registration navtool calib register writes): " +
-            joint.error().describe(),
-        .file = scene.source_path,
-        .line = scene.frames.line,
-        .field = "frames.urdf"};
+  auto joint =
+      scene_fixed_chain(scene, "reference_marker", "liver_model", "the registration navtool calib register writes");
+  if (!joint.ok()) return joint.error();
   return RigidPose{joint.value().translation(), Eigen::Quaterniond(joint.value().rotation()).normalized()};
 }
 

@@ -3,23 +3,13 @@
 #include <chrono>
 #include <cmath>
 
-#include "nav/calibration/frame_tree.hpp"
+#include "nav/station/scene_frames.hpp"
 
 namespace nav::station {
 
 Result<ProbeImaging> scene_probe_imaging(const Scene& scene) {
-  auto frames = calibration::FrameTree::load(scene.frames.urdf_path);
-  if (!frames.ok())
-    return Error{.message = frames.error().describe(),
-                 .file = scene.source_path,
-                 .line = scene.frames.line,
-                 .field = "frames.urdf"};
-  auto probe_from_image = frames.value().lookup("probe_marker", "image_plane", 0);
-  if (!probe_from_image.ok())
-    return Error{.message = "no fixed chain from probe_marker to image_plane: " + probe_from_image.error().describe(),
-                 .file = scene.source_path,
-                 .line = scene.frames.line,
-                 .field = "frames.urdf"};
+  auto probe_from_image = scene_fixed_chain(scene, "probe_marker", "image_plane");
+  if (!probe_from_image.ok()) return probe_from_image.error();
   ProbeImaging imaging;
   imaging.probe_from_image = probe_from_image.value();
   return imaging;
