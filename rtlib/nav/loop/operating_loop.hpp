@@ -92,8 +92,7 @@ struct OperatingLoopOptions {
 struct OperatingLoopNeedleOptions {
   NeedleParameters parameters;  ///< parameters.step_s must equal the tick period; at most kLoopMaxNeedleNodes nodes
   NeedleTissueScene scene;      ///< the layers the needle meets, model frame
-  RigidPose marker_from_base;   ///< marker_from_base: the needle base (holder) in the marker frame; the needle lies
-                                ///< along its +x
+  RigidPose marker_from_base;   ///< the needle base (holder) in the marker frame; the needle along +x
   std::size_t max_point_forces = 16;  ///< at most the reduced model's scene's max_point_forces
 };
 

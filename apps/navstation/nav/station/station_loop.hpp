@@ -38,7 +38,7 @@ RigidPose needle_marker_from_base();
 
 /// The tracked needle's calibration in the needle marker's frame.
 struct NeedleCalibration {
-  RigidPose marker_from_base;  ///< marker_from_base: origin at the base, +x along the needle to its tip
+  RigidPose marker_from_base;  ///< the needle base in the marker frame: origin at the base, +x to the tip
   Eigen::Vector3d tip_in_marker_m = Eigen::Vector3d::Zero();  ///< the straight needle's tip
 };
 

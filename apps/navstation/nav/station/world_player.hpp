@@ -30,7 +30,7 @@ struct PlayerCounts {
 struct SimulatedTracker {
   ToolIds tools;
   RigidPose tracker_from_model;      ///< tracker_from_model = tracker_from_reference * reference_from_model
-  RigidPose tracker_from_reference;  ///< tracker_from_reference
+  RigidPose tracker_from_reference;  ///< where the tracker sees the reference marker
 };
 
 /// A simulated tracker of `tools` seeing the reference marker at `tracker_from_reference` (when
