@@ -11,6 +11,9 @@ namespace navbench {
 /// One record or document; fields stay in insertion order.
 using Json = nlohmann::ordered_json;
 
+/// Writes `text` to `path`; false, after naming the file on stderr, when it cannot be written.
+bool write_output(const std::string& path, const std::string& text);
+
 /// `record` on one line, `"key": value` separated by ", " (values as the library writes them).
 std::string one_line(const Json& record);
 

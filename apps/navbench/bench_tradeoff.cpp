@@ -24,7 +24,6 @@
 #include "bench_args.hpp"
 #include "bench_json.hpp"
 #include "bench_tradeoff.hpp"
-#include "nav/core/text_file.hpp"
 #include "nav/mesh/geometry.hpp"
 #include "nav/mesher/embedded_liver.hpp"
 #include "nav/reduced/reduced_model.hpp"
@@ -293,12 +292,6 @@ navbench::Json to_json(const Record& r) {
           {"memory_bytes", r.memory_bytes}};
 }
 
-bool write_text(const std::string& path, const std::string& text) {
-  const auto written = nav::write_text_file(path, text);
-  if (!written.ok()) std::fprintf(stderr, "%s\n", written.error().describe().c_str());
-  return written.ok();
-}
-
 std::vector<Level> levels(bool quick) {
   std::vector<Level> out;
   const std::vector<std::pair<std::string, int>> livers =
@@ -344,7 +337,7 @@ bool write_outputs(const std::vector<Record>& records, const std::string& json_p
   const std::string svg =
       log_log_svg(points, {"median step time (us, log)", "RMS nodal error vs neo-Hookean on held-out loads (m, log)",
                            "Tissue rungs: error against step time"});
-  return navbench::write_json_records(json_path, json) && write_text(plot_path, svg);
+  return navbench::write_json_records(json_path, json) && navbench::write_output(plot_path, svg);
 }
 
 }  // namespace
