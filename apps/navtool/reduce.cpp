@@ -8,6 +8,7 @@
 // diaphragm displacements --load-scale widens (the probe pushes are already near what the
 // full-order training solve converges on; widened loads it cannot solve are left out and
 // named), with a force reduction and envelope trained on it.
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -16,6 +17,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "commands.hpp"
@@ -41,13 +43,16 @@ constexpr const char* kReduceUsage =
     "  --load-scale S   multiplies the training's needle forces and diaphragm displacements\n"
     "                   (default 1; gravity and probe pushes stay): a wider training for an\n"
     "                   upper rung, e.g. 3; above 1, loads the full order cannot solve are\n"
-    "                   left out and named\n";
+    "                   left out and named\n"
+    "  --threads N      training loads solved at once (default: the machine's cores); the\n"
+    "                   artifact does not depend on it\n";
 
 /// The command line of reduce.
 struct ReduceArgs {
   std::string liver_dir, mesh_file, out;
   std::string extend;       ///< the lower rung's artifact, or empty
   double load_scale = 1.0;  ///< of the training's needle forces and diaphragm displacements
+  int threads = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
   int tets = 22019;
   nav::LengthUnit unit = nav::LengthUnit::metre;
   nav::ReductionOptions reduction;
@@ -117,6 +122,9 @@ std::optional<ReduceArgs> parse_args(const std::vector<std::string>& args) {
     } else if (a == "--load-scale") {
       if (!parse_number(args[++i], parsed.load_scale) || !(parsed.load_scale > 0.0 && parsed.load_scale <= 100.0))
         return fail("--load-scale wants a factor in (0, 100], not '" + args[i] + "'");
+    } else if (a == "--threads") {
+      if (!parse_number(args[++i], parsed.threads) || parsed.threads < 1 || parsed.threads > 256)
+        return fail("--threads wants a count from 1 to 256, not '" + args[i] + "'");
     } else if (a == "--unit") {
       const auto unit = nav::parse_length_unit(args[++i]);
       if (!unit) return fail("unknown unit '" + args[i] + "' (mm, cm or m)");
@@ -171,25 +179,23 @@ struct Training {
 /// full order may solve (elements invert under a 2x diaphragm move on liverFine): there a load
 /// whose solve fails is left out and named, and only none solved at all is an error.
 nav::Result<Training> solve_training(const nav::TetMesh& mesh, const nav::TissueScene& scene,
-                                     std::span<const nav::TrainingLoad> loads, double load_scale) {
+                                     std::span<const nav::TrainingLoad> loads, double load_scale, int threads) {
   const auto start = std::chrono::steady_clock::now();
+  nav::StaticSolveOptions options;
+  options.threads = threads;
   Training t;
   if (!(load_scale > 1.0)) {
-    auto all = nav::solve_static_loads(mesh, scene, loads);
+    auto all = nav::solve_static_loads(mesh, scene, loads, options);
     if (!all.ok()) return all.error();
     t.snapshots = std::move(all).value();
   } else {
+    const auto each = nav::solve_each_static_load(mesh, scene, loads, options);
     for (std::size_t k = 0; k < loads.size(); ++k) {
-      auto one = nav::solve_static_loads(mesh, scene, loads.subspan(k, 1));
-      if (!one.ok()) {
+      if (!each[k].ok()) {
         t.skipped.push_back(loads[k].name);
         continue;
       }
-      nav::Snapshots& s = t.snapshots;
-      s.displacements_m.insert(s.displacements_m.end(), one.value().displacements_m.begin(),
-                               one.value().displacements_m.end());
-      s.count += one.value().count;
-      s.total_steps += one.value().total_steps;
+      nav::append_snapshots(t.snapshots, each[k].value());
     }
     if (t.snapshots.count == 0)
       return nav::Error{.message = "no training load converged at --load-scale " + std::to_string(load_scale)};
@@ -237,9 +243,11 @@ void print_report(const ReduceArgs& args, const nav::TetMesh& mesh, const nav::R
         basis.training_residual_bound, training.seconds, reduction_s);
     return;
   }
-  std::printf("mesh: %zu nodes, %zu tetrahedra; %d training loads (scale %g) solved in %.1f s; reduction in %.1f s\n",
-              mesh.nodes_m.size(), mesh.tets.size(), training.snapshots.count, args.load_scale, training.seconds,
-              reduction_s);
+  std::printf(
+      "mesh: %zu nodes, %zu tetrahedra; %d training loads (scale %g) solved in %.1f s on %d threads; reduction in "
+      "%.1f s\n",
+      mesh.nodes_m.size(), mesh.tets.size(), training.snapshots.count, args.load_scale, training.seconds, args.threads,
+      reduction_s);
   if (!skipped.empty())
     std::printf("left out (the full order does not solve them at this scale): %s\n", skipped.c_str());
   if (lower_r > 0)
@@ -305,7 +313,7 @@ int reduce(const std::vector<std::string>& args) {
   load_options.needle_force_n *= parsed->load_scale;
   load_options.diaphragm_amplitude_m *= parsed->load_scale;
   const auto loads = nav::make_training_loads(mesh, scene, load_options, nav::LoadSet::training);
-  const auto training = solve_training(mesh, scene, loads, parsed->load_scale);
+  const auto training = solve_training(mesh, scene, loads, parsed->load_scale, parsed->threads);
   if (!training.ok()) {
     std::fprintf(stderr, "navtool reduce: training: %s\n", training.error().describe().c_str());
     return exit_failure;

@@ -74,32 +74,45 @@ void* counted_aligned_new(std::size_t size, std::align_val_t alignment) {
   return pointer;
 }
 
+/// What `allocate` returns, or null where it throws (the nothrow forms).
+template <typename Allocate>
+void* or_null(Allocate allocate) noexcept {
+  try {
+    return allocate();
+  } catch (...) {
+    return nullptr;
+  }
+}
+
 }  // namespace
 
+// Every replaceable form, so that no sanitizer runtime's own definitions are linked beside these.
 void* operator new(std::size_t size) { return counted_new(size); }
 void* operator new[](std::size_t size) { return counted_new(size); }
 void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  try {
-    return counted_new(size);
-  } catch (...) {
-    return nullptr;
-  }
+  return or_null([&] { return counted_new(size); });
 }
 void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
-  try {
-    return counted_new(size);
-  } catch (...) {
-    return nullptr;
-  }
+  return or_null([&] { return counted_new(size); });
 }
 void* operator new(std::size_t size, std::align_val_t alignment) { return counted_aligned_new(size, alignment); }
 void* operator new[](std::size_t size, std::align_val_t alignment) { return counted_aligned_new(size, alignment); }
+void* operator new(std::size_t size, std::align_val_t alignment, const std::nothrow_t&) noexcept {
+  return or_null([&] { return counted_aligned_new(size, alignment); });
+}
+void* operator new[](std::size_t size, std::align_val_t alignment, const std::nothrow_t&) noexcept {
+  return or_null([&] { return counted_aligned_new(size, alignment); });
+}
 void operator delete(void* pointer) noexcept { NAV_RAW_FREE(pointer); }
 void operator delete[](void* pointer) noexcept { NAV_RAW_FREE(pointer); }
+void operator delete(void* pointer, const std::nothrow_t&) noexcept { NAV_RAW_FREE(pointer); }
+void operator delete[](void* pointer, const std::nothrow_t&) noexcept { NAV_RAW_FREE(pointer); }
 void operator delete(void* pointer, std::size_t) noexcept { NAV_RAW_FREE(pointer); }
 void operator delete[](void* pointer, std::size_t) noexcept { NAV_RAW_FREE(pointer); }
 void operator delete(void* pointer, std::align_val_t) noexcept { NAV_RAW_FREE(pointer); }
 void operator delete[](void* pointer, std::align_val_t) noexcept { NAV_RAW_FREE(pointer); }
+void operator delete(void* pointer, std::align_val_t, const std::nothrow_t&) noexcept { NAV_RAW_FREE(pointer); }
+void operator delete[](void* pointer, std::align_val_t, const std::nothrow_t&) noexcept { NAV_RAW_FREE(pointer); }
 void operator delete(void* pointer, std::size_t, std::align_val_t) noexcept { NAV_RAW_FREE(pointer); }
 void operator delete[](void* pointer, std::size_t, std::align_val_t) noexcept { NAV_RAW_FREE(pointer); }
 

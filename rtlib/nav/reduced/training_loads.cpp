@@ -1,10 +1,13 @@
 #include "nav/reduced/training_loads.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
 #include <random>
+#include <thread>
 #include <utility>
 
 #include "nav/mesh/geometry.hpp"
@@ -143,6 +146,30 @@ Status solve_one(const TetFemModel& model, TetFemData& data, const TrainingLoad&
     reached = target;
   }
   return Done{};
+}
+
+/// `load` solved from rest on data of its own; a concentrated load can make the relaxed Newton
+/// steps overshoot: it is tried again with a ramp 4 and 16 times longer. Nothing escapes the
+/// thread it runs on: an exception is this load's Error.
+Result<LoadSnapshots> solve_load(const TetFemModel& model, const TrainingLoad& load,
+                                 const StaticSolveOptions& options) noexcept {
+  try {
+    auto data = make_tet_fem_data(model);
+    if (!data.ok()) return data.error();
+    LoadSnapshots out;
+    Status solved = Done{};
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      solved = solve_one(model, data.value(), load, options, options.ramp_steps << (2 * attempt), out.steps,
+                         out.displacements_m);
+      if (solved.ok()) {
+        out.count = static_cast<int>(options.snapshot_fractions.size());
+        return out;
+      }
+    }
+    return solved.error();
+  } catch (const std::exception& e) {
+    return Error{.message = std::string("full-order solve failed: ") + e.what(), .field = load.name};
+  }
 }
 
 }  // namespace
@@ -294,34 +321,55 @@ TissueScene scene_for_load(const TissueScene& scene, const TrainingLoad& load) {
   return s;
 }
 
-Result<Snapshots> solve_static_loads(const TetMesh& mesh, const TissueScene& scene, std::span<const TrainingLoad> loads,
-                                     const StaticSolveOptions& options) {
+std::vector<Result<LoadSnapshots>> solve_each_static_load(const TetMesh& mesh, const TissueScene& scene,
+                                                          std::span<const TrainingLoad> loads,
+                                                          const StaticSolveOptions& options) {
+  std::vector<std::optional<Result<LoadSnapshots>>> solved(loads.size());
   std::vector<std::pair<Point3, TetFemModel>> models;  // one per distinct gravity, in first-use order
-  Snapshots out;
-  const std::size_t rows = 3 * mesh.nodes_m.size();
-  out.displacements_m.reserve(rows * loads.size() * options.snapshot_fractions.size());
-  for (const TrainingLoad& load : loads) {
-    auto cached =
-        std::find_if(models.begin(), models.end(), [&](const auto& m) { return m.first == load.gravity_m_s2; });
+  std::vector<std::size_t> model_of_load(loads.size(), 0);
+  for (std::size_t k = 0; k < loads.size(); ++k) {
+    const auto same_gravity = [&](const auto& m) { return m.first == loads[k].gravity_m_s2; };
+    auto cached = std::find_if(models.begin(), models.end(), same_gravity);
     if (cached == models.end()) {
-      auto model = make_tet_fem_model(mesh, scene_for_load(scene, load), options.solver);
-      if (!model.ok()) return model.error();
-      models.emplace_back(load.gravity_m_s2, std::move(model.value()));
+      auto model = make_tet_fem_model(mesh, scene_for_load(scene, loads[k]), options.solver);
+      if (!model.ok()) {
+        solved[k] = model.error();
+        continue;
+      }
+      models.emplace_back(loads[k].gravity_m_s2, std::move(model.value()));
       cached = models.end() - 1;
     }
-    const TetFemModel& model = cached->second;
-    auto data_or_error = make_tet_fem_data(model);
-    if (!data_or_error.ok()) return data_or_error.error();
-    TetFemData& data = data_or_error.value();
-    // A concentrated load can make the relaxed Newton steps overshoot: a slower ramp then.
-    Status solved = Done{};
-    for (int attempt = 0; attempt < 3; ++attempt) {
-      solved = solve_one(model, data, load, options, options.ramp_steps << (2 * attempt), out.total_steps,
-                         out.displacements_m);
-      if (solved.ok()) break;
-    }
-    if (!solved.ok()) return solved.error();
-    out.count += static_cast<int>(options.snapshot_fractions.size());
+    model_of_load[k] = static_cast<std::size_t>(cached - models.begin());
+  }
+  std::atomic<std::size_t> next_load{0};
+  const auto solve_remaining = [&] {
+    for (std::size_t k = next_load++; k < loads.size(); k = next_load++)
+      if (!solved[k]) solved[k] = solve_load(models[model_of_load[k]].second, loads[k], options);
+  };
+  std::vector<std::thread> helpers;
+  for (int t = 1; t < std::min<int>(options.threads, static_cast<int>(loads.size())); ++t)
+    helpers.emplace_back(solve_remaining);
+  solve_remaining();
+  for (std::thread& helper : helpers) helper.join();
+  std::vector<Result<LoadSnapshots>> out;
+  out.reserve(loads.size());
+  for (std::optional<Result<LoadSnapshots>>& one : solved) out.push_back(std::move(*one));
+  return out;
+}
+
+void append_snapshots(Snapshots& snapshots, const LoadSnapshots& load) {
+  snapshots.displacements_m.insert(snapshots.displacements_m.end(), load.displacements_m.begin(),
+                                   load.displacements_m.end());
+  snapshots.count += load.count;
+  snapshots.total_steps += load.steps;
+}
+
+Result<Snapshots> solve_static_loads(const TetMesh& mesh, const TissueScene& scene, std::span<const TrainingLoad> loads,
+                                     const StaticSolveOptions& options) {
+  Snapshots out;
+  for (const Result<LoadSnapshots>& one : solve_each_static_load(mesh, scene, loads, options)) {
+    if (!one.ok()) return one.error();
+    append_snapshots(out, one.value());
   }
   return out;
 }

@@ -70,6 +70,9 @@ struct StaticSolveOptions {
   /// from one to the next): the half load samples the non-linear path for POD.
   std::vector<double> snapshot_fractions{0.5, 1.0};
   double converged_step_m = 1e-6;  ///< done when no node moved more than this in a step
+  /// Loads solved at once, each on a thread of its own (1: all on the caller's). Every load
+  /// is solved from rest on data of its own, so the snapshots do not depend on it.
+  int threads = 1;
 
   /// Corotational, quasi-static, LDL^T-warped, 3 CG iterations, Rayleigh mass 40/s (relaxes
   /// each Newton step without moving the equilibrium).
@@ -84,8 +87,26 @@ struct Snapshots {
   int total_steps = 0;  ///< quasi-static steps taken over all loads
 };
 
-/// Solves every load (one model per distinct gravity vector). Errors name the load that did
-/// not converge or inverted elements, or what the model refused.
+/// One load's equilibria: 3 n displacements (metres) per StaticSolveOptions::snapshot_fractions,
+/// in that order, and the quasi-static steps they took.
+struct LoadSnapshots {
+  std::vector<double> displacements_m;
+  int count = 0;  ///< snapshots: one per fraction
+  int steps = 0;
+};
+
+/// Solves every load on its own (one model per distinct gravity vector, options.threads loads
+/// at a time): for each load, in order, its snapshots or the Error that names it (no
+/// convergence, inverted elements, or what the model refused).
+std::vector<Result<LoadSnapshots>> solve_each_static_load(const TetMesh& mesh, const TissueScene& scene,
+                                                          std::span<const TrainingLoad> loads,
+                                                          const StaticSolveOptions& options = {});
+
+/// `load`'s snapshots appended to `snapshots`.
+void append_snapshots(Snapshots& snapshots, const LoadSnapshots& load);
+
+/// Solves every load, as solve_each_static_load. Errors: the first load's, in order, that
+/// did not solve.
 Result<Snapshots> solve_static_loads(const TetMesh& mesh, const TissueScene& scene, std::span<const TrainingLoad> loads,
                                      const StaticSolveOptions& options = {});
 
