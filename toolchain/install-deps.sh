@@ -18,6 +18,7 @@ station_packages=(
   libapriltag-dev liburdfdom-dev
   libyaml-cpp-dev libsuitesparse-dev zlib1g-dev
   nlohmann-json3-dev  # navbench's JSON
+  libopenigtlink-dev  # OpenIGTLink: the bridge to PlusServer and 3D Slicer
   libx11-dev iproute2
   openssl  # navtool security init makes its test CA and identities with the openssl program
 )
