@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 #include <random>
+#include <system_error>
 #include <thread>
 #include <utility>
 
@@ -347,8 +348,13 @@ std::vector<Result<LoadSnapshots>> solve_each_static_load(const TetMesh& mesh, c
       if (!solved[k]) solved[k] = solve_load(models[model_of_load[k]].second, loads[k], options);
   };
   std::vector<std::thread> helpers;
-  for (int t = 1; t < std::min<int>(options.threads, static_cast<int>(loads.size())); ++t)
-    helpers.emplace_back(solve_remaining);
+  for (int t = 1; t < std::min<int>(options.threads, static_cast<int>(loads.size())); ++t) {
+    try {
+      helpers.emplace_back(solve_remaining);
+    } catch (const std::system_error&) {
+      break;  // no more threads to be had: the ones running take the remaining loads
+    }
+  }
   solve_remaining();
   for (std::thread& helper : helpers) helper.join();
   std::vector<Result<LoadSnapshots>> out;
@@ -367,6 +373,7 @@ void append_snapshots(Snapshots& snapshots, const LoadSnapshots& load) {
 Result<Snapshots> solve_static_loads(const TetMesh& mesh, const TissueScene& scene, std::span<const TrainingLoad> loads,
                                      const StaticSolveOptions& options) {
   Snapshots out;
+  out.displacements_m.reserve(3 * mesh.nodes_m.size() * loads.size() * options.snapshot_fractions.size());
   for (const Result<LoadSnapshots>& one : solve_each_static_load(mesh, scene, loads, options)) {
     if (!one.ok()) return one.error();
     append_snapshots(out, one.value());
