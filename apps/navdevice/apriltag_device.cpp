@@ -103,7 +103,8 @@ int run_apriltag(const std::vector<std::string>& arguments) {
   nav::dds::DdsNode& dds = *device.value().node;
   auto publisher = nav::trackers::PosePublisher::create(dds, "camera", tool_frames(roles));
   if (!publisher.ok()) return fail("apriltag", publisher.error().describe());
-  if (const int waited = wait_for_station(device.value(), *args, s, "apriltag"); waited != 0)
+  if (const int waited = wait_for_station(device.value(), *args, s, "apriltag", {nav::dds::Topic::tool_pose});
+      waited != 0)
     return waited < 0 ? 0 : waited;
 
   const auto period_ns = static_cast<TimeNs>(1e9 / t.rate_hz);

@@ -83,7 +83,9 @@ int run_capture(const std::vector<std::string>& arguments) {
   nav::dds::DdsNode& dds = *device.value().node;
   if (const nav::Status advertised = dds.advertise<nav::dds::UltrasoundFrame>(); !advertised.ok())
     return fail("capture", advertised.error().describe());
-  if (const int waited = wait_for_station(device.value(), args->device, s, "capture"); waited != 0)
+  if (const int waited =
+          wait_for_station(device.value(), args->device, s, "capture", {nav::dds::Topic::ultrasound_frame});
+      waited != 0)
     return waited < 0 ? 0 : waited;
 
   const auto period_ns = static_cast<TimeNs>(1e9 / u.rate_hz);

@@ -81,17 +81,24 @@ nav::Result<DeviceNode> open_device_node(const nav::station::Scene& scene, const
 }
 
 int wait_for_station(const DeviceNode& device, const DeviceArgs& args, const nav::station::Scene& scene,
-                     const char* device_name) {
+                     const char* device_name, std::initializer_list<nav::dds::Topic> writes) {
   if (!args.wait_for_station) return 0;
   std::printf("navdevice %s: waiting up to %.0f s for a running station (its health) on domain %u ...\n", device_name,
               args.wait_s, scene.topics.domain_id);
   std::fflush(stdout);
   nav::MonotonicClock clock;
   const nav::TimeNs give_up_ns = clock.now_ns() + static_cast<nav::TimeNs>(args.wait_s * 1e9);
-  while (device.health->size() == 0) {
+  const auto station_reads = [&] {
+    bool all = device.health->size() > 0;
+    for (const nav::dds::Topic topic : writes) all = all && device.node->matched(topic) > 0;
+    return all;
+  };
+  while (!station_reads()) {
     if (nav::dds::stop_requested()) return -1;
     if (clock.now_ns() > give_up_ns)
-      return fail(device_name, "no station ran on this domain within " + std::to_string(args.wait_s) + " s");
+      return fail(device_name, device.health->size() == 0
+                                   ? "no station ran on this domain within " + std::to_string(args.wait_s) + " s"
+                                   : "a station runs, but reads none of this device's topics (their names differ?)");
     clock.sleep_until_ns(clock.now_ns() + 10 * nav::kNsPerMs);
   }
   return 0;

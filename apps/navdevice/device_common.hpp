@@ -4,6 +4,7 @@
 // also reads the station's health), waiting for a running station, and errors that name the
 // device.
 #include <cstddef>
+#include <initializer_list>
 #include <map>
 #include <memory>
 #include <optional>
@@ -80,9 +81,10 @@ struct DeviceNode {
 nav::Result<DeviceNode> open_device_node(const nav::station::Scene& scene, const char* participant_name);
 
 /// Waits (unless --no-wait) up to --wait-s for a running station's first health sample (a
-/// recorder or a display is not a station). Returns 0 to go on, -1 if stopped by a signal,
-/// or the exit code of the failure it printed.
+/// recorder or a display is not a station), then, within the same time, for a reader matched to
+/// each topic in `writes` (so that the first samples are not written before the station reads).
+/// Returns 0 to go on, -1 if stopped by a signal, or the exit code of the failure it printed.
 int wait_for_station(const DeviceNode& device, const DeviceArgs& args, const nav::station::Scene& scene,
-                     const char* device_name);
+                     const char* device_name, std::initializer_list<nav::dds::Topic> writes);
 
 }  // namespace navdevice

@@ -139,7 +139,8 @@ int run_ndi(const std::vector<std::string>& arguments) {
   nav::dds::DdsNode& dds = *device.value().node;
   auto publisher = nav::trackers::PosePublisher::create(dds, "tracker", tool_frames(roles));
   if (!publisher.ok()) return fail("ndi", publisher.error().describe());
-  if (const int waited = wait_for_station(device.value(), args->device, s, "ndi"); waited != 0) {
+  if (const int waited = wait_for_station(device.value(), args->device, s, "ndi", {nav::dds::Topic::tool_pose});
+      waited != 0) {
     (void)tracker.value().stop();
     return waited < 0 ? 0 : waited;
   }

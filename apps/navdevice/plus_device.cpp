@@ -60,15 +60,6 @@ std::optional<PlusArgs> parse(const std::vector<std::string>& args) {
   return common_flags_valid(parsed.device) ? std::optional<PlusArgs>(parsed) : std::nullopt;
 }
 
-/// The tool id of `role` in the scene, or nothing.
-std::optional<std::uint32_t> role_id(const nav::station::ToolIds& tools, const std::string& role) {
-  if (role == "needle") return tools.needle;
-  if (role == "probe") return tools.probe;
-  if (role == "respiratory") return tools.respiratory;
-  if (role == "reference") return tools.reference;
-  return std::nullopt;
-}
-
 /// The tracks to play: the explicit mappings (each must be in the recording), or the default
 /// ones the recording has. An Error names the mapping at fault.
 nav::Result<std::vector<nav::ultrasound::ToolTrack>> tool_tracks(const PlusArgs& args,
@@ -81,7 +72,7 @@ nav::Result<std::vector<nav::ultrasound::ToolTrack>> tool_tracks(const PlusArgs&
           ? std::vector<std::pair<std::string, std::string>>{{"ProbeToTracker", "probe"}, {"StylusToTracker", "needle"}}
           : args.transforms;
   for (const auto& [name, role] : wanted) {
-    const std::optional<std::uint32_t> id = role_id(tools, role);
+    const std::optional<std::uint32_t> id = nav::station::tool_id_of_role(tools, role);
     if (!id)
       return nav::Error{.message = "unknown role '" + role +
                                    "' (needle, probe, respiratory, or reference when the scene declares one)",
@@ -137,7 +128,9 @@ int run_plus(const std::vector<std::string>& arguments) {
   nav::dds::DdsNode& dds = *device.value().node;
   for (const nav::Status& status : {dds.advertise<nav::dds::ToolPose>(), dds.advertise<nav::dds::UltrasoundFrame>()})
     if (!status.ok()) return fail("plus", status.error().describe());
-  if (const int waited = wait_for_station(device.value(), args->device, s, "plus"); waited != 0)
+  if (const int waited = wait_for_station(device.value(), args->device, s, "plus",
+                                          {nav::dds::Topic::tool_pose, nav::dds::Topic::ultrasound_frame});
+      waited != 0)
     return waited < 0 ? 0 : waited;
 
   DeviceClock clock(s.devices.clock);

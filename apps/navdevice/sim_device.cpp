@@ -73,7 +73,10 @@ int run_sim(const std::vector<std::string>& arguments) {
   for (const nav::Status& status : {dds.advertise<nav::dds::ToolPose>(), dds.advertise<nav::dds::UltrasoundFrame>(),
                                     dds.advertise<nav::dds::GroundTruth>()})
     if (!status.ok()) return fail("sim", status.error().describe());
-  if (const int waited = wait_for_station(device.value(), *args, s, "sim"); waited != 0) return waited < 0 ? 0 : waited;
+  if (const int waited = wait_for_station(device.value(), *args, s, "sim",
+                                          {nav::dds::Topic::tool_pose, nav::dds::Topic::ultrasound_frame});
+      waited != 0)
+    return waited < 0 ? 0 : waited;
 
   // The devices stamp on their clock: this host's monotonic clock less the scene's offset.
   nav::MonotonicClock clock;

@@ -9,7 +9,6 @@
 
 #include "image_output.hpp"
 #include "nav/dds/dds_node.hpp"
-#include "nav/dds/sample_fault.hpp"
 #include "nav/dds/stop_request.hpp"
 #include "nav/mesh/load_mesh.hpp"
 #include "nav/station/station_dds.hpp"
@@ -47,12 +46,6 @@ struct Subscriptions {
 
   nav::view::DisplayInputs inputs() const {
     return {frame->latest(), needle->latest(), prediction->latest(), surface->latest()};
-  }
-
-  /// The station's newest health, with its boundary's drops in words (no health: no status).
-  nav::view::StationStatus status() const {
-    const nav::dds::StationHealth* newest = health->latest();
-    return {newest, newest != nullptr ? nav::dds::drops_by_reason(newest->boundary) : std::string()};
   }
 };
 
@@ -99,8 +92,8 @@ int run(const NavviewArgs& args) {
     output.value()->poll_events();
     if (args.duration_ns > 0 && clock.now_ns() - start_ns >= args.duration_ns) break;
     if (!subscriptions.update()) continue;
-    const nav::view::StationStatus status = subscriptions.status();
-    if (const nav::Status shown_ok = output.value()->show(composer.render(subscriptions.inputs(), &status));
+    if (const nav::Status shown_ok =
+            output.value()->show(composer.render(subscriptions.inputs(), subscriptions.health->latest()));
         !shown_ok) {
       return fail("output", shown_ok.error());
     }

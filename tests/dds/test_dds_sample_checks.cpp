@@ -1,12 +1,15 @@
 // The boundary's value checks: each kind of bad sample is named by its fault, good samples
 // pass, time order is kept per stream and per tool, unknown tools are refused, the pose
-// inbox counts the poses it accepts, and the counters add up by reason.
+// inbox counts the poses it accepts, the counters add up by reason, and
+// the health reads as one line of words.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 
 #include "dds_test_samples.hpp"
+#include "nav/core/health.hpp"
+#include "nav/dds/health_text.hpp"
 #include "nav/dds/pose_inbox.hpp"
 #include "nav/dds/sample_checks.hpp"
 
@@ -191,6 +194,24 @@ TEST(DdsSampleChecks, CountersAddUpByReason) {
             "buffer_full 1");
   EXPECT_EQ(refused_as_invalid(counts), 8u);  // all but the full buffer
   EXPECT_EQ(drops_by_reason(BoundaryCounts{.accepted = 5}), "none");
+}
+
+TEST(DdsHealthText, TheSummaryNamesTheModeTheFlagsEachInputInTroubleAndTheDrops) {
+  StationHealth health;
+  health.mode = StationMode::running;
+  EXPECT_TRUE(station_healthy(health));
+  EXPECT_EQ(health_summary(health), "station running | healthy | dropped at the boundary: none");
+  health.input_flags[static_cast<std::size_t>(StationInput::probe)] =
+      static_cast<std::uint32_t>(HealthFlag::stale_input);
+  EXPECT_FALSE(station_healthy(health));  // an input alone is enough
+  health.mode = StationMode::degraded;
+  health.flags = static_cast<std::uint32_t>(HealthFlag::bad_sample);
+  health.boundary.malformed = 3;
+  EXPECT_EQ(health_summary(health),
+            "station DEGRADED | bad_sample | probe: stale_input | dropped at the boundary: malformed 3");
+  health.flags = 0;
+  health.input_flags = {};
+  EXPECT_FALSE(station_healthy(health));  // degraded without a flag is still not healthy
 }
 
 }  // namespace

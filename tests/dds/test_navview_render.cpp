@@ -151,14 +151,13 @@ TEST(NavviewRender, TheStationsHealthIsABandGreenOnlyWhileItRunsHealthy) {
   const auto band_colour = [](const cv::Mat& image) { return image.at<cv::Vec3b>(image.rows - 2, 1); };
   dds::StationHealth health;
   health.mode = dds::StationMode::running;
-  StationStatus status{&health, "none"};
-  EXPECT_TRUE(near_colour(band_colour(composer.render({}, &status)), palette::kStatusHealthy, 0));
+  EXPECT_TRUE(near_colour(band_colour(composer.render({}, &health)), palette::kStatusHealthy, 0));
   health.flags = static_cast<std::uint32_t>(HealthFlag::bad_sample);  // running, but a refused sample held
-  status.drops = "malformed 3";
-  EXPECT_TRUE(near_colour(band_colour(composer.render({}, &status)), palette::kStatusDegraded, 0));
+  health.boundary.malformed = 3;
+  EXPECT_TRUE(near_colour(band_colour(composer.render({}, &health)), palette::kStatusDegraded, 0));
   health.mode = dds::StationMode::degraded;
   health.flags = static_cast<std::uint32_t>(HealthFlag::stale_input);
-  const cv::Mat& degraded = composer.render({}, &status);
+  const cv::Mat& degraded = composer.render({}, &health);
   EXPECT_TRUE(near_colour(band_colour(degraded), palette::kStatusDegraded, 0));
   int text_pixels = 0;  // the band says it in white
   for (int x = 0; x < degraded.cols; ++x)
@@ -180,15 +179,14 @@ TEST(NavviewRender, AnInputInTroubleTurnsTheBandAndIsNamedOnIt) {
   };
   dds::StationHealth health;
   health.mode = dds::StationMode::running;
-  StationStatus status{&health, "none"};
   const auto needle = static_cast<std::size_t>(dds::StationInput::needle);
   health.input_flags[needle] = static_cast<std::uint32_t>(HealthFlag::bad_sample);  // the input alone
-  EXPECT_TRUE(near_colour(band_colour(composer.render({}, &status)), palette::kStatusDegraded, 0));
+  EXPECT_TRUE(near_colour(band_colour(composer.render({}, &health)), palette::kStatusDegraded, 0));
   // The same red band with and without the input named: its name and flags are the extra text.
   health.flags = static_cast<std::uint32_t>(HealthFlag::bad_sample);
-  const int named_text = text_pixels(composer.render({}, &status));
+  const int named_text = text_pixels(composer.render({}, &health));
   health.input_flags[needle] = 0;
-  const int unnamed_text = text_pixels(composer.render({}, &status));
+  const int unnamed_text = text_pixels(composer.render({}, &health));
   std::printf("band text: %d white pixels, %d with \" | needle: bad_sample\"\n", unnamed_text, named_text);
   EXPECT_GT(named_text, unnamed_text + 100);  // about 20 characters more
 }

@@ -228,6 +228,40 @@ TEST(StationScene, APlusRecordingsPixelSpacingIsReadAndChecked) {
         << bad;  // [i] for one entry
 }
 
+TEST(StationScene, TheOpenIgtlinkBridgeReadsItsAddressesAndNames) {
+  const std::string with_bridge = demo_text() +
+                                  "\nopenigtlink:\n  plus: {connect: 127.0.0.1:18946}\n"
+                                  "  transforms: {NeedleToTracker: needle, ReferenceToTracker: respiratory}\n"
+                                  "  image: Image_Reference\n";
+  const auto parsed = parse_scene(with_bridge, example_scene_path("demo.yaml"));
+  ASSERT_TRUE(parsed.ok()) << parsed.error().describe();
+  const OpenIgtlinkSettings& bridge = *parsed.value().openigtlink;
+  ASSERT_TRUE(bridge.plus.has_value());
+  EXPECT_EQ(bridge.plus->port, 18946);
+  EXPECT_FALSE(bridge.plus_connects);
+  EXPECT_EQ(bridge.transforms,
+            (std::map<std::string, std::string>{{"NeedleToTracker", "needle"}, {"ReferenceToTracker", "respiratory"}}));
+  EXPECT_EQ(bridge.image, "Image_Reference");
+  EXPECT_EQ(bridge.displays.host, "127.0.0.1");  // the default: Slicer's port, this host alone
+  EXPECT_EQ(bridge.displays.port, 18944);
+  EXPECT_FALSE(parse_scene(demo_text(), example_scene_path("demo.yaml")).value().openigtlink.has_value());
+}
+
+TEST(StationScene, TheOpenIgtlinkBridgeListensOnNamedAddressesOnly) {
+  const std::string base = demo_text() + "\nopenigtlink:\n  plus: {connect: 127.0.0.1:18946}\n";
+  const std::string plus = "  plus: {connect: 127.0.0.1:18946}";
+  expect_error_in(base, plus, "  plus: {listen: 0.0.0.0:18946}", "openigtlink.plus.listen", "every interface");
+  expect_error_in(base, plus, "  plus: {connect: plus.local:18946}", "openigtlink.plus.connect", "IPv4");
+  expect_error_in(base, plus, "  plus: {connect: 127.0.0.1:0}", "openigtlink.plus.connect", "IPv4");
+  expect_error_in(base, plus, "  plus: {connect: 127.0.0.1:1, listen: 127.0.0.1:2}", "openigtlink.plus", "either");
+  expect_error_in(base, plus, "  displays: 10.0.0.1:70000", "openigtlink.displays", "a port");
+  expect_error_in(base, plus, "  transforms: {StylusToTracker: scalpel}", "openigtlink.transforms.StylusToTracker",
+                  "unknown role");
+  expect_error_in(base, plus, "  transforms: {StylusToTracker: reference}", "openigtlink.transforms.StylusToTracker",
+                  "reference when");
+  expect_error_in(base, plus, "  image: AVeryLongImageDeviceName", "openigtlink.image", "1 to 20");
+}
+
 TEST(StationScene, ARefusalsFlagIsHeldForTheScenesDeclaredTime) {
   EXPECT_EQ(parse_scene(demo_text(), example_scene_path("demo.yaml")).value().devices.clock.bad_sample_hold_ms, 2000.0);
   const std::string clock = "clock: {offset_ms: 0, max_ahead_ms: 50, max_behind_ms: 1000";

@@ -1,5 +1,7 @@
 #include "nav/station/scene.hpp"
 
+#include <arpa/inet.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -482,6 +484,64 @@ NetworkSettings read_network(MapReader r) {
   return n;
 }
 
+/// "HOST:PORT": a numeric IPv4 address other than the wildcard, and a port 1..65535 (0 too
+/// where the bridge listens: a free port, which it prints).
+TcpAddress read_tcp_address(MapReader& r, const std::string& key, bool listening) {
+  const std::string text = r.text(key);
+  const std::size_t colon = text.rfind(':');
+  TcpAddress address;
+  in_addr parsed{};
+  bool valid = colon != std::string::npos && colon + 1 < text.size() && colon < 16;
+  if (valid) {
+    address.host = text.substr(0, colon);
+    const std::string port = text.substr(colon + 1);
+    valid = port.size() <= 5 && port.find_first_not_of("0123456789") == std::string::npos &&
+            inet_pton(AF_INET, address.host.c_str(), &parsed) == 1;
+    address.port = valid ? std::stoi(port) : 0;
+  }
+  if (!valid || address.port < (listening ? 0 : 1) || address.port > 65535)
+    r.fail_at(key, "'" + text + "' is not an IPv4 address and a port, e.g. 127.0.0.1:18944");
+  if (parsed.s_addr == INADDR_ANY)
+    r.fail_at(key, "0.0.0.0 is every interface: name the one address (127.0.0.1 for this host alone)");
+  return address;
+}
+
+OpenIgtlinkSettings read_openigtlink(MapReader r, const ToolIds& tools) {
+  OpenIgtlinkSettings o;
+  o.line = r.line();
+  if (r.optional("plus")) {
+    MapReader plus = r.map("plus");
+    if (plus.has("connect") == plus.has("listen"))
+      plus.fail_at("", "give either 'connect' (a PlusServer's address) or 'listen' (where a sender connects)");
+    o.plus_connects = plus.has("listen");
+    o.plus = read_tcp_address(plus, o.plus_connects ? "listen" : "connect", o.plus_connects);
+    plus.finish();
+  }
+  if (r.optional("transforms")) {
+    MapReader names = r.map("transforms");
+    o.transforms.clear();
+    for (const auto& entry : r.required("transforms")) {
+      const std::string device = detail::scalar_text(r.file(), entry.first, r.mark(), r.path_of("transforms"));
+      const std::string role = names.text(device);
+      if (device.empty() || device.size() > 20)
+        names.fail_at(device, "an OpenIGTLink device name has 1 to 20 characters");
+      if (!tool_id_of_role(tools, role))
+        names.fail_at(device,
+                      "unknown role '" + role +
+                          "' (needle, probe, respiratory, or reference when devices.tracker.tools declares one)");
+      o.transforms[device] = role;
+    }
+    names.finish();
+  }
+  if (r.optional("image")) {
+    o.image = r.text("image");
+    if (o.image.size() > 20) r.fail_at("image", "an OpenIGTLink device name has 1 to 20 characters");
+  }
+  if (r.optional("displays")) o.displays = read_tcp_address(r, "displays", true);
+  r.finish();
+  return o;
+}
+
 SecuritySettings read_security(MapReader r, const std::string& scene_path) {
   SecuritySettings s;
   s.line = r.line();
@@ -511,6 +571,8 @@ Scene read_scene(const YAML::Node& document, const std::string& path) {
   if (root.optional("topics")) scene.topics = read_topics(root.map("topics"));
   if (root.optional("network")) scene.network = read_network(root.map("network"));
   if (root.optional("security")) scene.network.security = read_security(root.map("security"), path);
+  if (root.optional("openigtlink"))
+    scene.openigtlink = read_openigtlink(root.map("openigtlink"), scene.devices.tracker.tools);
   root.finish();
   return scene;
 }
@@ -524,6 +586,14 @@ std::vector<ToolRole> tool_roles(const ToolIds& tools, const ToolIds& device_ids
   if (tools.reference && device_ids.reference)
     roles.push_back({"reference", "reference_marker", *tools.reference, *device_ids.reference});
   return roles;
+}
+
+std::optional<std::uint32_t> tool_id_of_role(const ToolIds& tools, const std::string& role) {
+  if (role == "needle") return tools.needle;
+  if (role == "probe") return tools.probe;
+  if (role == "respiratory") return tools.respiratory;
+  if (role == "reference") return tools.reference;
+  return std::nullopt;
 }
 
 bool is_device_index(const std::string& source) {

@@ -181,6 +181,9 @@ struct ToolRole {
 /// and the reference when both declare one.
 std::vector<ToolRole> tool_roles(const ToolIds& tools, const ToolIds& device_ids);
 
+/// The tool id `tools` gives `role` (needle, probe, respiratory, or reference when declared), or nothing.
+std::optional<std::uint32_t> tool_id_of_role(const ToolIds& tools, const std::string& role);
+
 /// Whether a capture source names a device by its index ("0" for /dev/video0) rather than a file.
 bool is_device_index(const std::string& source);
 
@@ -262,6 +265,28 @@ struct NetworkSettings {
   SecuritySettings security;  ///< the scene's `security:` section
 };
 
+/// A numeric IPv4 address and a TCP port ("127.0.0.1:18944" in a scene).
+struct TcpAddress {
+  std::string host = "127.0.0.1";
+  int port = 0;
+};
+
+/// `openigtlink:` the OpenIGTLink bridge (navbridge igtl). In: a PlusServer's tracked tools
+/// (TRANSFORM messages, their device names mapped to the scene's tools) and its ultrasound
+/// (IMAGE), from a server the bridge connects to, or from a sender that connects to the
+/// bridge. Out: the station's outputs to displays such as 3D Slicer's OpenIGTLinkIF, which
+/// connect to the bridge.
+struct OpenIgtlinkSettings {
+  std::optional<TcpAddress> plus;  ///< where the tools and images come from (absent: out only)
+  bool plus_connects = false;      ///< true: the bridge listens at `plus` and the sender connects
+  /// TRANSFORM device name -> role (needle, probe, respiratory, reference); default
+  /// StylusToTracker: needle, ProbeToTracker: probe
+  std::map<std::string, std::string> transforms{{"StylusToTracker", "needle"}, {"ProbeToTracker", "probe"}};
+  std::string image;                        ///< the IMAGE device taken as the ultrasound (empty: any)
+  TcpAddress displays{"127.0.0.1", 18944};  ///< where displays connect
+  int line = 0;                             ///< of the section
+};
+
 /// A whole scene file.
 struct Scene {
   std::string source_path;  ///< the scene file as given
@@ -273,6 +298,7 @@ struct Scene {
   DeviceSettings devices;
   TopicSettings topics;
   NetworkSettings network;
+  std::optional<OpenIgtlinkSettings> openigtlink;
 };
 
 /// Parses scene text; `path` names it in errors and anchors its relative paths.

@@ -37,13 +37,26 @@ std::vector<std::int32_t> diaphragm_nodes(const TetMesh& mesh, const std::vector
 
 }  // namespace
 
+Result<TetMesh> make_station_mesh(const Scene& scene) {
+  if (scene.liver.mesh.source == LiverMeshSource::file) {
+    auto mesh = load_tet_mesh(scene.liver.mesh.path, scene.liver.mesh.unit);
+    if (!mesh.ok()) return liver_error(scene, mesh.error().describe(), "liver.mesh");
+    return mesh;
+  }
+  try {
+    return make_embedded_liver(scene.liver.mesh.element_size_m).mesh;
+  } catch (const std::invalid_argument& e) {
+    return liver_error(scene, e.what(), "liver.mesh.element_size_m");
+  }
+}
+
 Result<StationLiver> make_station_liver(const Scene& scene) {
   const LiverSettings& settings = scene.liver;
   StationLiver liver;
   std::vector<std::int32_t> attachments;
   if (settings.mesh.source == LiverMeshSource::file) {
-    auto mesh = load_tet_mesh(settings.mesh.path, settings.mesh.unit);
-    if (!mesh.ok()) return liver_error(scene, mesh.error().describe(), "liver.mesh");
+    auto mesh = make_station_mesh(scene);
+    if (!mesh.ok()) return mesh.error();
     liver.mesh = std::move(mesh).value();
   } else {
     try {

@@ -32,6 +32,10 @@ struct StationLiver {
   ObservedPoint tumour;  ///< the same point as a barycentric point of one tetrahedron
 };
 
+/// The liver mesh of `scene` alone, as the station builds it (the generated liver or the mesh
+/// file): what a display needs to draw the station's surface. Errors as make_station_liver's.
+Result<TetMesh> make_station_mesh(const Scene& scene);
+
 /// The liver of `scene`: the generated liver (its own tumour unless liver.tumour_m) or the
 /// mesh file, on the scene's material. Supports: the generated liver on the full-order rung is
 /// held at its attachments, the top 2 cm of its boundary the diaphragm; a mesh file, and every

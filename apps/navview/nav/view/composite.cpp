@@ -5,8 +5,7 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "nav/core/health_names.hpp"
-#include "nav/dds/sample_fault.hpp"
+#include "nav/dds/health_text.hpp"
 #include "nav/view/frame_overlay.hpp"
 #include "nav/view/palette.hpp"
 
@@ -52,37 +51,13 @@ void caption_surface_panel(cv::Mat& panel, const DisplayInputs& inputs) {
 
 constexpr int kStatusBandPx = 22;
 
-const char* mode_name(dds::StationMode mode) {
-  switch (mode) {
-    case dds::StationMode::starting:
-      return "starting";
-    case dds::StationMode::running:
-      return "running";
-    case dds::StationMode::degraded:
-      return "DEGRADED";
-    case dds::StationMode::stopped:
-      return "stopped";
-  }
-  return "in an unknown mode";
-}
-
 /// "station running | healthy | dropped at the boundary: none" across the canvas's bottom, with
 /// each input in trouble ("needle: bad_sample stale_input") after the station's flags.
-void draw_status_band(cv::Mat& canvas, const StationStatus& status) {
-  const dds::StationHealth& health = *status.health;
-  bool healthy = health.mode == dds::StationMode::running && health.flags == 0;
-  for (const std::uint32_t flags : health.input_flags) healthy = healthy && flags == 0;
+void draw_status_band(cv::Mat& canvas, const dds::StationHealth& health) {
   cv::Mat band = canvas(cv::Rect(0, canvas.rows - kStatusBandPx, canvas.cols, kStatusBandPx));
-  band.setTo(healthy ? palette::kStatusHealthy : palette::kStatusDegraded);
-  const std::string flags = health_flag_names(health.flags);
-  std::string text = std::string("station ") + mode_name(health.mode) + " | " + (flags.empty() ? "healthy" : flags);
-  for (std::size_t i = 0; i < dds::kStationInputCount; ++i)  // the inputs in trouble, each with its own flags
-    if (health.input_flags[i] != 0)
-      text += std::string(" | ") + dds::station_input_name(static_cast<dds::StationInput>(i)) + ": " +
-              health_flag_names(health.input_flags[i]);
-  text += " | dropped at the boundary: " + status.drops;
-  cv::putText(band, text, cv::Point(6, kStatusBandPx - 7), cv::FONT_HERSHEY_SIMPLEX, kCaptionScale, palette::kText, 1,
-              cv::LINE_AA);
+  band.setTo(dds::station_healthy(health) ? palette::kStatusHealthy : palette::kStatusDegraded);
+  cv::putText(band, dds::health_summary(health), cv::Point(6, kStatusBandPx - 7), cv::FONT_HERSHEY_SIMPLEX,
+              kCaptionScale, palette::kText, 1, cv::LINE_AA);
 }
 
 }  // namespace
@@ -90,7 +65,7 @@ void draw_status_band(cv::Mat& canvas, const StationStatus& status) {
 Composer::Composer(const CompositeOptions& options, SurfaceTriangles surface_triangles)
     : options_(options), surface_triangles_(std::move(surface_triangles)) {}
 
-const cv::Mat& Composer::render(const DisplayInputs& inputs, const StationStatus* status) {
+const cv::Mat& Composer::render(const DisplayInputs& inputs, const dds::StationHealth* health) {
   const int height = options_.panel_height_px;
   const int frame_width = inputs.frame != nullptr
                               ? FramePanelMapping::for_frame(*inputs.frame, height).panel_width_px(*inputs.frame)
@@ -117,7 +92,7 @@ const cv::Mat& Composer::render(const DisplayInputs& inputs, const StationStatus
     caption_frame_panel(frame_panel, inputs);
     caption_surface_panel(surface_panel, inputs);
   }
-  if (status != nullptr && status->health != nullptr) draw_status_band(canvas_, *status);
+  if (health != nullptr) draw_status_band(canvas_, *health);
   return canvas_;
 }
 

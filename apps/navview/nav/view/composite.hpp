@@ -19,13 +19,6 @@ struct DisplayInputs {
   const dds::DeformedSurface* surface = nullptr;
 };
 
-/// The station's health as the display shows it: its newest health sample and the samples its
-/// boundary dropped, in words (dds::drops_by_reason).
-struct StationStatus {
-  const dds::StationHealth* health = nullptr;
-  std::string drops;
-};
-
 /// The composite's size and the 3-D panel's viewing angles.
 struct CompositeOptions {
   int panel_height_px = 512;  // both panels; the 3-D panel is square
@@ -44,7 +37,7 @@ class Composer {
   /// (the frame scaled to panel_height_px, or a square while no frame arrived) plus the
   /// 3-D panel's. With a `status`, a band across its bottom gives the station's mode, raised
   /// flags and dropped samples: green while it runs healthy, red otherwise.
-  const cv::Mat& render(const DisplayInputs& inputs, const StationStatus* status = nullptr);
+  const cv::Mat& render(const DisplayInputs& inputs, const dds::StationHealth* health = nullptr);
 
  private:
   CompositeOptions options_;

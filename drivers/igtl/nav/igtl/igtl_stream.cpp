@@ -14,6 +14,8 @@
 namespace nav::igtl {
 namespace {
 
+constexpr TimeNs kBodyTimeoutNs = kNsPerSecond;  // a body whose header came has this long at least
+
 std::string errno_text(const char* what) { return std::string(what) + ": " + std::strerror(errno); }
 
 /// The IPv4 socket address of `endpoint`, or an Error naming it (a host name is not taken:
@@ -29,16 +31,16 @@ Result<sockaddr_in> ipv4_address(const Endpoint& endpoint) {
   return address;
 }
 
-/// Waits until `fd` is ready for `events` or `deadline_ns` passes; false on timeout.
+/// Waits until `fd` is ready for `events` or `deadline_ns` passes; false on timeout. Looks at
+/// least once, so a deadline already passed asks whether it is ready now.
 bool wait_for(int fd, short events, TimeNs deadline_ns) {
   const MonotonicClock clock;
   for (;;) {
     const TimeNs left_ns = deadline_ns - clock.now_ns();
-    if (left_ns <= 0) return false;
     pollfd waiting{fd, events, 0};
-    const int ready = ::poll(&waiting, 1, static_cast<int>(left_ns / kNsPerMs) + 1);
+    const int ready = ::poll(&waiting, 1, left_ns <= 0 ? 0 : static_cast<int>(left_ns / kNsPerMs) + 1);
     if (ready > 0) return true;
-    if (ready < 0 && errno != EINTR) return false;
+    if ((ready < 0 && errno != EINTR) || left_ns <= 0) return false;
   }
 }
 
@@ -114,7 +116,8 @@ Result<Message> MessageStream::read(TimeNs timeout_ns) {
   Message message;
   message.body.resize(header.value().body_bytes);  // at most its type's limit
   message.header = std::move(header.value());
-  if (Status got = read_exact(message.body.data(), message.body.size(), deadline_ns); !got) {
+  const TimeNs body_deadline_ns = std::max(deadline_ns, MonotonicClock().now_ns() + kBodyTimeoutNs);
+  if (Status got = read_exact(message.body.data(), message.body.size(), body_deadline_ns); !got) {
     close();  // cut short
     return got.error();
   }

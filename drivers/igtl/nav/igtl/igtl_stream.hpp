@@ -40,7 +40,8 @@ class MessageStream {
   MessageStream& operator=(const MessageStream&) = delete;
   ~MessageStream();
 
-  /// The next message within `timeout_ns`. A body that fails its CRC is an Error and the
+  /// The next message within `timeout_ns` (0: one that is there now); a message whose header
+  /// came in time has at least 1 s more for its body. A body that fails its CRC is an Error and the
   /// stream goes on at the next message; a header refused (parse_header), a peer that closed
   /// or a message cut short closes the stream (open() turns false): where the next message
   /// starts is not known then. Every Error names the peer in its `file`.
@@ -48,11 +49,12 @@ class MessageStream {
   /// Sends one packed message whole.
   Status write(std::span<const std::uint8_t> message);
   bool open() const noexcept { return fd_ >= 0; }
+  /// Closes the connection (open() turns false).
+  void close() noexcept;
   const std::string& peer() const noexcept { return peer_; }
 
  private:
   Status read_exact(std::uint8_t* out, std::size_t count, TimeNs deadline_ns);
-  void close() noexcept;
   int fd_ = -1;
   std::string peer_;
 };

@@ -1,0 +1,13 @@
+#include "nav/bridge/wall_clock.hpp"
+
+#include <time.h>
+
+namespace nav::bridge {
+
+TimeNs wall_now_ns() noexcept {
+  timespec now{};
+  clock_gettime(CLOCK_REALTIME, &now);
+  return static_cast<TimeNs>(now.tv_sec) * kNsPerSecond + now.tv_nsec;
+}
+
+}  // namespace nav::bridge
