@@ -20,6 +20,9 @@
 //       a PLUS sequence recording (.mha / .nrrd) played as scanner and tracker: its frames
 //       (nav/ultrasound_frame, their own size and spacing) and its tracked transforms as the
 //       scene's tools (nav/tool_pose), at the recorded intervals or --fast.
+//   navdevice plusserver --scene FILE [--recording FILE] [--fast] [--seconds S]
+//       the same recording served over OpenIGTLink as a PlusServer serves it (TRANSFORMs by
+//       their recorded names, IMAGEs), where the scene's openigtlink.plus says: to navbridge igtl.
 //   navdevice load --scene FILE [--factor F] [--seconds S] [--domain D]
 //       a load on the station's host for soak runs: poses and frames at F (4) times the scene's
 //       rates on topics of its own, read back and filtered, on the scene's I/O core.
@@ -34,6 +37,7 @@
 #include "load_device.hpp"
 #include "ndi_device.hpp"
 #include "plus_device.hpp"
+#include "plusserver_device.hpp"
 #include "sim_device.hpp"
 
 int main(int argc, char** argv) {
@@ -43,6 +47,7 @@ int main(int argc, char** argv) {
   if (!args.empty() && args.front() == "capture") return navdevice::run_capture({args.begin() + 1, args.end()});
   if (!args.empty() && args.front() == "ndi") return navdevice::run_ndi({args.begin() + 1, args.end()});
   if (!args.empty() && args.front() == "plus") return navdevice::run_plus({args.begin() + 1, args.end()});
+  if (!args.empty() && args.front() == "plusserver") return navdevice::run_plusserver({args.begin() + 1, args.end()});
   if (!args.empty() && args.front() == "load") return navdevice::run_load({args.begin() + 1, args.end()});
   std::fprintf(
       stderr,
@@ -52,6 +57,7 @@ int main(int argc, char** argv) {
       "       navdevice ndi --scene FILE [--serial DEVICE | --tcp HOST:PORT] [--seconds S] [--domain D] [--no-wait]\n"
       "       navdevice plus --scene FILE [--recording FILE] [--fast] [--transform NAME=ROLE]... [--domain D] "
       "[--no-wait]\n"
+      "       navdevice plusserver --scene FILE [--recording FILE] [--fast] [--seconds S]\n"
       "       navdevice load --scene FILE [--factor F] [--seconds S] [--domain D]\n");
   return 2;
 }

@@ -90,6 +90,20 @@ nav::Result<std::vector<nav::ultrasound::ToolTrack>> tool_tracks(const PlusArgs&
 
 }  // namespace
 
+nav::Result<nav::ultrasound::PlusSequence> scene_recording(const nav::station::Scene& scene,
+                                                           const std::string& recording) {
+  const nav::station::UltrasoundSettings& ultrasound = scene.devices.ultrasound;
+  const bool scene_plays = ultrasound.kind == nav::station::UltrasoundKind::plus;
+  if (recording.empty() && !scene_plays)
+    return nav::Error{.message = "devices.ultrasound is not a PLUS recording (kind: plus): give --recording FILE",
+                      .file = scene.source_path};
+  auto sequence = nav::ultrasound::read_plus_sequence(recording.empty() ? ultrasound.recording_path : recording);
+  if (sequence.ok() && scene_plays && ultrasound.recording_pixel_spacing_m)
+    sequence.value().spacing_mm = {1e3 * (*ultrasound.recording_pixel_spacing_m)[0],
+                                   1e3 * (*ultrasound.recording_pixel_spacing_m)[1]};
+  return sequence;
+}
+
 int run_plus(const std::vector<std::string>& arguments) {
   const std::optional<PlusArgs> args = parse(arguments);
   if (!args) {
@@ -100,23 +114,13 @@ int run_plus(const std::vector<std::string>& arguments) {
   auto scene = load_device_scene(args->device);
   if (!scene.ok()) return fail("plus", scene.error().describe());
   const nav::station::Scene& s = scene.value();
-  std::string recording = args->recording;
-  if (recording.empty()) {
-    if (s.devices.ultrasound.kind != nav::station::UltrasoundKind::plus)
-      return fail("plus",
-                  s.source_path + ": devices.ultrasound is not a PLUS recording (kind: plus): give --recording FILE");
-    recording = s.devices.ultrasound.recording_path;
-  }
-  auto sequence = nav::ultrasound::read_plus_sequence(recording);
+  auto sequence = scene_recording(s, args->recording);
   if (!sequence.ok()) return fail("plus", sequence.error().describe());
   nav::ultrasound::PlusSequence& q = sequence.value();
-  const std::optional<std::array<double, 2>>& spacing_m = s.devices.ultrasound.recording_pixel_spacing_m;
-  if (spacing_m && s.devices.ultrasound.kind == nav::station::UltrasoundKind::plus)
-    q.spacing_mm = {1e3 * (*spacing_m)[0], 1e3 * (*spacing_m)[1]};
   auto tracks = tool_tracks(*args, q, s.devices.tracker.tools);
   if (!tracks.ok()) return fail("plus", tracks.error().describe());
-  std::printf("navdevice plus: %s: %zu frames of %u x %u at %.3f x %.3f mm, %.1f s recorded; playing",
-              recording.c_str(), q.frames_read, q.width_px, q.height_px, q.spacing_mm[0], q.spacing_mm[1],
+  std::printf("navdevice plus: %s: %zu frames of %u x %u at %.3f x %.3f mm, %.1f s recorded; playing", q.path.c_str(),
+              q.frames_read, q.width_px, q.height_px, q.spacing_mm[0], q.spacing_mm[1],
               q.timestamps_s.empty() ? 0.0 : q.timestamps_s.back() - q.timestamps_s.front());
   for (const nav::ultrasound::ToolTrack& t : tracks.value())
     std::printf(" %s as tool %u,", t.transform_name.c_str(), t.tool_id);

@@ -14,10 +14,10 @@
 
 #include "bridge_test_support.hpp"
 #include "nav/bridge/igtl_bridge.hpp"
-#include "nav/bridge/wall_clock.hpp"
 #include "nav/dds/dds_node.hpp"
 #include "nav/dds/sample_sink.hpp"
 #include "nav/igtl/igtl_stream.hpp"
+#include "nav/igtl/wall_clock.hpp"
 #include "nav/station/station_dds.hpp"
 
 namespace nav::bridge {
@@ -74,7 +74,7 @@ TEST(IgtlBridgeIn, PlusServerMessagesBecomeTheScenesPosesAndFramesAndBadOnesAreC
   auto connection = plus.value().accept(kTimeoutNs);
   ASSERT_TRUE(connection.ok());
   igtl::MessageStream& to_bridge = connection.value();
-  const TimeNs sent_wall_ns = wall_now_ns() - 5 * kNsPerMs;  // stamped 5 ms before it is sent
+  const TimeNs sent_wall_ns = igtl::wall_now_ns() - 5 * kNsPerMs;  // stamped 5 ms before it is sent
   const TimeNs sent_device_ns = MonotonicClock().now_ns() - 5 * kNsPerMs;
   const float quarter_turn_mm[3][4] = {{0, -1, 0, 10}, {1, 0, 0, 20}, {0, 0, 1, 30}};  // 90 degrees about z
   const float stretched[3][4] = {{2, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}};
@@ -129,7 +129,7 @@ TEST(IgtlBridgeIn, PlusServerMessagesBecomeTheScenesPosesAndFramesAndBadOnesAreC
   ASSERT_TRUE(to_bridge.write(forged).ok());
   auto again = plus.value().accept(kTimeoutNs);
   ASSERT_TRUE(again.ok()) << "the bridge did not connect again";
-  ASSERT_TRUE(again.value().write(transform_bytes("StylusToTracker", quarter_turn_mm, wall_now_ns())).ok());
+  ASSERT_TRUE(again.value().write(transform_bytes("StylusToTracker", quarter_turn_mm, igtl::wall_now_ns())).ok());
   ASSERT_TRUE(wait_until([&] { return station.poses->size() == 1; }));
   totals = bridge.value()->totals();
   EXPECT_EQ(totals.refused_in, 3u);

@@ -23,10 +23,10 @@
 
 #include "bridge_test_support.hpp"
 #include "nav/bridge/igtl_bridge.hpp"
-#include "nav/bridge/wall_clock.hpp"
 #include "nav/core/health.hpp"
 #include "nav/dds/dds_node.hpp"
 #include "nav/dds/health_text.hpp"
+#include "nav/igtl/wall_clock.hpp"
 #include "nav/station/display_surface.hpp"
 #include "nav/station/station_dds.hpp"
 #include "nav/station/station_liver.hpp"
@@ -212,7 +212,7 @@ TEST(IgtlBridgeOut, ADisplayReadsTheStationsOutputsAsSlicerDoes) {
   EXPECT_EQ(std::string(words->GetString()), dds::health_summary(health));
   unsigned seconds = 0, fraction = 0;
   words->GetTimeStamp(&seconds, &fraction);
-  EXPECT_NEAR(static_cast<double>(seconds) - 1e-9 * static_cast<double>(wall_now_ns()), 0.0, 5.0)
+  EXPECT_NEAR(static_cast<double>(seconds) - 1e-9 * static_cast<double>(igtl::wall_now_ns()), 0.0, 5.0)
       << "stamped in wall-clock time";
 
   // The recorded stream, walked by hand: every header's layout and every body's CRC.
@@ -225,7 +225,7 @@ TEST(IgtlBridgeOut, ADisplayReadsTheStationsOutputsAsSlicerDoes) {
     const std::uint64_t body_bytes = big_endian(h + 42, 8);
     EXPECT_TRUE(type == "POLYDATA" || type == "TRANSFORM" || type == "POINT" || type == "STRING") << type;
     EXPECT_TRUE(std::find(expected.begin(), expected.end(), device) != expected.end()) << device;
-    EXPECT_NEAR(static_cast<double>(big_endian(h + 34, 4)) - 1e-9 * static_cast<double>(wall_now_ns()), 0.0, 5.0);
+    EXPECT_NEAR(static_cast<double>(big_endian(h + 34, 4)) - 1e-9 * static_cast<double>(igtl::wall_now_ns()), 0.0, 5.0);
     ASSERT_LE(at + kHeaderBytes + body_bytes, slicer.recorded.size());
     EXPECT_EQ(big_endian(h + 50, 8), crc64_ecma182({h + kHeaderBytes, body_bytes})) << device << " CRC";
     at += kHeaderBytes + body_bytes;

@@ -4,6 +4,7 @@
 // bridge's own reader, which checks their headers and CRCs.
 #include <gtest/gtest.h>
 
+#include <igtlImageMessage.h>
 #include <igtlPointMessage.h>
 #include <igtlPolyDataMessage.h>
 #include <igtlStringMessage.h>
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <cstring>
 #include <list>
+#include <memory>
 #include <vector>
 
 #include "nav/igtl/igtl_outputs.hpp"
@@ -115,6 +117,31 @@ TEST(IgtlOutputs, TheHealthIsAString) {
   unpack_into(bytes, message);
   EXPECT_STREQ(message->GetString(), "station DEGRADED | stale_input");
   EXPECT_EQ(checked_header(bytes).device, "StationHealth");
+}
+
+TEST(IgtlOutputs, AnImageCarriesItsPixelsAndSpacingToOpenIgtlinkAndBackToAFrame) {
+  std::vector<std::uint8_t> pixels(40 * 30);
+  for (std::size_t i = 0; i < pixels.size(); ++i) pixels[i] = static_cast<std::uint8_t>(i * 7);
+  const auto bytes = pack_image("Image_Reference", 40, 30, pixels, {0.25, 0.5}, kTimeNs);
+  ::igtl::ImageMessage::Pointer message = ::igtl::ImageMessage::New();
+  unpack_into(bytes, message);
+  int size[3];
+  message->GetDimensions(size);
+  EXPECT_EQ(size[0], 40);
+  EXPECT_EQ(size[1], 30);
+  float spacing[3];
+  message->GetSpacing(spacing);
+  EXPECT_FLOAT_EQ(spacing[0], 0.25f);
+  EXPECT_FLOAT_EQ(spacing[1], 0.5f);
+  EXPECT_EQ(std::memcmp(message->GetScalarPointer(), pixels.data(), pixels.size()), 0);
+  // and through the bridge's reader, as the station's frame
+  const MessageHeader header = checked_header(bytes);
+  auto frame = std::make_unique<dds::UltrasoundFrame>();
+  ASSERT_TRUE(ultrasound_frame_from_image(header, std::span(bytes).subspan(kHeaderBytes), 2, *frame).ok());
+  EXPECT_EQ(frame->width_px, 40u);
+  EXPECT_DOUBLE_EQ(frame->pixel_spacing_m[1], 0.5e-3);
+  EXPECT_DOUBLE_EQ(frame->depth_m, 30 * 0.5e-3);
+  EXPECT_EQ(frame->pixels[39 * 1 + 40 * 29], pixels[39 + 40 * 29]);
 }
 
 }  // namespace

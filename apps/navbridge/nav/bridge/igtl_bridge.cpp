@@ -9,11 +9,11 @@
 
 #include "nav/bridge/igtl_inbound.hpp"
 #include "nav/bridge/igtl_outbound.hpp"
-#include "nav/bridge/wall_clock.hpp"
 #include "nav/dds/dds_node.hpp"
 #include "nav/dds/sample_sink.hpp"
 #include "nav/igtl/igtl_outputs.hpp"
 #include "nav/igtl/igtl_stream.hpp"
+#include "nav/igtl/wall_clock.hpp"
 #include "nav/station/display_surface.hpp"
 #include "nav/station/station_dds.hpp"
 #include "nav/station/station_liver.hpp"
@@ -205,7 +205,7 @@ void IgtlBridge::run_inbound() {
       continue;
     }
     const TimeNs device_now_ns = clock.now_ns() - m.device_clock_offset_ns;
-    auto converted = m.converter.convert(message.value(), wall_now_ns(), device_now_ns, pose, *m.frame);
+    auto converted = m.converter.convert(message.value(), igtl::wall_now_ns(), device_now_ns, pose, *m.frame);
     if (!converted) {
       m.counters.refused_in.fetch_add(1);
       Error refused = converted.error();
@@ -257,8 +257,8 @@ void IgtlBridge::run_outbound() {
       }
     }
 
-    const TimeNs wall_ns = wall_now_ns(), host_ns = clock.now_ns();
-    const auto wall_of = [&](TimeNs source_ns) { return wall_stamp_ns(source_ns, wall_ns, host_ns); };
+    const TimeNs wall_ns = igtl::wall_now_ns(), host_ns = clock.now_ns();
+    const auto wall_of = [&](TimeNs source_ns) { return igtl::wall_stamp_ns(source_ns, wall_ns, host_ns); };
     std::vector<std::pair<std::string, Packed>> fresh;
     if (m.surface->update()) {
       auto packed = m.packer.surface(*m.surface->latest(), wall_of(m.surface->latest()->source_time_ns));

@@ -3,7 +3,7 @@
 #include <span>
 #include <utility>
 
-#include "nav/bridge/wall_clock.hpp"
+#include "nav/igtl/wall_clock.hpp"
 
 namespace nav::bridge {
 
@@ -20,7 +20,7 @@ InboundNames inbound_names(const station::Scene& scene) {
 Result<Inbound> InboundConverter::convert(const igtl::Message& message, TimeNs wall_now_ns, TimeNs device_now_ns,
                                           dds::ToolPose& pose, dds::UltrasoundFrame& frame) {
   const igtl::MessageHeader& header = message.header;
-  const TimeNs stamp_ns = device_stamp_ns(header.timestamp_ns, wall_now_ns, device_now_ns);
+  const TimeNs stamp_ns = igtl::device_stamp_ns(header.timestamp_ns, wall_now_ns, device_now_ns);
   if (header.type == "TRANSFORM") {
     const auto tool = names_.tools.find(header.device);
     if (tool == names_.tools.end()) return Inbound::skipped;

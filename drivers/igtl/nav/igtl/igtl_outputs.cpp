@@ -1,11 +1,13 @@
 #include "nav/igtl/igtl_outputs.hpp"
 
+#include <igtlImageMessage.h>
 #include <igtlPointMessage.h>
 #include <igtlPolyDataMessage.h>
 #include <igtlStringMessage.h>
 #include <igtlTransformMessage.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 
 namespace nav::igtl {
 namespace {
@@ -84,6 +86,21 @@ std::vector<std::uint8_t> pack_polydata(const std::string& device, std::span<con
     }
     message->SetPolygons(cells);
   }
+  stamp(*message, time_ns);
+  return packed(*message);
+}
+
+std::vector<std::uint8_t> pack_image(const std::string& device, std::uint32_t width_px, std::uint32_t height_px,
+                                     std::span<const std::uint8_t> pixels, const std::array<double, 2>& spacing_mm,
+                                     TimeNs time_ns) {
+  ::igtl::ImageMessage::Pointer message = ::igtl::ImageMessage::New();
+  message->SetDeviceName(device.c_str());
+  message->SetDimensions(static_cast<int>(width_px), static_cast<int>(height_px), 1);
+  message->SetSpacing(static_cast<float>(spacing_mm[0]), static_cast<float>(spacing_mm[1]), 1.0f);
+  message->SetScalarTypeToUint8();
+  message->AllocateScalars();
+  std::copy_n(pixels.begin(), std::min<std::size_t>(pixels.size(), std::size_t{width_px} * height_px),
+              static_cast<std::uint8_t*>(message->GetScalarPointer()));
   stamp(*message, time_ns);
   return packed(*message);
 }

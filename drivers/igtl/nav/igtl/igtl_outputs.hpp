@@ -1,5 +1,6 @@
 #pragma once
-// The station's outputs as OpenIGTLink messages for 3D Slicer (OpenIGTLinkIF, SlicerIGT):
+// The station's outputs as OpenIGTLink messages for 3D Slicer (OpenIGTLinkIF, SlicerIGT), and
+// the images a PlusServer sends:
 // packed by OpenIGTLink's library, under the device names a SlicerIGT scene looks for, in
 // millimetres (the station's metres times 1000) of the station's reference frame.
 #include <array>
@@ -37,6 +38,13 @@ std::vector<std::uint8_t> pack_points(const std::string& device, std::span<const
 /// through them in order (a centreline), else those triangles (indices into the vertices).
 std::vector<std::uint8_t> pack_polydata(const std::string& device, std::span<const std::array<float, 3>> vertices_m,
                                         std::span<const std::array<std::uint32_t, 3>> triangles, TimeNs time_ns);
+
+/// An IMAGE named `device`: one 8-bit frame of `width_px` x `height_px` pixels (row after row),
+/// `spacing_mm` along a row and along a column, in the message's own frame (identity
+/// orientation, origin at the first pixel), as a PlusServer sends a frame not yet placed.
+std::vector<std::uint8_t> pack_image(const std::string& device, std::uint32_t width_px, std::uint32_t height_px,
+                                     std::span<const std::uint8_t> pixels, const std::array<double, 2>& spacing_mm,
+                                     TimeNs time_ns);
 
 /// A STRING message named `device` (US-ASCII).
 std::vector<std::uint8_t> pack_string(const std::string& device, const std::string& text, TimeNs time_ns);

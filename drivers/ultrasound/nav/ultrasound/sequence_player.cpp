@@ -50,8 +50,8 @@ dds::ToolPose make_pose_sample(const Matrix4Mm& matrix_mm, const std::string& tr
   return pose;
 }
 
-Result<std::size_t> play_sequence(dds::DdsNode& node, const PlusSequence& sequence, const PlayOptions& options,
-                                  Clock& clock) {
+Result<std::size_t> play_sequence(const PlusSequence& sequence, const PlayOptions& options, Clock& clock,
+                                  const PlayTargets& targets) {
   std::vector<const TransformTrack*> tracks;
   for (const ToolTrack& tool : options.tools) {
     tracks.push_back(sequence.find_transform(tool.transform_name));
@@ -60,24 +60,34 @@ Result<std::size_t> play_sequence(dds::DdsNode& node, const PlusSequence& sequen
   }
   const bool has_images = sequence.frame_pixels() > 0;
   const std::size_t frames = has_images ? sequence.frames_read : sequence.frame_count;
-  auto frame = std::make_unique<dds::UltrasoundFrame>();
   const TimeNs start_ns = clock.now_ns();
   for (std::size_t i = 0; i < frames; ++i) {
     const auto offset_ns =
         static_cast<TimeNs>(std::llround((sequence.timestamps_s[i] - sequence.timestamps_s[0]) * 1e9));
     const TimeNs time_ns = start_ns + std::max<TimeNs>(offset_ns, 0);
     if (!options.as_fast_as_possible) clock.sleep_until_ns(time_ns);
-    for (std::size_t t = 0; t < tracks.size(); ++t) {
-      if (tracks[t]->valid[i] == 0) continue;
-      node.write(make_pose_sample(tracks[t]->matrices_mm[i], tracks[t]->name, options.tools[t].tool_id, i, time_ns));
-    }
-    if (has_images && sequence.image_valid[i] != 0) {
-      make_frame_sample(sequence, i, options.probe_tool_id, time_ns, *frame);
-      node.write(*frame);
-    }
+    for (std::size_t t = 0; t < tracks.size(); ++t)
+      if (tracks[t]->valid[i] != 0) targets.transform(options.tools[t], *tracks[t], i, time_ns);
+    if (has_images && sequence.image_valid[i] != 0) targets.image(i, time_ns);
     if (options.after_frame && !options.after_frame(i + 1)) return i + 1;
   }
   return frames;
+}
+
+Result<std::size_t> play_sequence(dds::DdsNode& node, const PlusSequence& sequence, const PlayOptions& options,
+                                  Clock& clock) {
+  auto frame = std::make_unique<dds::UltrasoundFrame>();
+  return play_sequence(
+      sequence, options, clock,
+      {.transform =
+           [&](const ToolTrack& tool, const TransformTrack& track, std::size_t index, TimeNs time_ns) {
+             node.write(make_pose_sample(track.matrices_mm[index], track.name, tool.tool_id, index, time_ns));
+           },
+       .image =
+           [&](std::size_t index, TimeNs time_ns) {
+             make_frame_sample(sequence, index, options.probe_tool_id, time_ns, *frame);
+             node.write(*frame);
+           }});
 }
 
 }  // namespace nav::ultrasound

@@ -1,7 +1,7 @@
 #pragma once
-// Plays a PLUS sequence as an ultrasound device on DDS: each frame as an UltrasoundFrame and
-// each of its valid tracked transforms as a ToolPose, at the recorded timing (against a
-// Clock, so tests can use a simulated one) or as fast as possible.
+// Plays a PLUS sequence at the recorded timing (against a Clock, so tests can use a simulated
+// one) or as fast as possible: into any targets, or as an ultrasound device on DDS, each frame
+// as an UltrasoundFrame and each of its valid tracked transforms as a ToolPose.
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -41,9 +41,21 @@ void make_frame_sample(const PlusSequence& sequence, std::size_t index, std::uin
 dds::ToolPose make_pose_sample(const Matrix4Mm& matrix_mm, const std::string& transform_name, std::uint32_t tool_id,
                                std::uint64_t sequence_number, TimeNs source_time_ns);
 
+/// What a played sequence hands on at each frame's time: each valid transform of the played
+/// tracks (options.tools), then the frame's image when it was read.
+struct PlayTargets {
+  std::function<void(const ToolTrack& tool, const TransformTrack& track, std::size_t index, TimeNs time_ns)> transform;
+  std::function<void(std::size_t index, TimeNs time_ns)> image;
+};
+
+/// Plays `sequence` into `targets` with the recorded intervals between frames (time of frame
+/// 0 = clock's now), or as fast as asked. Returns the number of frames played; an error names
+/// a missing track.
+Result<std::size_t> play_sequence(const PlusSequence& sequence, const PlayOptions& options, Clock& clock,
+                                  const PlayTargets& targets);
+
 /// Publishes the frames read from `sequence` and their valid tool poses on `node` (which has
-/// advertised both topics), with the recorded intervals between frames (time of frame 0 =
-/// clock's now). Returns the number of frames played; an error names a missing track.
+/// advertised both topics), played as above.
 Result<std::size_t> play_sequence(dds::DdsNode& node, const PlusSequence& sequence, const PlayOptions& options,
                                   Clock& clock);
 

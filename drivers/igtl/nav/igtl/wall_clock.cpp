@@ -1,8 +1,8 @@
-#include "nav/bridge/wall_clock.hpp"
+#include "nav/igtl/wall_clock.hpp"
 
 #include <time.h>
 
-namespace nav::bridge {
+namespace nav::igtl {
 
 TimeNs wall_now_ns() noexcept {
   timespec now{};
@@ -10,4 +10,4 @@ TimeNs wall_now_ns() noexcept {
   return static_cast<TimeNs>(now.tv_sec) * kNsPerSecond + now.tv_nsec;
 }
 
-}  // namespace nav::bridge
+}  // namespace nav::igtl

@@ -4,7 +4,7 @@
 // crosses between them by keeping its age: its age on one clock, taken from the other's now.
 #include "nav/core/clock.hpp"
 
-namespace nav::bridge {
+namespace nav::igtl {
 
 /// This host's wall clock (CLOCK_REALTIME), in ns since 1970.
 TimeNs wall_now_ns() noexcept;
@@ -20,4 +20,4 @@ inline TimeNs wall_stamp_ns(TimeNs device_stamp, TimeNs wall_now_ns, TimeNs devi
   return wall_now_ns - (device_now_ns - device_stamp);
 }
 
-}  // namespace nav::bridge
+}  // namespace nav::igtl
