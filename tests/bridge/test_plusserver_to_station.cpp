@@ -3,7 +3,8 @@
 // PlusServer serves it, the bridge of the scene connects to it, and the station's side of DDS
 // reads what arrives. Each pose and frame is compared with the recording read directly: the
 // same poses (within float precision of OpenIGTLink's matrices), every frame's pixels and
-// spacing, in the recorded order.
+// spacing, in the recorded order; and the latency of each hop chain, from the stamp the server
+// gave a message as it sent it to the sample's arrival at the station's reader.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -25,6 +26,13 @@ namespace nav::testing {
 namespace {
 
 constexpr std::uint32_t kDomain = 223;
+
+/// "median M ms, max X ms" of `latencies_ns` (sorted in place); the median and max in ms.
+std::pair<double, double> median_and_max_ms(std::vector<TimeNs>& latencies_ns) {
+  std::sort(latencies_ns.begin(), latencies_ns.end());
+  if (latencies_ns.empty()) return {0.0, 0.0};
+  return {1e-6 * static_cast<double>(latencies_ns[latencies_ns.size() / 2]), 1e-6 * static_cast<double>(latencies_ns.back())};
+}
 
 /// A port free on loopback now (taken by a listener, then given back).
 int free_port() {
@@ -77,7 +85,9 @@ TEST(PlusServerToStation, APlusRecordingArrivesOnTheStationsTopicsAsRecorded) {
       {scene.devices.tracker.tools.probe, q.find_transform("ProbeToTracker")},
       {scene.devices.tracker.tools.needle, q.find_transform("StylusToTracker")}};
   double worst_mm = 0.0, worst_rad = 0.0;
+  std::vector<TimeNs> pose_latency_ns, frame_latency_ns;
   for (dds::ToolPose pose; poses->try_pop(pose);) {
+    pose_latency_ns.push_back(pose.receive_time_ns - pose.source_time_ns);
     const ultrasound::TransformTrack& track = *track_of.at(pose.tool_id);
     std::size_t& i = next_index[pose.tool_id];
     while (track.valid[i] == 0) ++i;
@@ -99,6 +109,7 @@ TEST(PlusServerToStation, APlusRecordingArrivesOnTheStationsTopicsAsRecorded) {
   std::size_t index = 0;
   for (auto frame = std::make_unique<dds::UltrasoundFrame>(); frames->try_pop(*frame); ++index) {
     while (q.image_valid[index] == 0) ++index;
+    frame_latency_ns.push_back(frame->receive_time_ns - frame->source_time_ns);
     ASSERT_EQ(frame->width_px, q.width_px);
     ASSERT_EQ(frame->height_px, q.height_px);
     EXPECT_NEAR(frame->pixel_spacing_m[0], 1e-3 * q.spacing_mm[0], 1e-9);
@@ -107,6 +118,15 @@ TEST(PlusServerToStation, APlusRecordingArrivesOnTheStationsTopicsAsRecorded) {
         << "frame " << index;
   }
   EXPECT_EQ(bridge.value()->totals().refused_in, 0u);
+  // Sent, read by the bridge, restamped, written to DDS and read: loopback and shared memory.
+  const auto [pose_median_ms, pose_max_ms] = median_and_max_ms(pose_latency_ns);
+  const auto [frame_median_ms, frame_max_ms] = median_and_max_ms(frame_latency_ns);
+  std::printf("server to station reader: poses median %.2f ms, max %.2f ms; frames (%u x %u) median %.2f ms, max %.2f ms\n",
+              pose_median_ms, pose_max_ms, q.width_px, q.height_px, frame_median_ms, frame_max_ms);
+  EXPECT_GT(pose_median_ms, -1.0);  // a stamp is never much after its arrival (the clocks read apart by microseconds)
+  EXPECT_LT(pose_median_ms, 50.0);  // generous: sanitizers and a loaded host
+  EXPECT_LT(frame_median_ms, 100.0);
+  EXPECT_LT(std::max(pose_max_ms, frame_max_ms), 1000.0);
 }
 
 }  // namespace
