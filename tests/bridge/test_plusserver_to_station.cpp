@@ -31,7 +31,8 @@ constexpr std::uint32_t kDomain = 223;
 std::pair<double, double> median_and_max_ms(std::vector<TimeNs>& latencies_ns) {
   std::sort(latencies_ns.begin(), latencies_ns.end());
   if (latencies_ns.empty()) return {0.0, 0.0};
-  return {1e-6 * static_cast<double>(latencies_ns[latencies_ns.size() / 2]), 1e-6 * static_cast<double>(latencies_ns.back())};
+  return {1e-6 * static_cast<double>(latencies_ns[latencies_ns.size() / 2]),
+          1e-6 * static_cast<double>(latencies_ns.back())};
 }
 
 /// A port free on loopback now (taken by a listener, then given back).
@@ -121,8 +122,9 @@ TEST(PlusServerToStation, APlusRecordingArrivesOnTheStationsTopicsAsRecorded) {
   // Sent, read by the bridge, restamped, written to DDS and read: loopback and shared memory.
   const auto [pose_median_ms, pose_max_ms] = median_and_max_ms(pose_latency_ns);
   const auto [frame_median_ms, frame_max_ms] = median_and_max_ms(frame_latency_ns);
-  std::printf("server to station reader: poses median %.2f ms, max %.2f ms; frames (%u x %u) median %.2f ms, max %.2f ms\n",
-              pose_median_ms, pose_max_ms, q.width_px, q.height_px, frame_median_ms, frame_max_ms);
+  std::printf(
+      "server to station reader: poses median %.2f ms, max %.2f ms; frames (%u x %u) median %.2f ms, max %.2f ms\n",
+      pose_median_ms, pose_max_ms, q.width_px, q.height_px, frame_median_ms, frame_max_ms);
   EXPECT_GT(pose_median_ms, -1.0);  // a stamp is never much after its arrival (the clocks read apart by microseconds)
   EXPECT_LT(pose_median_ms, 50.0);  // generous: sanitizers and a loaded host
   EXPECT_LT(frame_median_ms, 100.0);

@@ -1,16 +1,10 @@
 #include "nav/station/world_player.hpp"
 
 #include <algorithm>
-#include <cstring>
 
 namespace nav::station {
 
 namespace {
-
-void set_name(dds::FrameName& name, const char* text) {
-  name.fill('\0');
-  std::strncpy(name.data(), text, dds::kMaxFrameNameChars);
-}
 
 dds::Vector3 vector_of(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
 
@@ -20,7 +14,7 @@ dds::Vector3 vector_of(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
 dds::ToolPose WorldPlayer::reference_pose(const dds::ToolPose& respiratory) const {
   dds::ToolPose pose = respiratory;
   pose.tool_id = *tracker_.tools.reference;
-  set_name(pose.frame_from, "reference_marker");
+  dds::set_frame_name(pose.frame_from, "reference_marker");
   const RigidPose& r = tracker_.tracker_from_reference;
   pose.position_m = vector_of(r.position_m);
   pose.orientation_wxyz = {r.rotation.w(), r.rotation.x(), r.rotation.y(), r.rotation.z()};
@@ -133,18 +127,18 @@ dds::ToolPose tool_pose_of(const DeviceSample& sample, std::uint64_t sequence_nu
   pose.sequence_number = sequence_number;
   pose.source_time_ns = sample.measured_ns + world_to_device_ns;
   pose.quality = 1.0f;
-  set_name(pose.frame_to, "tracker");
+  dds::set_frame_name(pose.frame_to, "tracker");
   const ToolIds& tools = tracker.tools;
   if (sample.kind == SampleKind::respiratory) {
     pose.tool_id = tools.respiratory;
     const RigidPose& t = tracker.tracker_from_model;
     pose.position_m = vector_of(t.rotation * sample.point_m + t.position_m);
-    set_name(pose.frame_from, "respiratory_marker");
+    dds::set_frame_name(pose.frame_from, "respiratory_marker");
     return pose;
   }
   const bool needle = sample.kind == SampleKind::needle_pose;
   pose.tool_id = needle ? tools.needle : tools.probe;
-  set_name(pose.frame_from, needle ? "needle_base" : "probe_marker");
+  dds::set_frame_name(pose.frame_from, needle ? "needle_base" : "probe_marker");
   const RigidPose in_tracker = compose(tracker.tracker_from_model, sample.pose);
   const Eigen::Quaterniond& q = in_tracker.rotation;
   pose.position_m = vector_of(in_tracker.position_m);

@@ -2,9 +2,11 @@
 // The plain samples the station exchanges over DDS, as the core and the apps see them:
 // fixed-capacity structs with no heap storage and no Fast DDS type, so that they can sit in
 // preallocated lock-free buffers. Units are SI; timestamps are monotonic nanoseconds.
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string_view>
 
 #include "nav/core/clock.hpp"
 
@@ -17,6 +19,12 @@ inline constexpr std::size_t kMaxSurfaceVertices = 16384;
 
 /// A NUL-terminated frame name of at most kMaxFrameNameChars characters.
 using FrameName = std::array<char, kMaxFrameNameChars + 1>;
+
+/// Writes `name` into `out`: NUL-padded, cut at kMaxFrameNameChars characters.
+inline void set_frame_name(FrameName& out, std::string_view name) noexcept {
+  out.fill('\0');
+  std::copy_n(name.begin(), std::min(name.size(), kMaxFrameNameChars), out.begin());
+}
 
 /// A point or vector in metres (or newtons, for forces), x y z.
 using Vector3 = std::array<double, 3>;

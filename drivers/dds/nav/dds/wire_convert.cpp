@@ -1,7 +1,6 @@
 #include "nav/dds/wire_convert.hpp"
 
 #include <algorithm>
-#include <cstring>
 
 namespace nav::dds {
 
@@ -19,10 +18,7 @@ using WireName = eprosima::fastrtps::fixed_string<kMaxFrameNameChars>;
 
 void copy_name(const FrameName& name, WireName& wire) { wire = name.data(); }
 
-void copy_name(const WireName& wire, FrameName& name) noexcept {
-  name.fill('\0');
-  std::memcpy(name.data(), wire.c_str(), std::min(wire.size(), kMaxFrameNameChars));
-}
+void copy_name(const WireName& wire, FrameName& name) noexcept { set_frame_name(name, {wire.c_str(), wire.size()}); }
 
 /// Copies `coordinates` (x y z of each point, flat) into `points`; false when the count is
 /// not a multiple of 3 or exceeds `points`.

@@ -44,13 +44,6 @@ std::optional<std::pair<std::string, std::string>> transform_frames(const std::s
   return std::pair{device.substr(split + 2), device.substr(0, split)};
 }
 
-bool copy_frame_name(const std::string& name, dds::FrameName& out) {
-  if (name.size() > dds::kMaxFrameNameChars) return false;
-  std::fill(out.begin(), out.end(), '\0');
-  std::copy(name.begin(), name.end(), out.begin());
-  return true;
-}
-
 }  // namespace
 
 std::uint64_t body_limit_bytes(std::string_view type) {
@@ -123,9 +116,9 @@ Result<dds::ToolPose> tool_pose_from_transform(const MessageHeader& header, std:
   if (!frames)
     return Error{.message = "the device name is not <From>To<To> with one 'To' before a capital letter",
                  .field = header.device};
-  dds::ToolPose pose;
-  if (!copy_frame_name(frames->first, pose.frame_to) || !copy_frame_name(frames->second, pose.frame_from))
-    return Error{.message = "a frame name longer than 31 characters", .field = header.device};
+  dds::ToolPose pose;  // a device name has at most 20 characters: each frame name fits
+  dds::set_frame_name(pose.frame_to, frames->first);
+  dds::set_frame_name(pose.frame_from, frames->second);
   pose.tool_id = tool_id;
   pose.source_time_ns = header.timestamp_ns;
   const Eigen::Quaterniond q(rotation);

@@ -5,11 +5,6 @@
 namespace nav::trackers {
 namespace {
 
-void copy_name(const std::string& name, dds::FrameName& out) {
-  out.fill('\0');
-  std::copy_n(name.begin(), std::min(name.size(), dds::kMaxFrameNameChars), out.begin());
-}
-
 float quality_of(ToolState state) {
   switch (state) {
     case ToolState::ok:
@@ -36,8 +31,8 @@ dds::ToolPose to_tool_pose(const TrackerSample& sample, std::uint64_t sequence_n
   const double variance_m2 = sample.rms_error_m * sample.rms_error_m;
   pose.position_covariance_m2 = {variance_m2, 0.0, 0.0, 0.0, variance_m2, 0.0, 0.0, 0.0, variance_m2};
   pose.quality = quality_of(sample.state);
-  copy_name(frame_to, pose.frame_to);
-  copy_name(frame_from, pose.frame_from);
+  dds::set_frame_name(pose.frame_to, frame_to);
+  dds::set_frame_name(pose.frame_from, frame_from);
   return pose;
 }
 

@@ -1,16 +1,7 @@
 #include "nav/ultrasound/bmode_device.hpp"
 
-#include <cstring>
-
 namespace nav::ultrasound {
-namespace {
-
-void set_name(dds::FrameName& name, const char* text) {
-  name.fill('\0');
-  std::strncpy(name.data(), text, dds::kMaxFrameNameChars);
-}
-
-}  // namespace
+namespace {}  // namespace
 
 BmodeDevice::BmodeDevice(BmodeSimulator simulator, const Eigen::Isometry3d& probe_from_image,
                          std::uint32_t probe_tool_id)
@@ -40,8 +31,8 @@ BmodeTruth BmodeDevice::publish(dds::DdsNode& node, const Eigen::Isometry3d& liv
   const Eigen::Quaterniond rotation(liver_from_probe.linear());
   pose.orientation_wxyz = {rotation.w(), rotation.x(), rotation.y(), rotation.z()};
   pose.quality = 1.0f;
-  set_name(pose.frame_to, "liver");
-  set_name(pose.frame_from, "probe");
+  dds::set_frame_name(pose.frame_to, "liver");
+  dds::set_frame_name(pose.frame_from, "probe");
   published = node.write(pose);
   published = node.write(*frame_) && published;
   return truth;

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstring>
 #include <memory>
 
 #include "nav/ultrasound/plus_transform.hpp"
@@ -12,10 +11,10 @@
 namespace nav::ultrasound {
 namespace {
 
-void set_name(dds::FrameName& name, std::string text) {
+/// `text` in lower case, as the player names frames.
+std::string lower_case(std::string text) {
   for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  name.fill('\0');
-  std::memcpy(name.data(), text.data(), std::min(text.size(), dds::kMaxFrameNameChars));
+  return text;
 }
 
 }  // namespace
@@ -45,8 +44,9 @@ dds::ToolPose make_pose_sample(const Matrix4Mm& matrix_mm, const std::string& tr
   pose.orientation_wxyz = {quaternion.w(), quaternion.x(), quaternion.y(), quaternion.z()};
   pose.quality = 1.0f;
   const auto to = transform_name.find("To");
-  set_name(pose.frame_from, transform_name.substr(0, to));
-  set_name(pose.frame_to, to == std::string::npos ? std::string{} : transform_name.substr(to + 2));
+  dds::set_frame_name(pose.frame_from, lower_case(transform_name.substr(0, to)));
+  dds::set_frame_name(pose.frame_to,
+                      lower_case(to == std::string::npos ? std::string{} : transform_name.substr(to + 2)));
   return pose;
 }
 
