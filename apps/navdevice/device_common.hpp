@@ -82,7 +82,8 @@ nav::Result<DeviceNode> open_device_node(const nav::station::Scene& scene, const
 
 /// Waits (unless --no-wait) up to --wait-s for a running station's first health sample (a
 /// recorder or a display is not a station), then, within the same time, for a reader matched to
-/// each topic in `writes` (so that the first samples are not written before the station reads).
+/// each topic in `writes` (the reader may match this writer a moment later still: a first
+/// sample can be lost at start-up).
 /// Returns 0 to go on, -1 if stopped by a signal, or the exit code of the failure it printed.
 int wait_for_station(const DeviceNode& device, const DeviceArgs& args, const nav::station::Scene& scene,
                      const char* device_name, std::initializer_list<nav::dds::Topic> writes);

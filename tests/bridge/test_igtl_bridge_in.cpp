@@ -3,8 +3,9 @@
 // poses in metres, an IMAGE an ultrasound frame with its spacing, both restamped from wall
 // clock to the devices' clock; unmapped names are skipped; a non-rotation and a CRC failure are
 // refused and counted while the stream goes on; a forged size closes the connection, which the
-// bridge opens again.
+// bridge opens again. A sender may also connect to the bridge (plus.listen), one after another.
 #include <gtest/gtest.h>
+#include <igtlClientSocket.h>
 
 #include <cmath>
 #include <cstdio>
@@ -29,6 +30,7 @@ using nav::testing::transform_bytes;
 using nav::testing::wait_until;
 
 constexpr std::uint32_t kDomain = 220;
+constexpr std::uint32_t kListeningDomain = 224;
 constexpr TimeNs kTimeoutNs = 10 * kNsPerSecond;
 
 /// The station's side: its pose and frame readers on the scene's topics.
@@ -142,6 +144,34 @@ TEST(IgtlBridgeIn, PlusServerMessagesBecomeTheScenesPosesAndFramesAndBadOnesAreC
   EXPECT_NE(said.find("body_size"), std::string::npos) << "the forged size is named";
   EXPECT_NE(said.find("crc"), std::string::npos) << "the CRC failure is named";
   EXPECT_NE(said.find("not a rotation"), std::string::npos);
+}
+
+TEST(IgtlBridgeIn, WhereTheSenderConnectsTheBridgeListensAndTakesOneAfterAnother) {
+  const station::Scene scene =
+      bridge_scene(kListeningDomain, "  plus: {listen: 127.0.0.1:0}\n  displays: 127.0.0.1:0\n");
+  BridgeOptions quiet;
+  quiet.log = [](const std::string&) {};
+  auto bridge = IgtlBridge::open(scene, quiet);
+  ASSERT_TRUE(bridge.ok()) << bridge.error().describe();
+  ASSERT_GT(bridge.value()->plus_port(), 0);
+  StationSide station(scene);
+  ASSERT_NE(station.node, nullptr);
+  const nav::testing::RunningBridge running(*bridge.value());
+  ASSERT_TRUE(station.node->wait_for_match(dds::Topic::tool_pose, 1, kTimeoutNs));
+  const float at_mm[3][4] = {{1, 0, 0, 1}, {0, 1, 0, 2}, {0, 0, 1, 3}};
+  for (int sender = 1; sender <= 2; ++sender) {  // OpenIGTLink's own client socket, as PLUS's or Slicer's sender
+    ::igtl::ClientSocket::Pointer socket = ::igtl::ClientSocket::New();
+    ASSERT_EQ(socket->ConnectToServer("127.0.0.1", bridge.value()->plus_port()), 0);
+    const std::vector<std::uint8_t> pose = transform_bytes("ProbeToTracker", at_mm, igtl::wall_now_ns());
+    ASSERT_NE(socket->Send(pose.data(), static_cast<int>(pose.size())), 0);
+    dds::ToolPose received;
+    ASSERT_TRUE(wait_until([&] { return station.poses->try_pop(received); })) << "sender " << sender;
+    EXPECT_EQ(received.tool_id, scene.devices.tracker.tools.probe);
+    EXPECT_NEAR(received.position_m[2], 0.003, 1e-9);
+    socket->CloseSocket();  // the bridge sees it closed and takes the next sender
+  }
+  EXPECT_EQ(bridge.value()->totals().poses_in, 2u);
+  EXPECT_EQ(bridge.value()->totals().plus_connections, 2u);
 }
 
 }  // namespace
