@@ -6,7 +6,9 @@
 //       bridge (3D Slicer's OpenIGTLinkIF as a client). Prints a status line every second,
 //       each refused message with its sender and field; stops on SIGINT and SIGTERM or after
 //       --seconds. Exits 0 when stopped, 1 naming what failed, 2 on a usage error.
+#include <algorithm>
 #include <cstdio>
+#include <limits>
 #include <string>
 #include <thread>
 #include <vector>
@@ -76,9 +78,11 @@ int main(int argc, char** argv) {
   std::thread running([&b] { b.run(); });
   nav::MonotonicClock clock;
   const nav::TimeNs start_ns = clock.now_ns();
-  for (nav::TimeNs next_ns = start_ns + nav::kNsPerSecond; !nav::dds::stop_requested(); next_ns += nav::kNsPerSecond) {
-    if (args.seconds > 0.0 && clock.now_ns() - start_ns >= static_cast<nav::TimeNs>(args.seconds * 1e9)) break;
-    clock.sleep_until_ns(std::min(next_ns, start_ns + static_cast<nav::TimeNs>(args.seconds * 1e9)));
+  const nav::TimeNs end_ns = args.seconds > 0.0 ? start_ns + static_cast<nav::TimeNs>(args.seconds * 1e9)
+                                                : std::numeric_limits<nav::TimeNs>::max();
+  for (nav::TimeNs next_ns = start_ns + nav::kNsPerSecond; !nav::dds::stop_requested() && clock.now_ns() < end_ns;
+       next_ns += nav::kNsPerSecond) {
+    clock.sleep_until_ns(std::min(next_ns, end_ns));
     const nav::bridge::BridgeTotals t = b.totals();
     std::printf(
         "navbridge igtl: in %llu poses, %llu frames, %llu skipped, %llu refused; out %llu messages to %llu "

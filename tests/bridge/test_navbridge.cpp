@@ -1,7 +1,7 @@
 // navbridge igtl as a station engineer runs it: on a scene with an openigtlink section it
 // connects to the PlusServer the scene names (here the test's stand-in on loopback), prints
-// what it bridged each second and exits 0 after --seconds; a scene without the section, or a
-// bad command line, is refused with what is missing.
+// what it bridged each second and exits 0 after --seconds, or runs until stopped by a signal;
+// a scene without the section, or a bad command line, is refused with what is missing.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -45,6 +45,22 @@ TEST(Navbridge, BridgesAPlusServerForItsSecondsAndSaysWhatItDid) {
   EXPECT_NE(run.output.find("PlusServer connected"), std::string::npos);
   EXPECT_NE(run.output.find("in 3 poses, 0 frames, 0 skipped, 0 refused"), std::string::npos);
   EXPECT_NE(run.output.find("stopped"), std::string::npos);
+}
+
+TEST(Navbridge, WithoutSecondsItRunsUntilStoppedSayingWhatItDidOnceASecond) {
+  const std::string scene = written_scene(
+      "until_stopped", edited(movable_demo_text(), "domain_id: 0", "domain_id: " + std::to_string(kDomain)) +
+                           "\nopenigtlink:\n  displays: 127.0.0.1:0\n");
+  const CommandRun run =
+      run_command("timeout -s INT 5 " + executable_path("navbridge") + " igtl --scene " + scene + " 2>&1");
+  std::printf("%s", run.output.c_str());
+  std::size_t status_lines = 0;
+  for (std::size_t at = run.output.find("navbridge igtl: in "); at != std::string::npos;
+       at = run.output.find("navbridge igtl: in ", at + 1))
+    ++status_lines;
+  EXPECT_GE(status_lines, 1u);
+  EXPECT_LE(status_lines, 5u) << "one status line a second, for the 5 s it ran (its start-up included)";
+  EXPECT_NE(run.output.find("navbridge igtl: stopped"), std::string::npos) << "SIGINT stops it cleanly";
 }
 
 TEST(Navbridge, ASceneWithoutTheSectionOrABadCommandLineIsRefused) {
