@@ -35,6 +35,7 @@ namespace nav::bridge {
 namespace {
 
 using nav::testing::bridge_scene;
+using nav::testing::unpack_into;
 using nav::testing::wait_until;
 
 constexpr std::uint32_t kDomain = 221;
@@ -81,19 +82,6 @@ struct SlicerClient {
     return true;
   }
 };
-
-/// `bytes` unpacked by OpenIGTLink into `message` (its type), CRC checked.
-template <typename MessagePointer>
-void unpack_into(const std::vector<std::uint8_t>& bytes, MessagePointer& message) {
-  ::igtl::MessageHeader::Pointer header = ::igtl::MessageHeader::New();
-  header->InitPack();
-  std::memcpy(header->GetPackPointer(), bytes.data(), kHeaderBytes);
-  ASSERT_TRUE(header->Unpack() & ::igtl::MessageHeader::UNPACK_HEADER);
-  message->SetMessageHeader(header);
-  message->AllocatePack();
-  std::memcpy(message->GetPackBodyPointer(), bytes.data() + kHeaderBytes, bytes.size() - kHeaderBytes);
-  ASSERT_TRUE(message->Unpack(1) & ::igtl::MessageHeader::UNPACK_BODY);
-}
 
 dds::Covariance3 diagonal(double a, double b, double c) { return {a, 0, 0, 0, b, 0, 0, 0, c}; }
 

@@ -16,6 +16,7 @@
 #include <memory>
 #include <vector>
 
+#include "igtl_test_messages.hpp"
 #include "nav/igtl/igtl_outputs.hpp"
 #include "nav/igtl/igtl_wire.hpp"
 
@@ -24,19 +25,7 @@ namespace {
 
 constexpr TimeNs kTimeNs = 1'700'000'000'250'000'000;  // .25 s past a whole second
 
-/// `bytes` unpacked into `message` (of the type they hold), CRC checked by OpenIGTLink.
-template <typename MessagePointer>
-void unpack_into(const std::vector<std::uint8_t>& bytes, MessagePointer& message) {
-  ::igtl::MessageHeader::Pointer header = ::igtl::MessageHeader::New();
-  header->InitPack();
-  std::memcpy(header->GetPackPointer(), bytes.data(), header->GetPackSize());
-  ASSERT_TRUE(header->Unpack() & ::igtl::MessageHeader::UNPACK_HEADER);
-  message->SetMessageHeader(header);
-  message->AllocatePack();
-  ASSERT_EQ(static_cast<std::size_t>(message->GetPackBodySize()), bytes.size() - kHeaderBytes);
-  std::memcpy(message->GetPackBodyPointer(), bytes.data() + kHeaderBytes, bytes.size() - kHeaderBytes);
-  ASSERT_TRUE(message->Unpack(1) & ::igtl::MessageHeader::UNPACK_BODY);
-}
+using nav::testing::unpack_into;
 
 /// What the bridge's own reader makes of `bytes`: their checked header.
 MessageHeader checked_header(const std::vector<std::uint8_t>& bytes) {

@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "igtl_test_messages.hpp"
 #include "nav/igtl/igtl_stream.hpp"
 
 namespace nav::igtl {
@@ -18,11 +19,7 @@ namespace {
 
 constexpr TimeNs kTimeoutNs = 5 * kNsPerSecond;
 
-std::vector<std::uint8_t> packed(::igtl::MessageBase& message) {
-  message.Pack();
-  const auto* bytes = static_cast<const std::uint8_t*>(message.GetPackPointer());
-  return {bytes, bytes + message.GetPackSize()};
-}
+using nav::testing::packed_bytes;
 
 std::vector<std::uint8_t> transform_message(const char* device, float x_mm) {
   ::igtl::TransformMessage::Pointer message = ::igtl::TransformMessage::New();
@@ -31,7 +28,7 @@ std::vector<std::uint8_t> transform_message(const char* device, float x_mm) {
   ::igtl::IdentityMatrix(matrix);
   matrix[0][3] = x_mm;
   message->SetMatrix(matrix);
-  return packed(*message);
+  return packed_bytes(*message);
 }
 
 /// Sends `messages` from an OpenIGTLink client socket to 127.0.0.1:`port`, then closes.
@@ -50,7 +47,7 @@ TEST(IgtlStream, MessagesFromAnOpenIgtLinkClientArriveOneByOne) {
   text->SetDeviceName("Status");
   text->SetString("hello station");
   const std::vector<std::vector<std::uint8_t>> sent{transform_message("ProbeToTracker", 1.0f),
-                                                    transform_message("StylusToTracker", 2.0f), packed(*text)};
+                                                    transform_message("StylusToTracker", 2.0f), packed_bytes(*text)};
   std::thread sender(send_with_openigtlink, listener.value().port(), sent);
   auto stream = listener.value().accept(kTimeoutNs);
   ASSERT_TRUE(stream.ok()) << stream.error().describe();

@@ -13,6 +13,7 @@
 #include <memory>
 #include <vector>
 
+#include "igtl_test_messages.hpp"
 #include "nav/igtl/igtl_wire.hpp"
 
 namespace nav::igtl {
@@ -32,9 +33,7 @@ std::vector<std::uint8_t> packed_transform(const char* device, double angle_rad,
   for (int i = 0; i < 3; ++i) matrix[i][3] = translation_mm[i];
   message->SetMatrix(matrix);
   message->SetTimeStamp(seconds, fraction);
-  message->Pack();
-  const auto* bytes = static_cast<const std::uint8_t*>(message->GetPackPointer());
-  return {bytes, bytes + message->GetPackSize()};
+  return nav::testing::packed_bytes(*message);
 }
 
 /// An 8-bit IMAGE packed by OpenIGTLink: width x height pixels (value (3 i + j) mod 256),
@@ -52,9 +51,7 @@ std::vector<std::uint8_t> packed_image(int width, int height, float spacing_x_mm
     for (int j = 0; j < height; ++j)
       for (int i = 0; i < width; ++i)
         pixels[(k * height + j) * width + i] = static_cast<std::uint8_t>((3 * i + j) % 256);
-  message->Pack();
-  const auto* bytes = static_cast<const std::uint8_t*>(message->GetPackPointer());
-  return {bytes, bytes + message->GetPackSize()};
+  return nav::testing::packed_bytes(*message);
 }
 
 std::span<const std::uint8_t> header_of(const std::vector<std::uint8_t>& message) {
