@@ -1,12 +1,15 @@
 #pragma once
 // What the bridge tests share (header-only): the demo scene with an openigtlink section on a
-// domain of the test's own, a bridge running for a scope, and waiting for a condition (the
-// OpenIGTLink messages: ../igtl/igtl_test_messages.hpp).
+// domain of the test's own, a bridge running for a scope, a display as Slicer is one, and
+// waiting for a condition (the OpenIGTLink messages: ../igtl/igtl_test_messages.hpp).
 #include <gtest/gtest.h>
+#include <igtlClientSocket.h>
+#include <igtlMessageHeader.h>
 
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <thread>
 #include <vector>
@@ -43,6 +46,30 @@ class RunningBridge {
  private:
   bridge::IgtlBridge& bridge_;
   std::thread thread_;
+};
+
+/// A display as Slicer's OpenIGTLinkIF is one: OpenIGTLink's client socket, every message
+/// kept as received, by device name, and the whole byte stream in order.
+struct SlicerClient {
+  ::igtl::ClientSocket::Pointer socket = ::igtl::ClientSocket::New();
+  std::map<std::string, std::vector<std::uint8_t>> newest;
+  std::vector<std::uint8_t> recorded;
+
+  /// Receives one message within the socket's timeout; false when none came.
+  bool receive() {
+    ::igtl::MessageHeader::Pointer header = ::igtl::MessageHeader::New();
+    header->InitPack();
+    if (socket->Receive(header->GetPackPointer(), header->GetPackSize()) != header->GetPackSize()) return false;
+    const auto* received = static_cast<const std::uint8_t*>(header->GetPackPointer());
+    std::vector<std::uint8_t> bytes(received, received + igtl::kHeaderBytes);  // as sent: Unpack() swaps them in place
+    header->Unpack();
+    bytes.resize(igtl::kHeaderBytes + header->GetBodySizeToRead());
+    const int body = static_cast<int>(header->GetBodySizeToRead());
+    if (body > 0 && socket->Receive(bytes.data() + igtl::kHeaderBytes, body) != body) return false;
+    recorded.insert(recorded.end(), bytes.begin(), bytes.end());
+    newest[header->GetDeviceName()] = std::move(bytes);
+    return true;
+  }
 };
 
 /// Polls `done` every 10 ms for up to `seconds`; whether it came true.

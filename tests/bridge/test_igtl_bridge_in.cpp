@@ -4,13 +4,16 @@
 // clock to the devices' clock; unmapped names are skipped; a non-rotation and a CRC failure are
 // refused and counted while the stream goes on; a forged size closes the connection, which the
 // bridge opens again. A sender may also connect to the bridge (plus.listen), one after another.
+// A protocol-v3 sender's messages (extended header, metadata) and TDATA's tools become poses too.
 #include <gtest/gtest.h>
 #include <igtlClientSocket.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "bridge_test_support.hpp"
@@ -31,6 +34,7 @@ using nav::testing::wait_until;
 
 constexpr std::uint32_t kDomain = 220;
 constexpr std::uint32_t kListeningDomain = 224;
+constexpr std::uint32_t kVersion3Domain = 226;
 constexpr TimeNs kTimeoutNs = 10 * kNsPerSecond;
 
 /// The station's side: its pose and frame readers on the scene's topics.
@@ -146,32 +150,81 @@ TEST(IgtlBridgeIn, PlusServerMessagesBecomeTheScenesPosesAndFramesAndBadOnesAreC
   EXPECT_NE(said.find("not a rotation"), std::string::npos);
 }
 
+/// The demo scene's bridge on `domain`, quiet, listening for its sender on a port of the
+/// system's choice, running, and the station's side matched to its poses.
+struct ListeningBridge {
+  station::Scene scene;
+  std::unique_ptr<IgtlBridge> bridge;
+  std::unique_ptr<StationSide> station;
+  std::optional<nav::testing::RunningBridge> running;
+
+  explicit ListeningBridge(std::uint32_t domain)
+      : scene(bridge_scene(domain, "  plus: {listen: 127.0.0.1:0}\n  displays: 127.0.0.1:0\n")) {
+    BridgeOptions quiet;
+    quiet.log = [](const std::string&) {};
+    auto opened = IgtlBridge::open(scene, quiet);
+    EXPECT_TRUE(opened.ok()) << opened.error().describe();
+    if (!opened.ok()) return;
+    bridge = std::move(opened).value();
+    station = std::make_unique<StationSide>(scene);
+    running.emplace(*bridge);
+  }
+  /// Whether it is up with the station's pose reader matched.
+  bool ready() const {
+    return bridge && station->node && bridge->plus_port() > 0 &&
+           station->node->wait_for_match(dds::Topic::tool_pose, 1, kTimeoutNs);
+  }
+};
+
 TEST(IgtlBridgeIn, WhereTheSenderConnectsTheBridgeListensAndTakesOneAfterAnother) {
-  const station::Scene scene =
-      bridge_scene(kListeningDomain, "  plus: {listen: 127.0.0.1:0}\n  displays: 127.0.0.1:0\n");
-  BridgeOptions quiet;
-  quiet.log = [](const std::string&) {};
-  auto bridge = IgtlBridge::open(scene, quiet);
-  ASSERT_TRUE(bridge.ok()) << bridge.error().describe();
-  ASSERT_GT(bridge.value()->plus_port(), 0);
-  StationSide station(scene);
-  ASSERT_NE(station.node, nullptr);
-  const nav::testing::RunningBridge running(*bridge.value());
-  ASSERT_TRUE(station.node->wait_for_match(dds::Topic::tool_pose, 1, kTimeoutNs));
+  ListeningBridge listening(kListeningDomain);
+  ASSERT_TRUE(listening.ready());
   const float at_mm[3][4] = {{1, 0, 0, 1}, {0, 1, 0, 2}, {0, 0, 1, 3}};
   for (int sender = 1; sender <= 2; ++sender) {  // OpenIGTLink's own client socket, as PLUS's or Slicer's sender
     ::igtl::ClientSocket::Pointer socket = ::igtl::ClientSocket::New();
-    ASSERT_EQ(socket->ConnectToServer("127.0.0.1", bridge.value()->plus_port()), 0);
+    ASSERT_EQ(socket->ConnectToServer("127.0.0.1", listening.bridge->plus_port()), 0);
     const std::vector<std::uint8_t> pose = transform_bytes("ProbeToTracker", at_mm, igtl::wall_now_ns());
     ASSERT_NE(socket->Send(pose.data(), static_cast<int>(pose.size())), 0);
     dds::ToolPose received;
-    ASSERT_TRUE(wait_until([&] { return station.poses->try_pop(received); })) << "sender " << sender;
-    EXPECT_EQ(received.tool_id, scene.devices.tracker.tools.probe);
+    ASSERT_TRUE(wait_until([&] { return listening.station->poses->try_pop(received); })) << "sender " << sender;
+    EXPECT_EQ(received.tool_id, listening.scene.devices.tracker.tools.probe);
     EXPECT_NEAR(received.position_m[2], 0.003, 1e-9);
     socket->CloseSocket();  // the bridge sees it closed and takes the next sender
   }
-  EXPECT_EQ(bridge.value()->totals().poses_in, 2u);
-  EXPECT_EQ(bridge.value()->totals().plus_connections, 2u);
+  EXPECT_EQ(listening.bridge->totals().poses_in, 2u);
+  EXPECT_EQ(listening.bridge->totals().plus_connections, 2u);
+}
+
+TEST(IgtlBridgeIn, AVersion3SenderAndTrackingDataBecomePosesToo) {
+  ListeningBridge listening(kVersion3Domain);
+  ASSERT_TRUE(listening.ready());
+  auto sender = igtl::MessageStream::connect({"127.0.0.1", listening.bridge->plus_port()}, kTimeoutNs);
+  ASSERT_TRUE(sender.ok()) << sender.error().describe();
+  const TimeNs now_ns = igtl::wall_now_ns();
+  const float at_mm[3][4] = {{1, 0, 0, 1}, {0, 1, 0, 2}, {0, 0, 1, 3}};
+  using Matrix = std::array<std::array<float, 4>, 3>;
+  const Matrix stylus{{{1, 0, 0, 40}, {0, 1, 0, 50}, {0, 0, 1, 60}}};
+  const Matrix stretched{{{2, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}}};
+  for (const std::vector<std::uint8_t>& message :
+       {nav::testing::as_version3(transform_bytes("ProbeToTracker", at_mm, now_ns), "TransformStatus", "OK"),
+        nav::testing::tracking_bytes({{"StylusToTracker", stylus},     // the needle
+                                      {"CauteryToTracker", stylus},    // not in the scene: skipped
+                                      {"ProbeToTracker", stretched}},  // not a rotation: refused, the rest goes on
+                                     now_ns)})
+    ASSERT_TRUE(sender.value().write(message).ok());
+  ASSERT_TRUE(wait_until([&] { return listening.station->poses->size() == 2; }));
+  dds::ToolPose probe, needle;
+  ASSERT_TRUE(listening.station->poses->try_pop(probe));
+  ASSERT_TRUE(listening.station->poses->try_pop(needle));
+  EXPECT_EQ(probe.tool_id, listening.scene.devices.tracker.tools.probe);
+  EXPECT_NEAR(probe.position_m[2], 0.003, 1e-9);
+  EXPECT_EQ(needle.tool_id, listening.scene.devices.tracker.tools.needle);
+  EXPECT_NEAR(needle.position_m[1], 0.050, 1e-9);
+  ASSERT_TRUE(wait_until([&] { return listening.bridge->totals().refused_in == 1; }));
+  const BridgeTotals totals = listening.bridge->totals();
+  EXPECT_EQ(totals.poses_in, 2u);
+  EXPECT_EQ(totals.skipped_in, 1u);
+  EXPECT_EQ(totals.plus_connections, 1u) << "nothing closed the connection";
 }
 
 }  // namespace

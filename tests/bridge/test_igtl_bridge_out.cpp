@@ -7,7 +7,6 @@
 // with a CRC computed here. A surface of another scene is refused and counted; a display that
 // leaves is dropped.
 #include <gtest/gtest.h>
-#include <igtlClientSocket.h>
 #include <igtlPointMessage.h>
 #include <igtlPolyDataMessage.h>
 #include <igtlStringMessage.h>
@@ -35,12 +34,13 @@ namespace nav::bridge {
 namespace {
 
 using nav::testing::bridge_scene;
+using nav::testing::SlicerClient;
 using nav::testing::unpack_into;
 using nav::testing::wait_until;
 
 constexpr std::uint32_t kDomain = 221;
 constexpr TimeNs kTimeoutNs = 10 * kNsPerSecond;
-constexpr std::size_t kHeaderBytes = 58;
+constexpr std::size_t kHeaderBytes = igtl::kHeaderBytes;
 
 /// CRC-64 of the protocol (ECMA-182 polynomial, most significant bit first, no reflection,
 /// zero start and end), computed bit by bit: independent of OpenIGTLink's table.
@@ -58,30 +58,6 @@ std::uint64_t big_endian(const std::uint8_t* bytes, int count) {
   for (int i = 0; i < count; ++i) value = (value << 8) | bytes[i];
   return value;
 }
-
-/// A display as Slicer's OpenIGTLinkIF is one: OpenIGTLink's client socket, every message
-/// kept as received, by device name, and the whole byte stream in order.
-struct SlicerClient {
-  ::igtl::ClientSocket::Pointer socket = ::igtl::ClientSocket::New();
-  std::map<std::string, std::vector<std::uint8_t>> newest;
-  std::vector<std::uint8_t> recorded;
-
-  /// Receives one message within the socket's timeout; false when none came.
-  bool receive() {
-    ::igtl::MessageHeader::Pointer header = ::igtl::MessageHeader::New();
-    header->InitPack();
-    if (socket->Receive(header->GetPackPointer(), header->GetPackSize()) != header->GetPackSize()) return false;
-    const auto* received = static_cast<const std::uint8_t*>(header->GetPackPointer());
-    std::vector<std::uint8_t> bytes(received, received + kHeaderBytes);  // as sent: Unpack() swaps them in place
-    header->Unpack();
-    bytes.resize(kHeaderBytes + header->GetBodySizeToRead());
-    const int body = static_cast<int>(header->GetBodySizeToRead());
-    if (body > 0 && socket->Receive(bytes.data() + kHeaderBytes, body) != body) return false;
-    recorded.insert(recorded.end(), bytes.begin(), bytes.end());
-    newest[header->GetDeviceName()] = std::move(bytes);
-    return true;
-  }
-};
 
 dds::Covariance3 diagonal(double a, double b, double c) { return {a, 0, 0, 0, b, 0, 0, 0, c}; }
 

@@ -1,5 +1,6 @@
 // libFuzzer target for the OpenIGTLink reader: the input is one message as a sender could
-// forge it (58-byte header, then a body), checked and read as the bridge would.
+// forge it (58-byte header, then a body, v3's extended header and metadata included), checked
+// and read as the bridge would.
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -15,8 +16,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!header.ok()) return 0;
   const auto body = bytes.subspan(igtl::kHeaderBytes);
   (void)igtl::check_body(header.value(), body);  // the fuzzer rarely matches a CRC: read the body either way
-  (void)igtl::tool_pose_from_transform(header.value(), body, 1);
+  const auto range = igtl::content_range(header.value(), body);
+  if (!range.ok()) return 0;
+  const auto content = body.subspan(range.value().offset, range.value().bytes);
+  (void)igtl::tool_pose_from_transform(header.value(), content, 1);
+  if (const auto elements = igtl::tracking_elements(header.value(), content); elements.ok())
+    for (const auto& element : elements.value()) (void)igtl::tool_pose_from_element(header.value(), element, 1);
   static const auto frame = std::make_unique<nav::dds::UltrasoundFrame>();
-  (void)igtl::ultrasound_frame_from_image(header.value(), body, 1, *frame);
+  (void)igtl::ultrasound_frame_from_image(header.value(), content, 1, *frame);
   return 0;
 }

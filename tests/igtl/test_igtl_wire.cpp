@@ -1,13 +1,16 @@
 // The bridge's reading of OpenIGTLink messages, against messages packed by OpenIGTLink's own
-// library (an independent encoder): a TRANSFORM becomes the pose it describes (millimetres to
-// metres, PLUS's <From>To<To> name to frames), and every header or body a sender could forge
-// (oversized, wrong CRC, another version, unprintable names, not a rotation) is refused,
-// naming the field, before its body is read or used.
+// library (an independent encoder): a TRANSFORM, or a TDATA element, becomes the pose it
+// describes (millimetres to metres, PLUS's <From>To<To> name to frames); a protocol-v3 message
+// (laid out here from the v3 specification) is read through its extended header and metadata to
+// its content; and every header or body a sender could forge (oversized, wrong CRC, another
+// version, unprintable names, not a rotation, v3 sizes that do not add up) is refused, naming
+// the field, before its body is read or used.
 #include <gtest/gtest.h>
 
 #include <igtlImageMessage.h>
 #include <igtlTransformMessage.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -177,6 +180,83 @@ TEST(IgtlWire, AnImageTheStationCannotTakeIsRefusedByField) {
   const Status read = ultrasound_frame_from_image(header.value(), body_of(short_body), 2, *frame);
   ASSERT_FALSE(read.ok());
   EXPECT_EQ(read.error().field, "body_size");
+}
+
+TEST(IgtlWire, AVersion3MessageIsReadThroughItsExtendedHeaderToItsContent) {
+  const auto v1 = packed_transform("ProbeToTracker", 0.5, {10.0f, -20.0f, 300.0f});
+  const auto v3 = nav::testing::as_version3(v1, "Status", "OK");
+  const auto header = parse_header(header_of(v3));
+  ASSERT_TRUE(header.ok()) << header.error().describe();
+  EXPECT_EQ(header.value().version, 2);
+  EXPECT_EQ(header.value().body_bytes, 12u + 48u + 10u + 8u);  // extended header, content, metadata header, metadata
+  ASSERT_TRUE(check_body(header.value(), body_of(v3)).ok());
+  const auto range = content_range(header.value(), body_of(v3));
+  ASSERT_TRUE(range.ok()) << range.error().describe();
+  EXPECT_EQ(range.value().offset, 12u);
+  EXPECT_EQ(range.value().bytes, 48u);
+  const auto pose = tool_pose_from_transform(header.value(), body_of(v3).subspan(12, 48), 7);
+  const auto same = tool_pose_from_transform(parse_header(header_of(v1)).value(), body_of(v1), 7);
+  ASSERT_TRUE(pose.ok() && same.ok());
+  EXPECT_EQ(pose.value().position_m, same.value().position_m);
+  EXPECT_EQ(pose.value().orientation_wxyz, same.value().orientation_wxyz);
+  // a version-1 body is all content
+  const auto whole = content_range(parse_header(header_of(v1)).value(), body_of(v1));
+  ASSERT_TRUE(whole.ok());
+  EXPECT_EQ(whole.value().offset, 0u);
+  EXPECT_EQ(whole.value().bytes, 48u);
+}
+
+TEST(IgtlWire, Version3SizesThatDoNotAddUpAreRefusedByField) {
+  const auto v3 = nav::testing::as_version3(packed_transform("ProbeToTracker", 0.0, {0, 0, 0}), "Status", "OK");
+  const auto refused_field = [](std::vector<std::uint8_t> message, std::size_t at, std::uint8_t value) {
+    message[kHeaderBytes + at] = value;  // a byte of the extended header or the metadata header
+    const auto range = content_range(parse_header(header_of(message)).value(), body_of(message));
+    return range.ok() ? std::string() : range.error().field;
+  };
+  EXPECT_EQ(refused_field(v3, 1, 4), "extended_header_size");      // 4 bytes: shorter than itself
+  EXPECT_EQ(refused_field(v3, 1, 200), "meta_data_size");          // beyond the body
+  EXPECT_EQ(refused_field(v3, 12 + 48 + 9, 3), "meta_data_size");  // a value of 3 bytes listed: 9 in all, 8 announced
+  EXPECT_EQ(refused_field(v3, 12 + 48 + 1, 2), "meta_data_header_size");  // two entries in room for one
+  auto truncated = v3;
+  truncated.resize(kHeaderBytes + 6);
+  EXPECT_EQ(content_range(parse_header(header_of(v3)).value(), body_of(truncated)).error().field,
+            "extended_header_size");
+  auto v4 = v3;
+  v4[1] = 3;  // header version 3 does not exist
+  EXPECT_EQ(parse_header(header_of(v4)).error().field, "version");
+}
+
+TEST(IgtlWire, TrackingDataIsReadElementByElement) {
+  using Matrix = std::array<std::array<float, 4>, 3>;
+  const Matrix quarter_turn{{{0, -1, 0, 10}, {1, 0, 0, 20}, {0, 0, 1, 30}}};
+  const Matrix shifted{{{1, 0, 0, -5}, {0, 1, 0, 0}, {0, 0, 1, 250}}};
+  const auto message = nav::testing::tracking_bytes({{"StylusToTracker", quarter_turn}, {"ProbeToTracker", shifted}},
+                                                    1'700'000'000 * kNsPerSecond);
+  const auto header = parse_header(header_of(message));
+  ASSERT_TRUE(header.ok()) << header.error().describe();
+  EXPECT_EQ(header.value().type, "TDATA");
+  const auto elements = tracking_elements(header.value(), body_of(message));
+  ASSERT_TRUE(elements.ok()) << elements.error().describe();
+  ASSERT_EQ(elements.value().size(), 2u);
+  EXPECT_EQ(elements.value()[0].name, "StylusToTracker");
+  EXPECT_EQ(elements.value()[1].name, "ProbeToTracker");
+  const auto stylus = tool_pose_from_element(header.value(), elements.value()[0], 1);
+  const auto probe = tool_pose_from_element(header.value(), elements.value()[1], 2);
+  ASSERT_TRUE(stylus.ok() && probe.ok());
+  EXPECT_STREQ(stylus.value().frame_from.data(), "Stylus");
+  EXPECT_STREQ(probe.value().frame_to.data(), "Tracker");
+  EXPECT_NEAR(stylus.value().position_m[1], 0.020, 1e-9);
+  EXPECT_NEAR(stylus.value().orientation_wxyz[3] * stylus.value().orientation_wxyz[0], 0.5,
+              1e-6);  // 90 degrees about z
+  EXPECT_NEAR(probe.value().position_m[2], 0.250, 1e-7);
+  EXPECT_EQ(probe.value().source_time_ns, header.value().timestamp_ns);
+  // not whole elements, or none
+  EXPECT_EQ(tracking_elements(header.value(), body_of(message).first(71)).error().field, "body_size");
+  EXPECT_EQ(tracking_elements(header.value(), body_of(message).first(0)).error().field, "body_size");
+  // a name that is not text
+  auto unnamed = message;
+  unnamed[kHeaderBytes] = 0x01;
+  EXPECT_EQ(tracking_elements(header.value(), body_of(unnamed)).error().field, "name");
 }
 
 }  // namespace

@@ -259,6 +259,8 @@ TEST(StationScene, TheOpenIgtlinkBridgeListensOnNamedAddressesOnly) {
                   "unknown role");
   expect_error_in(base, plus, "  transforms: {StylusToTracker: reference}", "openigtlink.transforms.StylusToTracker",
                   "reference when");
+  expect_error_in(base, plus, "  transforms: {StylusToTracker: needle, StylusTipToTracker: needle}",
+                  "openigtlink.transforms.StylusTipToTracker", "already StylusToTracker's");
   expect_error_in(base, plus, "  image: AVeryLongImageDeviceName", "openigtlink.image", "1 to 20");
 }
 

@@ -9,6 +9,7 @@
 
 #include "nav/bridge/igtl_inbound.hpp"
 #include "nav/bridge/igtl_outbound.hpp"
+#include "nav/bridge/image_placement.hpp"
 #include "nav/dds/dds_node.hpp"
 #include "nav/dds/sample_sink.hpp"
 #include "nav/igtl/igtl_outputs.hpp"
@@ -26,11 +27,12 @@ constexpr TimeNs kConnectTimeoutNs = kNsPerSecond;
 constexpr TimeNs kReconnectEveryNs = kNsPerSecond;
 constexpr int kLogLinesPerSecond = 10;         // refusals printed a second; the rest are counted
 constexpr int kDisplayMessagesPerUpdate = 64;  // read (and dropped) from a display per update, at most
+constexpr std::size_t kPosesPerUpdate = 1024;  // queued between two updates: 30 ms of four tools at 1 kHz, and more
 
 /// Counters any thread may read.
 struct Counters {
   std::atomic<std::uint64_t> poses_in{0}, frames_in{0}, skipped_in{0}, refused_in{0}, plus_connections{0},
-      messages_out{0}, displays_connected{0}, displays_dropped{0}, refused_out{0};
+      messages_out{0}, displays_connected{0}, displays_dropped{0}, refused_out{0}, images_unplaced{0};
 };
 
 /// Lines of a side of the bridge, at most kLogLinesPerSecond a second (one thread each).
@@ -68,6 +70,7 @@ struct IgtlBridge::Impl {
   TimeNs device_clock_offset_ns = 0;  // the scene's: device clock = monotonic clock - offset
   InboundConverter converter;
   OutboundPacker packer;
+  ImagePlacement placement;
   std::optional<igtl::Endpoint> plus_server;    // the bridge connects to it
   std::optional<igtl::Listener> plus_listener;  // or a sender connects here
   igtl::Listener displays;
@@ -80,14 +83,20 @@ struct IgtlBridge::Impl {
   std::unique_ptr<dds::RingSink<dds::TargetPrediction, 16>> predictions =
       std::make_unique<dds::RingSink<dds::TargetPrediction, 16>>();
   std::unique_ptr<dds::LatestSink<dds::StationHealth>> health = std::make_unique<dds::LatestSink<dds::StationHealth>>();
+  std::unique_ptr<dds::LatestSink<dds::UltrasoundFrame>> frames =
+      std::make_unique<dds::LatestSink<dds::UltrasoundFrame>>();
+  std::unique_ptr<dds::RingSink<dds::ToolPose, kPosesPerUpdate>> poses =
+      std::make_unique<dds::RingSink<dds::ToolPose, kPosesPerUpdate>>();
   std::unique_ptr<dds::DdsNode> devices;  // writes poses and frames
   std::unique_ptr<dds::DdsNode> display;  // reads the station's outputs
 
-  Impl(BridgeOptions o, TimeNs offset_ns, InboundNames names, OutboundPacker p, igtl::Listener listener)
+  Impl(BridgeOptions o, TimeNs offset_ns, InboundNames names, OutboundPacker p, ImagePlacement placed,
+       igtl::Listener listener)
       : options(std::move(o)),
         device_clock_offset_ns(offset_ns),
         converter(std::move(names)),
         packer(std::move(p)),
+        placement(std::move(placed)),
         displays(std::move(listener)) {}
 };
 
@@ -114,12 +123,14 @@ Result<std::unique_ptr<IgtlBridge>> IgtlBridge::open(const station::Scene& scene
   for (const auto& t : surface.value().triangles)
     triangles.push_back(
         {static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]), static_cast<std::uint32_t>(t[2])});
+  auto placement = ImagePlacement::create(scene);
+  if (!placement) return placement.error();
   auto displays = igtl::Listener::listen(endpoint_of(settings.displays));
   if (!displays) return field_error(displays.error(), "openigtlink.displays");
   auto impl = std::make_unique<Impl>(
       std::move(options), static_cast<TimeNs>(scene.devices.clock.offset_ms * 1e6), inbound_names(scene),
       OutboundPacker(std::move(triangles), static_cast<std::uint32_t>(surface.value().nodes.size())),
-      std::move(displays).value());
+      std::move(placement).value(), std::move(displays).value());
   if (settings.plus && settings.plus_connects) {
     auto listener = igtl::Listener::listen(endpoint_of(*settings.plus));
     if (!listener) return field_error(listener.error(), "openigtlink.plus.listen");
@@ -140,16 +151,17 @@ Result<std::unique_ptr<IgtlBridge>> IgtlBridge::open(const station::Scene& scene
   if (!display) return display.error();
   impl->display = std::move(display).value();
   for (const Status& status : {impl->display->subscribe(*impl->surface), impl->display->subscribe(*impl->needle),
-                               impl->display->subscribe(*impl->predictions), impl->display->subscribe(*impl->health)})
+                               impl->display->subscribe(*impl->predictions), impl->display->subscribe(*impl->health),
+                               impl->display->subscribe(*impl->frames), impl->display->subscribe(*impl->poses)})
     if (!status) return status.error();
   return std::unique_ptr<IgtlBridge>(new IgtlBridge(std::move(impl)));
 }
 
 BridgeTotals IgtlBridge::totals() const noexcept {
   const Counters& c = impl_->counters;
-  return {c.poses_in.load(),           c.frames_in.load(),        c.skipped_in.load(),
-          c.refused_in.load(),         c.plus_connections.load(), c.messages_out.load(),
-          c.displays_connected.load(), c.displays_dropped.load(), c.refused_out.load()};
+  return {c.poses_in.load(),         c.frames_in.load(),      c.skipped_in.load(),         c.refused_in.load(),
+          c.plus_connections.load(), c.messages_out.load(),   c.displays_connected.load(), c.displays_dropped.load(),
+          c.refused_out.load(),      c.images_unplaced.load()};
 }
 
 int IgtlBridge::displays_port() const noexcept { return impl_->displays.port(); }
@@ -169,7 +181,7 @@ void IgtlBridge::run_inbound() {
   MonotonicClock clock;
   std::optional<igtl::MessageStream> stream;
   std::string waiting_said;  // the last "no PlusServer" line, said once until it changes
-  dds::ToolPose pose;
+  Converted converted;
   while (!stopping_.load()) {
     if (!stream) {
       auto opened = m.plus_listener ? m.plus_listener->accept(kReadTimeoutNs)
@@ -205,24 +217,24 @@ void IgtlBridge::run_inbound() {
       continue;
     }
     const TimeNs device_now_ns = clock.now_ns() - m.device_clock_offset_ns;
-    auto converted = m.converter.convert(message.value(), igtl::wall_now_ns(), device_now_ns, pose, *m.frame);
-    if (!converted) {
+    m.converter.convert(message.value(), igtl::wall_now_ns(), device_now_ns, converted, *m.frame);
+    for (Error& refused : converted.refused) {
       m.counters.refused_in.fetch_add(1);
-      Error refused = converted.error();
       refused.file = stream->peer();
       log.line("refused: " + refused.describe());
-    } else if (converted.value() == Inbound::pose) {
+    }
+    m.counters.skipped_in.fetch_add(converted.skipped);
+    for (const dds::ToolPose& pose : converted.poses) {
       if (m.devices->write(pose))
         m.counters.poses_in.fetch_add(1);
       else
         log.line("DDS did not take the pose of tool " + std::to_string(pose.tool_id));
-    } else if (converted.value() == Inbound::frame) {
+    }
+    if (converted.frame) {
       if (m.devices->write(*m.frame))
         m.counters.frames_in.fetch_add(1);
       else
         log.line("DDS did not take an ultrasound frame");
-    } else {
-      m.counters.skipped_in.fetch_add(1);
     }
   }
 }
@@ -286,6 +298,16 @@ void IgtlBridge::run_outbound() {
     if (m.health->update())
       fresh.emplace_back(igtl::kHealthDevice,
                          m.packer.health(*m.health->latest(), wall_of(m.health->latest()->source_time_ns)));
+    for (dds::ToolPose pose; m.poses->try_pop(pose);) m.placement.add_pose(pose);
+    if (m.frames->update()) {
+      const dds::UltrasoundFrame& frame = *m.frames->latest();
+      // A frame's stamp is the devices' clock: the host's clock less the scene's offset.
+      const TimeNs frame_wall_ns = wall_of(frame.source_time_ns + m.device_clock_offset_ns);
+      if (const auto model_from_image = m.placement.model_from_image(frame.source_time_ns))
+        fresh.emplace_back(igtl::kImageDevice, m.packer.image(frame, *model_from_image, frame_wall_ns));
+      else
+        m.counters.images_unplaced.fetch_add(1);
+    }
 
     const auto send = [&](igtl::MessageStream& d, const Packed& message) {
       if (!d.open()) return;

@@ -19,15 +19,16 @@ namespace nav::bridge {
 
 /// What the bridge did so far.
 struct BridgeTotals {
-  std::uint64_t poses_in = 0;          ///< TRANSFORMs published as tool poses
+  std::uint64_t poses_in = 0;          ///< TRANSFORMs and TDATA elements published as tool poses
   std::uint64_t frames_in = 0;         ///< IMAGEs published as ultrasound frames
-  std::uint64_t skipped_in = 0;        ///< other types, or device names the scene does not map
-  std::uint64_t refused_in = 0;        ///< messages refused (header, size, CRC, a field)
+  std::uint64_t skipped_in = 0;        ///< other types, or names the scene does not map (messages, TDATA elements)
+  std::uint64_t refused_in = 0;        ///< messages (or TDATA elements) refused: header, size, CRC, a field
   std::uint64_t plus_connections = 0;  ///< connections to (or from) the PlusServer
   std::uint64_t messages_out = 0;      ///< messages sent, summed over displays
   std::uint64_t displays_connected = 0;
   std::uint64_t displays_dropped = 0;  ///< displays closed or too slow
   std::uint64_t refused_out = 0;       ///< station samples that could not be sent (another scene's surface)
+  std::uint64_t images_unplaced = 0;   ///< ultrasound frames not sent: no registration or probe pose at their time
 };
 
 /// A running bridge's settings beyond the scene's.

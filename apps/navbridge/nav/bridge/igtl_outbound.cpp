@@ -51,4 +51,14 @@ Packed OutboundPacker::health(const dds::StationHealth& health, TimeNs wall_ns) 
   return igtl::pack_string(igtl::kHealthDevice, dds::health_summary(health), wall_ns);
 }
 
+Packed OutboundPacker::image(const dds::UltrasoundFrame& frame, const RigidPose& model_from_image,
+                             TimeNs wall_ns) const {
+  const Eigen::Quaterniond& q = model_from_image.rotation;
+  const Eigen::Vector3d& p = model_from_image.position_m;
+  const igtl::ImagePose pose{{q.w(), q.x(), q.y(), q.z()}, {p.x(), p.y(), p.z()}};
+  return igtl::pack_image(igtl::kImageDevice, frame.width_px, frame.height_px,
+                          {frame.pixels.data(), frame.pixel_count()},
+                          {1e3 * frame.pixel_spacing_m[0], 1e3 * frame.pixel_spacing_m[1]}, wall_ns, &pose);
+}
+
 }  // namespace nav::bridge

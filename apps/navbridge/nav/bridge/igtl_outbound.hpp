@@ -1,8 +1,8 @@
 #pragma once
 // The station's outputs as the OpenIGTLink messages displays read (nav/igtl/igtl_outputs.hpp
 // names them): the deformed liver surface with the triangles of the scene's mesh, the needle's
-// centreline and tip, the tumour now and ahead with its uncertainty, the health in words. Each
-// packed with a wall-clock stamp.
+// centreline and tip, the tumour now and ahead with its uncertainty, the health in words, the
+// ultrasound frame where it lies. Each packed with a wall-clock stamp.
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -10,6 +10,7 @@
 
 #include "nav/core/error.hpp"
 #include "nav/dds/samples.hpp"
+#include "nav/fusion/rigid_pose.hpp"
 
 namespace nav::bridge {
 
@@ -32,6 +33,8 @@ class OutboundPacker {
   Packed tumour(const dds::TargetPrediction* now, const dds::TargetPrediction* ahead, TimeNs wall_ns) const;
   /// StationHealth: dds::health_summary's line.
   Packed health(const dds::StationHealth& health, TimeNs wall_ns) const;
+  /// Image_Reference: the ultrasound frame placed at `model_from_image` (its first pixel at the origin).
+  Packed image(const dds::UltrasoundFrame& frame, const RigidPose& model_from_image, TimeNs wall_ns) const;
 
  private:
   std::vector<std::array<std::uint32_t, 3>> triangles_;

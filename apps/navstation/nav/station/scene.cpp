@@ -529,6 +529,9 @@ OpenIgtlinkSettings read_openigtlink(MapReader r, const ToolIds& tools) {
         names.fail_at(device,
                       "unknown role '" + role +
                           "' (needle, probe, respiratory, or reference when devices.tracker.tools declares one)");
+      for (const auto& [other, taken] : o.transforms)
+        if (taken == role)  // two frames of one tool would alternate as its pose
+          names.fail_at(device, "the role '" + role + "' is already " + other + "'s: one name a role");
       o.transforms[device] = role;
     }
     names.finish();

@@ -279,8 +279,8 @@ struct TcpAddress {
 struct OpenIgtlinkSettings {
   std::optional<TcpAddress> plus;  ///< where the tools and images come from (absent: out only)
   bool plus_connects = false;      ///< true: the bridge listens at `plus` and the sender connects
-  /// TRANSFORM device name -> role (needle, probe, respiratory, reference); default
-  /// StylusToTracker: needle, ProbeToTracker: probe
+  /// TRANSFORM device name (or TDATA element name) -> role (needle, probe, respiratory,
+  /// reference), one name a role; default StylusToTracker: needle, ProbeToTracker: probe
   std::map<std::string, std::string> transforms{{"StylusToTracker", "needle"}, {"ProbeToTracker", "probe"}};
   std::string image;                        ///< the IMAGE device taken as the ultrasound (empty: any)
   TcpAddress displays{"127.0.0.1", 18944};  ///< where displays connect

@@ -21,6 +21,21 @@ void stamp(::igtl::MessageBase& message, TimeNs time_ns) {
   message.SetTimeStamp(seconds, fraction);
 }
 
+Eigen::Matrix3d rotation_of(const std::array<double, 4>& orientation_wxyz) {
+  return Eigen::Quaterniond(orientation_wxyz[0], orientation_wxyz[1], orientation_wxyz[2], orientation_wxyz[3])
+      .normalized()
+      .toRotationMatrix();
+}
+
+/// OpenIGTLink's 4x4 of a rotation and a translation in millimetres.
+void set_matrix(::igtl::Matrix4x4& matrix, const Eigen::Matrix3d& rotation, const Eigen::Vector3d& translation_mm) {
+  ::igtl::IdentityMatrix(matrix);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) matrix[r][c] = static_cast<float>(rotation(r, c));
+    matrix[r][3] = static_cast<float>(translation_mm[r]);
+  }
+}
+
 std::vector<std::uint8_t> packed(::igtl::MessageBase& message) {
   message.Pack();
   const auto* bytes = static_cast<const std::uint8_t*>(message.GetPackPointer());
@@ -33,16 +48,9 @@ std::vector<std::uint8_t> pack_transform(const std::string& device, const std::a
                                          const dds::Vector3& position_m, TimeNs time_ns) {
   ::igtl::TransformMessage::Pointer message = ::igtl::TransformMessage::New();
   message->SetDeviceName(device.c_str());
-  const Eigen::Matrix3d rotation =
-      Eigen::Quaterniond(orientation_wxyz[0], orientation_wxyz[1], orientation_wxyz[2], orientation_wxyz[3])
-          .normalized()
-          .toRotationMatrix();
   ::igtl::Matrix4x4 matrix;
-  ::igtl::IdentityMatrix(matrix);
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) matrix[r][c] = static_cast<float>(rotation(r, c));
-    matrix[r][3] = static_cast<float>(kMmPerM * position_m[static_cast<std::size_t>(r)]);
-  }
+  set_matrix(matrix, rotation_of(orientation_wxyz),
+             kMmPerM * Eigen::Vector3d(position_m[0], position_m[1], position_m[2]));
   message->SetMatrix(matrix);
   stamp(*message, time_ns);
   return packed(*message);
@@ -92,11 +100,21 @@ std::vector<std::uint8_t> pack_polydata(const std::string& device, std::span<con
 
 std::vector<std::uint8_t> pack_image(const std::string& device, std::uint32_t width_px, std::uint32_t height_px,
                                      std::span<const std::uint8_t> pixels, const std::array<double, 2>& spacing_mm,
-                                     TimeNs time_ns) {
+                                     TimeNs time_ns, const ImagePose* pose) {
   ::igtl::ImageMessage::Pointer message = ::igtl::ImageMessage::New();
   message->SetDeviceName(device.c_str());
   message->SetDimensions(static_cast<int>(width_px), static_cast<int>(height_px), 1);
   message->SetSpacing(static_cast<float>(spacing_mm[0]), static_cast<float>(spacing_mm[1]), 1.0f);
+  if (pose != nullptr) {
+    const Eigen::Matrix3d rotation = rotation_of(pose->orientation_wxyz);
+    const Eigen::Vector3d half_extent_mm(0.5 * spacing_mm[0] * (width_px - 1.0),
+                                         0.5 * spacing_mm[1] * (height_px - 1.0), 0.0);
+    const Eigen::Vector3d first_pixel_mm =
+        kMmPerM * Eigen::Vector3d(pose->first_pixel_m[0], pose->first_pixel_m[1], pose->first_pixel_m[2]);
+    ::igtl::Matrix4x4 matrix;
+    set_matrix(matrix, rotation, first_pixel_mm + rotation * half_extent_mm);
+    message->SetMatrix(matrix);
+  }
   message->SetScalarTypeToUint8();
   message->AllocateScalars();
   std::copy_n(pixels.begin(), std::min<std::size_t>(pixels.size(), std::size_t{width_px} * height_px),

@@ -20,6 +20,7 @@ inline constexpr const char* kNeedleDevice = "Needle";                   ///< PO
 inline constexpr const char* kNeedleTipDevice = "NeedleTipToReference";  ///< TRANSFORM, translation only
 inline constexpr const char* kTumourDevice = "Tumour";                   ///< POINT, now and ahead
 inline constexpr const char* kHealthDevice = "StationHealth";            ///< STRING
+inline constexpr const char* kImageDevice = "Image_Reference";           ///< IMAGE, placed in the reference frame
 
 /// A TRANSFORM named `device`: rotation `orientation_wxyz` and translation `position_m`.
 std::vector<std::uint8_t> pack_transform(const std::string& device, const std::array<double, 4>& orientation_wxyz,
@@ -39,12 +40,20 @@ std::vector<std::uint8_t> pack_points(const std::string& device, std::span<const
 std::vector<std::uint8_t> pack_polydata(const std::string& device, std::span<const std::array<float, 3>> vertices_m,
                                         std::span<const std::array<std::uint32_t, 3>> triangles, TimeNs time_ns);
 
+/// Where an image lies in the receiver's frame: the rotation of the image's frame (x along a
+/// row, y down a column, z their cross product) and the centre of its first pixel.
+struct ImagePose {
+  std::array<double, 4> orientation_wxyz{1.0, 0.0, 0.0, 0.0};
+  dds::Vector3 first_pixel_m{};
+};
+
 /// An IMAGE named `device`: one 8-bit frame of `width_px` x `height_px` pixels (row after row),
-/// `spacing_mm` along a row and along a column, in the message's own frame (identity
-/// orientation, origin at the first pixel), as a PlusServer sends a frame not yet placed.
+/// `spacing_mm` along a row and along a column. Placed at `pose` (OpenIGTLink's matrix holds
+/// the image's centre, which Slicer takes back to its first pixel), or, without one, with the
+/// identity matrix, as a PlusServer sends a frame not yet placed.
 std::vector<std::uint8_t> pack_image(const std::string& device, std::uint32_t width_px, std::uint32_t height_px,
                                      std::span<const std::uint8_t> pixels, const std::array<double, 2>& spacing_mm,
-                                     TimeNs time_ns);
+                                     TimeNs time_ns, const ImagePose* pose = nullptr);
 
 /// A STRING message named `device` (US-ASCII).
 std::vector<std::uint8_t> pack_string(const std::string& device, const std::string& text, TimeNs time_ns);

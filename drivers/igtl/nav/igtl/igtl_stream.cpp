@@ -123,6 +123,9 @@ Result<Message> MessageStream::read(TimeNs timeout_ns) {
   }
   if (Status checked = check_body(message.header, message.body); !checked)
     return Error{.message = checked.error().message, .file = peer_, .field = checked.error().field};
+  auto range = content_range(message.header, message.body);
+  if (!range) return Error{.message = range.error().message, .file = peer_, .field = range.error().field};
+  message.content_at = range.value();
   return message;
 }
 

@@ -22,10 +22,13 @@ struct Endpoint {
   std::string text() const { return host + ":" + std::to_string(port); }
 };
 
-/// One message: its checked header and its body (CRC checked).
+/// One message: its checked header, its body (CRC checked) and where in it the content lies
+/// (the whole body but for a v3 message's extended header and metadata).
 struct Message {
   MessageHeader header;
   std::vector<std::uint8_t> body;
+  ContentRange content_at;
+  std::span<const std::uint8_t> content() const { return std::span(body).subspan(content_at.offset, content_at.bytes); }
 };
 
 /// A TCP connection carrying OpenIGTLink messages; owns its socket.
@@ -41,10 +44,10 @@ class MessageStream {
   ~MessageStream();
 
   /// The next message within `timeout_ns` (0: one that is there now); a message whose header
-  /// came in time has at least 1 s more for its body. A body that fails its CRC is an Error and the
-  /// stream goes on at the next message; a header refused (parse_header), a peer that closed
-  /// or a message cut short closes the stream (open() turns false): where the next message
-  /// starts is not known then. Every Error names the peer in its `file`.
+  /// came in time has at least 1 s more for its body. A body that fails its CRC, or a v3 body
+  /// whose sizes do not add up (content_range), is an Error and the stream goes on at the next message; a header
+  /// refused (parse_header), a peer that closed or a message cut short closes the stream (open() turns false): where
+  /// the next message starts is not known then. Every Error names the peer in its `file`.
   Result<Message> read(TimeNs timeout_ns);
   /// Sends one packed message whole.
   Status write(std::span<const std::uint8_t> message);

@@ -2,6 +2,7 @@
 
 #include <igtl_header.h>
 #include <igtl_image.h>
+#include <igtl_tdata.h>
 #include <igtl_transform.h>
 #include <igtl_util.h>
 
@@ -21,6 +22,14 @@ constexpr std::uint64_t kTransformBodyBytes = 12 * sizeof(float);
 constexpr std::uint64_t kImageHeaderBytes = 72;
 constexpr std::uint64_t kOtherBodyLimitBytes = std::uint64_t{64} << 10;
 constexpr double kLargestTranslationMm = 10'000.0;
+constexpr std::size_t kMetadataEntryBytes = 8;  // a v3 metadata header's entry: key size, encoding, value size
+
+/// The big-endian unsigned integer of `count` bytes at `at`.
+std::uint64_t big_endian(const std::uint8_t* at, int count) {
+  std::uint64_t value = 0;
+  for (int i = 0; i < count; ++i) value = (value << 8) | at[i];
+  return value;
+}
 
 /// The text of a fixed-size, NUL-padded name field, or nullopt when it holds a byte that is
 /// not printable ASCII (before its first NUL).
@@ -48,6 +57,7 @@ std::optional<std::pair<std::string, std::string>> transform_frames(const std::s
 
 std::uint64_t body_limit_bytes(std::string_view type) {
   if (type == "TRANSFORM") return kTransformBodyBytes;
+  if (type == "TDATA") return kTrackingElementsLimit * IGTL_TDATA_ELEMENT_SIZE;
   if (type == "IMAGE") return kImageHeaderBytes + dds::kMaxFramePixels;
   return kOtherBodyLimitBytes;
 }
@@ -62,8 +72,8 @@ Result<MessageHeader> parse_header(std::span<const std::uint8_t> bytes) {
   igtl_header_convert_byte_order(&raw);
   MessageHeader header;
   header.version = raw.version;
-  if (header.version != IGTL_HEADER_VERSION)
-    return Error{.message = "header version " + std::to_string(header.version) + " (this bridge reads version 1)",
+  if (header.version != 1 && header.version != 2)
+    return Error{.message = "header version " + std::to_string(header.version) + " (this bridge reads 1 and 2)",
                  .field = "version"};
   const auto type = printable(raw.name, sizeof(raw.name));
   const auto device = printable(raw.device_name, sizeof(raw.device_name));
@@ -76,9 +86,11 @@ Result<MessageHeader> parse_header(std::span<const std::uint8_t> bytes) {
   header.timestamp_ns = static_cast<TimeNs>(seconds * 1'000'000'000ULL + igtl_frac_to_nanosec(fraction));
   header.body_bytes = raw.body_size;
   header.body_crc = raw.crc;
-  if (header.body_bytes > body_limit_bytes(header.type))
+  const std::uint64_t limit =
+      body_limit_bytes(header.type) + (header.version == 2 ? kExtendedHeaderBytes + kMetadataLimitBytes : 0);
+  if (header.body_bytes > limit)
     return Error{.message = header.type + " body of " + std::to_string(header.body_bytes) + " bytes (at most " +
-                            std::to_string(body_limit_bytes(header.type)) + ") from '" + header.device + "'",
+                            std::to_string(limit) + ") from '" + header.device + "'",
                  .field = "body_size"};
   return header;
 }
@@ -94,33 +106,76 @@ Status check_body(const MessageHeader& header, std::span<const std::uint8_t> bod
   return Done{};
 }
 
-Result<dds::ToolPose> tool_pose_from_transform(const MessageHeader& header, std::span<const std::uint8_t> body,
-                                               std::uint32_t tool_id) {
-  if (header.type != "TRANSFORM" || body.size() != kTransformBodyBytes)
-    return Error{.message = "not a 48-byte TRANSFORM body", .field = header.device};
+Result<ContentRange> content_range(const MessageHeader& header, std::span<const std::uint8_t> body) {
+  if (header.version == 1) return ContentRange{0, body.size()};
+  const auto refused = [&](const std::string& what, const char* field) {
+    return Error{.message = header.type + " from '" + header.device + "' (v3): " + what, .field = field};
+  };
+  if (body.size() < kExtendedHeaderBytes) return refused("no room for its extended header", "extended_header_size");
+  const std::uint64_t extended_bytes = big_endian(body.data(), 2);
+  const std::uint64_t metadata_header_bytes = big_endian(body.data() + 2, 2);
+  const std::uint64_t metadata_bytes = big_endian(body.data() + 4, 4);
+  if (extended_bytes < kExtendedHeaderBytes)
+    return refused("an extended header of " + std::to_string(extended_bytes) + " bytes (12 at least)",
+                   "extended_header_size");
+  if (metadata_header_bytes + metadata_bytes > kMetadataLimitBytes)
+    return refused(std::to_string(metadata_header_bytes + metadata_bytes) + " bytes of metadata (at most " +
+                       std::to_string(kMetadataLimitBytes) + ")",
+                   "meta_data_size");
+  if (extended_bytes + metadata_header_bytes + metadata_bytes > body.size())
+    return refused("extended header and metadata of " +
+                       std::to_string(extended_bytes + metadata_header_bytes + metadata_bytes) +
+                       " bytes in a body of " + std::to_string(body.size()),
+                   "meta_data_size");
+  const std::size_t metadata_at = body.size() - metadata_header_bytes - metadata_bytes;
+  if (metadata_header_bytes > 0) {  // an index count, then an entry per key: their sizes add up to the metadata's
+    const std::uint8_t* index = body.data() + metadata_at;
+    const std::uint64_t count = metadata_header_bytes >= 2 ? big_endian(index, 2) : 0;
+    if (metadata_header_bytes != 2 + kMetadataEntryBytes * count)
+      return refused("a metadata header of " + std::to_string(metadata_header_bytes) + " bytes for " +
+                         std::to_string(count) + " entries",
+                     "meta_data_header_size");
+    std::uint64_t listed_bytes = 0;
+    for (std::uint64_t k = 0; k < count; ++k) {
+      const std::uint8_t* entry = index + 2 + kMetadataEntryBytes * k;
+      listed_bytes += big_endian(entry, 2) + big_endian(entry + 4, 4);  // key size, value size
+    }
+    if (listed_bytes != metadata_bytes)
+      return refused("metadata entries of " + std::to_string(listed_bytes) + " bytes where " +
+                         std::to_string(metadata_bytes) + " were announced",
+                     "meta_data_size");
+  } else if (metadata_bytes > 0) {
+    return refused("metadata without a metadata header", "meta_data_header_size");
+  }
+  return ContentRange{static_cast<std::size_t>(extended_bytes), metadata_at - static_cast<std::size_t>(extended_bytes)};
+}
+
+namespace {
+
+/// A 48-byte TRANSFORM matrix named `name` (<From>To<To>) as the pose of `tool_id` at `time_ns`.
+Result<dds::ToolPose> tool_pose_from_matrix(const std::string& name, std::span<const std::uint8_t> matrix,
+                                            TimeNs time_ns, std::uint32_t tool_id) {
   igtl_float32 m[12];
-  std::memcpy(m, body.data(), sizeof(m));
+  std::memcpy(m, matrix.data(), sizeof(m));
   igtl_transform_convert_byte_order(m);
   if (!std::all_of(m, m + 12, [](float v) { return std::isfinite(v); }))
-    return Error{.message = "the transform holds a non-finite entry", .field = header.device};
+    return Error{.message = "the transform holds a non-finite entry", .field = name};
   Eigen::Matrix3d rotation;  // columns first on the wire: R11 R21 R31 R12 ...
   for (int c = 0; c < 3; ++c)
     for (int r = 0; r < 3; ++r) rotation(r, c) = m[3 * c + r];
   if ((rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).norm() > 1e-3 || rotation.determinant() < 0.0)
-    return Error{.message = "the transform's upper 3x3 is not a rotation", .field = header.device};
+    return Error{.message = "the transform's upper 3x3 is not a rotation", .field = name};
   const Eigen::Vector3d translation_mm(m[9], m[10], m[11]);
   if (translation_mm.norm() > kLargestTranslationMm)
-    return Error{.message = "a translation of " + std::to_string(translation_mm.norm()) + " mm",
-                 .field = header.device};
-  const auto frames = transform_frames(header.device);
+    return Error{.message = "a translation of " + std::to_string(translation_mm.norm()) + " mm", .field = name};
+  const auto frames = transform_frames(name);
   if (!frames)
-    return Error{.message = "the device name is not <From>To<To> with one 'To' before a capital letter",
-                 .field = header.device};
-  dds::ToolPose pose;  // a device name has at most 20 characters: each frame name fits
+    return Error{.message = "the name is not <From>To<To> with one 'To' before a capital letter", .field = name};
+  dds::ToolPose pose;  // a name has at most 20 characters: each frame name fits
   dds::set_frame_name(pose.frame_to, frames->first);
   dds::set_frame_name(pose.frame_from, frames->second);
   pose.tool_id = tool_id;
-  pose.source_time_ns = header.timestamp_ns;
+  pose.source_time_ns = time_ns;
   const Eigen::Quaterniond q(rotation);
   pose.orientation_wxyz = {q.w(), q.x(), q.y(), q.z()};
   for (int i = 0; i < 3; ++i) pose.position_m[static_cast<std::size_t>(i)] = 1e-3 * translation_mm[i];
@@ -128,16 +183,52 @@ Result<dds::ToolPose> tool_pose_from_transform(const MessageHeader& header, std:
   return pose;
 }
 
-Status ultrasound_frame_from_image(const MessageHeader& header, std::span<const std::uint8_t> body,
+}  // namespace
+
+Result<dds::ToolPose> tool_pose_from_transform(const MessageHeader& header, std::span<const std::uint8_t> content,
+                                               std::uint32_t tool_id) {
+  if (header.type != "TRANSFORM" || content.size() != kTransformBodyBytes)
+    return Error{.message = "not a 48-byte TRANSFORM body", .field = header.device};
+  return tool_pose_from_matrix(header.device, content, header.timestamp_ns, tool_id);
+}
+
+Result<std::vector<TrackingElement>> tracking_elements(const MessageHeader& header,
+                                                       std::span<const std::uint8_t> content) {
+  const std::size_t count = content.size() / IGTL_TDATA_ELEMENT_SIZE;
+  if (header.type != "TDATA" || content.size() % IGTL_TDATA_ELEMENT_SIZE != 0 || count == 0 ||
+      count > kTrackingElementsLimit)
+    return Error{.message = "TDATA from '" + header.device + "' of " + std::to_string(content.size()) +
+                            " bytes: not 1 to " + std::to_string(kTrackingElementsLimit) + " elements of 70 bytes",
+                 .field = "body_size"};
+  std::vector<TrackingElement> elements;
+  elements.reserve(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::span<const std::uint8_t> element = content.subspan(k * IGTL_TDATA_ELEMENT_SIZE, IGTL_TDATA_ELEMENT_SIZE);
+    const auto name = printable(reinterpret_cast<const char*>(element.data()), IGTL_TDATA_LEN_NAME);
+    if (!name || name->empty())
+      return Error{.message = "TDATA from '" + header.device + "': element " + std::to_string(k) +
+                              "'s name is not printable text",
+                   .field = "name"};
+    elements.push_back({*name, element.subspan(IGTL_TDATA_LEN_NAME + 2, kTransformBodyBytes)});
+  }
+  return elements;
+}
+
+Result<dds::ToolPose> tool_pose_from_element(const MessageHeader& header, const TrackingElement& element,
+                                             std::uint32_t tool_id) {
+  return tool_pose_from_matrix(element.name, element.matrix, header.timestamp_ns, tool_id);
+}
+
+Status ultrasound_frame_from_image(const MessageHeader& header, std::span<const std::uint8_t> content,
                                    std::uint32_t probe_tool_id, dds::UltrasoundFrame& frame) {
   const auto refused = [&](const std::string& what, const char* field) {
     return Error{.message = "IMAGE from '" + header.device + "': " + what, .field = field};
   };
-  if (header.type != "IMAGE" || body.size() < kImageHeaderBytes)
+  if (header.type != "IMAGE" || content.size() < kImageHeaderBytes)
     return refused("shorter than its image header", "body_size");
   igtl_image_header image;
   static_assert(sizeof(image) == kImageHeaderBytes);
-  std::memcpy(&image, body.data(), kImageHeaderBytes);
+  std::memcpy(&image, content.data(), kImageHeaderBytes);
   igtl_image_convert_byte_order(&image);
   if (image.num_components != 1)
     return refused(std::to_string(image.num_components) + " components (1)", "num_components");
@@ -152,8 +243,8 @@ Status ultrasound_frame_from_image(const MessageHeader& header, std::span<const 
     return refused(std::to_string(image.size[0]) + " x " + std::to_string(image.size[1]) + " pixels (1 to " +
                        std::to_string(dds::kMaxFramePixels) + ")",
                    "size");
-  if (body.size() != kImageHeaderBytes + pixels)
-    return refused("a body of " + std::to_string(body.size()) + " bytes for " + std::to_string(pixels) + " pixels",
+  if (content.size() != kImageHeaderBytes + pixels)
+    return refused("content of " + std::to_string(content.size()) + " bytes for " + std::to_string(pixels) + " pixels",
                    "body_size");
   float spacing_mm[3], origin_mm[3], along_i[3], along_j[3], along_k[3];
   igtl_image_get_matrix(spacing_mm, origin_mm, along_i, along_j, along_k, &image);
@@ -167,7 +258,7 @@ Status ultrasound_frame_from_image(const MessageHeader& header, std::span<const 
   frame.height_px = image.size[1];
   frame.pixel_spacing_m = {1e-3 * spacing_mm[0], 1e-3 * spacing_mm[1]};
   frame.depth_m = frame.height_px * frame.pixel_spacing_m[1];
-  std::copy_n(body.begin() + kImageHeaderBytes, pixels, frame.pixels.begin());
+  std::copy_n(content.begin() + kImageHeaderBytes, pixels, frame.pixels.begin());
   return Done{};
 }
 
