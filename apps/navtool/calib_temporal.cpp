@@ -60,8 +60,12 @@ int calib_temporal(const std::vector<std::string>& args) {
   if (end == max_lag.c_str() || *end != '\0' || !(temporal.max_lag_s > 0.0)) {
     return report_error({"expected a positive number of seconds", "", 0, "--max-lag-s"});
   }
-  const auto estimate =
-      nav::calibration::estimate_lag(nav::calibration::principal_motion(times, positions), line, temporal);
+  if (line.times_s.size() < 2)
+    return report_error({"fewer than two frames show the line", options->get("--video"), 0, ""});
+  // The motion's direction over the video's span, as PLUS takes it (less the search window at each end).
+  const auto motion = nav::calibration::principal_motion(times, positions, line.times_s.front() + temporal.max_lag_s,
+                                                         line.times_s.back() - temporal.max_lag_s);
+  const auto estimate = nav::calibration::estimate_lag(motion, line, temporal);
   if (!estimate) {
     nav::Error error = estimate.error();
     error.file = options->get("--video");
@@ -70,8 +74,9 @@ int calib_temporal(const std::vector<std::string>& args) {
   const auto& lag = estimate.value();
   std::printf(
       "video lags the tracker by %.2f ms +- %.2f ms (correlation %.3f, %zu of %zu frames with the line, %zu "
-      "tracker samples)\n",
-      1e3 * lag.lag_s, 1e3 * lag.uncertainty_s, lag.correlation, line.times_s.size(), frames.frames_read, times.size());
+      "tracker samples in their span)\n",
+      1e3 * lag.lag_s, 1e3 * lag.uncertainty_s, lag.correlation, line.times_s.size(), frames.frames_read,
+      motion.times_s.size());
   if (!options->has("--out")) return exit_ok;
   std::ofstream out(options->get("--out"));
   out << "# navtool calib temporal: subtract video_lag_s from the video's time stamps\n"

@@ -1,6 +1,6 @@
 // Temporal calibration: the lag against synthetic truth (<= 1 ms) with noise, jitter and
 // different rates, the search-window and degenerate errors, the line signal against a drawn
-// line, and the tracker-to-video lag of the real water-tank recordings.
+// line (the real water-tank recordings: test_temporal_calibration_navtool.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,9 +10,6 @@
 
 #include "nav/calibration/temporal_calibration.hpp"
 #include "nav/calibration/temporal_calibration_signals.hpp"
-#include "nav/ultrasound/plus_sequence.hpp"
-#include "nav/ultrasound/plus_transform.hpp"
-#include "support/test_data.hpp"
 
 namespace nav::calibration {
 namespace {
@@ -95,46 +92,6 @@ TEST(TemporalCalibration, LineRowOfADrawnLine) {
   EXPECT_NEAR(*row, 40.0 + 0.25 * 99.5, 0.1);
   std::vector<std::uint8_t> blank(width * height, 0);
   EXPECT_FALSE(bright_line_row_px(blank.data(), width, height, {0, 0, width, height}).has_value());
-}
-
-TEST(TemporalCalibration, RealWaterTankTrackerToVideoLag) {
-  const std::string video_path = nav::testing::shared_data_path("plus/WaterTankBottomTranslationVideoBuffer.igs.mha");
-  const std::string tracker_path =
-      nav::testing::shared_data_path("plus/WaterTankBottomTranslationTrackerBuffer.igs.mha");
-  NAV_REQUIRE_SHARED_DATA(video_path);
-  NAV_REQUIRE_SHARED_DATA(tracker_path);
-  const auto video = ultrasound::read_plus_sequence(video_path);
-  const auto tracker = ultrasound::read_plus_sequence(tracker_path);
-  ASSERT_TRUE(video.ok() && tracker.ok());
-  TimedSignal line;
-  for (std::size_t i = 0; i < video.value().frames_read; ++i) {
-    const auto row = bright_line_row_px(video.value().frame(i), 820, 616, {27, 27, 766, 562});
-    if (!row || !video.value().image_valid[i]) continue;
-    line.times_s.push_back(video.value().timestamps_s[i]);
-    line.values.push_back(*row);
-  }
-  const auto* probe = tracker.value().find_transform("ProbeToTracker");
-  const auto* reference = tracker.value().find_transform("ReferenceToTracker");
-  std::vector<double> times;
-  std::vector<Eigen::Vector3d> positions;
-  for (std::size_t i = 0; i < tracker.value().frame_count; ++i) {
-    if (!probe->valid[i] || !reference->valid[i]) continue;
-    times.push_back(tracker.value().timestamps_s[i]);
-    positions.push_back((ultrasound::rigid_transform_m(reference->matrices_mm[i]).inverse() *
-                         ultrasound::rigid_transform_m(probe->matrices_mm[i]))
-                            .translation());
-  }
-  const auto estimate = estimate_lag(principal_motion(times, positions), line);
-  ASSERT_TRUE(estimate.ok()) << estimate.error().describe();
-  std::printf(
-      "water tank: %zu frames with the line, %zu tracker samples: video lags the tracker by %.1f ms +- %.1f ms "
-      "(r = %.3f, %zu stretches)\n",
-      line.times_s.size(), times.size(), 1e3 * estimate.value().lag_s, 1e3 * estimate.value().uncertainty_s,
-      estimate.value().correlation, estimate.value().segments_used);
-  EXPECT_GT(line.times_s.size(), 150u);
-  EXPECT_GT(std::abs(estimate.value().correlation), 0.9);
-  EXPECT_LT(estimate.value().uncertainty_s, 0.02);
-  EXPECT_EQ(estimate.value().segments_used, 4u);
 }
 
 }  // namespace

@@ -8,29 +8,33 @@
 namespace nav::calibration {
 namespace {
 
-/// Linear interpolation of `signal` on the grid start + i * step, i < count.
-std::vector<double> resample(const TimedSignal& signal, double start_s, double step_s, std::size_t count) {
-  std::vector<double> values(count);
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < count; ++i) {
-    const double t = start_s + static_cast<double>(i) * step_s;
-    while (k + 2 < signal.times_s.size() && signal.times_s[k + 1] < t) ++k;
-    const double t0 = signal.times_s[k], t1 = signal.times_s[k + 1];
-    const double alpha = std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
-    values[i] = (1.0 - alpha) * signal.values[k] + alpha * signal.values[k + 1];
-  }
-  return values;
+/// The value of `signal` at `t_s` by linear interpolation, from `hint` on (moved forward; the
+/// times asked for increase); nullopt outside its span.
+std::optional<double> value_at(const TimedSignal& signal, double t_s, std::size_t& hint) {
+  if (t_s < signal.times_s.front() || t_s > signal.times_s.back()) return std::nullopt;
+  while (hint + 2 < signal.times_s.size() && signal.times_s[hint + 1] < t_s) ++hint;
+  const double t0 = signal.times_s[hint], t1 = signal.times_s[hint + 1];
+  const double alpha = std::clamp((t_s - t0) / (t1 - t0), 0.0, 1.0);
+  return (1.0 - alpha) * signal.values[hint] + alpha * signal.values[hint + 1];
 }
 
-/// Pearson correlation of fixed[i] and moving[i + shift] over i in [from, to).
-double correlation(const std::vector<double>& fixed, const std::vector<double>& moving, std::ptrdiff_t shift,
-                   std::size_t from, std::size_t to) {
+/// The two signals as the correlation pairs them: the sparser one (fewer samples a second) at
+/// its own samples, the denser one interpolated there, so that no value is made up between
+/// two samples of the sparse one. A lag pairs fixed(t) with moving(t + lag).
+struct Pairing {
+  const TimedSignal& sampled;
+  const TimedSignal& interpolated;
+  double lag_sign;  ///< +1: the sampled one is fixed (interpolated at t + lag); -1: at t - lag
+};
+
+/// Pearson correlation at `lag_s` over the sampled signal's samples [from, to).
+double correlation(const Pairing& pairing, double lag_s, std::size_t from, std::size_t to) {
   double sum_f = 0, sum_m = 0, sum_ff = 0, sum_mm = 0, sum_fm = 0;
-  std::size_t n = 0;
+  std::size_t n = 0, hint = 0;
   for (std::size_t i = from; i < to; ++i) {
-    const std::ptrdiff_t j = static_cast<std::ptrdiff_t>(i) + shift;
-    if (j < 0 || j >= static_cast<std::ptrdiff_t>(moving.size())) continue;
-    const double f = fixed[i], m = moving[static_cast<std::size_t>(j)];
+    const auto other = value_at(pairing.interpolated, pairing.sampled.times_s[i] + pairing.lag_sign * lag_s, hint);
+    if (!other) continue;
+    const double f = pairing.sampled.values[i], m = *other;
     sum_f += f, sum_m += m, sum_ff += f * f, sum_mm += m * m, sum_fm += f * m;
     ++n;
   }
@@ -46,19 +50,19 @@ struct Peak {
   bool at_edge = false;
 };
 
-/// Scans the lags for the fixed grid stretch [from, to), maximising sign * r, or |r| when
-/// sign is 0.
-Peak scan(const std::vector<double>& fixed, const std::vector<double>& moving, std::ptrdiff_t offset, std::size_t from,
-          std::size_t to, double sign, const TemporalOptions& options) {
+/// Scans the lags over the sampled signal's stretch [from, to), maximising sign * r, or |r|
+/// when sign is 0.
+Peak scan(const Pairing& pairing, std::size_t from, std::size_t to, double sign, const TemporalOptions& options) {
   const auto window = static_cast<std::ptrdiff_t>(std::llround(options.max_lag_s / options.step_s));
   std::vector<double> scores;
   for (std::ptrdiff_t lag = -window; lag <= window; ++lag) {
-    const double r = correlation(fixed, moving, offset + lag, from, to);
+    const double r = correlation(pairing, static_cast<double>(lag) * options.step_s, from, to);
     scores.push_back(sign == 0.0 ? std::abs(r) : sign * r);
   }
   const auto best = static_cast<std::size_t>(std::max_element(scores.begin(), scores.end()) - scores.begin());
   Peak peak;
-  peak.correlation = correlation(fixed, moving, offset + static_cast<std::ptrdiff_t>(best) - window, from, to);
+  peak.correlation =
+      correlation(pairing, static_cast<double>(static_cast<std::ptrdiff_t>(best) - window) * options.step_s, from, to);
   peak.at_edge = best < 2 || best + 2 >= scores.size();
   double refine = 0.0;
   if (!peak.at_edge) {
@@ -94,26 +98,23 @@ Result<LagEstimate> estimate_lag(const TimedSignal& fixed, const TimedSignal& mo
   if (fixed.times_s.size() < options.min_samples || moving.times_s.size() < options.min_samples) {
     return Error{.message = "too few samples for a temporal calibration", .field = "signals"};
   }
-  // The fixed grid covers the fixed signal's span; the moving one its own, extended by the
-  // window so that every scanned lag finds samples.
-  const double step = options.step_s;
-  const double fixed_start = fixed.times_s.front();
-  const auto fixed_count = static_cast<std::size_t>((fixed.times_s.back() - fixed_start) / step) + 1;
-  const double moving_start = moving.times_s.front();
-  const auto moving_count = static_cast<std::size_t>((moving.times_s.back() - moving_start) / step) + 1;
-  const std::vector<double> fixed_grid = resample(fixed, fixed_start, step, fixed_count);
-  const std::vector<double> moving_grid = resample(moving, moving_start, step, moving_count);
-  const auto offset = static_cast<std::ptrdiff_t>(std::llround((fixed_start - moving_start) / step));
-  // Correlate over the fixed grid's stretch that the moving signal covers.
-  const double overlap_start = std::max(fixed_start, moving_start),
+  const double overlap_start = std::max(fixed.times_s.front(), moving.times_s.front()),
                overlap_end = std::min(fixed.times_s.back(), moving.times_s.back());
   if (overlap_end - overlap_start < 4.0 * options.max_lag_s) {
     return Error{.message = "the signals overlap for less than four search windows", .field = "signals"};
   }
-  const auto from = static_cast<std::size_t>((overlap_start - fixed_start) / step);
-  const auto to = std::min(fixed_count, static_cast<std::size_t>((overlap_end - fixed_start) / step) + 1);
+  const auto rate = [](const TimedSignal& s) {
+    return static_cast<double>(s.times_s.size()) / (s.times_s.back() - s.times_s.front());
+  };
+  const bool fixed_sampled = rate(fixed) <= rate(moving);
+  const Pairing pairing{fixed_sampled ? fixed : moving, fixed_sampled ? moving : fixed, fixed_sampled ? 1.0 : -1.0};
+  // Correlate over the sampled signal's samples inside the overlap.
+  const std::vector<double>& times = pairing.sampled.times_s;
+  const auto from =
+      static_cast<std::size_t>(std::lower_bound(times.begin(), times.end(), overlap_start) - times.begin());
+  const auto to = static_cast<std::size_t>(std::upper_bound(times.begin(), times.end(), overlap_end) - times.begin());
 
-  const Peak whole = scan(fixed_grid, moving_grid, offset, from, to, options.allow_inverted ? 0.0 : 1.0, options);
+  const Peak whole = scan(pairing, from, to, options.allow_inverted ? 0.0 : 1.0, options);
   if (whole.at_edge || std::abs(whole.correlation) < options.min_peak_correlation) {
     std::ostringstream message;
     message << "the lag lies beyond the search window of +-" << options.max_lag_s << " s (best correlation in it "
@@ -128,7 +129,7 @@ Result<LagEstimate> estimate_lag(const TimedSignal& fixed, const TimedSignal& mo
   const double sign = whole.correlation < 0.0 ? -1.0 : 1.0;
   std::vector<double> lags;
   for (std::size_t s = 0; s < options.segments; ++s) {
-    const Peak part = scan(fixed_grid, moving_grid, offset, from + s * (to - from) / options.segments,
+    const Peak part = scan(pairing, from + s * (to - from) / options.segments,
                            from + (s + 1) * (to - from) / options.segments, sign, options);
     if (!part.at_edge && std::abs(part.correlation) >= options.min_peak_correlation) lags.push_back(part.lag_s);
   }

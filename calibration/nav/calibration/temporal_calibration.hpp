@@ -2,9 +2,10 @@
 // Temporal calibration: the lag of one device's time stamps against another's, from one
 // motion seen by both (e.g. a probe moved up and down over a water tank's flat bottom: the
 // tracker sees its height, the scanner the bottom line's depth). The lag maximises the
-// normalised cross-correlation of the two signals, resampled on a common grid and scanned
-// over a search window, refined to below the grid step by a parabola through the peak;
-// its uncertainty is the spread of the lags of separate stretches of the recording.
+// normalised cross-correlation of the two signals, taken at the sparser one's own samples
+// (the video's frames) with the denser one interpolated there, scanned over a search window
+// in steps and refined to below a step by a parabola through the peak; its uncertainty is
+// the spread of the lags of separate stretches of the recording.
 #include <cstddef>
 #include <vector>
 
@@ -21,7 +22,7 @@ struct TimedSignal {
 /// Settings of estimate_lag.
 struct TemporalOptions {
   double max_lag_s = 0.5;             ///< the search window is [-max_lag_s, max_lag_s]
-  double step_s = 0.001;              ///< resampling grid and lag scan step
+  double step_s = 0.001;              ///< lag scan step
   std::size_t min_samples = 20;       ///< per signal, in the overlap
   std::size_t segments = 4;           ///< stretches for the uncertainty
   bool allow_inverted = true;         ///< accept a negative correlation (a signal moving the other way)

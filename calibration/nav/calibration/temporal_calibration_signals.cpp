@@ -40,16 +40,22 @@ std::optional<double> bright_line_row_px(const std::uint8_t* pixels, int width_p
   return line(0) * 0.5 * (x0 + x1 - 1) + line(1);
 }
 
-TimedSignal principal_motion(const std::vector<double>& times_s, const std::vector<Eigen::Vector3d>& positions) {
+TimedSignal principal_motion(const std::vector<double>& times_s, const std::vector<Eigen::Vector3d>& positions,
+                             double from_s, double to_s) {
+  TimedSignal signal;
+  std::vector<Eigen::Vector3d> inside;
+  for (std::size_t i = 0; i < times_s.size(); ++i) {
+    if (times_s[i] < from_s || times_s[i] > to_s) continue;
+    signal.times_s.push_back(times_s[i]);
+    inside.push_back(positions[i]);
+  }
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : positions) mean += p / static_cast<double>(positions.size());
+  for (const Eigen::Vector3d& p : inside) mean += p / static_cast<double>(inside.size());
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : positions) scatter += (p - mean) * (p - mean).transpose();
+  for (const Eigen::Vector3d& p : inside) scatter += (p - mean) * (p - mean).transpose();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
   const Eigen::Vector3d direction = solver.eigenvectors().col(2);  // largest eigenvalue last
-  TimedSignal signal;
-  signal.times_s = times_s;
-  for (const Eigen::Vector3d& p : positions) signal.values.push_back(direction.dot(p - mean));
+  for (const Eigen::Vector3d& p : inside) signal.values.push_back(direction.dot(p - mean));
   return signal;
 }
 

@@ -4,6 +4,7 @@
 // of motion.
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -21,8 +22,12 @@ std::optional<double> bright_line_row_px(const std::uint8_t* pixels, int width_p
                                          const std::array<int, 4>& clip_xywh, double threshold_fraction = 0.3,
                                          int min_columns = 20);
 
-/// Positions projected on their principal direction (largest variance), centred: one value
-/// per time. Positions in any consistent unit.
-TimedSignal principal_motion(const std::vector<double>& times_s, const std::vector<Eigen::Vector3d>& positions);
+/// The positions stamped within [from_s, to_s] projected on their principal direction (largest
+/// variance), centred: one value per time. Positions in any consistent unit. A temporal
+/// calibration takes the other device's span (shrunk by the search window, as PLUS does), so
+/// that motions of the tool before and after the recording do not tilt the direction.
+TimedSignal principal_motion(const std::vector<double>& times_s, const std::vector<Eigen::Vector3d>& positions,
+                             double from_s = -std::numeric_limits<double>::infinity(),
+                             double to_s = std::numeric_limits<double>::infinity());
 
 }  // namespace nav::calibration
