@@ -67,9 +67,11 @@ int calib_probe(const std::vector<std::string>& args) {
   std::printf("image to probe: xyz %.6f %.6f %.6f m, rpy %.6f %.6f %.6f rad\n", t.x(), t.y(), t.z(), rpy.x(), rpy.y(),
               rpy.z());
   std::printf("pixel spacing %.5f x %.5f mm\n", 1e3 * calibration.spacing_m.x(), 1e3 * calibration.spacing_m.y());
-  std::printf("phantom found in %zu of %zu frames; %zu points, %zu outliers, RMS residual %.3f mm\n",
-              result.value().frames_segmented, result.value().frames_total, calibration.points, calibration.outliers,
-              1e3 * calibration.rms_residual_m);
+  std::printf(
+      "phantom found in %zu of %zu frames; %zu points, %zu outliers, RMS residual %.3f mm; uncertainty "
+      "%.3f mm over the image (1 sigma, %zu bootstrap fits)\n",
+      result.value().frames_segmented, result.value().frames_total, calibration.points, calibration.outliers,
+      1e3 * calibration.rms_residual_m, 1e3 * result.value().uncertainty_m, result.value().bootstrap_fits);
   if (options->has("--validation")) {
     const auto validation = nav::ultrasound::read_plus_sequence(options->get("--validation"));
     if (!validation) return report_error(validation.error());
@@ -81,9 +83,11 @@ int calib_probe(const std::vector<std::string>& args) {
       return report_error(
           {"the phantom was not found in the validation recording", options->get("--validation"), 0, "frames"});
     const auto check = nav::calibration::validate_probe_calibration(calibration, points.points);
-    std::printf("validation: %zu of %zu frames, %zu points, reprojection error mean %.3f RMS %.3f max %.3f mm\n",
-                points.frames_segmented, points.frames_total, check.points, 1e3 * check.mean_error_m,
-                1e3 * check.rms_error_m, 1e3 * check.max_error_m);
+    std::printf(
+        "validation: %zu of %zu frames, %zu points, reprojection error mean %.3f RMS %.3f max %.3f mm; as PLUS "
+        "reports it (the lowest 95 %%) mean %.3f SD %.3f mm\n",
+        points.frames_segmented, points.frames_total, check.points, 1e3 * check.mean_error_m, 1e3 * check.rms_error_m,
+        1e3 * check.max_error_m, 1e3 * check.lowest95_mean_error_m, 1e3 * check.lowest95_sd_error_m);
   }
   if (!options->has("--urdf")) return exit_ok;
   return write_calibration(*options, options->get("--joint", "probe_marker_to_image"), calibration.probe_from_image,

@@ -1,10 +1,16 @@
 #include "nav/calibration/nwire_calibration.hpp"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <optional>
+#include <random>
 #include <string>
 
 namespace nav::calibration {
 namespace {
+
+constexpr std::size_t kBootstrapFits = 200;
 
 /// Each frame's segmented lines (nullopt where the phantom was not found).
 using Segmentation = std::vector<std::optional<std::vector<NWireLine>>>;
@@ -39,6 +45,37 @@ NWirePoints points_of(const std::vector<TrackedImage>& frames, const Segmentatio
   return result;
 }
 
+/// The bootstrap uncertainty of `calibration` (NWireCalibration::uncertainty_m), from its
+/// points (patterns points a frame, frame after frame) on images of width x height pixels.
+double bootstrap_uncertainty_m(const ProbeCalibration& calibration, const std::vector<ImageProbePoint>& points,
+                               std::size_t patterns, int width_px, int height_px, std::size_t fits) {
+  const std::size_t frames = points.size() / patterns;
+  const std::array<Eigen::Vector2d, 5> corners{
+      Eigen::Vector2d(0, 0), Eigen::Vector2d(width_px - 1, 0), Eigen::Vector2d(0, height_px - 1),
+      Eigen::Vector2d(width_px - 1, height_px - 1), Eigen::Vector2d(0.5 * (width_px - 1), 0.5 * (height_px - 1))};
+  std::mt19937_64 random(20111713);
+  std::uniform_int_distribution<std::size_t> frame(0, frames - 1);
+  double sum_squares = 0.0;
+  std::size_t done = 0;
+  std::vector<ImageProbePoint> drawn;
+  for (std::size_t fit = 0; fit < fits; ++fit) {
+    drawn.clear();
+    for (std::size_t f = 0; f < frames; ++f) {
+      const std::size_t from = frame(random) * patterns;
+      drawn.insert(drawn.end(), points.begin() + static_cast<std::ptrdiff_t>(from),
+                   points.begin() + static_cast<std::ptrdiff_t>(from + patterns));
+    }
+    const auto again = fit_probe_calibration(drawn);
+    if (!again) continue;
+    double largest = 0.0;
+    for (const Eigen::Vector2d& corner : corners)
+      largest = std::max(largest, (probe_point(again.value(), corner) - probe_point(calibration, corner)).norm());
+    sum_squares += largest * largest;
+    ++done;
+  }
+  return done > 0 ? std::sqrt(sum_squares / static_cast<double>(done)) : 0.0;
+}
+
 }  // namespace
 
 NWirePoints nwire_points(const std::vector<TrackedImage>& frames, const NWirePhantom& phantom,
@@ -50,6 +87,7 @@ Result<NWireCalibration> nwire_calibration(const std::vector<TrackedImage>& fram
                                            std::size_t min_frames, const NWireSegmentationOptions& segmentation) {
   const Segmentation lines = segment(frames, phantom.patterns.size(), segmentation);
   std::optional<NWireCalibration> best;
+  std::vector<ImageProbePoint> best_points;
   for (const bool bottom_up : {false, true}) {
     for (const bool right_left : {false, true}) {
       const NWireCorrespondence correspondence{bottom_up, right_left};
@@ -64,9 +102,13 @@ Result<NWireCalibration> nwire_calibration(const std::vector<TrackedImage>& fram
       if (!fit) return fit.error();
       if (!best || fit.value().rms_residual_m < best->calibration.rms_residual_m) {
         best = NWireCalibration{fit.value(), correspondence, points.frames_segmented, points.frames_total};
+        best_points = points.points;
       }
     }
   }
+  best->bootstrap_fits = kBootstrapFits;
+  best->uncertainty_m = bootstrap_uncertainty_m(best->calibration, best_points, phantom.patterns.size(),
+                                                frames.front().width_px, frames.front().height_px, kBootstrapFits);
   return *best;
 }
 

@@ -47,6 +47,11 @@ struct NWireCalibration {
   NWireCorrespondence correspondence;
   std::size_t frames_segmented = 0;
   std::size_t frames_total = 0;
+  /// How far the image could lie elsewhere: over calibrations of the frames drawn again with
+  /// replacement (a bootstrap, fixed seed), the RMS of each one's largest displacement of the
+  /// image's corners and centre from this calibration's (1 sigma, metres).
+  double uncertainty_m = 0.0;
+  std::size_t bootstrap_fits = 0;
 };
 
 /// Calibrates from a recording of the phantom. Errors: the phantom is found in fewer than

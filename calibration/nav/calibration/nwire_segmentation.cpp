@@ -10,7 +10,7 @@ namespace {
 
 struct Dot {
   Eigen::Vector2d centre_px;
-  double weight = 0.0;  // summed intensity
+  double weight = 0.0;  // summed squared filtered intensity
 };
 
 struct Triple {
@@ -19,13 +19,35 @@ struct Triple {
   double error_px = 0.0;
 };
 
+/// The frame with what is not a dot taken away, as PLUS's fiducial segmentation does: in turn
+/// along rows, the two diagonals and columns, the structures longer than the bar (a white
+/// top-hat: the frame less its opening by a line of 2 bar + 1 pixels), which removes the
+/// reverberation tails under the wires and bar echoes; then specks smaller than the disc (an
+/// opening); then everything below the threshold fraction of the range left.
+cv::Mat dots_only(const cv::Mat& image, const NWireSegmentationOptions& options) {
+  const int bar = options.bar_half_length_px, length = 2 * bar + 1;
+  cv::Mat working = image.clone(), opened;
+  const cv::Mat diagonal = cv::Mat::eye(length, length, CV_8U);
+  cv::Mat anti_diagonal;
+  cv::flip(diagonal, anti_diagonal, 1);
+  for (const cv::Mat& line :
+       {cv::Mat(cv::Mat::ones(1, length, CV_8U)), diagonal, cv::Mat(cv::Mat::ones(length, 1, CV_8U)), anti_diagonal}) {
+    cv::morphologyEx(working, opened, cv::MORPH_OPEN, line);
+    cv::subtract(working, opened, working);  // saturates at 0
+  }
+  const int disc = 2 * options.opening_radius_px + 1;
+  cv::morphologyEx(working, working, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, {disc, disc}));
+  double low = 0.0, high = 0.0;
+  cv::minMaxLoc(working, &low, &high);
+  const double threshold = low + std::floor(options.threshold_fraction * (high - low) + 0.5);
+  cv::threshold(working, working, threshold - 1.0, 0, cv::THRESH_TOZERO);  // keeps values >= threshold
+  return working;
+}
+
 std::vector<Dot> find_dots(const cv::Mat& image, const NWireSegmentationOptions& options) {
-  cv::Mat smooth;
-  cv::GaussianBlur(image, smooth, cv::Size(0, 0), 1.5);
-  double max_value = 0.0;
-  cv::minMaxLoc(smooth, nullptr, &max_value);
+  const cv::Mat filtered = dots_only(image, options);
   cv::Mat bright;
-  cv::threshold(smooth, bright, options.threshold_fraction * max_value, 255, cv::THRESH_BINARY);
+  cv::threshold(filtered, bright, 0, 255, cv::THRESH_BINARY);
   cv::Mat labels, stats, centroids;
   const int count = cv::connectedComponentsWithStats(bright, labels, stats, centroids, 8, CV_32S);
   std::vector<Dot> dots;
@@ -41,7 +63,8 @@ std::vector<Dot> find_dots(const cv::Mat& image, const NWireSegmentationOptions&
     for (int y = top; y < top + height; ++y) {
       for (int x = left; x < left + width; ++x) {
         if (labels.at<int>(y, x) != label) continue;
-        const double w = image.at<std::uint8_t>(y, x);
+        const double value = filtered.at<std::uint8_t>(y, x);
+        const double w = value * value;  // squared: the dot's peak outweighs its skirt
         sum += w * Eigen::Vector2d(x, y);
         dot.weight += w;
       }

@@ -1,7 +1,9 @@
 #pragma once
-// Finds the N-wire dots in a B-mode frame (OpenCV imgproc): bright compact blobs inside the
-// clip rectangle, grouped into collinear triples, one per wire pattern, the triples nearly
-// parallel. Defaults follow the fCal 2.0 segmentation parameters of PLUS.
+// Finds the N-wire dots in a B-mode frame (OpenCV imgproc): the frame filtered as PLUS's
+// fiducial segmentation filters it (elongated structures and specks taken away by morphology),
+// bright compact blobs of what is left inside the clip rectangle, each at its centroid weighted
+// by the square of the filtered intensity, grouped into collinear triples, one per wire pattern, the triples
+// nearly parallel. Defaults follow the fCal 2.0 segmentation parameters of PLUS.
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -14,7 +16,9 @@ namespace nav::calibration {
 /// Settings of find_nwire_dots (pixels unless named otherwise).
 struct NWireSegmentationOptions {
   std::array<int, 4> clip_xywh{27, 27, 766, 562};
-  double threshold_fraction = 0.2;  ///< of the brightest smoothed pixel in the clip
+  int bar_half_length_px = 26;      ///< MorphologicalOpeningBarSizeMm 2.0 at 0.078 mm a pixel
+  int opening_radius_px = 3;        ///< MorphologicalOpeningCircleRadiusMm 0.27 at 0.078 mm a pixel
+  double threshold_fraction = 0.1;  ///< of the filtered clip's range above its darkest (ThresholdImagePercent 10)
   double min_dot_area_px = 6.0;
   double max_dot_area_px = 1500.0;
   double max_dot_elongation = 5.0;  ///< bounding box's longer over shorter side

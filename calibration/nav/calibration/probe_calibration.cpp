@@ -47,6 +47,44 @@ double rms(const std::vector<double>& values) {
   return std::sqrt(sum / static_cast<double>(values.size()));
 }
 
+/// The rigid calibration re-solved from `start`: in turn the rotation and translation for the
+/// spacing (Umeyama on the scaled pixels) and the spacing and translation for the rotation
+/// (linear least squares), while the residual falls. The snapped linear fit keeps the
+/// translation and spacing of a map that was not rigid; this fits the rigid one itself.
+ProbeCalibration refine_rigid(const ProbeCalibration& start, const std::vector<ImageProbePoint>& points) {
+  const auto n = static_cast<Eigen::Index>(points.size());
+  Eigen::Matrix3Xd targets(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) targets.col(i) = points[static_cast<std::size_t>(i)].probe_m;
+  ProbeCalibration best = start;
+  best.rms_residual_m = rms(residuals(start, points));
+  ProbeCalibration next = best;
+  for (int round = 0; round < 100; ++round) {
+    Eigen::Matrix3Xd scaled(3, n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const Eigen::Vector2d& pixel = points[static_cast<std::size_t>(i)].pixel;
+      scaled.col(i) = Eigen::Vector3d(pixel.x() * next.spacing_m.x(), pixel.y() * next.spacing_m.y(), 0.0);
+    }
+    next.probe_from_image.matrix() = Eigen::umeyama(scaled, targets, false);
+    const Eigen::Matrix3d rotation = next.probe_from_image.linear();
+    Eigen::MatrixXd a(3 * n, 5);
+    Eigen::VectorXd b(3 * n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const Eigen::Vector2d& pixel = points[static_cast<std::size_t>(i)].pixel;
+      a.block<3, 1>(3 * i, 0) = pixel.x() * rotation.col(0);
+      a.block<3, 1>(3 * i, 1) = pixel.y() * rotation.col(1);
+      a.block<3, 3>(3 * i, 2) = Eigen::Matrix3d::Identity();
+      b.segment<3>(3 * i) = targets.col(i);
+    }
+    const Eigen::VectorXd x = a.colPivHouseholderQr().solve(b);
+    next.spacing_m = x.head<2>();
+    next.probe_from_image.translation() = x.tail<3>();
+    next.rms_residual_m = rms(residuals(next, points));
+    if (!(next.rms_residual_m < best.rms_residual_m * (1.0 - 1e-9))) break;
+    best = next;
+  }
+  return best;
+}
+
 Result<ProbeCalibration> fit_once(const std::vector<ImageProbePoint>& points, const ProbeCalibrationOptions& options) {
   if (points.size() < options.min_points)
     return Error{.message = "too few points for a probe calibration", .field = "points"};
@@ -61,9 +99,9 @@ Result<ProbeCalibration> fit_once(const std::vector<ImageProbePoint>& points, co
   }
   const auto x = solve(a, b, options, "the pixels are collinear: the image plane is undetermined");
   if (!x) return x.error();
-  ProbeCalibration calibration = make_rigid(x.value().segment<3>(0), x.value().segment<3>(3), x.value().segment<3>(6));
+  ProbeCalibration calibration =
+      refine_rigid(make_rigid(x.value().segment<3>(0), x.value().segment<3>(3), x.value().segment<3>(6)), points);
   calibration.points = points.size();
-  calibration.rms_residual_m = rms(residuals(calibration, points));
   return calibration;
 }
 
@@ -130,6 +168,18 @@ ProbeValidation validate_probe_calibration(const ProbeCalibration& calibration,
   }
   validation.rms_error_m = rms(errors);
   validation.points = errors.size();
+  // PLUS's statistic: the lowest 95 % of the errors (rounded), their mean and their standard
+  // deviation over the count (IGSIO's igsioMath::ComputePercentile and ComputeMeanAndStdev).
+  std::vector<double> sorted = errors;
+  std::sort(sorted.begin(), sorted.end());
+  sorted.resize(
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(0.95 * static_cast<double>(sorted.size())))));
+  double sum = 0.0, sum_squares = 0.0;
+  for (const double error : sorted) sum += error, sum_squares += error * error;
+  const double kept = static_cast<double>(sorted.size());
+  validation.lowest95_mean_error_m = sum / kept;
+  validation.lowest95_sd_error_m = std::sqrt(
+      std::max(0.0, sum_squares / kept - validation.lowest95_mean_error_m * validation.lowest95_mean_error_m));
   return validation;
 }
 

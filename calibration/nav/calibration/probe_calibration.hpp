@@ -2,8 +2,9 @@
 // Ultrasound probe spatial calibration: the transform probe_from_image from the image plane to
 // the probe's tracked marker, and the pixel spacing. Pixel (u, v) is the image point
 // (u * spacing_x, v * spacing_y, 0); with a = sx R e_x and b = sy R e_y the mapping
-// q = u a + v b + t is linear, so both calibrations below are linear least squares, made
-// rigid afterwards (the nearest rotation to [a/|a|, b/|b|, a x b]).
+// q = u a + v b + t is linear, so both calibrations below start from linear least squares made
+// rigid (the nearest rotation to [a/|a|, b/|b|, a x b]); the N-wire fit then re-solves the rigid
+// map itself (rotation, translation, spacing).
 #include <cstddef>
 #include <vector>
 
@@ -63,11 +64,15 @@ struct PointTargetCalibration {
 Result<PointTargetCalibration> point_target_calibration(const std::vector<TargetSighting>& sightings,
                                                         const ProbeCalibrationOptions& options = {});
 
-/// Distances between the calibration's probe points and the known ones (validation).
+/// Distances between the calibration's probe points and the known ones (validation), over all
+/// of them, and as PLUS reports them (its ReprojectionError3DStatistics): the mean and the
+/// standard deviation (over the count) of the lowest 95 %.
 struct ProbeValidation {
   double mean_error_m = 0.0;
   double rms_error_m = 0.0;
   double max_error_m = 0.0;
+  double lowest95_mean_error_m = 0.0;
+  double lowest95_sd_error_m = 0.0;
   std::size_t points = 0;
 };
 
