@@ -24,6 +24,9 @@ int record_replay(const std::vector<std::string>& args);
 /// F]
 int evaluate(const std::vector<std::string>& args);
 
+/// navtool export --recording FILE.navrec --scene FILE --out DIR: a session as ParaView files.
+int export_session(const std::vector<std::string>& args);
+
 /// navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --method M --r R
 /// --force F [--samples M] [--seed S] [--load-scale S] --out FILE [--json], or --extend LOWER
 /// instead of --method (the next rung of a ladder): see reduce.cpp.

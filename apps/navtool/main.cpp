@@ -15,6 +15,7 @@ constexpr const char* kUsage =
     "  navtool replay FILE [--as-fast-as-possible] [--scene FILE] [--domain D] [--local-address A] [--peer A]...\n"
     "  navtool evaluate (--scene FILE [--seconds S] [--domain D] | --recording FILE.navrec) [--settle-s S] [--plot "
     "F.svg] [--json F]\n"
+    "  navtool export --recording FILE.navrec --scene FILE --out DIR   (the session as ParaView files, session.pvd)\n"
     "  navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --method modes|modal-derivatives|pod\n"
     "                 --r R --force linear|corotational|stvk|stvk-cubic [--samples M] [--seed S] --out FILE [--json]\n"
     "  navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --extend LOWER.navrb --r R\n"
@@ -43,6 +44,7 @@ int main(int argc, char** argv) {
   if (!args.empty() && args[0] == "reduce") return navtool::reduce({args.begin() + 1, args.end()});
   if (!args.empty() && (args[0] == "record" || args[0] == "replay")) return navtool::record_replay(args);
   if (!args.empty() && args[0] == "evaluate") return navtool::evaluate(args);
+  if (!args.empty() && args[0] == "export") return navtool::export_session({args.begin() + 1, args.end()});
   if (args.size() >= 2 && args[0] == "security" && args[1] == "init")
     return navtool::security_init({args.begin() + 2, args.end()});
   if (args.size() >= 2 && args[0] == "calib") {

@@ -9,13 +9,13 @@
 
 #include "nav/bridge/igtl_inbound.hpp"
 #include "nav/bridge/igtl_outbound.hpp"
-#include "nav/bridge/image_placement.hpp"
 #include "nav/dds/dds_node.hpp"
 #include "nav/dds/sample_sink.hpp"
 #include "nav/igtl/igtl_outputs.hpp"
 #include "nav/igtl/igtl_stream.hpp"
 #include "nav/igtl/wall_clock.hpp"
 #include "nav/station/display_surface.hpp"
+#include "nav/station/image_placement.hpp"
 #include "nav/station/station_dds.hpp"
 #include "nav/station/station_liver.hpp"
 
@@ -70,7 +70,7 @@ struct IgtlBridge::Impl {
   TimeNs device_clock_offset_ns = 0;  // the scene's: device clock = monotonic clock - offset
   InboundConverter converter;
   OutboundPacker packer;
-  ImagePlacement placement;
+  station::ImagePlacement placement;
   std::optional<igtl::Endpoint> plus_server;    // the bridge connects to it
   std::optional<igtl::Listener> plus_listener;  // or a sender connects here
   igtl::Listener displays;
@@ -90,7 +90,7 @@ struct IgtlBridge::Impl {
   std::unique_ptr<dds::DdsNode> devices;  // writes poses and frames
   std::unique_ptr<dds::DdsNode> display;  // reads the station's outputs
 
-  Impl(BridgeOptions o, TimeNs offset_ns, InboundNames names, OutboundPacker p, ImagePlacement placed,
+  Impl(BridgeOptions o, TimeNs offset_ns, InboundNames names, OutboundPacker p, station::ImagePlacement placed,
        igtl::Listener listener)
       : options(std::move(o)),
         device_clock_offset_ns(offset_ns),
@@ -123,7 +123,7 @@ Result<std::unique_ptr<IgtlBridge>> IgtlBridge::open(const station::Scene& scene
   for (const auto& t : surface.value().triangles)
     triangles.push_back(
         {static_cast<std::uint32_t>(t[0]), static_cast<std::uint32_t>(t[1]), static_cast<std::uint32_t>(t[2])});
-  auto placement = ImagePlacement::create(scene);
+  auto placement = station::ImagePlacement::create(scene);
   if (!placement) return placement.error();
   auto displays = igtl::Listener::listen(endpoint_of(settings.displays));
   if (!displays) return field_error(displays.error(), "openigtlink.displays");

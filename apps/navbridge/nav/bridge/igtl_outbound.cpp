@@ -1,21 +1,12 @@
 #include "nav/bridge/igtl_outbound.hpp"
 
-#include <Eigen/Eigenvalues>
-#include <algorithm>
-#include <cmath>
 #include <string>
 
 #include "nav/dds/health_text.hpp"
 #include "nav/igtl/igtl_outputs.hpp"
+#include "nav/station/target_sigma.hpp"
 
 namespace nav::bridge {
-
-double sigma_radius_m(const dds::Covariance3& covariance_m2) {
-  const Eigen::Matrix3d covariance = Eigen::Map<const Eigen::Matrix3d>(covariance_m2.data());
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
-  eigen.computeDirect(0.5 * (covariance + covariance.transpose()), Eigen::EigenvaluesOnly);
-  return std::sqrt(std::max(0.0, eigen.eigenvalues().maxCoeff()));
-}
 
 Result<Packed> OutboundPacker::surface(const dds::DeformedSurface& surface, TimeNs wall_ns) const {
   if (surface.vertex_count != vertex_count_)
@@ -42,8 +33,8 @@ std::vector<Packed> OutboundPacker::needle(const dds::NeedleState& needle, TimeN
 Packed OutboundPacker::tumour(const dds::TargetPrediction* now, const dds::TargetPrediction* ahead,
                               TimeNs wall_ns) const {
   std::vector<igtl::NamedPoint> points;
-  if (now != nullptr) points.push_back({"now", now->position_m, sigma_radius_m(now->covariance_m2)});
-  if (ahead != nullptr) points.push_back({"ahead", ahead->position_m, sigma_radius_m(ahead->covariance_m2)});
+  if (now != nullptr) points.push_back({"now", now->position_m, station::sigma_radius_m(now->covariance_m2)});
+  if (ahead != nullptr) points.push_back({"ahead", ahead->position_m, station::sigma_radius_m(ahead->covariance_m2)});
   return igtl::pack_points(igtl::kTumourDevice, points, wall_ns);
 }
 

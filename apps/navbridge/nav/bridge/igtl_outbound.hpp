@@ -28,8 +28,8 @@ class OutboundPacker {
   Result<Packed> surface(const dds::DeformedSurface& surface, TimeNs wall_ns) const;
   /// Needle (the centreline) and NeedleTipToReference (its last point); nothing without points.
   std::vector<Packed> needle(const dds::NeedleState& needle, TimeNs wall_ns) const;
-  /// Tumour: the points "now" and "ahead" (when known), each with its 1-sigma radius (the
-  /// square root of its covariance's largest eigenvalue).
+  /// Tumour: the points "now" and "ahead" (when known), each with its 1-sigma radius
+  /// (station::sigma_radius_m).
   Packed tumour(const dds::TargetPrediction* now, const dds::TargetPrediction* ahead, TimeNs wall_ns) const;
   /// StationHealth: dds::health_summary's line.
   Packed health(const dds::StationHealth& health, TimeNs wall_ns) const;
@@ -40,9 +40,5 @@ class OutboundPacker {
   std::vector<std::array<std::uint32_t, 3>> triangles_;
   std::uint32_t vertex_count_;
 };
-
-/// The largest 1-sigma radius of a position covariance (m): the square root of its largest
-/// eigenvalue.
-double sigma_radius_m(const dds::Covariance3& covariance_m2);
 
 }  // namespace nav::bridge

@@ -3,7 +3,8 @@
 // tracked pose at a frame's capture time (SLERP between its samples, fusion's PoseTrack), taken
 // into the model frame by the scene's registration (its reference tool's newest pose, or the
 // tracker fixed to the patient), times the probe calibration probe_from_image of the scene's
-// URDF, the station's own chain (tumour_observer.hpp).
+// URDF, the station's own chain (tumour_observer.hpp). For displays (the OpenIGTLink bridge)
+// and session exports.
 #include <cstdint>
 #include <optional>
 
@@ -14,13 +15,13 @@
 #include "nav/station/scene.hpp"
 #include "nav/station/tracker_registration.hpp"
 
-namespace nav::bridge {
+namespace nav::station {
 
 /// Places frames of one scene's probe. One thread.
 class ImagePlacement {
  public:
   /// The placement of `scene`'s probe; an Error names the scene's frames.urdf when a chain is missing.
-  static Result<ImagePlacement> create(const station::Scene& scene);
+  static Result<ImagePlacement> create(const Scene& scene);
 
   /// Takes a pose of the probe or of the reference tool; other tools' are ignored.
   void add_pose(const dds::ToolPose& pose);
@@ -30,13 +31,13 @@ class ImagePlacement {
   std::optional<RigidPose> model_from_image(TimeNs capture_ns) const;
 
  private:
-  ImagePlacement(std::uint32_t probe_tool, station::TrackerRegistration registration, PoseTrack probe,
+  ImagePlacement(std::uint32_t probe_tool, TrackerRegistration registration, PoseTrack probe,
                  const RigidPose& probe_from_image);
 
   std::uint32_t probe_tool_;
-  station::TrackerRegistration registration_;
+  TrackerRegistration registration_;
   PoseTrack probe_;  ///< tracker_from_probe
   RigidPose probe_from_image_;
 };
 
-}  // namespace nav::bridge
+}  // namespace nav::station

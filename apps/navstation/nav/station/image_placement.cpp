@@ -1,20 +1,20 @@
-#include "nav/bridge/image_placement.hpp"
+#include "nav/station/image_placement.hpp"
 
 #include <utility>
 
 #include "nav/station/tumour_observer.hpp"
 
-namespace nav::bridge {
+namespace nav::station {
 namespace {
 
 constexpr TimeNs kLargestPoseGapNs = 100 * kNsPerMs;
 
 }  // namespace
 
-Result<ImagePlacement> ImagePlacement::create(const station::Scene& scene) {
-  auto reference_from_model = station::scene_reference_from_model(scene);
+Result<ImagePlacement> ImagePlacement::create(const Scene& scene) {
+  auto reference_from_model = scene_reference_from_model(scene);
   if (!reference_from_model) return reference_from_model.error();
-  auto imaging = station::scene_probe_imaging(scene);
+  auto imaging = scene_probe_imaging(scene);
   if (!imaging) return imaging.error();
   PoseTrackOptions options;
   options.max_age_ns = kLargestPoseGapNs;  // PLUS sends 20 to 60 poses a second: no restart between two
@@ -22,14 +22,13 @@ Result<ImagePlacement> ImagePlacement::create(const station::Scene& scene) {
   auto probe = PoseTrack::create(options);
   if (!probe) return probe.error();
   const Eigen::Isometry3d& calibration = imaging.value().probe_from_image;
-  return ImagePlacement(
-      scene.devices.tracker.tools.probe,
-      station::TrackerRegistration(reference_from_model.value(), scene.devices.tracker.tools.reference),
-      std::move(probe).value(),
-      RigidPose{calibration.translation(), Eigen::Quaterniond(calibration.rotation()).normalized()});
+  return ImagePlacement(scene.devices.tracker.tools.probe,
+                        TrackerRegistration(reference_from_model.value(), scene.devices.tracker.tools.reference),
+                        std::move(probe).value(),
+                        RigidPose{calibration.translation(), Eigen::Quaterniond(calibration.rotation()).normalized()});
 }
 
-ImagePlacement::ImagePlacement(std::uint32_t probe_tool, station::TrackerRegistration registration, PoseTrack probe,
+ImagePlacement::ImagePlacement(std::uint32_t probe_tool, TrackerRegistration registration, PoseTrack probe,
                                const RigidPose& probe_from_image)
     : probe_tool_(probe_tool),
       registration_(std::move(registration)),
@@ -51,4 +50,4 @@ std::optional<RigidPose> ImagePlacement::model_from_image(TimeNs capture_ns) con
   return compose(compose(*model_from_tracker, probe.pose), probe_from_image_);
 }
 
-}  // namespace nav::bridge
+}  // namespace nav::station
