@@ -1,7 +1,9 @@
 // navview: the station's display. Subscribes to ultrasound frames, the needle, target
 // predictions, the deformed surface and the station's health, and draws their newest values
 // as one composite (nav/view/composite.hpp; the health as a band: mode, raised flags, samples
-// dropped), into numbered PNG files (headless) or a window.
+// dropped), into numbered PNG files (headless) or a window. With a scene it also reads the tool
+// poses, to place each frame where the tracked probe held it and draw the needle and the target
+// over it (nav/station/image_placement.hpp).
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -11,7 +13,9 @@
 #include "nav/dds/dds_node.hpp"
 #include "nav/dds/stop_request.hpp"
 #include "nav/mesh/load_mesh.hpp"
+#include "nav/station/image_placement.hpp"
 #include "nav/station/station_dds.hpp"
+#include "nav/view/frame_overlay.hpp"
 #include "navview_args.hpp"
 
 namespace navview {
@@ -49,6 +53,31 @@ struct Subscriptions {
   }
 };
 
+/// Where the newest frame lies, from the scene's probe and registration and the tool poses.
+struct FramePlacement {
+  explicit FramePlacement(nav::station::ImagePlacement p) : placement(std::move(p)) {}
+
+  nav::station::ImagePlacement placement;
+  std::unique_ptr<nav::dds::RingSink<nav::dds::ToolPose, 1024>> poses =
+      std::make_unique<nav::dds::RingSink<nav::dds::ToolPose, 1024>>();
+  nav::view::ImageFromModel image_from_model;
+
+  /// Takes the poses that arrived; image_from_model for `frame`, or null when it cannot be placed.
+  const nav::view::ImageFromModel* place(const nav::dds::UltrasoundFrame* frame) {
+    for (nav::dds::ToolPose pose; poses->try_pop(pose);) placement.add_pose(pose);
+    if (frame == nullptr) return nullptr;
+    const auto model_from_image = placement.model_from_image(frame->source_time_ns);
+    if (!model_from_image) return nullptr;
+    const nav::RigidPose image_from = nav::inverse(*model_from_image);
+    const Eigen::Matrix3d rotation = image_from.rotation.toRotationMatrix();
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) image_from_model.rotation[static_cast<std::size_t>(3 * r + c)] = rotation(r, c);
+      image_from_model.translation_m[static_cast<std::size_t>(r)] = image_from.position_m[r];
+    }
+    return &image_from_model;
+  }
+};
+
 int fail(const char* what, const nav::Error& error) {
   std::fprintf(stderr, "navview: %s: %s\n", what, error.describe().c_str());
   return EXIT_FAILURE;
@@ -79,6 +108,16 @@ int run(const NavviewArgs& args) {
   Subscriptions subscriptions;
   if (const nav::Status subscribed = subscriptions.subscribe(*node.value()); !subscribed)
     return fail("DDS", subscribed.error());
+  std::unique_ptr<FramePlacement> placing;
+  if (!args.scene_path.empty()) {
+    auto scene = nav::station::load_scene(args.scene_path);
+    if (!scene) return fail("scene", scene.error());
+    auto placement = nav::station::ImagePlacement::create(scene.value());
+    if (!placement) return fail("scene", placement.error());
+    placing = std::make_unique<FramePlacement>(std::move(placement).value());
+    if (const nav::Status subscribed = node.value()->subscribe(*placing->poses); !subscribed)
+      return fail("DDS", subscribed.error());
+  }
 
   nav::dds::install_stop_handlers();
   nav::view::Composer composer(args.composite, std::move(triangles));
@@ -92,8 +131,9 @@ int run(const NavviewArgs& args) {
     output.value()->poll_events();
     if (args.duration_ns > 0 && clock.now_ns() - start_ns >= args.duration_ns) break;
     if (!subscriptions.update()) continue;
-    if (const nav::Status shown_ok =
-            output.value()->show(composer.render(subscriptions.inputs(), subscriptions.health->latest()));
+    nav::view::DisplayInputs inputs = subscriptions.inputs();
+    if (placing) inputs.image_from_model = placing->place(inputs.frame);
+    if (const nav::Status shown_ok = output.value()->show(composer.render(inputs, subscriptions.health->latest()));
         !shown_ok) {
       return fail("output", shown_ok.error());
     }

@@ -23,6 +23,7 @@
 #include "nav/dds/recording_file.hpp"
 #include "nav/dds/sample_codec.hpp"
 #include "nav/view/png_file.hpp"
+#include "navview_placing_pose.hpp"
 #include "station/scene_text.hpp"
 #include "test_navview_scene.hpp"
 
@@ -164,12 +165,22 @@ void write_scene_recording(const std::string& path) {
   for (TimeNs round = 1; round <= 100; ++round) {
     const TimeNs time_ns = round * 20 * kNsPerMs;
     frame->sequence_number = static_cast<std::uint64_t>(round);
+    dds::ToolPose probe = view::testing::probe_pose_placing_image_at_model(time_ns);
+    append(probe, time_ns);
     append(*frame, time_ns);
     append(needle, time_ns);
     append(prediction, time_ns);
     append(*surface, time_ns);
   }
   ASSERT_TRUE(writer.value()->close().ok());
+}
+
+/// The demo scene on `local_address` with `peer` as its other host (its URDF by absolute path), in a file.
+std::string demo_scene_on(const std::string& local_address, const std::string& peer, const std::string& path) {
+  const std::string text =
+      nav::testing::movable_demo_text() + "network:\n  local_address: " + local_address + "\n  peers: [" + peer + "]\n";
+  std::ofstream(path) << text;
+  return path;
 }
 
 TEST_F(DdsMultiHost, NavviewOnOneHostShowsWhatNavtoolReplaysOnAnother) {
@@ -200,12 +211,10 @@ TEST_F(DdsMultiHost, NavviewOnOneHostShowsWhatNavtoolReplaysOnAnother) {
                                    "0",
                                    "--elevation-deg",
                                    "0",
+                                   "--scene",
+                                   demo_scene_on(kAddressB, kAddressA, base + "_navview.yaml"),
                                    "--domain",
-                                   "165",
-                                   "--local-address",
-                                   kAddressB,
-                                   "--peer",
-                                   kAddressA}),
+                                   "165"}),
                        base + "_navview.log");
   ChildProcess player(
       hosts.in_a({std::string(NAV_BIN_DIR) + "/navtool", "replay", base + ".navrec", "--wait-for-readers-s", "30",
@@ -232,14 +241,6 @@ TEST_F(DdsMultiHost, NavviewOnOneHostShowsWhatNavtoolReplaysOnAnother) {
   std::printf("host b received %llu bytes over veth\n", static_cast<unsigned long long>(received));
   EXPECT_GT(received, 50u * 240u * 200u);
   if (!HasFailure()) std::filesystem::remove_all(out_dir);
-}
-
-/// The demo scene on `local_address` with `peer` as its other host (its URDF by absolute path), in a file.
-std::string demo_scene_on(const std::string& local_address, const std::string& peer, const std::string& path) {
-  const std::string text =
-      nav::testing::movable_demo_text() + "network:\n  local_address: " + local_address + "\n  peers: [" + peer + "]\n";
-  std::ofstream(path) << text;
-  return path;
 }
 
 TEST_F(DdsMultiHost, AnEvaluationOnOneHostSeesALiveStationAndItsPatientOnAnother) {

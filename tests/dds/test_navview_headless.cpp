@@ -1,6 +1,7 @@
-// navview end to end: started headless in its own process, it subscribes to a publisher in
-// this process and writes PNG files showing the frame, the needle, the target and the
-// surface where the renderer test says they belong; SIGTERM ends it cleanly.
+// navview end to end: started headless in its own process with the demo scene, it subscribes
+// to a publisher in this process (the probe's pose placing the frame included) and writes PNG
+// files showing the frame, the needle, the target and the surface where the renderer test says
+// they belong; SIGTERM ends it cleanly.
 #include <gtest/gtest.h>
 
 #include <csignal>
@@ -8,9 +9,11 @@
 
 #include "child_process.hpp"
 #include "dds_test_samples.hpp"
+#include "nav/core/text_file.hpp"
 #include "nav/dds/dds_node.hpp"
 #include "nav/view/palette.hpp"
 #include "nav/view/png_file.hpp"
+#include "navview_placing_pose.hpp"
 #include "test_navview_scene.hpp"
 
 namespace nav::view {
@@ -27,6 +30,8 @@ TEST(NavviewHeadless, WritesPngsOfWhatItReceives) {
   std::filesystem::remove_all(out_dir);
   const std::string square_obj = out_dir.string() + "_square.obj";
   write_scene_triangles_obj(square_obj);
+  const std::string scene = out_dir.string() + "_demo.yaml";
+  ASSERT_TRUE(write_text_file(scene, nav::testing::movable_demo_text()).ok());
   ChildProcess navview({kNavview,          "--headless",
                         "--out-dir",       out_dir.string(),
                         "--period-ms",     "50",
@@ -36,6 +41,7 @@ TEST(NavviewHeadless, WritesPngsOfWhatItReceives) {
                         "--panel-height",  std::to_string(kPanelHeightPx),
                         "--azimuth-deg",   "0",
                         "--elevation-deg", "0",
+                        "--scene",         scene,
                         "--domain",        "162"},
                        out_dir.string() + ".log");
   ASSERT_TRUE(navview.started());
@@ -43,12 +49,13 @@ TEST(NavviewHeadless, WritesPngsOfWhatItReceives) {
   auto station = dds::DdsNode::create(dds::testing::local_network(162));
   ASSERT_TRUE(station.ok()) << station.error().describe();
   dds::DdsNode& node = *station.value();
+  ASSERT_TRUE(node.advertise<dds::ToolPose>().ok());
   ASSERT_TRUE(node.advertise<dds::UltrasoundFrame>().ok());
   ASSERT_TRUE(node.advertise<dds::NeedleState>().ok());
   ASSERT_TRUE(node.advertise<dds::TargetPrediction>().ok());
   ASSERT_TRUE(node.advertise<dds::DeformedSurface>().ok());
-  for (const dds::Topic topic : {dds::Topic::ultrasound_frame, dds::Topic::needle_state, dds::Topic::target_prediction,
-                                 dds::Topic::deformed_surface}) {
+  for (const dds::Topic topic : {dds::Topic::tool_pose, dds::Topic::ultrasound_frame, dds::Topic::needle_state,
+                                 dds::Topic::target_prediction, dds::Topic::deformed_surface}) {
     ASSERT_TRUE(node.wait_for_match(topic, 1, kMatchTimeoutNs)) << dds::topic_name(topic) << "\n" << navview.log();
   }
 
@@ -63,6 +70,7 @@ TEST(NavviewHeadless, WritesPngsOfWhatItReceives) {
         const TimeNs time_ns = frame->source_time_ns + 20 * kNsPerMs;
         frame->source_time_ns = needle.source_time_ns = prediction.source_time_ns = surface->source_time_ns = time_ns;
         ++frame->sequence_number;
+        node.write(probe_pose_placing_image_at_model(time_ns));
         node.write(*frame);
         node.write(needle);
         node.write(prediction);

@@ -1,5 +1,6 @@
 // navview's drawing, without DDS: a known scene rendered into the composite puts the needle,
-// the target, its uncertainty ellipse and the surface on the pixels computed by hand; the
+// the target, its uncertainty ellipse and the surface on the pixels computed by hand, the
+// model frame's geometry taken into the frame's image frame by its placement; the
 // 3-D panel paints the nearer of two overlapping triangles whatever their order; and the
 // PNG files navview writes are well-formed and read back unchanged.
 #include <gtest/gtest.h>
@@ -25,6 +26,9 @@ namespace {
 
 using namespace testing;
 
+/// The scene's geometry is given in the frame's image frame: the identity placement.
+const ImageFromModel kImageIsModel{};
+
 cv::Vec3b at(const cv::Mat& image, double x, double y) {
   return image.at<cv::Vec3b>(static_cast<int>(std::lround(y)), static_cast<int>(std::lround(x)));
 }
@@ -33,7 +37,7 @@ TEST(NavviewRender, NeedleIsDrawnAlongItsPathAndNowhereElse) {
   const auto frame = scene_frame();
   const dds::NeedleState needle = scene_needle();
   Composer composer(scene_options(), {});
-  const cv::Mat& image = composer.render({frame.get(), &needle, nullptr, nullptr});
+  const cv::Mat& image = composer.render({frame.get(), &needle, nullptr, nullptr, &kImageIsModel});
   ASSERT_EQ(image.rows, kPanelHeightPx);
   ASSERT_EQ(image.cols, 240 + kPanelHeightPx);
   for (int y = expected::kNeedleTop.y + 2; y <= expected::kNeedleBottom.y - 2; ++y) {
@@ -46,11 +50,41 @@ TEST(NavviewRender, NeedleIsDrawnAlongItsPathAndNowhereElse) {
       << "beyond the tip";
 }
 
+TEST(NavviewRender, ModelFrameGeometryIsDrawnWhereThePlacementPutsTheFrame) {
+  // The image frame turned a quarter turn about z and moved: the needle and target given in the
+  // model frame land on the same pixels as the image-frame scene; the covariance turns with it.
+  const ImageFromModel image_from_model{{0, -1, 0, 1, 0, 0, 0, 0, 1}, {0.02, -0.01, 0.005}};
+  const auto to_model = [&](const dds::Vector3& image_m) {  // R^T (p - t)
+    const dds::Vector3 d{image_m[0] - 0.02, image_m[1] + 0.01, image_m[2] - 0.005};
+    return dds::Vector3{d[1], -d[0], d[2]};
+  };
+  const auto frame = scene_frame();
+  dds::NeedleState needle = scene_needle();
+  for (std::uint32_t i = 0; i < needle.point_count; ++i) needle.shape_points_m[i] = to_model(needle.shape_points_m[i]);
+  dds::TargetPrediction prediction = scene_prediction();
+  prediction.position_m = to_model(prediction.position_m);
+  prediction.covariance_m2 = {9e-6, 0, 0, 0, 16e-6, 0, 0, 0, 1e-6};  // x and y swapped by the quarter turn
+  Composer composer(scene_options(), {});
+  const cv::Mat& image = composer.render({frame.get(), &needle, &prediction, nullptr, &image_from_model});
+  for (int y = expected::kNeedleTop.y + 2; y <= expected::kNeedleBottom.y - 2; ++y)
+    EXPECT_TRUE(near_colour(image.at<cv::Vec3b>(y, expected::kNeedleTop.x), palette::kNeedle)) << "row " << y;
+  const cv::Point target = expected::kTarget;
+  EXPECT_TRUE(near_colour(image.at<cv::Vec3b>(target), palette::kTarget, 0));
+  EXPECT_TRUE(near_colour(at(image, target.x + expected::kEllipseHalfAxisXPx, target.y), palette::kUncertainty));
+  EXPECT_TRUE(near_colour(at(image, target.x, target.y + expected::kEllipseHalfAxisYPx), palette::kUncertainty));
+  // Without a placement the frame is drawn bare: nothing can be placed on it.
+  Composer bare(scene_options(), {});
+  const cv::Mat& unplaced = bare.render({frame.get(), &needle, &prediction, nullptr, nullptr});
+  EXPECT_EQ(unplaced.at<cv::Vec3b>((expected::kNeedleTop.y + expected::kNeedleBottom.y) / 2, expected::kNeedleTop.x),
+            cv::Vec3b(kFrameGray, kFrameGray, kFrameGray));
+  EXPECT_EQ(unplaced.at<cv::Vec3b>(target), cv::Vec3b(kFrameGray, kFrameGray, kFrameGray));
+}
+
 TEST(NavviewRender, TargetAndItsUncertaintyEllipseAreWhereTheCovarianceSays) {
   const auto frame = scene_frame();
   const dds::TargetPrediction prediction = scene_prediction();
   Composer composer(scene_options(), {});
-  const cv::Mat& image = composer.render({frame.get(), nullptr, &prediction, nullptr});
+  const cv::Mat& image = composer.render({frame.get(), nullptr, &prediction, nullptr, &kImageIsModel});
   const cv::Point target = expected::kTarget;
   const cv::Vec3b gray(kFrameGray, kFrameGray, kFrameGray);
   EXPECT_TRUE(near_colour(image.at<cv::Vec3b>(target), palette::kTarget, 0));
@@ -106,7 +140,7 @@ TEST(NavviewRender, SurfaceAndTargetAreDrawnWhereProjected) {
   dds::TargetPrediction prediction = scene_prediction();
   prediction.position_m = {0.05, -0.05, 0.01};
   Composer composer(scene_options(), scene_triangles());
-  const cv::Mat& image = composer.render({frame.get(), nullptr, &prediction, surface.get()});
+  const cv::Mat& image = composer.render({frame.get(), nullptr, &prediction, surface.get(), &kImageIsModel});
   const double centre = 99.5;
   const double x0 = expected::kSurfacePanelX + centre;
   const double half_side = 0.1 * expected::kSurfacePxPerM;  // 63.6 px
@@ -218,7 +252,7 @@ TEST(NavviewPng, FilesAreWellFormedAndReadBackUnchanged) {
   CompositeOptions options = scene_options();
   options.captions = true;
   Composer composer(options, scene_triangles());
-  const cv::Mat image = composer.render({frame.get(), &needle, &prediction, surface.get()}).clone();
+  const cv::Mat image = composer.render({frame.get(), &needle, &prediction, surface.get(), &kImageIsModel}).clone();
   const std::string path = ::testing::TempDir() + "navview_render_test.png";
   ASSERT_TRUE(write_png(path, image).ok());
 

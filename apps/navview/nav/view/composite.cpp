@@ -20,32 +20,51 @@ void caption(cv::Mat& panel, const char* text) {
               cv::LINE_AA);
 }
 
-/// "frame 12 | target 3 (rung 2, +50 ms): 1.2 mm off plane"
+/// "frame 12 | target 3 (rung 2, +50 ms): 1.2 mm off plane", or "frame 12 | not placed (no
+/// probe pose, or no --scene)".
 void caption_frame_panel(cv::Mat& panel, const DisplayInputs& inputs) {
   char text[160];
   int used = inputs.frame != nullptr ? std::snprintf(text, sizeof(text), "frame %llu",
                                                      static_cast<unsigned long long>(inputs.frame->sequence_number))
                                      : std::snprintf(text, sizeof(text), "waiting for ultrasound");
-  if (inputs.prediction != nullptr && used > 0 && static_cast<std::size_t>(used) < sizeof(text)) {
+  const bool room = used > 0 && static_cast<std::size_t>(used) < sizeof(text);
+  if (inputs.frame != nullptr && inputs.image_from_model == nullptr && room) {
+    std::snprintf(text + used, sizeof(text) - static_cast<std::size_t>(used),
+                  " | not placed (no probe pose, or no --scene)");
+  } else if (inputs.frame != nullptr && inputs.prediction != nullptr && room) {
     std::snprintf(text + used, sizeof(text) - static_cast<std::size_t>(used),
                   " | target %u (rung %u, +%lld ms): %.1f mm off plane", inputs.prediction->target_id,
                   inputs.prediction->model_rung, static_cast<long long>(inputs.prediction->horizon_ns / kNsPerMs),
-                  inputs.prediction->position_m[2] * 1e3);
+                  inputs.image_from_model->apply(inputs.prediction->position_m)[2] * 1e3);
   }
   caption(panel, text);
 }
 
-/// "surface 4: 2194 vertices | needle 21 points, tip force 0.55 N"
+/// The distance from the needle's tip to the target (metres), or a negative value without both.
+double tip_to_target_m(const DisplayInputs& inputs) {
+  if (inputs.needle == nullptr || inputs.needle->point_count == 0 || inputs.prediction == nullptr) return -1.0;
+  const dds::Vector3& tip = inputs.needle->shape_points_m[inputs.needle->point_count - 1];
+  const dds::Vector3& target = inputs.prediction->position_m;
+  return std::sqrt((tip[0] - target[0]) * (tip[0] - target[0]) + (tip[1] - target[1]) * (tip[1] - target[1]) +
+                   (tip[2] - target[2]) * (tip[2] - target[2]));
+}
+
+/// "surface 4: 2194 vertices | needle 21 points, tip force 0.55 N | tip to target 12.3 mm"
 void caption_surface_panel(cv::Mat& panel, const DisplayInputs& inputs) {
-  char text[160];
+  char text[200];
   int used = inputs.surface != nullptr ? std::snprintf(text, sizeof(text), "surface %u: %u vertices",
                                                        inputs.surface->surface_id, inputs.surface->vertex_count)
                                        : std::snprintf(text, sizeof(text), "waiting for the surface");
   if (inputs.needle != nullptr && used > 0 && static_cast<std::size_t>(used) < sizeof(text)) {
     const dds::Vector3& f = inputs.needle->tip_force_n;
-    std::snprintf(text + used, sizeof(text) - static_cast<std::size_t>(used), " | needle %u points, tip force %.2f N",
-                  inputs.needle->point_count, std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
+    used += std::snprintf(text + used, sizeof(text) - static_cast<std::size_t>(used),
+                          " | needle %u points, tip force %.2f N", inputs.needle->point_count,
+                          std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]));
   }
+  if (const double distance_m = tip_to_target_m(inputs);
+      distance_m >= 0.0 && used > 0 && static_cast<std::size_t>(used) < sizeof(text))
+    std::snprintf(text + used, sizeof(text) - static_cast<std::size_t>(used), " | tip to target %.1f mm",
+                  1e3 * distance_m);
   caption(panel, text);
 }
 
@@ -75,7 +94,7 @@ const cv::Mat& Composer::render(const DisplayInputs& inputs, const dds::StationH
   cv::Mat surface_panel = canvas_(cv::Rect(frame_width, 0, height, height));
 
   if (inputs.frame != nullptr) {
-    draw_frame_panel(frame_panel, *inputs.frame, inputs.needle, inputs.prediction);
+    draw_frame_panel(frame_panel, *inputs.frame, inputs.needle, inputs.prediction, inputs.image_from_model);
   } else {
     frame_panel.setTo(cv::Scalar(0, 0, 0));
   }

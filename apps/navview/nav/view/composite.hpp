@@ -11,12 +11,17 @@
 
 namespace nav::view {
 
+struct ImageFromModel;  // frame_overlay.hpp
+
 /// The newest sample of each stream the display shows; null when none arrived yet.
 struct DisplayInputs {
   const dds::UltrasoundFrame* frame = nullptr;
   const dds::NeedleState* needle = nullptr;
   const dds::TargetPrediction* prediction = nullptr;
   const dds::DeformedSurface* surface = nullptr;
+  /// Where the frame lies (the inverse of its placement); null while it cannot be placed, and
+  /// then the frame is drawn without overlays.
+  const ImageFromModel* image_from_model = nullptr;
 };
 
 /// The composite's size and the 3-D panel's viewing angles.

@@ -20,6 +20,24 @@ double ellipse_radius_sigmas() { return std::sqrt(-2.0 * std::log(1.0 - kEllipse
 
 }  // namespace
 
+dds::Vector3 ImageFromModel::apply(const dds::Vector3& point_m) const {
+  dds::Vector3 image{};
+  for (std::size_t r = 0; r < 3; ++r)
+    image[r] = rotation[3 * r] * point_m[0] + rotation[3 * r + 1] * point_m[1] + rotation[3 * r + 2] * point_m[2] +
+               translation_m[r];
+  return image;
+}
+
+dds::Covariance3 ImageFromModel::rotate(const dds::Covariance3& covariance_m2) const {
+  dds::Covariance3 rotated{};
+  for (std::size_t r = 0; r < 3; ++r)
+    for (std::size_t c = 0; c < 3; ++c)
+      for (std::size_t i = 0; i < 3; ++i)
+        for (std::size_t j = 0; j < 3; ++j)
+          rotated[3 * r + c] += rotation[3 * r + i] * covariance_m2[3 * i + j] * rotation[3 * c + j];
+  return rotated;
+}
+
 FramePanelMapping FramePanelMapping::for_frame(const dds::UltrasoundFrame& frame, int panel_height_px) {
   return {frame.pixel_spacing_m, static_cast<double>(panel_height_px) / static_cast<double>(frame.height_px)};
 }
@@ -34,19 +52,21 @@ int FramePanelMapping::panel_width_px(const dds::UltrasoundFrame& frame) const {
   return std::max(1, static_cast<int>(std::lround(frame.width_px * panel_px_per_frame_px)));
 }
 
-PanelEllipse uncertainty_ellipse(const FramePanelMapping& mapping, const dds::TargetPrediction& prediction) {
+PanelEllipse uncertainty_ellipse(const FramePanelMapping& mapping, const dds::TargetPrediction& prediction,
+                                 const ImageFromModel& image_from_model) {
   // The in-plane covariance in panel pixels squared: S C S with S = diag(panel px per metre).
+  const dds::Covariance3 covariance = image_from_model.rotate(prediction.covariance_m2);
   const double sx = mapping.panel_px_per_frame_px / mapping.pixel_spacing_m[0];
   const double sy = mapping.panel_px_per_frame_px / mapping.pixel_spacing_m[1];
-  const double a = prediction.covariance_m2[0] * sx * sx;
-  const double b = 0.5 * (prediction.covariance_m2[1] + prediction.covariance_m2[3]) * sx * sy;
-  const double c = prediction.covariance_m2[4] * sy * sy;
+  const double a = covariance[0] * sx * sx;
+  const double b = 0.5 * (covariance[1] + covariance[3]) * sx * sy;
+  const double c = covariance[4] * sy * sy;
   // Eigen-decomposition of the symmetric [[a, b], [b, c]].
   const double mean = 0.5 * (a + c);
   const double spread = std::hypot(0.5 * (a - c), b);
   const double k = ellipse_radius_sigmas();
   PanelEllipse ellipse;
-  ellipse.centre_px = mapping.to_panel(prediction.position_m);
+  ellipse.centre_px = mapping.to_panel(image_from_model.apply(prediction.position_m));
   ellipse.half_axis_major_px = k * std::sqrt(std::max(0.0, mean + spread));
   ellipse.half_axis_minor_px = k * std::sqrt(std::max(0.0, mean - spread));
   ellipse.major_axis_angle_deg = 0.5 * std::atan2(2.0 * b, a - c) * 180.0 / M_PI;
@@ -54,7 +74,7 @@ PanelEllipse uncertainty_ellipse(const FramePanelMapping& mapping, const dds::Ta
 }
 
 void draw_frame_panel(cv::Mat& panel, const dds::UltrasoundFrame& frame, const dds::NeedleState* needle,
-                      const dds::TargetPrediction* prediction) {
+                      const dds::TargetPrediction* prediction, const ImageFromModel* image_from_model) {
   // The pixels are only read: OpenCV's header does not copy them.
   const cv::Mat gray(static_cast<int>(frame.height_px), static_cast<int>(frame.width_px), CV_8UC1,
                      const_cast<std::uint8_t*>(frame.pixels.data()));
@@ -62,15 +82,17 @@ void draw_frame_panel(cv::Mat& panel, const dds::UltrasoundFrame& frame, const d
   cv::resize(gray, scaled, panel.size(), 0.0, 0.0, panel.rows < gray.rows ? cv::INTER_AREA : cv::INTER_LINEAR);
   cv::cvtColor(scaled, panel, cv::COLOR_GRAY2BGR);
 
+  if (image_from_model == nullptr) return;
   const FramePanelMapping mapping = FramePanelMapping::for_frame(frame, panel.rows);
+  const auto to_panel = [&](const dds::Vector3& model_m) { return mapping.to_panel(image_from_model->apply(model_m)); };
   if (needle != nullptr) {
     for (std::uint32_t i = 1; i < needle->point_count; ++i) {
-      draw_segment(panel, mapping.to_panel(needle->shape_points_m[i - 1]), mapping.to_panel(needle->shape_points_m[i]),
+      draw_segment(panel, to_panel(needle->shape_points_m[i - 1]), to_panel(needle->shape_points_m[i]),
                    palette::kNeedle, kNeedleThicknessPx);
     }
   }
   if (prediction != nullptr) {
-    const PanelEllipse ellipse = uncertainty_ellipse(mapping, *prediction);
+    const PanelEllipse ellipse = uncertainty_ellipse(mapping, *prediction, *image_from_model);
     constexpr double kFixed = 1 << kSubpixelBits;
     const cv::Size axes(static_cast<int>(std::lround(ellipse.half_axis_major_px * kFixed)),
                         static_cast<int>(std::lround(ellipse.half_axis_minor_px * kFixed)));

@@ -2,11 +2,12 @@
 // The ultrasound panel: the B-mode frame scaled to the panel, with the needle, the predicted
 // target and its uncertainty drawn over it.
 //
-// Convention: the display's geometry (needle points, target, surface) arrives in the image
-// frame of the current ultrasound frame: x along a row (increasing column), y along a column
-// (increasing row, i.e. depth), z out of the image plane, in metres, with the origin at the
-// centre of pixel (0, 0). The station, which knows the probe's pose and calibration, does the
-// transformation; the display only scales by the pixel spacing.
+// Convention: the station publishes its geometry (needle points, target, surface) in the model
+// frame; the overlays are drawn in the image frame of the current ultrasound frame (x along a
+// row, y along a column, i.e. depth, z out of the image plane, metres, origin at the centre of
+// pixel (0, 0)), through image_from_model: the inverse of where the tracked probe held the
+// frame (the station's chain: probe pose at capture time, times the URDF's probe calibration,
+// nav/station/image_placement.hpp). Without it the overlays are not drawn: they cannot be placed.
 #include <array>
 
 #include <opencv2/core/mat.hpp>
@@ -17,6 +18,17 @@ namespace nav::view {
 
 /// The probability mass inside the drawn uncertainty ellipse (of the in-plane marginal).
 inline constexpr double kEllipseProbability = 0.95;
+
+/// The rigid map from the model frame to a frame's image frame.
+struct ImageFromModel {
+  std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};  ///< row-major
+  dds::Vector3 translation_m{};
+
+  /// `point_m` (model frame) in the image frame.
+  dds::Vector3 apply(const dds::Vector3& point_m) const;
+  /// `covariance_m2` (model frame, row-major) in the image frame: R C R^T.
+  dds::Covariance3 rotate(const dds::Covariance3& covariance_m2) const;
+};
 
 /// Maps image-frame metres of one frame to pixels of a panel showing that frame scaled.
 struct FramePanelMapping {
@@ -39,12 +51,14 @@ struct PanelEllipse {
   double major_axis_angle_deg = 0.0;  // from the panel's x axis towards its y axis
 };
 
-/// The kEllipseProbability ellipse of the in-plane (x, y) part of `prediction`'s covariance.
-PanelEllipse uncertainty_ellipse(const FramePanelMapping& mapping, const dds::TargetPrediction& prediction);
+/// The kEllipseProbability ellipse of the in-plane (x, y) part of `prediction`'s covariance,
+/// taken into the image frame.
+PanelEllipse uncertainty_ellipse(const FramePanelMapping& mapping, const dds::TargetPrediction& prediction,
+                                 const ImageFromModel& image_from_model = {});
 
 /// Draws `frame` into `panel` (which must be CV_8UC3, panel-sized) with the overlays that
-/// are present (null pointers are left out).
+/// are present (null pointers are left out), placed by `image_from_model` (none: no overlay).
 void draw_frame_panel(cv::Mat& panel, const dds::UltrasoundFrame& frame, const dds::NeedleState* needle,
-                      const dds::TargetPrediction* prediction);
+                      const dds::TargetPrediction* prediction, const ImageFromModel* image_from_model);
 
 }  // namespace nav::view
