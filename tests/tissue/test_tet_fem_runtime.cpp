@@ -194,6 +194,46 @@ TEST(TissueRuntime, InvertingLoadsAreFlaggedWithoutNaN) {
   expect_flagged(make_mass_spring_model(mesh, scene, options).value(), 2000, "mass-spring");
 }
 
+// A conjugate-gradient solve cut short (one Jacobi-preconditioned iteration on a stiff column
+// under a tip load) ends above its residual bound: the step raises solver_not_converged and
+// reports the residual, the state stays finite. Given enough iterations, the same step ends
+// below the bound and raises nothing. For the linear and corotational laws, implicit and
+// quasi-static.
+TEST(TissueRuntime, ACgSolveCutShortRaisesSolverNotConverged) {
+  const TetMesh mesh = box_mesh({0.01, 0.01, 0.04}, 0.0025);
+  TissueScene scene;
+  scene.default_material = {5.0e4, 0.45, 1000.0};
+  scene.fixed_nodes = nodes_where(mesh, 2, 0.0);
+  const std::vector<PointForce> push{{nodes_where(mesh, 2, 0.04).front(), {0.5, 0.0, 0.0}}};
+  TissueInputs inputs;
+  inputs.point_forces = push;
+  for (const Law& law : {kLaws[0], kLaws[1]})
+    for (Integrator integrator : {Integrator::implicit_euler, Integrator::quasi_static}) {
+      const std::string what = std::string(law.name) + " integrator " + std::to_string(static_cast<int>(integrator));
+      TissueSolverOptions options = options_for(law, integrator, LinearSolver::cg_jacobi);
+      double residual[2] = {0.0, 0.0};
+      bool flagged[2] = {false, false};
+      for (const int iterations : {1, 1000}) {
+        options.cg_iterations = iterations;
+        auto model = make_tet_fem_model(mesh, scene, options);
+        ASSERT_TRUE(model.ok()) << what;
+        auto data = make_data(model.value());
+        ASSERT_TRUE(data.ok());
+        step(model.value(), data.value(), inputs);
+        const int k = iterations == 1 ? 0 : 1;
+        residual[k] = data.value().report.solver_relative_residual;
+        flagged[k] = data.value().health.has(HealthFlag::solver_not_converged);
+        for (double x : data.value().positions_m) ASSERT_TRUE(std::isfinite(x)) << what;
+      }
+      std::printf("%s: relative residual after 1 CG iteration %.3g, after up to 1000 %.3g (bound %.3g)\n", what.c_str(),
+                  residual[0], residual[1], options.cg_residual_bound);
+      EXPECT_GT(residual[0], options.cg_residual_bound) << what;
+      EXPECT_TRUE(flagged[0]) << what;
+      EXPECT_LE(residual[1], options.cg_residual_bound) << what;
+      EXPECT_FALSE(flagged[1]) << what;
+    }
+}
+
 // The explicit step is stable below the reported limit and flagged unstable_step (never NaN)
 // above it, for the linear, corotational, St Venant-Kirchhoff (+ penalty) laws and the
 // mass-spring network. Above the limit the run blows up (to the rolled-back last finite
