@@ -132,7 +132,7 @@ int export_session(const std::vector<std::string>& args) {
   std::vector<SeriesEntry> series;
   std::optional<nav::TimeNs> first_ns;
   std::string frame_file;
-  std::size_t steps = 0, damaged = 0, other_scene = 0, unplaced = 0;
+  std::size_t steps = 0, damaged = 0, other_scene = 0, steps_unplaced = 0;
   const auto write = [&](const std::string& name, const std::string& text) {
     const nav::Status written = nav::write_text_file((out / name).string(), text);
     if (!written) std::fprintf(stderr, "navtool export: %s\n", written.error().describe().c_str());
@@ -193,7 +193,7 @@ int export_session(const std::vector<std::string>& args) {
             if (model_from_image && write(file, format_image(image_data(*newest.frame, *model_from_image))))
               frame_file = file;
             else
-              ++unplaced;
+              ++steps_unplaced;  // tried again at the next step: a later pose may place it
           }
           if (frame_file == file) series.push_back({time_s, 3, "ultrasound", file});
         }
@@ -211,9 +211,9 @@ int export_session(const std::vector<std::string>& args) {
                          options->get("--recording"), 0, "deformed_surface"});
   if (!write("session.pvd", format_collection(series))) return exit_bad_input;
   std::printf(
-      "navtool export: %zu display steps, %zu files in %s (session.pvd); %zu frames without a probe pose, %zu "
-      "surfaces of another scene, %zu damaged records skipped\n",
-      steps, series.size(), out.string().c_str(), unplaced, other_scene, damaged);
+      "navtool export: %zu display steps, %zu files in %s (session.pvd); %zu steps whose newest frame had no probe "
+      "pose, %zu surfaces of another scene, %zu damaged records skipped\n",
+      steps, series.size(), out.string().c_str(), steps_unplaced, other_scene, damaged);
   return exit_ok;
 }
 
