@@ -14,11 +14,11 @@ std::optional<CalibOptions> CalibOptions::parse(const std::vector<std::string>& 
   CalibOptions options;
   for (std::size_t i = 0; i < args.size(); i += 2) {
     if (std::find(known.begin(), known.end(), args[i]) == known.end()) {
-      std::fprintf(stderr, "navtool calib: unknown option '%s'\n", args[i].c_str());
+      std::fprintf(stderr, "navtool: unknown option '%s'\n", args[i].c_str());
       return std::nullopt;
     }
     if (i + 1 >= args.size()) {
-      std::fprintf(stderr, "navtool calib: option '%s' needs a value\n", args[i].c_str());
+      std::fprintf(stderr, "navtool: option '%s' needs a value\n", args[i].c_str());
       return std::nullopt;
     }
     options.values[args[i]] = args[i + 1];
@@ -74,7 +74,7 @@ nav::Result<std::vector<nav::calibration::RecordedPose>> read_poses_option(const
 }
 
 int report_error(const nav::Error& error) {
-  std::fprintf(stderr, "navtool calib: %s\n", error.describe().c_str());
+  std::fprintf(stderr, "navtool: %s\n", error.describe().c_str());
   return exit_bad_input;
 }
 

@@ -27,6 +27,10 @@ int evaluate(const std::vector<std::string>& args);
 /// navtool export --recording FILE.navrec --scene FILE --out DIR: a session as ParaView files.
 int export_session(const std::vector<std::string>& args);
 
+/// navtool solve --mesh FILE [--unit U] --model M --fix-box ... --out FILE.vtu: a static case to
+/// equilibrium, with its displacement, stress and out-of-balance force (solve.cpp).
+int solve(const std::vector<std::string>& args);
+
 /// navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --method M --r R
 /// --force F [--samples M] [--seed S] [--load-scale S] --out FILE [--json], or --extend LOWER
 /// instead of --method (the next rung of a ladder): see reduce.cpp.

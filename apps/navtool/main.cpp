@@ -16,6 +16,10 @@ constexpr const char* kUsage =
     "  navtool evaluate (--scene FILE [--seconds S] [--domain D] | --recording FILE.navrec) [--settle-s S] [--plot "
     "F.svg] [--json F]\n"
     "  navtool export --recording FILE.navrec --scene FILE --out DIR   (the session as ParaView files, session.pvd)\n"
+    "  navtool solve --mesh FILE [--unit mm|cm|m] --model linear|corotational|stvk|neo-hookean --fix-box "
+    "X0,Y0,Z0,X1,Y1,Z1\n"
+    "                [--gravity GX,GY,GZ] [--force-nodes I,J,... --force-n FX,FY,FZ] [--youngs-modulus-pa E]\n"
+    "                [--poisson-ratio NU] [--density-kg-m3 RHO] [--tolerance T] --out FILE.vtu   (a static case)\n"
     "  navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --method modes|modal-derivatives|pod\n"
     "                 --r R --force linear|corotational|stvk|stvk-cubic [--samples M] [--seed S] --out FILE [--json]\n"
     "  navtool reduce (--liver-dir DIR [--tets N] | --mesh FILE [--unit U]) --extend LOWER.navrb --r R\n"
@@ -44,6 +48,7 @@ int main(int argc, char** argv) {
   if (!args.empty() && args[0] == "reduce") return navtool::reduce({args.begin() + 1, args.end()});
   if (!args.empty() && (args[0] == "record" || args[0] == "replay")) return navtool::record_replay(args);
   if (!args.empty() && args[0] == "evaluate") return navtool::evaluate(args);
+  if (!args.empty() && args[0] == "solve") return navtool::solve({args.begin() + 1, args.end()});
   if (!args.empty() && args[0] == "export") return navtool::export_session({args.begin() + 1, args.end()});
   if (args.size() >= 2 && args[0] == "security" && args[1] == "init")
     return navtool::security_init({args.begin() + 2, args.end()});

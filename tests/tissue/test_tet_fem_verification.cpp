@@ -16,6 +16,7 @@ namespace {
 
 using testing::box_mesh;
 using testing::faces_where;
+using testing::max_abs;
 using testing::nodes_where;
 
 TissueSolverOptions quasi_static_options(LinearSolver solver = LinearSolver::ldlt_warped) {
@@ -33,12 +34,6 @@ std::vector<double> elastic_forces(const TetFemModel& model, TetFemData& data, s
   std::vector<double> forces(x.size(), 0.0);
   detail::add_elastic_forces(tables, x, data.element_rotations, forces);
   return forces;
-}
-
-double max_abs(std::span<const double> values) {
-  double worst = 0.0;
-  for (double v : values) worst = std::max(worst, std::abs(v));
-  return worst;
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // Shared inputs of the tissue tests: structured box meshes, node and face selections on
 // planes (the state hash is support/bits_hash.hpp), and make_data for
 // tests written once for every tissue model.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -66,6 +67,13 @@ inline std::vector<std::array<std::int32_t, 3>> faces_where(const TetMesh& mesh,
     if (on_plane) faces.push_back(nodes);
   }
   return faces;
+}
+
+/// The largest magnitude in `values` (0 when empty).
+inline double max_abs(std::span<const double> values) {
+  double worst = 0.0;
+  for (double v : values) worst = std::max(worst, std::abs(v));
+  return worst;
 }
 
 /// The data of a model, whichever model it is.
