@@ -21,7 +21,8 @@ station_packages=(
   libopenigtlink-dev  # OpenIGTLink: the bridge to PlusServer and 3D Slicer
   libx11-dev iproute2
   openssl  # navtool security init makes its test CA and identities with the openssl program
-  python3-vtk9  # VTK's own readers check the files navtool export writes
+  python3-vtk9  # VTK's own readers check the files navtool export and solve write
+  xvfb  # a virtual X server: navview's window is tested in it
 )
 cross_packages=(g++-aarch64-linux-gnu qemu-user)
 fuzz_packages=(clang-14 libclang-rt-14-dev)

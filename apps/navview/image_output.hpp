@@ -6,6 +6,7 @@
 #include <opencv2/core/mat.hpp>
 
 #include "nav/core/error.hpp"
+#include "nav/view/view_control.hpp"
 
 namespace navview {
 
@@ -15,8 +16,9 @@ class ImageOutput {
   virtual ~ImageOutput() = default;
   /// Shows or stores `image` (8-bit BGR).
   virtual nav::Status show(const cv::Mat& image) = 0;
-  /// Handles pending window-system events (repaint, close); files have none.
-  virtual void poll_events() {}
+  /// Handles pending window-system events: repaints, and the mouse and keys that move `view`
+  /// (view_control.hpp); true when the view changed. Files have none.
+  virtual bool poll_events(nav::view::ViewControl& /*view*/) { return false; }
   /// True once the user closed the window.
   virtual bool closed() const { return false; }
 };

@@ -1,7 +1,8 @@
 // navview: the station's display. Subscribes to ultrasound frames, the needle, target
 // predictions, the deformed surface and the station's health, and draws their newest values
 // as one composite (nav/view/composite.hpp; the health as a band: mode, raised flags, samples
-// dropped), into numbered PNG files (headless) or a window. With a scene it also reads the tool
+// dropped, and each input's state and age), into numbered PNG files (headless) or a window whose
+// mouse and keys orbit and zoom the 3-D panel (x11_window.cpp). With a scene it also reads the tool
 // poses, to place each frame where the tracked probe held it and draw the needle and the target
 // over it (nav/station/image_placement.hpp).
 #include <algorithm>
@@ -120,7 +121,9 @@ int run(const NavviewArgs& args) {
   }
 
   nav::dds::install_stop_handlers();
-  nav::view::Composer composer(args.composite, std::move(triangles));
+  nav::view::CompositeOptions composite = args.composite;
+  composite.interactive = !args.headless;
+  nav::view::Composer composer(composite, std::move(triangles));
   nav::MonotonicClock clock;
   const nav::TimeNs start_ns = clock.now_ns();
   nav::TimeNs next_ns = start_ns;
@@ -128,9 +131,10 @@ int run(const NavviewArgs& args) {
   while (!nav::dds::stop_requested() && !output.value()->closed()) {
     next_ns = std::max(next_ns + args.period_ns, clock.now_ns());  // a slow render skips periods
     clock.sleep_until_ns(next_ns);
-    output.value()->poll_events();
+    const bool view_changed = output.value()->poll_events(composer.view());
+    if (output.value()->closed()) break;
     if (args.duration_ns > 0 && clock.now_ns() - start_ns >= args.duration_ns) break;
-    if (!subscriptions.update()) continue;
+    if (!subscriptions.update() && !view_changed) continue;
     nav::view::DisplayInputs inputs = subscriptions.inputs();
     if (placing) inputs.image_from_model = placing->place(inputs.frame);
     if (const nav::Status shown_ok = output.value()->show(composer.render(inputs, subscriptions.health->latest()));

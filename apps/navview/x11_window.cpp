@@ -1,12 +1,16 @@
 // Window output through Xlib: the composite is copied into a 32-bit XImage and put on a
-// plain window, repainted on Expose; closing the window ends navview.
+// plain window, repainted on Expose; the mouse and keys move the 3-D view (a left drag orbits,
+// the wheel zooms, keys as kViewHelpLines says); closing the window, q or Esc ends navview.
 #include "image_output.hpp"
 
+#include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <X11/Xlib.h>
 #include <X11/Xutil.h>
+#include <X11/keysym.h>
 #undef Status  // Xlib's macro for int; nav::Status is meant below
 
 namespace navview {
@@ -50,18 +54,78 @@ class X11Window final : public ImageOutput {
     return nav::Done{};
   }
 
-  void poll_events() override {
+  bool poll_events(nav::view::ViewControl& view) override {
+    bool changed = false;
     while (XPending(display_) > 0) {
       XEvent event;
       XNextEvent(display_, &event);
       if (event.type == Expose && event.xexpose.count == 0) paint();
       if (event.type == ClientMessage && static_cast<Atom>(event.xclient.data.l[0]) == delete_message_) closed_ = true;
+      changed = handle_input(event, view) || changed;
     }
+    closed_ = closed_ || view.quit_requested();
+    return changed;
   }
 
   bool closed() const override { return closed_; }
 
  private:
+  /// Moves `view` by a mouse or key event; true when it did.
+  bool handle_input(const XEvent& event, nav::view::ViewControl& view) {
+    if (event.type == ButtonPress && event.xbutton.button == Button1) {
+      dragging_ = true;
+      drag_from_ = {event.xbutton.x, event.xbutton.y};
+    } else if (event.type == ButtonRelease && event.xbutton.button == Button1) {
+      dragging_ = false;
+    } else if (event.type == ButtonPress && (event.xbutton.button == Button4 || event.xbutton.button == Button5)) {
+      view.wheel(event.xbutton.button == Button4 ? 1 : -1);
+      return true;
+    } else if (event.type == MotionNotify && dragging_) {
+      view.drag(event.xmotion.x - drag_from_[0], event.xmotion.y - drag_from_[1]);
+      drag_from_ = {event.xmotion.x, event.xmotion.y};
+      return true;
+    } else if (event.type == KeyPress) {
+      XKeyEvent key_event = event.xkey;
+      const auto key = view_key(XLookupKeysym(&key_event, 0));
+      if (!key) return false;
+      view.key(*key);
+      return true;
+    }
+    return false;
+  }
+
+  /// The view key of a key symbol, if it is one.
+  static std::optional<nav::view::ViewKey> view_key(KeySym symbol) {
+    using nav::view::ViewKey;
+    switch (symbol) {
+      case XK_Left:
+        return ViewKey::orbit_left;
+      case XK_Right:
+        return ViewKey::orbit_right;
+      case XK_Up:
+        return ViewKey::orbit_up;
+      case XK_Down:
+        return ViewKey::orbit_down;
+      case XK_plus:
+      case XK_equal:
+      case XK_KP_Add:
+        return ViewKey::zoom_in;
+      case XK_minus:
+      case XK_KP_Subtract:
+        return ViewKey::zoom_out;
+      case XK_r:
+        return ViewKey::reset;
+      case XK_h:
+      case XK_question:
+        return ViewKey::help;
+      case XK_q:
+      case XK_Escape:
+        return ViewKey::quit;
+      default:
+        return std::nullopt;
+    }
+  }
+
   void paint() {
     if (image_ == nullptr) return;
     XPutImage(display_, window_, gc_, image_, 0, 0, 0, 0, static_cast<unsigned>(image_->width),
@@ -84,6 +148,8 @@ class X11Window final : public ImageOutput {
   XImage* image_ = nullptr;
   std::vector<std::uint32_t> pixels_;
   bool closed_ = false;
+  bool dragging_ = false;
+  std::array<int, 2> drag_from_{};  ///< the pointer's last position while dragging
 };
 
 }  // namespace
@@ -99,7 +165,9 @@ nav::Result<std::unique_ptr<ImageOutput>> open_window(const std::string& title) 
   const Window window = XCreateSimpleWindow(display, RootWindow(display, screen), 0, 0, 640, 480, 0,
                                             BlackPixel(display, screen), BlackPixel(display, screen));
   XStoreName(display, window, title.c_str());
-  XSelectInput(display, window, ExposureMask | StructureNotifyMask);
+  XSelectInput(
+      display, window,
+      ExposureMask | StructureNotifyMask | ButtonPressMask | ButtonReleaseMask | Button1MotionMask | KeyPressMask);
   Atom delete_message = XInternAtom(display, "WM_DELETE_WINDOW", False);
   XSetWMProtocols(display, window, &delete_message, 1);
   XMapWindow(display, window);

@@ -96,6 +96,7 @@ inline StationHealth make_health(TimeNs source_time_ns) {
   health.step_time_mean_ns = 150'000;
   health.step_time_max_ns = 420'000;
   health.deadline_misses = 1;
+  health.input_age_ns = {3 * kNsPerMs, 250 * kNsPerMs, StationHealth::kNoSampleYet, 40 * kNsPerMs};
   return health;
 }
 

@@ -96,6 +96,7 @@ TEST(DdsPubSub, OutboxOutputsReachTheDisplayWithHealthCounters) {
   StationHealth late_health;
   ASSERT_TRUE(wait_until([&] { return health->try_pop(late_health); }));
   EXPECT_EQ(late_health.step_time_max_ns, 420'000);
+  EXPECT_EQ(late_health.input_age_ns, make_health(5).input_age_ns);  // "none yet" included
 
   ASSERT_TRUE(outbox->needle.try_push(make_needle(32, 10)));
   ASSERT_TRUE(outbox->predictions.try_push(make_prediction(10)));

@@ -49,32 +49,14 @@ TEST(NavviewHeadless, WritesPngsOfWhatItReceives) {
   auto station = dds::DdsNode::create(dds::testing::local_network(162));
   ASSERT_TRUE(station.ok()) << station.error().describe();
   dds::DdsNode& node = *station.value();
-  ASSERT_TRUE(node.advertise<dds::ToolPose>().ok());
-  ASSERT_TRUE(node.advertise<dds::UltrasoundFrame>().ok());
-  ASSERT_TRUE(node.advertise<dds::NeedleState>().ok());
-  ASSERT_TRUE(node.advertise<dds::TargetPrediction>().ok());
-  ASSERT_TRUE(node.advertise<dds::DeformedSurface>().ok());
-  for (const dds::Topic topic : {dds::Topic::tool_pose, dds::Topic::ultrasound_frame, dds::Topic::needle_state,
-                                 dds::Topic::target_prediction, dds::Topic::deformed_surface}) {
-    ASSERT_TRUE(node.wait_for_match(topic, 1, kMatchTimeoutNs)) << dds::topic_name(topic) << "\n" << navview.log();
-  }
+  ASSERT_TRUE(SceneStream::advertise(node, kMatchTimeoutNs)) << navview.log();
 
-  auto frame = scene_frame();
-  dds::NeedleState needle = scene_needle();
-  dds::TargetPrediction prediction = scene_prediction();
-  auto surface = scene_surface();
+  SceneStream stream;
   std::set<std::string> looked_at;
   std::string matching_png;
   const bool shown = dds::testing::wait_until(
       [&] {
-        const TimeNs time_ns = frame->source_time_ns + 20 * kNsPerMs;
-        frame->source_time_ns = needle.source_time_ns = prediction.source_time_ns = surface->source_time_ns = time_ns;
-        ++frame->sequence_number;
-        node.write(probe_pose_placing_image_at_model(time_ns));
-        node.write(*frame);
-        node.write(needle);
-        node.write(prediction);
-        node.write(*surface);
+        stream.publish(node);
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
         for (const std::string& png : png_files(out_dir)) {
           if (!looked_at.insert(png).second) continue;

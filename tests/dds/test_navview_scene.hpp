@@ -106,6 +106,24 @@ inline bool near_colour(const cv::Vec3b& pixel, const cv::Scalar& colour, int to
   return true;
 }
 
+/// Pixels of `image` exactly `colour`.
+inline int pixels_of(const cv::Mat& image, const cv::Scalar& colour) {
+  int count = 0;
+  for (int y = 0; y < image.rows; ++y)
+    for (int x = 0; x < image.cols; ++x) count += near_colour(image.at<cv::Vec3b>(y, x), colour, 0) ? 1 : 0;
+  return count;
+}
+
+/// The surface's width in the 3-D panel (the kPanelHeightPx columns on the right of `image`)
+/// along its middle row, which the scene's needle and target do not reach: the pixels that are
+/// not the background.
+inline int surface_width_px(const cv::Mat& image) {
+  int count = 0;
+  for (int x = image.cols - kPanelHeightPx; x < image.cols; ++x)
+    count += near_colour(image.at<cv::Vec3b>(kPanelHeightPx / 2, x), palette::kSurfaceBackground, 0) ? 0 : 1;
+  return count;
+}
+
 /// Writes scene_triangles() over the square's corners as an .obj file in millimetres,
 /// for navview's --surface-mesh.
 inline void write_scene_triangles_obj(const std::string& path) {

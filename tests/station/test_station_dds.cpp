@@ -343,15 +343,21 @@ TEST(StationDds, ADevicePeerDisappearingIsFlaggedAndTheStationRecovers) {
   // those of the loop's tick at its time (after the return too: all inputs good again where the
   // loop had them so; a host that stalls the loop longer than an input's staleness limit gets
   // that input flagged again, rightly).
+  // The needle's age grows through the outage: its newest good sample is older than the outage so far.
   dds::StationHealth health;
   bool degraded_in_outage = false;
-  int samples = 0, as_the_loop = 0;
-  TimeNs last_time_ns = 0;
+  int samples = 0, as_the_loop = 0, aged_in_outage = 0, in_outage = 0;
+  TimeNs last_time_ns = 0, last_needle_age_ns = 0;
+  constexpr auto kNeedle = static_cast<std::size_t>(dds::StationInput::needle);
   while (display.health->try_pop(health)) {
     const TimeNs health_ns = health.source_time_ns - run.start_ns;  // stamped on the host's clock
-    if (health_ns > flagged_ns && health_ns < r.device_back_ns)
+    if (health_ns > flagged_ns && health_ns < r.device_back_ns) {
       degraded_in_outage =
           degraded_in_outage || (health.mode == dds::StationMode::degraded && (health.flags & kInputLost) != 0);
+      ++in_outage;
+      aged_in_outage += health.input_age_ns[kNeedle] >= health_ns - r.device_gone_ns - 50 * kNsPerMs ? 1 : 0;
+    }
+    last_needle_age_ns = health.input_age_ns[kNeedle];
     const auto tick =
         std::find_if(run.ticks.begin(), run.ticks.end(), [&](const TickRecord& t) { return t.time_ns == health_ns; });
     const bool overrun =
@@ -364,6 +370,10 @@ TEST(StationDds, ADevicePeerDisappearingIsFlaggedAndTheStationRecovers) {
     last_time_ns = health_ns;
   }
   EXPECT_TRUE(degraded_in_outage);
+  EXPECT_GT(in_outage, 0);
+  EXPECT_EQ(aged_in_outage, in_outage) << "health samples in the outage whose needle age is younger than the outage";
+  EXPECT_GE(last_needle_age_ns, 0);
+  EXPECT_LT(last_needle_age_ns, 1 * kNsPerSecond);
   EXPECT_GT(last_time_ns, recovered_ns);
   EXPECT_GT(samples, 0);
   EXPECT_EQ(as_the_loop, samples) << "health samples whose flags are not those of the loop's tick at their time";

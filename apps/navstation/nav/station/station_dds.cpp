@@ -1,6 +1,7 @@
 #include "nav/station/station_dds.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -311,6 +312,10 @@ void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, con
   health.flags = health_flag_bits(o);
   health.input_flags = {o.needle.flags.bits(), o.probe.flags.bits(), o.respiratory.flags.bits(),
                         o.ultrasound.flags.bits()};
+  const InputStatus* inputs[] = {&o.needle, &o.probe, &o.respiratory, &o.ultrasound};
+  for (std::size_t i = 0; i < dds::kStationInputCount; ++i)
+    health.input_age_ns[i] =
+        inputs[i]->age_ns == std::numeric_limits<TimeNs>::max() ? dds::StationHealth::kNoSampleYet : inputs[i]->age_ns;
   health.step_time_max_ns = step_max_ns;
   health.deadline_misses = deadline_misses;
   outbox.health.try_push(health);

@@ -5,20 +5,17 @@
 
 #include <opencv2/imgproc.hpp>
 
-#include "nav/dds/health_text.hpp"
 #include "nav/view/frame_overlay.hpp"
+#include "nav/view/health_panel.hpp"
 #include "nav/view/palette.hpp"
+#include "nav/view/text_box.hpp"
 
 namespace nav::view {
 namespace {
 
-constexpr double kCaptionScale = 0.45;
 constexpr int kCaptionBaselinePx = 16;
 
-void caption(cv::Mat& panel, const char* text) {
-  cv::putText(panel, text, cv::Point(6, kCaptionBaselinePx), cv::FONT_HERSHEY_SIMPLEX, kCaptionScale, palette::kText, 1,
-              cv::LINE_AA);
-}
+void caption(cv::Mat& panel, const char* text) { draw_text(panel, text, {6, kCaptionBaselinePx}); }
 
 /// "frame 12 | target 3 (rung 2, +50 ms): 1.2 mm off plane", or "frame 12 | not placed (no
 /// probe pose, or no --scene)".
@@ -68,21 +65,26 @@ void caption_surface_panel(cv::Mat& panel, const DisplayInputs& inputs) {
   caption(panel, text);
 }
 
-constexpr int kStatusBandPx = 22;
+/// The keyboard help in the 3-D panel's upper left, below its caption.
+void draw_help(cv::Mat& panel) {
+  int bottom_px = kCaptionBaselinePx + 6;
+  for (std::string_view line : kViewHelpLines) {
+    bottom_px += kTextLinePx;
+    draw_text_box(panel, line, {4, bottom_px}, palette::kHelpBackground);
+  }
+}
 
-/// "station running | healthy | dropped at the boundary: none" across the canvas's bottom, with
-/// each input in trouble ("needle: bad_sample stale_input") after the station's flags.
-void draw_status_band(cv::Mat& canvas, const dds::StationHealth& health) {
-  cv::Mat band = canvas(cv::Rect(0, canvas.rows - kStatusBandPx, canvas.cols, kStatusBandPx));
-  band.setTo(dds::station_healthy(health) ? palette::kStatusHealthy : palette::kStatusDegraded);
-  cv::putText(band, dds::health_summary(health), cv::Point(6, kStatusBandPx - 7), cv::FONT_HERSHEY_SIMPLEX,
-              kCaptionScale, palette::kText, 1, cv::LINE_AA);
+/// "h: help" in the 3-D panel's upper right corner.
+void draw_help_hint(cv::Mat& panel) {
+  draw_text_box(panel, "h: help", {panel.cols - 64, kCaptionBaselinePx + 6 + kTextLinePx}, palette::kHelpBackground);
 }
 
 }  // namespace
 
 Composer::Composer(const CompositeOptions& options, SurfaceTriangles surface_triangles)
-    : options_(options), surface_triangles_(std::move(surface_triangles)) {}
+    : options_(options),
+      surface_triangles_(std::move(surface_triangles)),
+      view_(options.view_azimuth_deg, options.view_elevation_deg) {}
 
 const cv::Mat& Composer::render(const DisplayInputs& inputs, const dds::StationHealth* health) {
   const int height = options_.panel_height_px;
@@ -99,11 +101,14 @@ const cv::Mat& Composer::render(const DisplayInputs& inputs, const dds::StationH
     frame_panel.setTo(cv::Scalar(0, 0, 0));
   }
   if (inputs.surface != nullptr && !camera_fitted_) {
-    camera_ = fit_camera(*inputs.surface, options_.view_azimuth_deg, options_.view_elevation_deg, height);
+    fitted_camera_ = fit_camera(*inputs.surface, options_.view_azimuth_deg, options_.view_elevation_deg, height);
     camera_fitted_ = true;
   }
   if (camera_fitted_ && inputs.surface != nullptr) {
-    painter_.draw(surface_panel, camera_, *inputs.surface, surface_triangles_, inputs.needle, inputs.prediction);
+    const OrthoCamera camera =
+        OrthoCamera::from_angles(fitted_camera_.look_at_m, view_.azimuth_deg(), view_.elevation_deg(),
+                                 fitted_camera_.panel_px_per_m * view_.zoom(), height);
+    painter_.draw(surface_panel, camera, *inputs.surface, surface_triangles_, inputs.needle, inputs.prediction);
   } else {
     surface_panel.setTo(palette::kSurfaceBackground);
   }
@@ -111,7 +116,15 @@ const cv::Mat& Composer::render(const DisplayInputs& inputs, const dds::StationH
     caption_frame_panel(frame_panel, inputs);
     caption_surface_panel(surface_panel, inputs);
   }
-  if (health != nullptr) draw_status_band(canvas_, *health);
+  if (view_.help_shown()) {
+    draw_help(surface_panel);
+  } else if (options_.interactive) {
+    draw_help_hint(surface_panel);
+  }
+  if (health != nullptr) {
+    draw_status_band(canvas_, *health);
+    draw_input_lines(surface_panel, *health);
+  }
   return canvas_;
 }
 

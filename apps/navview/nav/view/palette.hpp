@@ -14,5 +14,7 @@ inline const cv::Scalar kSurfaceBackground{40, 25, 20};  // dark blue-gray
 inline const cv::Scalar kText{255, 255, 255};
 inline const cv::Scalar kStatusHealthy{40, 110, 40};   // dark green: the station runs healthy
 inline const cv::Scalar kStatusDegraded{30, 30, 170};  // dark red: degraded, a flag raised or stopped
+inline const cv::Scalar kStatusIdle{90, 90, 90};       // gray: an input nothing was received from yet
+inline const cv::Scalar kHelpBackground{70, 50, 40};   // the keyboard help's boxes
 
 }  // namespace nav::view::palette

@@ -1,5 +1,7 @@
 #include "nav/dds/health_text.hpp"
 
+#include <cstdio>
+
 #include "nav/core/health_names.hpp"
 #include "nav/dds/sample_fault.hpp"
 
@@ -23,6 +25,22 @@ bool station_healthy(const StationHealth& health) noexcept {
   bool healthy = health.mode == StationMode::running && health.flags == 0;
   for (const std::uint32_t flags : health.input_flags) healthy = healthy && flags == 0;
   return healthy;
+}
+
+std::string input_state_words(const StationHealth& health, StationInput input) {
+  const auto i = static_cast<std::size_t>(input);
+  const std::string flags = health_flag_names(health.input_flags[i]);
+  std::string text = std::string(station_input_name(input)) + ": ";
+  const TimeNs age_ns = health.input_age_ns[i];
+  if (age_ns < 0) return text + (flags.empty() ? "nothing received yet" : flags + ", nothing received yet");
+  char age[32];
+  if (age_ns < kNsPerSecond)
+    std::snprintf(age, sizeof(age), "%lld ms ago", static_cast<long long>(age_ns / kNsPerMs));
+  else if (age_ns < 120 * kNsPerSecond)
+    std::snprintf(age, sizeof(age), "%.1f s ago", static_cast<double>(age_ns) / kNsPerSecond);
+  else
+    std::snprintf(age, sizeof(age), "%lld min ago", static_cast<long long>(age_ns / (60 * kNsPerSecond)));
+  return text + (flags.empty() ? "healthy" : flags) + ", " + age;
 }
 
 std::string health_summary(const StationHealth& health) {

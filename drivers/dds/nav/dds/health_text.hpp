@@ -14,6 +14,10 @@ const char* station_mode_name(StationMode mode) noexcept;
 /// Whether the station runs with no flag raised, its own or an input's.
 bool station_healthy(const StationHealth& health) noexcept;
 
+/// One input's state and the age of its newest good sample in words: "needle: healthy, 12 ms
+/// ago", "ultrasound: stale_input, 1.4 s ago", "respiratory: nothing received yet".
+std::string input_state_words(const StationHealth& health, StationInput input);
+
 /// "station running | healthy | dropped at the boundary: none", with each input in trouble
 /// after the station's flags ("needle: bad_sample stale_input").
 std::string health_summary(const StationHealth& health);

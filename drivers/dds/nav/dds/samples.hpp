@@ -137,6 +137,10 @@ struct StationHealth {
   BoundaryCounts boundary{};
   PerInput<std::uint32_t> input_flags{};    // HealthFlags bits of each input (bad_sample: refused within the hold)
   PerInput<std::uint64_t> input_refused{};  // each input's samples refused at the boundary so far
+  /// How old each input's newest good sample was at source_time_ns; kNoSampleYet: none yet.
+  PerInput<TimeNs> input_age_ns{kNoSampleYet, kNoSampleYet, kNoSampleYet, kNoSampleYet};
+
+  static constexpr TimeNs kNoSampleYet = -1;
 };
 
 }  // namespace nav::dds

@@ -173,6 +173,7 @@ void to_wire(const StationHealth& sample, nav_msgs::StationHealth& wire) {
   for (std::size_t i = 0; i < kStationInputCount; ++i) {
     wire.input_flags()[i] = sample.input_flags[i];
     wire.input_refused()[i] = sample.input_refused[i];
+    wire.input_age_ns()[i] = sample.input_age_ns[i];
   }
 }
 
@@ -197,6 +198,7 @@ SampleFault from_wire(const nav_msgs::StationHealth& wire, StationHealth& sample
   for (std::size_t i = 0; i < kStationInputCount; ++i) {
     sample.input_flags[i] = wire.input_flags()[i];
     sample.input_refused[i] = wire.input_refused()[i];
+    sample.input_age_ns[i] = wire.input_age_ns()[i] < 0 ? StationHealth::kNoSampleYet : wire.input_age_ns()[i];
   }
   return SampleFault::none;
 }
