@@ -101,6 +101,25 @@ int wait_for_station(const DeviceNode& device, const DeviceArgs& args, const nav
                                    : "a station runs, but reads none of this device's topics (their names differ?)");
     clock.sleep_until_ns(clock.now_ns() + 10 * nav::kNsPerMs);
   }
+  nav::dds::StationHealth health;
+  while (device.health->try_pop(health)) {
+  }  // published before this device's writers matched
+  const auto station_matched_these_writers = [&] {
+    bool matched = false;
+    while (device.health->try_pop(health)) {
+      matched = true;
+      for (const nav::dds::Topic topic : writes)
+        matched = matched && (topic != nav::dds::Topic::tool_pose || health.pose_writers > 0) &&
+                  (topic != nav::dds::Topic::ultrasound_frame || health.frame_writers > 0);
+    }
+    return matched;
+  };
+  while (!station_matched_these_writers()) {
+    if (nav::dds::stop_requested()) return -1;
+    if (clock.now_ns() > give_up_ns)
+      return fail(device_name, "the station's health never said its readers matched this device's writers");
+    clock.sleep_until_ns(clock.now_ns() + 10 * nav::kNsPerMs);
+  }
   return 0;
 }
 

@@ -82,8 +82,10 @@ nav::Result<DeviceNode> open_device_node(const nav::station::Scene& scene, const
 
 /// Waits (unless --no-wait) up to --wait-s for a running station's first health sample (a
 /// recorder or a display is not a station), then, within the same time, for a reader matched to
-/// each topic in `writes` (the reader may match this writer a moment later still: a first
-/// sample can be lost at start-up).
+/// each topic in `writes`, and then for a health sample published after that whose station
+/// readers have matched a writer of each pose and frame topic in `writes`: the station's reader
+/// may match this writer a moment after this writer matched it, and a sample written in between
+/// is lost. (With several devices writing one topic, the count may be another's.)
 /// Returns 0 to go on, -1 if stopped by a signal, or the exit code of the failure it printed.
 int wait_for_station(const DeviceNode& device, const DeviceArgs& args, const nav::station::Scene& scene,
                      const char* device_name, std::initializer_list<nav::dds::Topic> writes);

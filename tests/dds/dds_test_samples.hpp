@@ -100,6 +100,16 @@ inline StationHealth make_health(TimeNs source_time_ns) {
   return health;
 }
 
+inline NeedleForce make_needle_force(TimeNs source_time_ns) {
+  NeedleForce force;
+  force.source_time_ns = source_time_ns;
+  force.tool_id = 12;
+  force.flags = 0;
+  force.tip_force_n = {0.1, -0.2, 0.55};
+  force.holder_force_n = {-0.05, 0.1, -0.6};
+  return force;
+}
+
 inline GroundTruth make_truth(TimeNs source_time_ns) {
   GroundTruth truth;
   truth.source_time_ns = source_time_ns;

@@ -11,6 +11,7 @@
 #include "nav/dds/dds_node.hpp"
 #include "nav/dds/pose_inbox.hpp"
 #include "nav/dds/station_outbox.hpp"
+#include "nav/dds/topic_qos.hpp"
 
 namespace nav::dds {
 namespace {
@@ -118,6 +119,52 @@ TEST(DdsPubSub, OutboxOutputsReachTheDisplayWithHealthCounters) {
 
 /// The bad samples of every kind, sent until each is counted; then the station's health
 /// carries the counts to a display.
+// The loop-rate forces leave the outbox on their own best-effort topic, counted apart from the
+// other outputs; a burst beyond their ring is refused and counted there, never as an outbox
+// overrun (the health's buffer_overrun stays down).
+TEST(DdsPubSub, NeedleForcesReachTheDisplayBestEffortAndCountedApart) {
+  NodePair nodes = make_pair(105);
+  auto outbox = std::make_unique<StationOutbox>();
+  OutboxPublisher publisher;
+  auto forces = std::make_unique<RingSink<NeedleForce, 256>>();
+  ASSERT_TRUE(nodes.writer->advertise<NeedleForce>().ok());
+  ASSERT_TRUE(nodes.reader->subscribe(*forces).ok());
+  ASSERT_TRUE(nodes.writer->wait_for_match(Topic::needle_force, 1, kMatchTimeoutNs));
+  EXPECT_EQ(writer_qos(Topic::needle_force, {}).reliability().kind,
+            eprosima::fastdds::dds::BEST_EFFORT_RELIABILITY_QOS);
+  constexpr int kBurst = 80;  // more than the ring's 64
+  int pushed = 0;
+  for (int i = 0; i < kBurst; ++i) pushed += outbox->needle_forces.try_push(make_needle_force(1000 + i)) ? 1 : 0;
+  EXPECT_EQ(pushed, 64);
+  EXPECT_EQ(outbox->needle_forces.dropped(), static_cast<std::uint64_t>(kBurst - 64));
+  EXPECT_EQ(outbox->dropped(), 0u);
+  EXPECT_EQ(publisher.publish(*outbox, *nodes.writer, 0), 0u);  // no other output
+  EXPECT_EQ(publisher.forces_written(), 64u);
+  // Best effort: under load some of the burst may be lost; one force more a millisecond until
+  // one arrives. What arrives comes in order, none twice.
+  NeedleForce received;
+  int count = 0;
+  TimeNs last_ns = 0, next_ns = 1000 + kBurst;
+  ASSERT_TRUE(wait_until([&] {
+    while (forces->try_pop(received)) {
+      ++count;
+      EXPECT_GT(received.source_time_ns, last_ns);
+      last_ns = received.source_time_ns;
+    }
+    if (count > 0) return true;
+    outbox->needle_forces.try_push(make_needle_force(next_ns++));
+    publisher.publish(*outbox, *nodes.writer, 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    return false;
+  })) << count
+      << " forces arrived";
+  std::printf("%d of %llu forces written arrived\n", count,
+              static_cast<unsigned long long>(publisher.forces_written()));
+  EXPECT_EQ(received.tip_force_n, make_needle_force(0).tip_force_n);
+  EXPECT_EQ(received.holder_force_n, make_needle_force(0).holder_force_n);
+  EXPECT_EQ(received.tool_id, 12u);
+}
+
 TEST(DdsPubSub, BadSamplesAreDroppedCountedAndPublishedInHealth) {
   NodePair nodes = make_pair(104);
   DdsNode& tracker = *nodes.writer;
@@ -207,6 +254,8 @@ TEST(DdsPubSub, BadSamplesAreDroppedCountedAndPublishedInHealth) {
   EXPECT_TRUE(received.input_flags[ultrasound] & bad_sample);
   EXPECT_EQ(received.input_flags[probe], 0u);
   EXPECT_EQ(received.input_refused, refused);
+  EXPECT_EQ(received.pose_writers, 1u);  // the tracker's writers, as the station's readers matched them
+  EXPECT_EQ(received.frame_writers, 1u);
   StationHealth later;
   for (const TimeNs after_ns : {kBadSampleHoldNs - 1, kBadSampleHoldNs}) {
     ASSERT_TRUE(outbox->health.try_push(make_health(time_ns)));

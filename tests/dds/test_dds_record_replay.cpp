@@ -50,6 +50,7 @@ TEST(DdsRecording, EveryTopicRoundTripsWithItsTimes) {
     append(*writer.value(), *make_surface(500, 500));
     append(*writer.value(), make_health(600));
     append(*writer.value(), make_truth(700));
+    append(*writer.value(), make_needle_force(800));
     ASSERT_TRUE(writer.value()->close().ok());
   }
   auto reader = RecordingReader::open(path);
@@ -59,7 +60,7 @@ TEST(DdsRecording, EveryTopicRoundTripsWithItsTimes) {
   ASSERT_EQ(reader.value()->record_count(), kTopicCount);
   const Topic topics[] = {Topic::tool_pose,         Topic::ultrasound_frame, Topic::needle_state,
                           Topic::target_prediction, Topic::deformed_surface, Topic::station_health,
-                          Topic::ground_truth};
+                          Topic::ground_truth,      Topic::needle_force};
   static_assert(std::size(topics) == kTopicCount, "every topic is recorded");
   for (std::size_t i = 0; i < kTopicCount; ++i) {
     auto record = reader.value()->read(i);

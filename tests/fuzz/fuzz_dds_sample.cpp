@@ -51,8 +51,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     case 5:
       decode_as<StationHealth>(payload, payload_size);
       break;
-    default:
+    case 6:
       decode_as<GroundTruth>(payload, payload_size);
+      break;
+    default:
+      decode_as<NeedleForce>(payload, payload_size);
       break;
   }
   return 0;

@@ -292,6 +292,48 @@ TEST(OperatingLoopNeedle, PushingTheNeedleDeformsTheLiverAndResists) {
             1e-12);
 }
 
+/// |a - b| of two forces.
+double change_n(const Point3& a, const Point3& b) { return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
+
+// The needle's forces come out of every 1 kHz tick (nav/needle_force), the liver under them only
+// every 10th: at a liver step the tip and holder forces must not jump by more than they change
+// from tick to tick between liver steps (the largest such change in the liver periods before and
+// after it, with a 5 % margin), or a haptic display would feel the 100 Hz liver as a buzz. Liver steps around a
+// puncture or where the push starts or stops, where the force changes by nature, are left out.
+TEST(OperatingLoopNeedle, TheForceAtTheLoopRateIsContinuousAcrossLiverSteps) {
+  const ScriptedRun r = run({});
+  int compared = 0, within = 0;
+  double worst_ratio = 0.0, worst_jump_n = 0.0, largest_force_n = 0.0;
+  const auto tick_change_n = [&](std::size_t j, Point3 NeedleShapeOutputs::*force) {
+    return change_n(r.ticks[j].needle_shape.*force, r.ticks[j - 1].needle_shape.*force);
+  };
+  for (std::size_t k = first_needle_tick(r) + kTissueEvery; k + kTissueEvery < r.ticks.size(); ++k) {
+    const OperatingLoopOutputs& o = r.ticks[k];
+    largest_force_n = std::max(largest_force_n, change_n(o.needle_shape.tip_force_n, {}));
+    if (o.time_ns != o.tissue_time_ns) continue;  // not a liver step
+    if (r.ticks[k + kTissueEvery].needle_shape.punctures != r.ticks[k - kTissueEvery].needle_shape.punctures) continue;
+    const TimeNs period_ns = kTissueEvery * kTick;
+    if (after_a_kink(o.time_ns) || after_a_kink(o.time_ns - period_ns) || after_a_kink(o.time_ns + period_ns)) continue;
+    for (const auto force : {&NeedleShapeOutputs::tip_force_n, &NeedleShapeOutputs::base_force_n}) {
+      const double jump_n = tick_change_n(k, force);
+      double between_n = 0.0;
+      for (std::size_t j = k - kTissueEvery + 1; j < k + kTissueEvery; ++j)
+        if (j != k) between_n = std::max(between_n, tick_change_n(j, force));
+      ++compared;
+      within += jump_n <= 1.05 * between_n + 1e-9 ? 1 : 0;  // 5 %: the tick-to-tick changes vary as much
+      worst_jump_n = std::max(worst_jump_n, jump_n);
+      if (between_n > 0.0) worst_ratio = std::max(worst_ratio, jump_n / between_n);
+    }
+  }
+  std::printf(
+      "%d liver steps (tip and holder): %d jump no more than the force changes from tick to tick between "
+      "liver steps (5 %% margin); worst jump %.2e N, %.3f times that change at most; largest tip force %.3f N\n",
+      compared / 2, within, worst_jump_n, worst_ratio, largest_force_n);
+  EXPECT_GT(compared, 2 * 50);
+  EXPECT_GT(largest_force_n, 0.1);
+  EXPECT_EQ(within, compared);
+}
+
 /// Every published value of every tick, as doubles (flags as their bit patterns).
 std::vector<double> flatten(const ScriptedRun& r) {
   std::vector<double> v;

@@ -290,8 +290,8 @@ std::string renamed_demo_scene() {
   const std::filesystem::path folder = std::filesystem::path(testing::example_scene_path("demo.yaml")).parent_path();
   const std::string urdf = "../../../calibration/urdf/station.urdf";
   std::string text = testing::edited(testing::demo_text(), urdf, (folder / urdf).lexically_normal().string());
-  for (const char* name :
-       {"tool_pose", "ultrasound_frame", "target_prediction", "deformed_surface", "needle_state", "station_health"})
+  for (const char* name : {"tool_pose", "ultrasound_frame", "target_prediction", "deformed_surface", "needle_state",
+                           "needle_force", "station_health"})
     text = testing::edited(text, std::string(": nav/") + name, std::string(": site_c/") + name);
   const std::string path = testing::temporary_path("station_demo_site_c.yaml");
   std::ofstream(path) << text;
@@ -322,6 +322,13 @@ TEST(StationRun, NavstationRunsASceneAndPrintsItsSummary) {
   // the 40 frames through DDS); the real figures are printed above.
   EXPECT_LE(testing::number_after(run.output, "deadline misses (> 5 ms late): "), 100.0);
   EXPECT_GE(testing::number_after(run.output, "ultrasound: "), 30.0);
+  // The needle's forces, one per tick of the needle model (it steps from the first needle pose
+  // on, within the first 100 ms), best effort: a lagging output thread may drop some.
+  const double forces = testing::number_after(run.output, "needle forces at the loop rate: ");
+  const double forces_dropped = testing::number_after(run.output, " published, ");
+  EXPECT_GE(forces + forces_dropped, 1900.0);
+  EXPECT_LE(forces + forces_dropped, 2001.0);
+  EXPECT_GE(forces, 1500.0);
   const std::string plot = testing::file_text(svg);
   EXPECT_NE(plot.find("<svg"), std::string::npos);
   EXPECT_NE(plot.find("<polyline"), std::string::npos);

@@ -461,6 +461,7 @@ TopicSettings read_topics(MapReader r) {
                            {"predictions", &t.predictions},
                            {"surfaces", &t.surfaces},
                            {"needle_states", &t.needle_states},
+                           {"needle_forces", &t.needle_forces},
                            {"health", &t.health},
                            {"ground_truth", &t.ground_truth}})
     *name = read_topic(r, key, *name, taken);

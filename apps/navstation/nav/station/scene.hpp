@@ -238,6 +238,7 @@ struct TopicSettings {
   std::string predictions = "nav/target_prediction";
   std::string surfaces = "nav/deformed_surface";
   std::string needle_states = "nav/needle_state";
+  std::string needle_forces = "nav/needle_force";  ///< at the loop rate, for a haptic display or a robot
   std::string health = "nav/station_health";
   std::string ground_truth = "nav/ground_truth";
 };

@@ -32,10 +32,11 @@ RoleTopics role_topics(Role role) {
   using dds::Topic;
   const std::vector<Topic> all{Topic::tool_pose,         Topic::ultrasound_frame, Topic::needle_state,
                                Topic::target_prediction, Topic::deformed_surface, Topic::station_health,
-                               Topic::ground_truth};
+                               Topic::ground_truth,      Topic::needle_force};
   switch (role) {
     case Role::station:
-      return {{Topic::needle_state, Topic::target_prediction, Topic::deformed_surface, Topic::station_health},
+      return {{Topic::needle_state, Topic::target_prediction, Topic::deformed_surface, Topic::station_health,
+               Topic::needle_force},
               {Topic::tool_pose, Topic::ultrasound_frame}};
     case Role::devices:
       return {{Topic::tool_pose, Topic::ultrasound_frame, Topic::ground_truth}, {Topic::station_health}};

@@ -149,6 +149,8 @@ void output_thread(StationChannels& ch, const StationRunOptions& options, Statio
   publish();                                                         // the loop's last outputs
   link.station->wait_for_acknowledgments(kAcknowledgmentTimeoutNs);  // they reach the displays before the run closes
   report.outbox_dropped = ch.outbox->dropped();
+  report.forces_published = static_cast<std::int64_t>(publisher.forces_written());
+  report.forces_dropped = ch.outbox->needle_forces.dropped();
 }
 
 /// Watches whether the station still has a pose writer matched, and records the changes.
@@ -205,6 +207,7 @@ dds::TopicNames topic_names(const TopicSettings& topics) {
   set(dds::Topic::tool_pose, topics.poses);
   set(dds::Topic::ultrasound_frame, topics.images);
   set(dds::Topic::needle_state, topics.needle_states);
+  set(dds::Topic::needle_force, topics.needle_forces);
   set(dds::Topic::target_prediction, topics.predictions);
   set(dds::Topic::deformed_surface, topics.surfaces);
   set(dds::Topic::station_health, topics.health);
@@ -258,7 +261,8 @@ Result<std::unique_ptr<StationDdsLink>> StationDdsLink::create(std::uint32_t dom
   dds::DdsNode& s = *link->station;
   for (const Status& status :
        {s.subscribe(*link->poses, arrival), s.subscribe(*link->frames, arrival), s.advertise<dds::TargetPrediction>(),
-        s.advertise<dds::NeedleState>(), s.advertise<dds::StationHealth>(), s.advertise<dds::DeformedSurface>()})
+        s.advertise<dds::NeedleState>(), s.advertise<dds::StationHealth>(), s.advertise<dds::DeformedSurface>(),
+        s.advertise<dds::NeedleForce>()})
     if (!status.ok()) return status.error();
   if (!with_simulated_devices) return link;  // the devices are other processes: they come and go
   auto devices = make_station_node(domain_id, "nav_demo_devices", names, network, Role::devices);
@@ -304,6 +308,15 @@ void push_outputs(dds::StationOutbox& outbox, const OperatingLoopOutputs& o, con
       needle.shape_points_m[0] = vector_of(o.needle_tip_m);
     }
     outbox.needle.try_push(needle);
+  }
+  if (o.needle_shape.node_count > 0) {  // the needle model's forces at every tick
+    dds::NeedleForce force;
+    force.source_time_ns = o.time_ns + loop_to_host_ns;
+    force.tool_id = stamps.needle_tool_id;
+    force.flags = o.needle_shape.flags.bits();
+    force.tip_force_n = vector_of(o.needle_shape.tip_force_n);
+    force.holder_force_n = vector_of(o.needle_shape.base_force_n);
+    outbox.needle_forces.try_push(force);
   }
   if (o.ticks % health_every_ticks != 0) return;
   dds::StationHealth health;
@@ -389,6 +402,8 @@ void dds_io_thread(const OperatingLoopModel& loop, const SimulatedWorld* world, 
   outputs.join();
   report.outputs_published = published.outputs_published;
   report.outbox_dropped = published.outbox_dropped;
+  report.forces_published = published.forces_published;
+  report.forces_dropped = published.forces_dropped;
   if (player) {
     const PlayerCounts& played = player->counts();
     report.poses_written = played.poses_written;

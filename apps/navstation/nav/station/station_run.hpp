@@ -120,6 +120,8 @@ struct DdsRunReport {
                 frames_lost = 0;       ///< sent to the station and never delivered (DDS's sample-lost status)
   std::int64_t outputs_published = 0;  ///< predictions, needle states and health samples written
   std::uint64_t outbox_dropped = 0;
+  std::int64_t forces_published = 0;      ///< nav/needle_force samples written, one per tick with a needle model
+  std::uint64_t forces_dropped = 0;       ///< refused by their full ring (the output thread lagged 64 ticks)
   TimeNs device_gone_ns = -1;             ///< when the devices' participant began to be destroyed (run time; -1: never)
   TimeNs device_back_ns = -1;             ///< when it began to be created again
   TimeNs peer_lost_seen_ns = -1;          ///< when the I/O thread saw no pose writer any more

@@ -237,6 +237,9 @@ std::string run_figures(const Scene& scene, const StationRun& run, const Display
         "published\n",
         static_cast<double>(scene.topics.domain_id), static_cast<double>(d.poses_received),
         static_cast<double>(d.frames_received), static_cast<double>(d.outputs_published));
+    if (d.forces_published > 0 || d.forces_dropped > 0)
+      out += format("  needle forces at the loop rate: %.0f published, %.0f dropped\n",
+                    static_cast<double>(d.forces_published), static_cast<double>(d.forces_dropped));
     if (d.pose_latency.count > 0)  // the devices in this process: their write times are known
       out += format("  writer to reader: poses median %.0f us, p99 %.0f us; frames median %.0f us, p99 %.0f us\n",
                     d.pose_latency.median_us, d.pose_latency.p99_us, d.frame_latency.median_us, d.frame_latency.p99_us);
@@ -414,6 +417,8 @@ std::string live_session_json(const Scene& scene, const LiveSession& s) {
     out += std::string(i == 0 ? "\"" : ", \"") + dds::station_input_name(static_cast<dds::StationInput>(i)) +
            "\": " + std::to_string(d.input_refused[i]);
   out += "},";
+  out += format(" \"forces_published\": %.0f, \"forces_dropped\": %.0f,", static_cast<double>(d.forces_published),
+                static_cast<double>(d.forces_dropped));
   return out + format(" \"outputs_published\": %.0f\n}\n", static_cast<double>(d.outputs_published));
 }
 

@@ -121,7 +121,7 @@ struct DdsNode::Impl {
   bool create_topics() {
     return create_topic<ToolPose>() && create_topic<UltrasoundFrame>() && create_topic<NeedleState>() &&
            create_topic<TargetPrediction>() && create_topic<DeformedSurface>() && create_topic<StationHealth>() &&
-           create_topic<GroundTruth>();
+           create_topic<GroundTruth>() && create_topic<NeedleForce>();
   }
 };
 
@@ -256,6 +256,7 @@ NAV_DDS_NODE_SAMPLE(TargetPrediction)
 NAV_DDS_NODE_SAMPLE(DeformedSurface)
 NAV_DDS_NODE_SAMPLE(StationHealth)
 NAV_DDS_NODE_SAMPLE(GroundTruth)
+NAV_DDS_NODE_SAMPLE(NeedleForce)
 #undef NAV_DDS_NODE_SAMPLE
 
 }  // namespace nav::dds

@@ -20,6 +20,7 @@ void for_each_sample_type(Visit visit) {
   visit(static_cast<DeformedSurface*>(nullptr));
   visit(static_cast<StationHealth*>(nullptr));
   visit(static_cast<GroundTruth*>(nullptr));
+  visit(static_cast<NeedleForce*>(nullptr));
 }
 
 /// Decodes `record` as Sample and writes it; false when it does not decode or DDS refuses.

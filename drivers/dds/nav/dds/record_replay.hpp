@@ -42,7 +42,8 @@ class Recorder {
              std::unique_ptr<RingSink<TargetPrediction, kRecorderQueueDepth>>,
              std::unique_ptr<RingSink<DeformedSurface, kRecorderQueueDepth>>,
              std::unique_ptr<RingSink<StationHealth, kRecorderQueueDepth>>,
-             std::unique_ptr<RingSink<GroundTruth, kRecorderQueueDepth>>>
+             std::unique_ptr<RingSink<GroundTruth, kRecorderQueueDepth>>,
+             std::unique_ptr<RingSink<NeedleForce, kRecorderQueueDepth>>>
       sinks_;
 };
 

@@ -62,6 +62,11 @@ SampleFault check_sample(const GroundTruth& truth) noexcept {
   return all_finite(truth.tumour_m) && all_finite(truth.needle_tip_m) ? SampleFault::none : SampleFault::non_finite;
 }
 
+SampleFault check_sample(const NeedleForce& force) noexcept {
+  return all_finite(force.tip_force_n) && all_finite(force.holder_force_n) ? SampleFault::none
+                                                                           : SampleFault::non_finite;
+}
+
 SampleFault PoseBounds::check(const ToolPose& pose, const ToolPose* previous) const noexcept {
   const auto& p = pose.position_m;
   if (std::hypot(p[0], p[1], p[2]) > volume_radius_m) return SampleFault::implausible_pose;

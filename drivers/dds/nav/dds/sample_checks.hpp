@@ -20,6 +20,7 @@ SampleFault check_sample(const DeformedSurface& surface) noexcept;
 /// Health carries only counters and flags: nothing to refuse.
 SampleFault check_sample(const StationHealth& health) noexcept;
 SampleFault check_sample(const GroundTruth& truth) noexcept;
+SampleFault check_sample(const NeedleForce& force) noexcept;
 
 /// How far a sample's source time may lie from its arrival. The source time, moved onto this
 /// host's monotonic clock by `source_clock_offset_ns`, must fall within [arrival -

@@ -49,6 +49,7 @@ NAV_DDS_CODEC_SAMPLE(TargetPrediction)
 NAV_DDS_CODEC_SAMPLE(DeformedSurface)
 NAV_DDS_CODEC_SAMPLE(StationHealth)
 NAV_DDS_CODEC_SAMPLE(GroundTruth)
+NAV_DDS_CODEC_SAMPLE(NeedleForce)
 #undef NAV_DDS_CODEC_SAMPLE
 
 }  // namespace nav::dds

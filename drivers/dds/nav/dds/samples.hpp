@@ -70,6 +70,17 @@ struct NeedleState {
   Vector3 tip_force_n{};
 };
 
+/// The forces on the needle at one tick of the loop (1 kHz), for a haptic display or a robot
+/// controller: on its tip, and the force its holder feels (model frame, newtons).
+struct NeedleForce {
+  TimeNs source_time_ns = 0;
+  TimeNs receive_time_ns = 0;
+  std::uint32_t tool_id = 0;
+  std::uint32_t flags = 0;  // HealthFlags bits of the needle model at that tick
+  Vector3 tip_force_n{};
+  Vector3 holder_force_n{};
+};
+
 /// Where a model rung expects a target to be horizon_ns after source_time_ns.
 struct TargetPrediction {
   TimeNs source_time_ns = 0;
@@ -139,6 +150,10 @@ struct StationHealth {
   PerInput<std::uint64_t> input_refused{};  // each input's samples refused at the boundary so far
   /// How old each input's newest good sample was at source_time_ns; kNoSampleYet: none yet.
   PerInput<TimeNs> input_age_ns{kNoSampleYet, kNoSampleYet, kNoSampleYet, kNoSampleYet};
+  /// Writers the station's pose and frame readers have matched: a device knows from them that
+  /// the station reads it (a sample written before is lost).
+  std::uint32_t pose_writers = 0;
+  std::uint32_t frame_writers = 0;
 
   static constexpr TimeNs kNoSampleYet = -1;
 };

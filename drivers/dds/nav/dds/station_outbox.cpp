@@ -37,6 +37,8 @@ std::size_t OutboxPublisher::publish(StationOutbox& outbox, DdsNode& node, TimeN
   NeedleState needle;
   TargetPrediction prediction;
   StationHealth health;
+  NeedleForce force;
+  forces_written_ += drain(outbox.needle_forces, force, node, as_is);
   std::size_t written = drain(outbox.needle, needle, node, as_is);
   written += drain(outbox.predictions, prediction, node, as_is);
   written += drain(outbox.surfaces, *surface_, node, as_is);
@@ -45,6 +47,8 @@ std::size_t OutboxPublisher::publish(StationOutbox& outbox, DdsNode& node, TimeN
     if (outbox.dropped() > 0) sample.flags |= static_cast<std::uint32_t>(HealthFlag::buffer_overrun);
     if (station_.raised(refused_as_invalid(sample.boundary), now_ns, bad_sample_hold_ns_)) sample.flags |= bad_sample;
     sample.input_refused = input_refused;
+    sample.pose_writers = static_cast<std::uint32_t>(node.matched(Topic::tool_pose));
+    sample.frame_writers = static_cast<std::uint32_t>(node.matched(Topic::ultrasound_frame));
     for (std::size_t i = 0; i < kStationInputCount; ++i)
       if (inputs_[i].raised(input_refused[i], now_ns, bad_sample_hold_ns_)) sample.input_flags[i] |= bad_sample;
   });

@@ -19,7 +19,9 @@ Qos endpoint_qos(Topic topic, const TopicQosOptions& options) {
   Qos qos;
   qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
   qos.history().depth = topic == Topic::tool_pose ? kPoseBurstTools : topic == Topic::ultrasound_frame ? 2 : 1;
-  const bool best_effort = topic == Topic::tool_pose || topic == Topic::ultrasound_frame;
+  // A force older than the newest is of no use to a haptic loop: best effort, and newest only.
+  const bool best_effort =
+      topic == Topic::tool_pose || topic == Topic::ultrasound_frame || topic == Topic::needle_force;
   qos.reliability().kind = best_effort ? fdds::BEST_EFFORT_RELIABILITY_QOS : fdds::RELIABLE_RELIABILITY_QOS;
   qos.durability().kind =
       topic == Topic::station_health ? fdds::TRANSIENT_LOCAL_DURABILITY_QOS : fdds::VOLATILE_DURABILITY_QOS;
@@ -54,6 +56,8 @@ const char* topic_name(Topic topic) noexcept {
       return "nav/station_health";
     case Topic::ground_truth:
       return "nav/ground_truth";
+    case Topic::needle_force:
+      return "nav/needle_force";
   }
   return "nav/unknown";
 }

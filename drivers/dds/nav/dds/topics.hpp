@@ -19,10 +19,11 @@ enum class Topic : std::uint8_t {
   deformed_surface,
   station_health,
   ground_truth,  ///< a simulated patient's truth, for evaluation only
+  needle_force,  ///< the needle's forces at the loop rate (best effort, newest only)
 };
 
 /// The number of topics (Topic values are 0 .. kTopicCount - 1).
-inline constexpr std::size_t kTopicCount = static_cast<std::size_t>(Topic::ground_truth) + 1;
+inline constexpr std::size_t kTopicCount = static_cast<std::size_t>(Topic::needle_force) + 1;
 
 /// The topics' names on the wire, by Topic (index static_cast<std::size_t>(topic)); an empty
 /// entry keeps the default topic_name(topic). A station scene renames its topics with it.

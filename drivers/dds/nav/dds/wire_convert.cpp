@@ -127,6 +127,23 @@ SampleFault from_wire(const nav_msgs::TargetPrediction& wire, TargetPrediction& 
   return SampleFault::none;
 }
 
+void to_wire(const NeedleForce& sample, nav_msgs::NeedleForce& wire) {
+  wire.source_time_ns(sample.source_time_ns);
+  wire.tool_id(sample.tool_id);
+  wire.flags(sample.flags);
+  wire.tip_force_n() = sample.tip_force_n;
+  wire.holder_force_n() = sample.holder_force_n;
+}
+
+SampleFault from_wire(const nav_msgs::NeedleForce& wire, NeedleForce& sample) noexcept {
+  sample.source_time_ns = wire.source_time_ns();
+  sample.tool_id = wire.tool_id();
+  sample.flags = wire.flags();
+  sample.tip_force_n = wire.tip_force_n();
+  sample.holder_force_n = wire.holder_force_n();
+  return SampleFault::none;
+}
+
 void to_wire(const GroundTruth& sample, nav_msgs::GroundTruth& wire) {
   wire.source_time_ns(sample.source_time_ns);
   wire.tumour_m() = sample.tumour_m;
@@ -175,6 +192,8 @@ void to_wire(const StationHealth& sample, nav_msgs::StationHealth& wire) {
     wire.input_refused()[i] = sample.input_refused[i];
     wire.input_age_ns()[i] = sample.input_age_ns[i];
   }
+  wire.pose_writers(sample.pose_writers);
+  wire.frame_writers(sample.frame_writers);
 }
 
 SampleFault from_wire(const nav_msgs::StationHealth& wire, StationHealth& sample) noexcept {
@@ -200,6 +219,8 @@ SampleFault from_wire(const nav_msgs::StationHealth& wire, StationHealth& sample
     sample.input_refused[i] = wire.input_refused()[i];
     sample.input_age_ns[i] = wire.input_age_ns()[i] < 0 ? StationHealth::kNoSampleYet : wire.input_age_ns()[i];
   }
+  sample.pose_writers = wire.pose_writers();
+  sample.frame_writers = wire.frame_writers();
   return SampleFault::none;
 }
 

@@ -17,6 +17,7 @@ void to_wire(const TargetPrediction& sample, nav_msgs::TargetPrediction& wire);
 void to_wire(const DeformedSurface& sample, nav_msgs::DeformedSurface& wire);
 void to_wire(const StationHealth& sample, nav_msgs::StationHealth& wire);
 void to_wire(const GroundTruth& sample, nav_msgs::GroundTruth& wire);
+void to_wire(const NeedleForce& sample, nav_msgs::NeedleForce& wire);
 
 /// Fill `sample` from `wire`: none, or wrong_size (then `sample` is partly written).
 SampleFault from_wire(const nav_msgs::ToolPose& wire, ToolPose& sample) noexcept;
@@ -26,6 +27,7 @@ SampleFault from_wire(const nav_msgs::TargetPrediction& wire, TargetPrediction& 
 SampleFault from_wire(const nav_msgs::DeformedSurface& wire, DeformedSurface& sample) noexcept;
 SampleFault from_wire(const nav_msgs::StationHealth& wire, StationHealth& sample) noexcept;
 SampleFault from_wire(const nav_msgs::GroundTruth& wire, GroundTruth& sample) noexcept;
+SampleFault from_wire(const nav_msgs::NeedleForce& wire, NeedleForce& sample) noexcept;
 
 /// A plain sample's wire type, its Fast DDS type support and its topic.
 template <typename Sample>
@@ -72,6 +74,12 @@ struct WireTraits<GroundTruth> {
   using Wire = nav_msgs::GroundTruth;
   using PubSubType = nav_msgs::GroundTruthPubSubType;
   static constexpr Topic topic = Topic::ground_truth;
+};
+template <>
+struct WireTraits<NeedleForce> {
+  using Wire = nav_msgs::NeedleForce;
+  using PubSubType = nav_msgs::NeedleForcePubSubType;
+  static constexpr Topic topic = Topic::needle_force;
 };
 
 }  // namespace nav::dds
