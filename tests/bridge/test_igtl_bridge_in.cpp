@@ -76,6 +76,10 @@ TEST(IgtlBridgeIn, PlusServerMessagesBecomeTheScenesPosesAndFramesAndBadOnesAreC
   const nav::testing::RunningBridge running(*bridge.value());
   ASSERT_TRUE(station.node->wait_for_match(dds::Topic::tool_pose, 1, kTimeoutNs));
   ASSERT_TRUE(station.node->wait_for_match(dds::Topic::ultrasound_frame, 1, kTimeoutNs));
+  ASSERT_TRUE(wait_until([&] {  // and the bridge's writers the station's readers: earlier samples are lost
+    return bridge.value()->readers_matched(dds::Topic::tool_pose) >= 1 &&
+           bridge.value()->readers_matched(dds::Topic::ultrasound_frame) >= 1;
+  }));
 
   auto connection = plus.value().accept(kTimeoutNs);
   ASSERT_TRUE(connection.ok());
@@ -169,10 +173,12 @@ struct ListeningBridge {
     station = std::make_unique<StationSide>(scene);
     running.emplace(*bridge);
   }
-  /// Whether it is up with the station's pose reader matched.
+  /// Whether it is up with the station's pose reader and the bridge's pose writer matched to each
+  /// other: a best-effort pose written before both sides have matched is lost.
   bool ready() const {
     return bridge && station->node && bridge->plus_port() > 0 &&
-           station->node->wait_for_match(dds::Topic::tool_pose, 1, kTimeoutNs);
+           station->node->wait_for_match(dds::Topic::tool_pose, 1, kTimeoutNs) &&
+           wait_until([&] { return bridge->readers_matched(dds::Topic::tool_pose) >= 1; });
   }
 };
 

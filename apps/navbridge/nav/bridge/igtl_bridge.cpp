@@ -168,6 +168,8 @@ int IgtlBridge::displays_port() const noexcept { return impl_->displays.port(); 
 
 int IgtlBridge::plus_port() const noexcept { return impl_->plus_listener ? impl_->plus_listener->port() : 0; }
 
+std::size_t IgtlBridge::readers_matched(dds::Topic topic) const { return impl_->devices->matched(topic); }
+
 void IgtlBridge::run() {
   std::thread inbound([this] { run_inbound(); });
   run_outbound();

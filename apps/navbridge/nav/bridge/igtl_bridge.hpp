@@ -13,6 +13,7 @@
 #include <string>
 
 #include "nav/core/error.hpp"
+#include "nav/dds/topics.hpp"
 #include "nav/station/scene.hpp"
 
 namespace nav::bridge {
@@ -60,6 +61,9 @@ class IgtlBridge {
   int displays_port() const noexcept;
   /// The port a PlusServer connects to when the bridge listens for it; 0 otherwise.
   int plus_port() const noexcept;
+  /// The readers its writer of `topic` (poses or frames) has matched: the station's among them
+  /// once DDS discovery has run both ways.
+  std::size_t readers_matched(dds::Topic topic) const;
 
  private:
   struct Impl;
