@@ -1,7 +1,7 @@
 #pragma once
 // A stand-in for a running station, for the tests of the device processes (header-only): a
 // participant that reads one topic and publishes the station's health, for which a device
-// waits before it plays.
+// waits before it plays (with the writers its reader has matched, as a station's health says).
 #include <chrono>
 #include <memory>
 #include <thread>
@@ -29,14 +29,18 @@ class StationStandIn {
     EXPECT_TRUE(node_->advertise<dds::StationHealth>().ok());
   }
 
-  /// Publishes the station's health every 20 ms and collects samples until `done(received)`
+  /// Publishes the station's health every 20 ms (its reader's matched writers in it) and collects
+  /// samples until `done(received)`
   /// holds (checked after each drain) or `timeout` passed.
   template <typename Done>
   std::vector<std::unique_ptr<Sample>> collect(Done done, std::chrono::seconds timeout) {
     std::vector<std::unique_ptr<Sample>> received;
     const auto deadline = std::chrono::steady_clock::now() + timeout;
     while (node_ && std::chrono::steady_clock::now() < deadline) {
-      node_->write(dds::StationHealth{});
+      dds::StationHealth health;
+      health.pose_writers = static_cast<std::uint32_t>(node_->matched(dds::Topic::tool_pose));
+      health.frame_writers = static_cast<std::uint32_t>(node_->matched(dds::Topic::ultrasound_frame));
+      node_->write(health);
       auto sample = std::make_unique<Sample>();
       while (sink_->try_pop(*sample)) {
         received.push_back(std::move(sample));
