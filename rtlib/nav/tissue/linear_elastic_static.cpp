@@ -7,16 +7,12 @@
 
 #include "nav/mesh/geometry.hpp"
 #include "nav/tissue/tet_kernels.hpp"
+#include "nav/tissue/von_mises.hpp"
 
 namespace nav {
 namespace {
 
 using Vector6 = Eigen::Matrix<double, 6, 1>;
-
-double von_mises_pa(const Vector6& s) {
-  const double normal = (s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) + (s[2] - s[0]) * (s[2] - s[0]);
-  return std::sqrt(0.5 * normal + 3.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
-}
 
 const ElasticMaterial& material_of(const TetMesh& mesh, std::size_t tet, const TissueScene& scene) {
   if (tet < mesh.tet_regions.size()) {
@@ -128,7 +124,8 @@ Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const TissueScen
     Eigen::Matrix<double, 12, 1> ue;
     for (int a = 0; a < 4; ++a)
       for (int c = 0; c < 3; ++c) ue[3 * a + c] = solution.displacement_m[mesh.tets[e][a]][c];
-    const double stress = von_mises_pa(stress_from_displacement[e] * ue);
+    const Vector6 voigt = stress_from_displacement[e] * ue;
+    const double stress = von_mises_pa(voigt.data());
     solution.von_mises_stress_pa[e] = stress;
     for (int a = 0; a < 4; ++a) {
       solution.nodal_von_mises_stress_pa[mesh.tets[e][a]] += stress * volumes_m3[e];

@@ -14,6 +14,7 @@
 #include "nav/tissue/tet_fem_model.hpp"
 #include "nav/tissue/tet_fem_tables.hpp"
 #include "nav/tissue/tissue_loads.hpp"
+#include "nav/tissue/von_mises.hpp"
 
 namespace nav {
 namespace {
@@ -97,10 +98,7 @@ Status evaluate(const TetFemTables& tables, StaticLaw law, const TissueInputs& l
     const Eigen::Matrix3d s = law == StaticLaw::linear ? p : Eigen::Matrix3d(p * f.transpose() / j);
     double* out = &answer.cauchy_stress_pa[6 * e];
     out[0] = s(0, 0), out[1] = s(1, 1), out[2] = s(2, 2), out[3] = s(0, 1), out[4] = s(1, 2), out[5] = s(0, 2);
-    answer.von_mises_stress_pa[e] =
-        std::sqrt(0.5 * ((s(0, 0) - s(1, 1)) * (s(0, 0) - s(1, 1)) + (s(1, 1) - s(2, 2)) * (s(1, 1) - s(2, 2)) +
-                         (s(2, 2) - s(0, 0)) * (s(2, 2) - s(0, 0))) +
-                  3.0 * (s(0, 1) * s(0, 1) + s(1, 2) * s(1, 2) + s(0, 2) * s(0, 2)));
+    answer.von_mises_stress_pa[e] = von_mises_pa(out);
   }
   answer.out_of_balance_n.assign(n3, 0.0);
   answer.reaction_n.assign(n3, 0.0);
