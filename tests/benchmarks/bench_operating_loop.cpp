@@ -16,6 +16,10 @@
 // needle_tick then includes the needle's step. Also counted: punctures, the timed ticks with
 // needle-tissue flags (needle_flagged_ticks) and the liver steps with flags (tissue_flagged_steps,
 // tissue_flags their union).
+// BM_OperatingLoopLigamentsNeedleTick (r = 16; 2 x 2 x 2 or 3 x 3 x 3 frames per ligament): the
+// needle's loop on the liver hung also by two 100 kPa frame-based ligaments (banded Cholesky),
+// stepped with every liver step (tissue_tick includes them; ligament_frames and ligament_nodes
+// count them).
 // BM_OperatingLoopLadderNeedleTick (r = 16): the needle's loop on a ladder, rung 0 the r modes
 // trained without the needle's loads, rung 1 those extended by 8 directions of the needle's training:
 // escalation after 5 flagged liver steps, back down after 50 that fit rung 0 (projection residual
@@ -28,12 +32,13 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <memory>
 #include <numbers>
 #include <optional>
 #include <random>
 #include <vector>
 
-#include "nav/connective/organ_attachment.hpp"
+#include "nav/connective/organ_ligaments.hpp"
 #include "nav/loop/operating_loop.hpp"
 #include "nav/mesh/validation.hpp"
 #include "nav/mesher/embedded_liver.hpp"
@@ -214,6 +219,41 @@ nav::OperatingLoopModel loop_model(int r, bool with_needle) {
       .value();
 }
 
+/// The needle's loop of r modes on the liver hung also by two 100 kPa ligaments (3 x 3 x 3 cm,
+/// over the right lobe and left of the falciform plane) of n x n x n frames each, solved as a
+/// station solves them (banded Cholesky), whose attachment its scene declares.
+nav::OperatingLoopModel hung_loop_model(int r, int n) {
+  const Liver& l = liver();
+  std::vector<nav::LigamentSpec> specs(2);
+  specs[0].footprint_centre_m = {-0.045, 0.0, 0.0};
+  specs[1].footprint_centre_m = {0.035, 0.015, 0.0};
+  for (nav::LigamentSpec& spec : specs) {
+    spec.embed_m = 0.006;
+    spec.frames = {n, n, n};
+  }
+  nav::FrameTissueOptions frames;
+  frames.step_s = kStepS;
+  frames.rayleigh_mass_per_s = 1.0;
+  frames.solver = nav::FrameSolver::banded_cholesky;
+  auto ligaments = std::make_shared<const nav::OrganLigaments>(
+      nav::make_organ_ligaments(l.liver.mesh, specs, {1e5, 0.45, 1100.0}, frames, l.scene.gravity_m_s2).value());
+  nav::TissueScene scene = l.scene;
+  nav::declare_attachment(ligaments->attachment, scene);
+  nav::ReducedBasis basis = nav::make_modal_basis(l.liver.mesh, scene, training_solver(), reduction(r)).value();
+  if (!nav::add_force_reduction(l.liver.mesh, scene, training_solver(), reduction(r), l.needle_snapshots,
+                                l.needle_snapshot_count, basis)
+           .ok())
+    std::abort();
+  nav::ReducedModel reduced =
+      nav::make_reduced_model(l.liver.mesh, scene, training_solver(), basis, reduced_options()).value();
+  nav::ReducedKalmanModel filter = tumour_filter(basis, reduced);
+  nav::OperatingLoopNeedleOptions needle = needle_options();
+  needle.max_point_forces = l.scene.max_point_forces;
+  return nav::make_operating_loop_model(std::move(reduced), std::move(filter), loop_options(), needle, l.liver.mesh,
+                                        std::move(ligaments))
+      .value();
+}
+
 /// The needle's loop on a ladder: rung 0 r modes trained without the needle's loads, rung 1
 /// those extended by 8 directions of the needle's training (its loads leave rung 0's envelope); the loop
 /// escalates after 5 flagged liver steps and steps back down after 50 that fit rung 0.
@@ -355,6 +395,14 @@ void BM_OperatingLoopNeedleTick(benchmark::State& state) {
   run_loop(state, loop_model(static_cast<int>(state.range(0)), true), needle_inserted);
 }
 
+void BM_OperatingLoopLigamentsNeedleTick(benchmark::State& state) {
+  const nav::OperatingLoopModel model =
+      hung_loop_model(static_cast<int>(state.range(0)), static_cast<int>(state.range(1)));
+  state.counters["ligament_frames"] = static_cast<double>(model.ligaments->model.frame_count());
+  state.counters["ligament_nodes"] = static_cast<double>(model.ligaments->attachment.nodes.size());
+  run_loop(state, model, needle_inserted);
+}
+
 /// The same insertion 2 s later, so that it leaves rung 0's envelope after the warm-up.
 nav::RigidPose needle_inserted_later(TimeNs now) { return needle_inserted(std::max<TimeNs>(0, now - 2000 * kNsPerMs)); }
 
@@ -373,6 +421,12 @@ BENCHMARK(BM_OperatingLoopTick)
 BENCHMARK(BM_OperatingLoopNeedleTick)
     ->Arg(16)
     ->Arg(64)
+    ->UseManualTime()
+    ->Unit(benchmark::kMicrosecond)
+    ->Iterations(20000);
+BENCHMARK(BM_OperatingLoopLigamentsNeedleTick)
+    ->Args({16, 2})
+    ->Args({16, 3})
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond)
     ->Iterations(20000);

@@ -1,6 +1,7 @@
 #pragma once
 // Shared inputs of the connective-tissue tests: grids and models of blocks and beams, frames
-// selected by position, rotations of frames and a hash of a state for repeatability checks.
+// selected by position, rotations of frames, a hash of a state for repeatability checks, and
+// the two ligaments that hang the embedded liver.
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "nav/connective/frame_tissue_model.hpp"
+#include "nav/connective/organ_ligaments.hpp"
 #include "support/bits_hash.hpp"
 
 namespace nav::testing {
@@ -60,6 +62,16 @@ inline void move_dof(FrameTissueData& data, std::size_t k, double delta) {
   } else {
     turn_frame(data, frame, delta * Eigen::Vector3d::Unit(static_cast<int>(a - 3)));
   }
+}
+
+/// Two 3 x 3 cm ligaments, 3 cm long, over the embedded liver's right lobe and the left of
+/// its falciform plane.
+inline std::vector<LigamentSpec> two_ligaments() {
+  std::vector<LigamentSpec> specs(2);
+  specs[0].footprint_centre_m = {-0.045, 0.0, 0.0};
+  specs[1].footprint_centre_m = {0.035, 0.015, 0.0};
+  for (LigamentSpec& spec : specs) spec.embed_m = 0.006;
+  return specs;
 }
 
 }  // namespace nav::testing

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "connective/connective_test_support.hpp"
 #include "nav/connective/organ_ligaments.hpp"
 #include "nav/mesher/embedded_liver.hpp"
 #include "nav/reduced/reduced_model.hpp"
@@ -23,19 +24,10 @@ const EmbeddedLiver& liver() {
   return made;
 }
 
-/// Two 3 x 3 cm ligaments, 3 cm long, over the right lobe and the left of the falciform plane.
-std::vector<LigamentSpec> two_ligaments() {
-  std::vector<LigamentSpec> specs(2);
-  specs[0].footprint_centre_m = {-0.045, 0.0, 0.0};
-  specs[1].footprint_centre_m = {0.035, 0.015, 0.0};
-  for (LigamentSpec& spec : specs) spec.embed_m = 0.006;
-  return specs;
-}
-
 OrganLigaments ligaments(double youngs_modulus_pa, bool stabilise) {
   FrameTissueOptions options;
   options.rayleigh_mass_per_s = 1.0;
-  return make_organ_ligaments(liver().mesh, two_ligaments(), {youngs_modulus_pa, 0.45, 1100.0}, options,
+  return make_organ_ligaments(liver().mesh, testing::two_ligaments(), {youngs_modulus_pa, 0.45, 1100.0}, options,
                               {0.0, 0.0, -9.81}, stabilise)
       .value();
 }

@@ -329,6 +329,11 @@ TEST(StationScene, BadChoicesListTheAllowedOnes) {
                "simulated|ndi|apriltag");
   expect_error("mesh: generated", "mesh: procedural", "liver.mesh", "expected 'generated'");
   expect_error("poses: nav/tool_pose", "poses: nav/tool pose", "topics.poses", "not a topic name");
+  const std::string hung =
+      edited(demo_text(), "devices:\n",
+             "ligaments:\n  solver: banded_cholesky\n  blocks: [{footprint_centre_m: [0, 0]}]\ndevices:\n");
+  expect_error_in(hung, "solver: banded_cholesky", "solver: lu", "ligaments.solver",
+                  "'lu' is not one of banded_cholesky|cg_block_jacobi");
 }
 
 TEST(StationScene, TopicNamesAreReadCheckedAndEachOneIsOwn) {

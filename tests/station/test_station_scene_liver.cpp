@@ -8,7 +8,8 @@
 // marker says), the tumour points found in its frames fed to the filter: the tumour is within
 // 1 mm RMS of the truth. The anchored scene `navtool reduce` trains on moves this tumour
 // little (about 0.3 mm RMS), so this checks that the declared model runs and is fed, not the
-// filter's gain on a moving tumour (the demo station's tests do).
+// filter's gain on a moving tumour (the demo station's tests do). Declared ligaments are
+// stepped with the liver on every rung.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -148,6 +149,21 @@ TEST(StationSceneLiver, RunsTheDeclaredLadder) {
   EXPECT_EQ(run.rungs, 2);
   EXPECT_NE(run.liver_model.find("rung 1: r = 10 "), std::string::npos) << run.liver_model;
   EXPECT_NE(run.liver_model.find(files().upper), std::string::npos) << run.liver_model;
+  EXPECT_GT(run.assimilated.steps, 250);
+  EXPECT_LT(run.assimilated.tumour_now_rms_m, 1e-3);
+}
+
+TEST(StationSceneLiver, StepsTheDeclaredLigamentsWithItsLiverOnEveryRung) {
+  const std::string ligaments =
+      "ligaments:\n"
+      "  material: {youngs_modulus_pa: 100000, poisson_ratio: 0.45, density_kg_m3: 1100}\n"
+      "  blocks:\n"
+      "    - {footprint_centre_m: [-0.04, 0.0], width_m: 0.04, depth_m: 0.04, embed_m: 0.012}\n"
+      "    - {footprint_centre_m: [0.03, 0.0], width_m: 0.04, depth_m: 0.04, embed_m: 0.012}\n"
+      "devices:\n";
+  const SceneRun run = run_scene(scene_of(edited(mesh_file_scene(two_rungs(files().upper)), "devices:\n", ligaments)));
+  EXPECT_EQ(run.rungs, 2);
+  EXPECT_NE(run.liver_model.find("; hung by 2 ligaments ("), std::string::npos) << run.liver_model;
   EXPECT_GT(run.assimilated.steps, 250);
   EXPECT_LT(run.assimilated.tumour_now_rms_m, 1e-3);
 }

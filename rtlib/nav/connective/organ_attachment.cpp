@@ -86,7 +86,7 @@ Result<OrganAttachment> attach_driven_frames(const FrameTissueModel& tissue, con
 }
 
 void declare_attachment(const OrganAttachment& attachment, TissueScene& organ_scene) {
-  organ_scene.max_point_forces = std::max(organ_scene.max_point_forces, attachment.nodes.size());
+  organ_scene.max_point_forces += attachment.nodes.size();
   if (!(attachment.spring_stiffness_n_m > 0.0)) return;
   organ_scene.spring_nodes = attachment.nodes;
   organ_scene.spring_stiffness_n_m = attachment.spring_stiffness_n_m;

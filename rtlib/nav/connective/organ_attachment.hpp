@@ -49,7 +49,8 @@ Result<OrganAttachment> attach_driven_frames(const FrameTissueModel& tissue, con
                                              bool stabilise = true);
 
 /// Declares in the organ's scene what the coupling needs: the stabilising springs on the
-/// attachment nodes (when k_s > 0) and room for one point force per attachment node.
+/// attachment nodes (when k_s > 0) and room for one point force per attachment node beside
+/// the scene's other point forces (its max_point_forces grows by their count).
 void declare_attachment(const OrganAttachment& attachment, TissueScene& organ_scene);
 
 /// The buffers of one coupled step, sized at init.

@@ -15,6 +15,9 @@
 // the filter's correction and covariance and the needle are carried one rung up and the step
 // is redone there; with de-escalation on, the loop steps back down once the state fits the
 // rung below (see operating_loop_ladder.cpp).
+// Optionally frame-based ligaments hang the liver (OrganLigaments): every liver step first
+// steps them at the liver's attachment nodes and the liver then carries their forces with the
+// needle's (the staggered, stabilised scheme of organ_attachment.hpp).
 // Model/Data: the model is built at init and immutable; push_* and tick() are noexcept,
 // allocation-free, fixed-cost and bitwise repeatable. Faults flag and degrade, never stop.
 #include <Eigen/Core>
@@ -28,6 +31,7 @@
 #include <span>
 #include <vector>
 
+#include "nav/connective/organ_ligaments.hpp"
 #include "nav/core/clock.hpp"
 #include "nav/core/error.hpp"
 #include "nav/core/health.hpp"
@@ -138,6 +142,8 @@ struct OperatingLoopModel {
   std::vector<OperatingLoopRung> rungs;      ///< rung 0 first, growing r
   std::optional<ReducedLadderModel> ladder;  ///< with more than one rung: their envelopes and moves
   OperatingLoopOptions options;
+  /// Ligaments hanging the liver (null: none); the liver's scene declares their attachment.
+  std::shared_ptr<const OrganLigaments> ligaments;
   int lookahead_steps = 1;  ///< reduced steps from a tissue tick to it + display latency
   Eigen::Vector3d breathing_axis = Eigen::Vector3d::UnitZ();  ///< options.breathing.axis, normalised
   bool has_needle() const { return rungs.front().needle != nullptr; }
@@ -202,6 +208,16 @@ struct OperatingLoopRungData {
   const ReducedData& liver() const noexcept { return needle_model ? needle_model->tissue : reduced; }
 };
 
+/// The state of the ligaments hanging the loop's liver: their frames, the forces they leave
+/// for the liver's next step, and the attachment nodes' positions they were stepped at.
+struct OperatingLoopLigamentsData {
+  FrameTissueData tissue;
+  AttachmentBuffers buffers;
+  std::vector<std::int32_t> nodes;           ///< the attachment nodes (the organ nodes that take forces)
+  std::vector<double> node_displacements_m;  ///< 3 per attachment node, scratch
+  std::vector<double> organ_positions_m;     ///< 3 per liver node; only the attachment nodes' are kept
+};
+
 /// The loop's state: every rung's liver and filter, the ladder's position, the tool tracks,
 /// the breathing predictor, the pending observations, the needle and the outputs.
 struct OperatingLoopData {
@@ -219,8 +235,9 @@ struct OperatingLoopData {
   TimeNs respiratory_newest_ns = std::numeric_limits<TimeNs>::min();  ///< the newest accepted marker sample
   double respiratory_newest_m = 0.0;                                  ///< its displacement along the breathing axis
   TimeNs last_tick_ns = 0;
-  RigidPose needle_base;         ///< the last good base pose (model frame)
-  bool needle_acquired = false;  ///< a good needle pose has been seen: the needle steps
+  RigidPose needle_base;                                ///< the last good base pose (model frame)
+  bool needle_acquired = false;                         ///< a good needle pose has been seen: the needle steps
+  std::optional<OperatingLoopLigamentsData> ligaments;  ///< with the model's ligaments
   OperatingLoopOutputs outputs;
 
   /// The active rung's state: the liver the filter and the outputs follow.
@@ -232,26 +249,32 @@ struct OperatingLoopData {
 };
 
 /// Checks the options against the reduced model and the filter (the tumour is the filter's
-/// point 0) and derives the look-ahead. Errors name the field at fault.
-Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter,
-                                                     const OperatingLoopOptions& options);
-
-/// As above, plus the needle, coupled to the reduced liver built on `mesh` (whose rest nodes
-/// carry the tissue points); the tissue steps every options.tissue_every_ticks ticks. Errors
-/// name the field ("operating_loop.needle.parameters.step_s", "operating_loop.needle.<field>").
+/// point 0) and derives the look-ahead; optionally `ligaments` hang the liver (built on its
+/// mesh, their attachment declared in the scene the reduced model was built on). Errors name
+/// the field at fault ("operating_loop.ligaments" for an attachment the liver does not carry).
 Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter,
                                                      const OperatingLoopOptions& options,
-                                                     const OperatingLoopNeedleOptions& needle, const TetMesh& mesh);
+                                                     std::shared_ptr<const OrganLigaments> ligaments = nullptr);
+
+/// As above, plus the needle, coupled to the reduced liver built on `mesh` (whose rest nodes
+/// carry the tissue points); the tissue steps every options.tissue_every_ticks ticks. With
+/// ligaments the needle's max_point_forces and their attachment nodes share the scene's.
+/// Errors name the field ("operating_loop.needle.parameters.step_s", "operating_loop.needle.<field>").
+Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter,
+                                                     const OperatingLoopOptions& options,
+                                                     const OperatingLoopNeedleOptions& needle, const TetMesh& mesh,
+                                                     std::shared_ptr<const OrganLigaments> ligaments = nullptr);
 
 /// A loop whose liver is `ladder` (reduced rungs only: the filter needs a reduced state), with
 /// filters[i] observing the tumour on rung i, and optionally the needle, coupled to every rung
-/// (rung 0 when the loop starts). The ladder's options are the loop's escalation settings.
-/// Errors name the field ("operating_loop.ladder", "operating_loop.filters[i]", ...).
+/// (rung 0 when the loop starts), and the ligaments. The ladder's options are the loop's
+/// escalation settings. Errors name the field ("operating_loop.ladder", "operating_loop.filters[i]", ...).
 Result<OperatingLoopModel> make_operating_loop_model(const ReducedLadderModel& ladder,
                                                      std::vector<ReducedKalmanModel> filters,
                                                      const OperatingLoopOptions& options,
                                                      const OperatingLoopNeedleOptions* needle = nullptr,
-                                                     const TetMesh* mesh = nullptr);
+                                                     const TetMesh* mesh = nullptr,
+                                                     std::shared_ptr<const OrganLigaments> ligaments = nullptr);
 
 /// The loop's data at rest: liver at rest on rung 0, filter at its prior, empty tracks, idle needle.
 Result<OperatingLoopData> make_operating_loop_data(const OperatingLoopModel& model);
@@ -284,7 +307,8 @@ void liver_displacements_m(const OperatingLoopModel& model, const OperatingLoopO
                            std::span<double> out_xyz) noexcept;
 
 /// One tick at now_ns: tool poses at now (and now + display latency), the needle model's step,
-/// and every tissue_every_ticks-th tick a liver step (with the needle's forces) with the
+/// and every tissue_every_ticks-th tick the ligaments' step and a liver step (with the
+/// needle's and the ligaments' forces; their flags join `tissue`) with the
 /// filter's predict and the pending observations, then the look-ahead (carrying the same
 /// needle forces). Fills data.outputs.
 void tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs now_ns) noexcept;

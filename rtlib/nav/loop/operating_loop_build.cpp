@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "nav/loop/operating_loop.hpp"
+#include "nav/reduced/reduced_tables.hpp"
 
 namespace nav {
 namespace {
@@ -61,7 +62,8 @@ Status check_rung(const RungInput& rung, const OperatingLoopOptions& options) {
 Result<std::shared_ptr<const OperatingLoopNeedleModel>> couple_needle(const ReducedModel& liver,
                                                                       const OperatingLoopNeedleOptions& needle,
                                                                       const OperatingLoopOptions& options,
-                                                                      const TetMesh& mesh) {
+                                                                      const TetMesh& mesh,
+                                                                      std::size_t other_point_forces) {
   auto holder = std::make_shared<OperatingLoopNeedleModel>(liver, needle.marker_from_base, needle.parameters.length_m);
   auto coupled = make_coupled_needle_model(needle.parameters, needle.scene, holder->tissue, mesh,
                                            needle.max_point_forces, options.tissue_every_ticks);
@@ -71,6 +73,7 @@ Result<std::shared_ptr<const OperatingLoopNeedleModel>> couple_needle(const Redu
     return error;
   }
   holder->coupled = std::move(coupled).value();
+  holder->coupled.other_point_forces = other_point_forces;
   return std::shared_ptr<const OperatingLoopNeedleModel>(std::move(holder));
 }
 
@@ -96,6 +99,28 @@ Status check_needle(const OperatingLoopNeedleOptions& needle, const OperatingLoo
   return Done{};
 }
 
+/// The ligaments against one rung's liver: their attachment nodes in its mesh, its scene's
+/// stabilising springs and room for their point forces beside the needle's.
+Status check_ligaments(const OrganLigaments& ligaments, const RungInput& rung,
+                       const OperatingLoopNeedleOptions* needle) {
+  const OrganAttachment& a = ligaments.attachment;
+  const detail::ReducedTables& t = rung.reduced.tables();
+  for (const std::int32_t node : a.nodes)
+    if (node < 0 || node >= t.node_count)
+      return option_error("ligaments", "are attached to node " + std::to_string(node) + ", which " +
+                                           rung.reduced_field + "'s liver does not have");
+  if (t.spring_stiffness_n_m != a.spring_stiffness_n_m)
+    return option_error("ligaments",
+                        rung.reduced_field + "'s scene does not carry their stabilising springs (declare_attachment)");
+  const std::size_t needed = a.nodes.size() + (needle ? needle->max_point_forces : 0);
+  if (needed > t.max_point_forces)
+    return option_error("ligaments", "need " + std::to_string(needed) + " point forces (" +
+                                         std::to_string(a.nodes.size()) + " attachment nodes" +
+                                         (needle ? " and the needle's max_point_forces" : "") + ") but " +
+                                         rung.reduced_field + "'s scene takes " + std::to_string(t.max_point_forces));
+  return Done{};
+}
+
 /// The maps of rung `i` from rung i - 1 of `ladder`.
 void add_maps_from_below(const ReducedLadderModel& ladder, int i, OperatingLoopRung& rung) {
   const std::span<const double> up = ladder.transfer(i - 1);
@@ -110,10 +135,14 @@ void add_maps_from_below(const ReducedLadderModel& ladder, int i, OperatingLoopR
 
 Result<OperatingLoopModel> make_model(std::vector<RungInput> rungs, std::optional<ReducedLadderModel> ladder,
                                       const OperatingLoopOptions& options, const OperatingLoopNeedleOptions* needle,
-                                      const TetMesh* mesh) {
+                                      const TetMesh* mesh, std::shared_ptr<const OrganLigaments> ligaments) {
   if (Status valid = check_options(options); !valid.ok()) return valid.error();
-  for (const RungInput& rung : rungs)
+  for (const RungInput& rung : rungs) {
     if (Status valid = check_rung(rung, options); !valid.ok()) return valid.error();
+    if (ligaments)
+      if (Status valid = check_ligaments(*ligaments, rung, needle); !valid.ok()) return valid.error();
+  }
+  const std::size_t ligament_forces = ligaments ? ligaments->attachment.nodes.size() : 0;
   if (needle)
     if (Status valid = check_needle(*needle, options); !valid.ok()) return valid.error();
   OperatingLoopModel model;
@@ -129,14 +158,29 @@ Result<OperatingLoopModel> make_model(std::vector<RungInput> rungs, std::optiona
     rung.lookahead_decay = std::pow(rung.filter.decay, model.lookahead_steps);
     if (i > 0) add_maps_from_below(*ladder, static_cast<int>(i), rung);
     if (needle) {
-      auto coupled = couple_needle(rung.reduced, *needle, options, *mesh);
+      auto coupled = couple_needle(rung.reduced, *needle, options, *mesh, ligament_forces);
       if (!coupled.ok()) return coupled.error();
       rung.needle = std::move(coupled).value();
     }
     model.rungs.push_back(std::move(rung));
   }
   model.ladder = std::move(ladder);
+  model.ligaments = std::move(ligaments);
   return model;
+}
+
+/// The ligaments at rest, their liver's attachment nodes at their rest positions.
+Result<OperatingLoopLigamentsData> make_ligaments_data(const OrganLigaments& ligaments, std::int64_t liver_nodes) {
+  auto tissue = make_frame_tissue_data(ligaments.model);
+  if (!tissue.ok()) return tissue.error();
+  const OrganAttachment& a = ligaments.attachment;
+  OperatingLoopLigamentsData data{std::move(tissue).value(), make_attachment_buffers(a), a.nodes,
+                                  std::vector<double>(3 * a.nodes.size()),
+                                  std::vector<double>(3 * static_cast<std::size_t>(liver_nodes))};
+  for (std::size_t k = 0; k < a.nodes.size(); ++k)
+    std::copy_n(a.node_rest_positions_m.begin() + static_cast<std::ptrdiff_t>(3 * k), 3,
+                data.organ_positions_m.begin() + 3 * static_cast<std::ptrdiff_t>(a.nodes[k]));
+  return data;
 }
 
 }  // namespace
@@ -152,24 +196,27 @@ OperatingLoopData::OperatingLoopData(std::vector<OperatingLoopRungData> rung_dat
       pending(pending_capacity) {}
 
 Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter,
-                                                     const OperatingLoopOptions& options) {
+                                                     const OperatingLoopOptions& options,
+                                                     std::shared_ptr<const OrganLigaments> ligaments) {
   std::vector<RungInput> rungs;
   rungs.push_back({std::move(reduced), std::move(filter), "reduced", "filter"});
-  return make_model(std::move(rungs), std::nullopt, options, nullptr, nullptr);
+  return make_model(std::move(rungs), std::nullopt, options, nullptr, nullptr, std::move(ligaments));
 }
 
 Result<OperatingLoopModel> make_operating_loop_model(ReducedModel reduced, ReducedKalmanModel filter,
                                                      const OperatingLoopOptions& options,
-                                                     const OperatingLoopNeedleOptions& needle, const TetMesh& mesh) {
+                                                     const OperatingLoopNeedleOptions& needle, const TetMesh& mesh,
+                                                     std::shared_ptr<const OrganLigaments> ligaments) {
   std::vector<RungInput> rungs;
   rungs.push_back({std::move(reduced), std::move(filter), "reduced", "filter"});
-  return make_model(std::move(rungs), std::nullopt, options, &needle, &mesh);
+  return make_model(std::move(rungs), std::nullopt, options, &needle, &mesh, std::move(ligaments));
 }
 
 Result<OperatingLoopModel> make_operating_loop_model(const ReducedLadderModel& ladder,
                                                      std::vector<ReducedKalmanModel> filters,
                                                      const OperatingLoopOptions& options,
-                                                     const OperatingLoopNeedleOptions* needle, const TetMesh* mesh) {
+                                                     const OperatingLoopNeedleOptions* needle, const TetMesh* mesh,
+                                                     std::shared_ptr<const OrganLigaments> ligaments) {
   if (ladder.has_full_order())
     return option_error(
         "ladder",
@@ -184,7 +231,7 @@ Result<OperatingLoopModel> make_operating_loop_model(const ReducedLadderModel& l
     rungs.push_back(
         {ladder.reduced_rung(static_cast<int>(i)), std::move(filters[i]), "ladder.rungs" + index, "filters" + index});
   }
-  return make_model(std::move(rungs), ladder, options, needle, mesh);
+  return make_model(std::move(rungs), ladder, options, needle, mesh, std::move(ligaments));
 }
 
 Result<OperatingLoopData> make_operating_loop_data(const OperatingLoopModel& model) {
@@ -217,6 +264,11 @@ Result<OperatingLoopData> make_operating_loop_data(const OperatingLoopModel& mod
                          std::move(needle).value(), std::move(probe).value(), std::move(breathing).value(),
                          model.options.max_pending_observations);
   if (model.has_needle()) data.needle_base = model.rungs.front().needle->marker_from_base;
+  if (model.ligaments) {
+    auto ligaments = make_ligaments_data(*model.ligaments, model.rungs.front().reduced.node_count());
+    if (!ligaments.ok()) return ligaments.error();
+    data.ligaments.emplace(std::move(ligaments).value());
+  }
   return data;
 }
 

@@ -89,19 +89,43 @@ std::array<double, 9> covariance_ahead(const ReducedKalmanModel& f, const std::a
   return out;
 }
 
-/// The liver step of a tissue tick: diaphragm (and the needle's forces), reduced step (on the
-/// ladder's rung, which may change), filter predict, pending observations, then the look-ahead
-/// to now + display latency.
+/// The ligaments' step at the active liver as it stands (their attachment nodes rebuilt from
+/// its state): their forces on the liver for its step that follows (none without ligaments).
+/// Their flags join `flags`.
+std::span<const PointForce> ligaments_tick(const OperatingLoopModel& model, OperatingLoopData& data,
+                                           HealthFlags& flags) noexcept {
+  if (!model.ligaments) return {};
+  const OrganLigaments& ligaments = *model.ligaments;
+  OperatingLoopLigamentsData& state = *data.ligaments;
+  reconstruct_displacements_m(model.rungs[static_cast<std::size_t>(data.active_rung)].reduced, data.active().liver(),
+                              state.nodes, state.node_displacements_m);
+  const std::vector<double>& rest_m = ligaments.attachment.node_rest_positions_m;
+  for (std::size_t k = 0; k < state.nodes.size(); ++k)
+    for (std::size_t c = 0; c < 3; ++c)
+      state.organ_positions_m[3 * static_cast<std::size_t>(state.nodes[k]) + c] =
+          rest_m[3 * k + c] + state.node_displacements_m[3 * k + c];
+  step_attached(ligaments.model, state.tissue, ligaments.attachment, state.buffers, state.organ_positions_m, 1.0);
+  flags.merge(state.tissue.health);
+  state.tissue.health.clear_all();
+  return state.buffers.point_forces;
+}
+
+/// The liver step of a tissue tick: diaphragm (with the ligaments' and the needle's forces),
+/// reduced step (on the ladder's rung, which may change), filter predict, pending
+/// observations, then the look-ahead to now + display latency.
 void tissue_tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeNs now_ns) noexcept {
   const OperatingLoopOptions& o = model.options;
   OperatingLoopOutputs& out = data.outputs;
   TissueInputs inputs;
   inputs.prescribed_displacement_m = diaphragm_m(o, data, now_ns, 0);
+  HealthFlags ligaments;
+  inputs.point_forces = ligaments_tick(model, data, ligaments);
   HealthFlags tissue = detail::step_liver(model, data, inputs);
+  tissue.merge(ligaments);
   const OperatingLoopRung& rung = model.rungs[static_cast<std::size_t>(data.active_rung)];
   OperatingLoopRungData& state = data.active();
   ReducedData& liver = state.liver();
-  if (state.needle_model)  // the look-ahead carries the needle's forces of this step
+  if (state.needle_model)  // the look-ahead carries the forces of this step (the needle's, then the ligaments')
     inputs.point_forces =
         std::span<const PointForce>(state.needle_model->point_forces.data(), state.needle_model->point_force_count);
   predict(rung.filter, state.filter, liver);

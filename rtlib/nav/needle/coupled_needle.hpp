@@ -22,7 +22,10 @@ struct CoupledNeedleModelOf {
   NeedleTissueModel interaction;
   const TissueModel* tissue = nullptr;  ///< not owned; outlives this model
   int needle_steps_per_tissue_step = 1;
-  std::size_t max_point_forces = 16;  ///< as the tissue scene's max_point_forces
+  std::size_t max_point_forces = 16;  ///< the needle's share of the tissue scene's max_point_forces
+  /// Room for the tissue's other point forces (an attached ligament's), which step_tissue()
+  /// joins after the needle's: the two together within the tissue scene's max_point_forces.
+  std::size_t other_point_forces = 0;
 };
 
 /// State of the coupled scene: the interaction's data, the tissue's data, the tissue
@@ -61,8 +64,9 @@ void step_needle(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDa
                  const NeedleInputs& inputs) noexcept;
 
 /// The tissue's part: the needle's point forces of its last step (capped as in step()) join
-/// `tissue_inputs`, the tissue's other loads (a diaphragm's prescribed displacement; its own
-/// point_forces are replaced), the tissue steps, and the interaction sees its new displacements.
+/// `tissue_inputs`, the tissue's other loads (a diaphragm's prescribed displacement; its
+/// point_forces, at most model.other_point_forces, are kept after the needle's), the tissue
+/// steps, and the interaction sees its new displacements.
 template <class TissueModel, class TissueData>
 void step_tissue(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDataOf<TissueData>& data,
                  TissueInputs tissue_inputs) noexcept;

@@ -41,8 +41,8 @@ Result<CoupledNeedleDataOf<TissueData>> make_coupled_data(const CoupledNeedleMod
   if (!interaction.ok()) return interaction.error();
   if (!tissue.ok()) return tissue.error();
   const std::size_t values = 3 * node_count;
-  // One point force per row at most, before merging and capping.
-  const auto forces = static_cast<std::size_t>(model.interaction.slot_count());
+  // One point force per row at most, before merging and capping, then the tissue's others.
+  const std::size_t forces = static_cast<std::size_t>(model.interaction.slot_count()) + model.other_point_forces;
   ArenaPlan plan;
   plan.add<double>(values).add<PointForce>(forces).add<std::int32_t>(refreshed_nodes).add<double>(3 * refreshed_nodes);
   CoupledNeedleDataOf<TissueData> data(Arena("coupled_needle_data", plan.bytes()), std::move(interaction).value(),
@@ -80,6 +80,9 @@ void step_tissue(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDa
   data.point_force_count =
       detail::gather_point_forces(interaction, data.point_forces, model.max_point_forces, data.dropped_point_forces);
   if (data.dropped_point_forces > 0) interaction.health.raise(HealthFlag::pool_full);
+  const std::size_t others = std::min(tissue_inputs.point_forces.size(), model.other_point_forces);
+  std::copy_n(tissue_inputs.point_forces.begin(), others, data.point_forces.begin() + data.point_force_count);
+  data.point_force_count += others;
   tissue_inputs.point_forces = std::span<const PointForce>(data.point_forces.data(), data.point_force_count);
   step(*model.tissue, data.tissue, tissue_inputs);
   // The tissue now carries this tick's forces.

@@ -243,6 +243,7 @@ LigamentSettings read_ligaments(MapReader r) {
   l.line = r.line();
   if (r.optional("material")) l.material = read_material(r.map("material"), l.material);
   l.rayleigh_mass_per_s = r.number("rayleigh_mass_per_s", kNonNegative, l.rayleigh_mass_per_s);
+  l.solver = static_cast<FrameSolver>(r.choice("solver", {"banded_cholesky", "cg_block_jacobi"}, 0));
   const YAML::Node blocks = r.required("blocks");
   if (!blocks.IsSequence() || blocks.size() == 0 || blocks.size() > 8)
     r.fail_at("blocks", "expected a list of 1 to 8 ligament blocks");

@@ -72,16 +72,11 @@ TissueSolverOptions ladder_solver(ReducedForceKind kind, const ReducedSolverOpti
   return solver;
 }
 
-Status build_ligaments(const LigamentSettings& settings, const StationSettings& station, StationModels& models) {
-  FrameTissueOptions options;
-  options.step_s = 1.0 / station.tissue_rate_hz;
-  options.rayleigh_mass_per_s = settings.rayleigh_mass_per_s;
-  auto ligaments = make_organ_ligaments(models.liver.mesh, settings.blocks, settings.material, options,
-                                        models.liver.scene.gravity_m_s2);
+Status build_ligaments(const Scene& scene, StationModels& models) {
+  auto ligaments = make_scene_ligaments(scene, models.liver.mesh, models.liver.scene);
   if (!ligaments.ok()) return ligaments.error();
   auto data = make_frame_tissue_data(ligaments.value().model);
-  if (!data.ok()) return data.error();
-  declare_attachment(ligaments.value().attachment, models.liver.scene);
+  if (!data.ok()) return at_section(data.error(), scene, scene.ligaments->line, "ligaments");
   models.ligaments = std::move(ligaments).value();
   models.ligament_data = std::move(data).value();
   return Done{};
@@ -101,6 +96,18 @@ Status build_needle(const NeedleSettings& settings, StationModels& models) {
 }
 
 }  // namespace
+
+Result<OrganLigaments> make_scene_ligaments(const Scene& scene, const TetMesh& mesh, TissueScene& liver_scene) {
+  const LigamentSettings& settings = *scene.ligaments;
+  FrameTissueOptions options;
+  options.step_s = 1.0 / scene.station.tissue_rate_hz;
+  options.rayleigh_mass_per_s = settings.rayleigh_mass_per_s;
+  options.solver = settings.solver;
+  auto ligaments = make_organ_ligaments(mesh, settings.blocks, settings.material, options, liver_scene.gravity_m_s2);
+  if (!ligaments.ok()) return at_section(ligaments.error(), scene, settings.line, "ligaments");
+  declare_attachment(ligaments.value().attachment, liver_scene);
+  return ligaments;
+}
 
 Result<std::vector<ReducedRungSpec>> load_reduced_rungs(const Scene& scene, const TetMesh& mesh) {
   const LiverSettings& settings = scene.liver;
@@ -210,8 +217,8 @@ Result<BuiltStation> build_station(Scene scene) {
   models.liver.tumour_m = liver.value().tumour_m;
   Status step = Done{};
   if (s.ligaments) {
-    step = build_ligaments(*s.ligaments, s.station, models);
-    if (!step.ok()) return at_section(step.error(), s, s.ligaments->line, "ligaments");
+    step = build_ligaments(s, models);
+    if (!step.ok()) return step.error();
   }
   step = build_liver_model(s, models.liver);
   if (!step.ok()) return step.error();

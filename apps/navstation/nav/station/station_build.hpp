@@ -72,6 +72,11 @@ struct BuiltStation {
 /// from its element counts) and data arenas.
 MemoryFootprint measure_footprint(const StationModels& models);
 
+/// The scene's `ligaments:` on the liver `mesh`, stepped at the liver's rate, their attachment
+/// declared in `liver_scene` (its stabilising springs and room for their point forces). Errors
+/// name the ligaments' line and key.
+Result<OrganLigaments> make_scene_ligaments(const Scene& scene, const TetMesh& mesh, TissueScene& liver_scene);
+
 /// The reduced rungs `scene` declares, of `mesh`: liver.model.artifact, then the escalation's
 /// rungs (all of one force kind), each with the scene's reduced solver settings. Errors name
 /// the artifact's key and line.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -118,7 +119,8 @@ Result<ReducedKalmanModel> tumour_filter(const StationLiver& liver, const Scene&
 /// The rungs' filters and the loop on the scene's ladder.
 Result<OperatingLoopModel> ladder_loop(const StationLiver& liver, const Scene& scene,
                                        std::span<const ReducedRungSpec> rungs, const OperatingLoopOptions& o,
-                                       const OperatingLoopNeedleOptions* needle, const StationLoopSettings& settings) {
+                                       const OperatingLoopNeedleOptions* needle, const StationLoopSettings& settings,
+                                       std::shared_ptr<const OrganLigaments> ligaments) {
   auto ladder = make_scene_ladder(scene, liver.mesh, liver.scene, rungs);
   if (!ladder.ok()) return ladder.error();
   std::vector<ReducedKalmanModel> filters;
@@ -128,7 +130,61 @@ Result<OperatingLoopModel> ladder_loop(const StationLiver& liver, const Scene& s
     if (!filter.ok()) return filter.error();
     filters.push_back(std::move(filter).value());
   }
-  return make_operating_loop_model(ladder.value(), std::move(filters), o, needle, &liver.mesh);
+  return make_operating_loop_model(ladder.value(), std::move(filters), o, needle, &liver.mesh, std::move(ligaments));
+}
+
+/// The loop on `liver` (see make_station_loop), hung by `ligaments` when not null (their
+/// attachment declared in liver.scene, beside the needle's point forces).
+Result<OperatingLoopModel> loop_on(const StationLiver& liver, const Scene& scene, const BreathingGeometry& breathing,
+                                   const StationLoopSettings& settings,
+                                   std::shared_ptr<const OrganLigaments> ligaments) {
+  auto calibration = scene_needle_calibration(scene);
+  if (!calibration.ok()) return calibration.error();
+  const OperatingLoopOptions o = loop_options(scene, breathing, calibration.value(), settings);
+  std::optional<OperatingLoopNeedleOptions> needle;
+  if (scene.needle) {
+    needle.emplace();
+    needle->parameters = scene.needle->parameters;
+    needle->scene = scene.needle->interaction;
+    needle->marker_from_base = calibration.value().marker_from_base;
+    needle->max_point_forces = liver.scene.max_point_forces - (ligaments ? ligaments->attachment.nodes.size() : 0);
+  }
+  const auto loop_error = [&](const Error& e) {  // the loop's own errors: its needle's, or the liver model's
+    return e.file.empty() ? Error{.message = e.describe(),
+                                  .file = scene.source_path,
+                                  .line = needle ? scene.needle->line : scene.liver.line,
+                                  .field = needle ? "needle" : "liver.model"}
+                          : e;
+  };
+  std::vector<ReducedRungSpec> rungs;
+  if (scene.liver.rung == LiverRung::full) {
+    auto trained = trained_rung(liver, scene, settings);
+    if (!trained.ok())
+      return Error{.message = trained.error().describe(),
+                   .file = scene.source_path,
+                   .line = scene.liver.line,
+                   .field = "liver.model (start-up training)"};
+    rungs.push_back(std::move(trained).value());
+  } else {
+    auto loaded = load_reduced_rungs(scene, liver.mesh);
+    if (!loaded.ok()) return loaded.error();
+    rungs = std::move(loaded).value();
+  }
+  if (scene.liver.escalation) {
+    auto loop = ladder_loop(liver, scene, rungs, o, needle ? &*needle : nullptr, settings, std::move(ligaments));
+    if (!loop.ok()) return loop_error(loop.error());
+    return loop;
+  }
+  auto reduced = make_scene_reduced_model(scene, liver.mesh, liver.scene, rungs.front());
+  if (!reduced.ok()) return reduced.error();
+  auto filter = tumour_filter(liver, scene, 0, rungs.front().basis, reduced.value(), settings);
+  if (!filter.ok()) return filter.error();
+  auto loop = needle ? make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o, *needle,
+                                                 liver.mesh, std::move(ligaments))
+                     : make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o,
+                                                 std::move(ligaments));
+  if (!loop.ok()) return loop_error(loop.error());
+  return loop;
 }
 
 }  // namespace
@@ -179,52 +235,12 @@ Result<NeedleCalibration> scene_needle_calibration(const Scene& scene) {
 Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Scene& scene,
                                              const BreathingGeometry& breathing, const StationLoopSettings& settings) {
   if (const Status runnable = check_station_loop(scene); !runnable.ok()) return runnable.error();
-  auto calibration = scene_needle_calibration(scene);
-  if (!calibration.ok()) return calibration.error();
-  const OperatingLoopOptions o = loop_options(scene, breathing, calibration.value(), settings);
-  std::optional<OperatingLoopNeedleOptions> needle;
-  if (scene.needle) {
-    needle.emplace();
-    needle->parameters = scene.needle->parameters;
-    needle->scene = scene.needle->interaction;
-    needle->marker_from_base = calibration.value().marker_from_base;
-    needle->max_point_forces = liver.scene.max_point_forces;
-  }
-  const auto loop_error = [&](const Error& e) {  // the loop's own errors: its needle's, or the liver model's
-    return e.file.empty() ? Error{.message = e.describe(),
-                                  .file = scene.source_path,
-                                  .line = needle ? scene.needle->line : scene.liver.line,
-                                  .field = needle ? "needle" : "liver.model"}
-                          : e;
-  };
-  std::vector<ReducedRungSpec> rungs;
-  if (scene.liver.rung == LiverRung::full) {
-    auto trained = trained_rung(liver, scene, settings);
-    if (!trained.ok())
-      return Error{.message = trained.error().describe(),
-                   .file = scene.source_path,
-                   .line = scene.liver.line,
-                   .field = "liver.model (start-up training)"};
-    rungs.push_back(std::move(trained).value());
-  } else {
-    auto loaded = load_reduced_rungs(scene, liver.mesh);
-    if (!loaded.ok()) return loaded.error();
-    rungs = std::move(loaded).value();
-  }
-  if (scene.liver.escalation) {
-    auto loop = ladder_loop(liver, scene, rungs, o, needle ? &*needle : nullptr, settings);
-    if (!loop.ok()) return loop_error(loop.error());
-    return loop;
-  }
-  auto reduced = make_scene_reduced_model(scene, liver.mesh, liver.scene, rungs.front());
-  if (!reduced.ok()) return reduced.error();
-  auto filter = tumour_filter(liver, scene, 0, rungs.front().basis, reduced.value(), settings);
-  if (!filter.ok()) return filter.error();
-  auto loop =
-      needle ? make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o, *needle, liver.mesh)
-             : make_operating_loop_model(std::move(reduced).value(), std::move(filter).value(), o);
-  if (!loop.ok()) return loop_error(loop.error());
-  return loop;
+  if (!scene.ligaments) return loop_on(liver, scene, breathing, settings, nullptr);
+  StationLiver hung = liver;  // the liver's scene with the ligaments' attachment declared
+  auto ligaments = make_scene_ligaments(scene, hung.mesh, hung.scene);
+  if (!ligaments.ok()) return ligaments.error();
+  return loop_on(hung, scene, breathing, settings,
+                 std::make_shared<const OrganLigaments>(std::move(ligaments).value()));
 }
 
 std::string describe_station_loop(const Scene& scene, const OperatingLoopModel& loop) {
@@ -232,13 +248,20 @@ std::string describe_station_loop(const Scene& scene, const OperatingLoopModel& 
     return "r = " + std::to_string(r.basis_size()) + " (" + std::to_string(r.sample_count()) + " sampled tetrahedra)";
   };
   const ReducedModel& base = loop.rungs.front().reduced;
-  if (scene.liver.rung == LiverRung::full)
-    return "liver model: the scene's rung is full order; the loop runs a reduced liver trained on it at start-up, " +
+  std::string text;
+  if (scene.liver.rung == LiverRung::full) {
+    text = "liver model: the scene's rung is full order; the loop runs a reduced liver trained on it at start-up, " +
            rung_text(base) + " (vibration modes, corotational cubature on diaphragm moves)";
-  std::string text = "liver model: reduced " + rung_text(base) + " from " + scene.liver.reduced_artifact_path;
-  for (std::size_t k = 1; k < loop.rungs.size(); ++k)
-    text += "; rung " + std::to_string(k) + ": " + rung_text(loop.rungs[k].reduced) + " from " +
-            scene.liver.escalation->rungs[k - 1].artifact_path;
+  } else {
+    text = "liver model: reduced " + rung_text(base) + " from " + scene.liver.reduced_artifact_path;
+    for (std::size_t k = 1; k < loop.rungs.size(); ++k)
+      text += "; rung " + std::to_string(k) + ": " + rung_text(loop.rungs[k].reduced) + " from " +
+              scene.liver.escalation->rungs[k - 1].artifact_path;
+  }
+  if (loop.ligaments)
+    text += "; hung by " + std::to_string(loop.ligaments->grids.size()) + " ligaments (" +
+            std::to_string(loop.ligaments->model.frame_count()) + " frames on " +
+            std::to_string(loop.ligaments->attachment.nodes.size()) + " liver nodes), stepped with it";
   return text;
 }
 

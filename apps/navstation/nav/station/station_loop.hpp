@@ -3,7 +3,8 @@
 // artifact of `liver.model.artifact`, the escalation ladder of `liver.model.escalation`, or,
 // for a full-order rung, a reduced liver trained at start-up on the scene's full-order model
 // (vibration modes, corotational cubature trained on quasi-static steps under diaphragm
-// moves); the Kalman filter on the tumour on every rung; the scene's needle. Init-time code.
+// moves); the Kalman filter on the tumour on every rung; the scene's needle and ligaments.
+// Init-time code.
 #include <string>
 
 #include "nav/core/error.hpp"
@@ -51,8 +52,10 @@ Result<NeedleCalibration> scene_needle_calibration(const Scene& scene);
 /// the model frame, on the scene's liver model (see the file comment), its needle tip and base
 /// where the URDF calibrates them (scene_needle_calibration). With `needle:` the loop steps the
 /// scene's flexible needle coupled to every rung (at the loop rate, its base at the needle
-/// marker * marker_from_base); without it, a rigid needle. Errors name the scene key
-/// (liver.model.artifact, liver.model.escalation..., needle, frames.urdf).
+/// marker * marker_from_base); without it, a rigid needle. With `ligaments:` the loop steps
+/// them with its liver, which carries their forces (their attachment declared in its scene).
+/// Errors name the scene key (liver.model.artifact, liver.model.escalation..., needle,
+/// ligaments, frames.urdf).
 Result<OperatingLoopModel> make_station_loop(const StationLiver& liver, const Scene& scene,
                                              const BreathingGeometry& breathing, const StationLoopSettings& settings);
 
