@@ -213,7 +213,6 @@ struct OperatingLoopRungData {
 struct OperatingLoopLigamentsData {
   FrameTissueData tissue;
   AttachmentBuffers buffers;
-  std::vector<std::int32_t> nodes;           ///< the attachment nodes (the organ nodes that take forces)
   std::vector<double> node_displacements_m;  ///< 3 per attachment node, scratch
   std::vector<double> organ_positions_m;     ///< 3 per liver node; only the attachment nodes' are kept
 };

@@ -174,7 +174,7 @@ Result<OperatingLoopLigamentsData> make_ligaments_data(const OrganLigaments& lig
   auto tissue = make_frame_tissue_data(ligaments.model);
   if (!tissue.ok()) return tissue.error();
   const OrganAttachment& a = ligaments.attachment;
-  OperatingLoopLigamentsData data{std::move(tissue).value(), make_attachment_buffers(a), a.nodes,
+  OperatingLoopLigamentsData data{std::move(tissue).value(), make_attachment_buffers(a),
                                   std::vector<double>(3 * a.nodes.size()),
                                   std::vector<double>(3 * static_cast<std::size_t>(liver_nodes))};
   for (std::size_t k = 0; k < a.nodes.size(); ++k)

@@ -97,12 +97,13 @@ std::span<const PointForce> ligaments_tick(const OperatingLoopModel& model, Oper
   if (!model.ligaments) return {};
   const OrganLigaments& ligaments = *model.ligaments;
   OperatingLoopLigamentsData& state = *data.ligaments;
+  const std::vector<std::int32_t>& nodes = ligaments.attachment.nodes;
   reconstruct_displacements_m(model.rungs[static_cast<std::size_t>(data.active_rung)].reduced, data.active().liver(),
-                              state.nodes, state.node_displacements_m);
+                              nodes, state.node_displacements_m);
   const std::vector<double>& rest_m = ligaments.attachment.node_rest_positions_m;
-  for (std::size_t k = 0; k < state.nodes.size(); ++k)
+  for (std::size_t k = 0; k < nodes.size(); ++k)
     for (std::size_t c = 0; c < 3; ++c)
-      state.organ_positions_m[3 * static_cast<std::size_t>(state.nodes[k]) + c] =
+      state.organ_positions_m[3 * static_cast<std::size_t>(nodes[k]) + c] =
           rest_m[3 * k + c] + state.node_displacements_m[3 * k + c];
   step_attached(ligaments.model, state.tissue, ligaments.attachment, state.buffers, state.organ_positions_m, 1.0);
   flags.merge(state.tissue.health);
