@@ -21,6 +21,16 @@ inline TissueScene held_at_bottom(const TetMesh& mesh) {
   return scene;
 }
 
+/// Linear elements solved exactly (one LDL^T solve), quasi-static.
+inline TissueSolverOptions exact_linear_options() {
+  TissueSolverOptions options;
+  options.rotation = ElementRotation::none;
+  options.integrator = Integrator::quasi_static;
+  options.solver = LinearSolver::ldlt_warped;
+  options.cg_iterations = 1;
+  return options;
+}
+
 /// The needle pointing down (-z) over (x, y), its tip 5 mm above `top_m` less `lowered_m`.
 inline NeedlePose needle_above(double x_m, double y_m, double top_m, double lowered_m) {
   NeedlePose pose;

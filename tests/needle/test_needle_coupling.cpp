@@ -59,13 +59,13 @@ TEST(NeedleCoupling, ProbedComplianceIsPositiveAndDecaysOverTheMesh) {
   EXPECT_LT(probed.value().correlation_length_m, kBoxM);
 }
 
-TEST(NeedleCoupling, TheTissueCarriesTheContactForceAsTheProbedCompliancePredicts) {
+TEST(NeedleCoupling, TheTissueCarriesTheContactForceAsItsNodeResponsePredicts) {
   const Block block;
   const CoupledNeedleModel model =
       make_coupled_needle_model(NeedleParameters{}, top_layer(), block.tissue, 32, 1).value();
   CoupledNeedleData data = make_coupled_needle_data(model, above_block(0.0)).value();
   // Push until the contact force is half f_p, then compare the surface node's displacement
-  // (the FEM's answer) with force times the probed compliance (the constraint solver's).
+  // (the FEM's answer) with force times the node's response (the constraint solver's).
   NeedleInputs inputs;
   int s = 0;
   while (data.interaction.report.contact_force_n < 0.5 * kPunctureN && s < 2000) {
@@ -76,10 +76,11 @@ TEST(NeedleCoupling, TheTissueCarriesTheContactForceAsTheProbedCompliancePredict
   for (int k = 0; k < 5; ++k) step(model, data, inputs);  // let the quasi-static tissue settle
   const std::int32_t node = data.interaction.layers[0].contact.node;
   const double pushed_m = -data.displacements_m[3 * static_cast<std::size_t>(node) + 2];
-  // The normal (zz) entry of the probed compliance tensor.
-  const double predicted_m =
-      data.interaction.report.contact_force_n * model.interaction.compliance_tensor_m_per_n(2, 2);
-  std::printf("surface pushed %.3f mm by the FEM, %.3f mm predicted by the probed compliance\n", 1e3 * pushed_m,
+  // The node's response along z to a force along z, from the tissue's rest factor.
+  std::vector<double> response(3 * block.mesh.nodes_m.size()), work(2 * block.tissue.free_dof_count());
+  ASSERT_TRUE(rest_step_response_m(block.tissue, node, 2, response, work));
+  const double predicted_m = data.interaction.report.contact_force_n * response[3 * static_cast<std::size_t>(node) + 2];
+  std::printf("surface pushed %.3f mm by the FEM, %.3f mm predicted by the node's response\n", 1e3 * pushed_m,
               1e3 * predicted_m);
   EXPECT_NEAR(pushed_m / predicted_m, 1.0, 0.05);
   EXPECT_TRUE(data.interaction.health.healthy());

@@ -92,6 +92,7 @@ void move_to(const OperatingLoopModel& model, OperatingLoopData& data, int to, c
   if (b.needle_model) {
     copy_needle_state(*a.needle_model, *b.needle_model);
     reconstruct_all_displacements_m(target.reduced, liver, b.needle_model->displacements_m);
+    refresh_surfaces(target.needle->coupled.interaction, b.needle_model->interaction, b.needle_model->displacements_m);
   }
   data.active_rung = to;
   data.flagged_steps = 0;

@@ -21,9 +21,12 @@ namespace detail {
 Status validate_coupling(const NeedleTissueScene& scene, std::size_t max_point_forces,
                          int needle_steps_per_tissue_step);
 
-/// Refreshes data.displacements_m after a tissue step (all nodes, or those it needs).
-void refresh_displacements(const TetFemModel& tissue, CoupledNeedleDataOf<TetFemData>& data) noexcept;
-void refresh_displacements(const ReducedModel& tissue, CoupledNeedleDataOf<ReducedData>& data) noexcept;
+/// Refreshes data.displacements_m after a tissue step (all nodes, or those it needs, the
+/// surfaces' vertices within the needle's reach among them).
+void refresh_displacements(const CoupledNeedleModelOf<TetFemModel>& model,
+                           CoupledNeedleDataOf<TetFemData>& data) noexcept;
+void refresh_displacements(const CoupledNeedleModelOf<ReducedModel>& model,
+                           CoupledNeedleDataOf<ReducedData>& data) noexcept;
 
 /// Merges the rows' forces (opposite on the tissue) per tissue node into `out`; beyond
 /// `max_forces` distinct nodes keeps the largest (stable order) and returns how many were
@@ -87,7 +90,8 @@ void step_tissue(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDa
   step(*model.tissue, data.tissue, tissue_inputs);
   // The tissue now carries this tick's forces.
   std::copy(interaction.slot_forces.begin(), interaction.slot_forces.end(), interaction.applied_forces.begin());
-  detail::refresh_displacements(*model.tissue, data);
+  detail::refresh_displacements(model, data);
+  refresh_surfaces(model.interaction, interaction, data.displacements_m);
 }
 
 template <class TissueModel, class TissueData>

@@ -17,8 +17,11 @@
 #include "nav/needle/needle_lane_kernels.hpp"
 #include "nav/needle/needle_model.hpp"
 #include "nav/needle/needle_tissue_scene.hpp"
+#include "nav/needle/surface_bvh.hpp"
 
 namespace nav {
+
+class TetFemModel;
 
 /// Where the tip stands with one layer.
 enum class LayerPhase : std::uint8_t {
@@ -72,16 +75,31 @@ struct NeedleTissueModel {
   /// element can outnumber what needle and basis can follow, and W is singular.
   int compliance_rank = 0;
   std::vector<double> compliance_factors;
+  /// A full-order tissue whose response over one step at the constraint points' nodes (three
+  /// solves with its rest factor per node, rest_step_response_m(), kept in the data's cache
+  /// while the node is in use) is the tissue's compliance between them, replacing the tensor
+  /// and its Gaussian decay as the low-rank factors do. Not owned; outlives this model.
+  const TetFemModel* node_response_source = nullptr;
   /// Tissue rest positions (3 per node) that tissue points attach to; empty stand-alone.
   std::vector<double> tissue_rest_m;
+  /// The hierarchies of scene.surfaces, in their order.
+  std::vector<detail::SurfaceBvh> surface_bvhs;
   /// The Gauss-Seidel lane kernels of scene.kernel_isa.
   const detail::NeedleLaneKernels* lane_kernels = &detail::needle_lane_kernels_baseline;
   int layer_count() const { return static_cast<int>(scene.layers.size()); }
+  /// The tissue's compliance is known node by node (low-rank factors or full-order responses).
+  bool nodal_compliance() const { return compliance_rank > 0 || node_response_source != nullptr; }
+  /// Slots of the full-order response cache: every constraint point's node, and a few more.
+  int response_slots() const { return node_response_source != nullptr ? max_points() + 4 : 0; }
   /// Constraint points at most: one per layer (contact), the tip, one per path point.
   int max_points() const { return layer_count() + 1 + scene.max_path_points; }
   /// Slots of forces: 3 per layer (contact), 1 at the tip (cutting), 3 per path point.
   int slot_count() const { return 3 * layer_count() + 1 + 3 * scene.max_path_points; }
   int tip_slot() const { return 3 * layer_count(); }
+  /// Values of NeedleTissueData::surface_boxes: 6 per hierarchy node of every surface.
+  std::size_t surface_box_values() const {
+    return surface_bvhs.empty() ? 0 : surface_bvhs.back().box_offset + 6 * surface_bvhs.back().nodes.size();
+  }
   int path_slot(int point) const { return 3 * layer_count() + 1 + 3 * point; }
 };
 
@@ -138,6 +156,7 @@ struct NeedleTissueData {
   std::span<LayerState> layers;
   std::span<PathPoint> path;
   TissuePoint tip_anchor;            ///< the tissue point at the tip (where the next path point goes)
+  std::span<double> surface_boxes;   ///< the surfaces' hierarchies' boxes at the last refresh_surfaces()
   std::span<double> slot_forces;     ///< per slot: last solution (warm start)
   std::span<double> applied_forces;  ///< per slot: forces the tissue model already carries
   // Workspace of one step.
@@ -145,9 +164,14 @@ struct NeedleTissueData {
   std::span<double> compliance, row_forces, row_gaps, nodal_forces;
   std::size_t compliance_stride = 0;       ///< between W's rows: row_count padded to whole kernel lanes
   std::span<detail::SweepRow> sweep_rows;  ///< the Gauss-Seidel workspace
-  // Low-rank tissue only: the distinct tissue nodes of the constraint points and each
-  // point's index among them.
-  std::span<std::int32_t> distinct_tissue_nodes, point_tissue_index;
+  // Nodal compliance only: the distinct tissue nodes of the constraint points and each
+  // point's index among them (and, full order, each distinct node's response slot).
+  std::span<std::int32_t> distinct_tissue_nodes, point_tissue_index, distinct_response_slot;
+  // Full order only: per cache slot its node (-1: empty) and the step that last used it, the
+  // slots' responses (3 columns of 3 per tissue node each, metres per newton) and the solves' work.
+  std::span<std::int32_t> response_nodes;
+  std::span<std::int64_t> response_used;
+  std::span<double> responses_m_per_n, response_work;
   detail::LowRankWorkspace low_rank;
   int distinct_tissue_node_count = 0;
   std::span<std::int32_t> point_first_row;  ///< per constraint point (and one past the last), its first row
@@ -164,6 +188,11 @@ Result<NeedleTissueModel> make_needle_tissue_model(const NeedleParameters& needl
 
 /// The data, with the needle straight at `base`, no layer touched and empty pools.
 Result<NeedleTissueData> make_needle_tissue_data(const NeedleTissueModel& model, const NeedlePose& base);
+
+/// Refits the surfaces' hierarchies to the tissue displacements (3 per node; empty: at rest):
+/// after every change of the displacements the step is given (a tissue step), never between.
+void refresh_surfaces(const NeedleTissueModel& model, NeedleTissueData& data,
+                      std::span<const double> displacements_m) noexcept;
 
 /// One step: pose check, needle free motion, constraints, Gauss-Seidel, correction, state
 /// machines and pools. A refused pose leaves everything untouched (flags raised).

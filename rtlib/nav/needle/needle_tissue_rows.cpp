@@ -5,6 +5,7 @@
 
 #include "nav/needle/needle_step.hpp"
 #include "nav/needle/tissue_points.hpp"
+#include "nav/tissue/tet_fem_model.hpp"
 
 namespace nav::detail {
 
@@ -17,13 +18,6 @@ void complete_frame(const Eigen::Vector3d& axis, const Eigen::Vector3d& hint, Ei
                     Eigen::Vector3d& second) {
   first = (hint - hint.dot(axis) * axis).normalized();
   second = axis.cross(first);
-}
-
-double signed_distance_m(const NeedleTissueModel& model, const NeedleTissueData& data, int layer,
-                         const Eigen::Vector3d& x, std::span<const double> displacements_m) {
-  const Eigen::Vector3d surface =
-      tissue_point_position_m(data.layers[static_cast<std::size_t>(layer)].surface, displacements_m);
-  return vec(model.scene.layers[static_cast<std::size_t>(layer)].outward_normal).dot(x - surface);
 }
 
 /// Appends one row and returns its index.
@@ -50,9 +44,10 @@ void add_contact_rows(const NeedleTissueModel& model, NeedleTissueData& data, in
                       std::span<const double> displacements_m) {
   const TissueLayer& spec = model.scene.layers[static_cast<std::size_t>(layer)];
   const int tip_node = model.needle.element_count, slot = 3 * layer;
-  const Eigen::Vector3d n = vec(spec.outward_normal), tip = needle_tip_m(data.needle);
+  const Eigen::Vector3d tip = needle_tip_m(data.needle);
   const Eigen::Vector3d contact =
       tissue_point_position_m(data.layers[static_cast<std::size_t>(layer)].contact, displacements_m);
+  const Eigen::Vector3d n = layer_normal_at(model, data, layer, contact, displacements_m);
   Eigen::Vector3d t1, t2;
   complete_frame(n, std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY(), t1, t2);
   const std::int32_t node = data.layers[static_cast<std::size_t>(layer)].contact.node;
@@ -110,6 +105,93 @@ double dot(const double* a, const double* b, int n) {
 /// `count` rounded up to whole kCombinedLanes.
 std::size_t padded(std::size_t count) { return (count + kCombinedLanes - 1) / kCombinedLanes * kCombinedLanes; }
 
+/// The sum of force(r) along each row's direction over the rows on distinct tissue node k.
+template <class ForceOfRow>
+Eigen::Vector3d force_on_distinct_node(const NeedleTissueData& data, std::size_t k, ForceOfRow force) {
+  Eigen::Vector3d on_node = Eigen::Vector3d::Zero();
+  for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
+    if (static_cast<std::size_t>(data.point_tissue_index[p]) != k) continue;
+    for (auto r = static_cast<std::size_t>(data.point_first_row[p]);
+         r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
+      on_node += force(r) * data.rows[r].direction;
+  }
+  return on_node;
+}
+
+/// Full order: the cache slot of node `node`'s responses, solved now (three solves with the
+/// tissue's rest factor) into the least recently used slot when no slot holds them. The slots
+/// of this step's nodes are never the least recently used: the cache outnumbers them.
+std::size_t response_slot(const NeedleTissueModel& model, NeedleTissueData& data, std::int32_t node) {
+  std::size_t chosen = 0;
+  for (std::size_t s = 0; s < data.response_nodes.size(); ++s) {
+    if (data.response_nodes[s] == node) {
+      data.response_used[s] = data.steps;
+      return s;
+    }
+    if (data.response_used[s] < data.response_used[chosen]) chosen = s;
+  }
+  const std::size_t values = model.tissue_rest_m.size();
+  for (int axis = 0; axis < 3; ++axis)
+    rest_step_response_m(*model.node_response_source, node, axis,
+                         data.responses_m_per_n.subspan((3 * chosen + static_cast<std::size_t>(axis)) * values, values),
+                         data.response_work);
+  data.response_nodes[chosen] = node;
+  data.response_used[chosen] = data.steps;
+  return chosen;
+}
+
+/// Full order: node `at`'s displacement per newton on the node of cache slot `slot` (3 x 3,
+/// column j for a force along axis j).
+Eigen::Matrix3d response_block(const NeedleTissueModel& model, const NeedleTissueData& data, std::int32_t slot,
+                               std::int32_t at) {
+  const std::size_t values = model.tissue_rest_m.size();
+  Eigen::Matrix3d block;
+  for (std::size_t j = 0; j < 3; ++j)
+    for (std::size_t i = 0; i < 3; ++i)
+      block(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) =
+          data.responses_m_per_n[(3 * static_cast<std::size_t>(slot) + j) * values + 3 * static_cast<std::size_t>(at) +
+                                 i];
+  return block;
+}
+
+/// Full order: the slots of the distinct tissue nodes (solved where missing) and the
+/// tissue's compliance between them, laid out as tissue_node_compliance() does.
+void full_order_node_compliance(const NeedleTissueModel& model, NeedleTissueData& data) {
+  const auto distinct = static_cast<std::size_t>(data.distinct_tissue_node_count);
+  for (std::size_t k = 0; k < distinct; ++k) {
+    const std::int32_t node = data.distinct_tissue_nodes[k];
+    data.distinct_response_slot[k] = node >= 0 ? static_cast<std::int32_t>(response_slot(model, data, node)) : -1;
+  }
+  const std::size_t stride = padded(3 * distinct);
+  double* dense = data.low_rank.tissue_compliance.data();
+  for (std::size_t k = 0; k < distinct; ++k)
+    for (std::size_t l = 0; l <= k; ++l) {
+      const std::int32_t at = data.distinct_tissue_nodes[k], slot = data.distinct_response_slot[l];
+      const Eigen::Matrix3d block =
+          at >= 0 && slot >= 0 ? response_block(model, data, slot, at) : Eigen::Matrix3d::Zero();
+      for (std::size_t i = 0; i < 3; ++i)
+        for (std::size_t j = 0; j < 3; ++j)
+          dense[(3 * k + i) * stride + 3 * l + j] = dense[(3 * l + j) * stride + 3 * k + i] =
+              block(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+    }
+}
+
+/// Full order: node `at`'s displacement under force(r) along each row's direction, on the
+/// rows' distinct tissue nodes.
+template <class ForceOfRow>
+Eigen::Vector3d full_order_response(const NeedleTissueModel& model, const NeedleTissueData& data, ForceOfRow force,
+                                    std::int32_t at) {
+  Eigen::Vector3d u = Eigen::Vector3d::Zero();
+  if (at < 0) return u;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(data.distinct_tissue_node_count); ++k) {
+    const std::int32_t slot = data.distinct_response_slot[k];
+    if (slot < 0) continue;
+    const Eigen::Vector3d on_node = force_on_distinct_node(data, k, force);
+    u += response_block(model, data, slot, at) * on_node;
+  }
+  return u;
+}
+
 /// Low rank: the distinct tissue nodes of the constraint points (points on one node share
 /// them), each point's index among those nodes, and the tissue's compliance between them,
 /// V_a V_b^T, dense and row-major in low_rank.tissue_compliance (padded(3 distinct) values
@@ -125,6 +207,10 @@ void tissue_node_compliance(const NeedleTissueModel& model, NeedleTissueData& da
     data.point_tissue_index[p] = static_cast<std::int32_t>(k);
   }
   data.distinct_tissue_node_count = static_cast<int>(distinct);
+  if (rank == 0) {
+    full_order_node_compliance(model, data);
+    return;
+  }
   const std::size_t stride = padded(3 * distinct);
   for (std::size_t k = 0; k < distinct; ++k)
     for (std::size_t l = 0; l <= k; ++l) {
@@ -154,13 +240,7 @@ void factor_sum(const NeedleTissueModel& model, const NeedleTissueData& data, Fo
   std::fill_n(sum, rank, 0.0);
   for (std::size_t k = 0; k < static_cast<std::size_t>(data.distinct_tissue_node_count); ++k) {
     if (data.distinct_tissue_nodes[k] < 0) continue;
-    Eigen::Vector3d on_node = Eigen::Vector3d::Zero();
-    for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
-      if (static_cast<std::size_t>(data.point_tissue_index[p]) != k) continue;
-      for (auto r = static_cast<std::size_t>(data.point_first_row[p]);
-           r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
-        on_node += force(r) * data.rows[r].direction;
-    }
+    const Eigen::Vector3d on_node = force_on_distinct_node(data, k, force);
     const double* v = node_factors(model, data.distinct_tissue_nodes[k]);
     for (int j = 0; j < rank; ++j)
       sum[j] += (v[j] * on_node.x() + v[rank + j] * on_node.y()) + v[2 * rank + j] * on_node.z();
@@ -172,6 +252,19 @@ void factor_sum(const NeedleTissueModel& model, const NeedleTissueData& data, Fo
 /// O(m + r) per distinct node instead of one long chain of m^2 updates.
 void remove_applied_response(const NeedleTissueModel& model, NeedleTissueData& data) {
   const int rank = model.compliance_rank;
+  if (rank == 0) {  // full order
+    const auto applied = [&](std::size_t r) {
+      return data.applied_forces[static_cast<std::size_t>(data.rows[r].slot)];
+    };
+    for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
+      const std::int32_t node = data.distinct_tissue_nodes[static_cast<std::size_t>(data.point_tissue_index[p])];
+      const Eigen::Vector3d response = full_order_response(model, data, applied, node);
+      for (auto r = static_cast<std::size_t>(data.point_first_row[p]);
+           r < static_cast<std::size_t>(data.point_first_row[p + 1]); ++r)
+        data.rows[r].gap_free_m -= data.rows[r].direction.dot(response);
+    }
+    return;
+  }
   double carried[kMaxComplianceRank];
   factor_sum(
       model, data, [&](std::size_t r) { return data.applied_forces[static_cast<std::size_t>(data.rows[r].slot)]; },
@@ -267,6 +360,28 @@ double tissue_decay(const NeedleTissueModel& model, const Eigen::Vector3d& a, co
 
 }  // namespace
 
+SurfaceHit layer_hit(const NeedleTissueModel& model, const NeedleTissueData& data, int layer,
+                     const Eigen::Vector3d& x_m, std::span<const double> displacements_m) noexcept {
+  const TissueLayer& spec = model.scene.layers[static_cast<std::size_t>(layer)];
+  if (spec.surface >= 0) {
+    const SurfaceBvh& bvh = model.surface_bvhs[static_cast<std::size_t>(spec.surface)];
+    return nearest_surface_point(bvh, data.surface_boxes.subspan(bvh.box_offset, 6 * bvh.nodes.size()),
+                                 model.tissue_rest_m, displacements_m, x_m);
+  }
+  SurfaceHit hit;
+  hit.normal = vec(spec.outward_normal);
+  hit.distance_m = hit.normal.dot(
+      x_m - tissue_point_position_m(data.layers[static_cast<std::size_t>(layer)].surface, displacements_m));
+  hit.point_m = x_m - hit.distance_m * hit.normal;
+  return hit;
+}
+
+Eigen::Vector3d layer_normal_at(const NeedleTissueModel& model, const NeedleTissueData& data, int layer,
+                                const Eigen::Vector3d& x_m, std::span<const double> displacements_m) noexcept {
+  const TissueLayer& spec = model.scene.layers[static_cast<std::size_t>(layer)];
+  return spec.surface < 0 ? vec(spec.outward_normal) : layer_hit(model, data, layer, x_m, displacements_m).normal;
+}
+
 NeedleFrameAt needle_frame_at(const NeedleModel& model, const NeedleData& data, double arclength_m) noexcept {
   NeedleFrameAt at;
   const double position = arclength_m / model.element_length_m;
@@ -285,7 +400,7 @@ int cutting_layer(const NeedleTissueModel& model, const NeedleTissueData& data, 
                   std::span<const double> displacements_m) noexcept {
   for (int l = model.layer_count() - 1; l >= 0; --l)
     if (data.layers[static_cast<std::size_t>(l)].phase == LayerPhase::punctured &&
-        signed_distance_m(model, data, l, tip_m, displacements_m) <= 0.0)
+        layer_hit(model, data, l, tip_m, displacements_m).distance_m <= 0.0)
       return l;
   return -1;
 }
@@ -303,10 +418,13 @@ void build_rows(const NeedleTissueModel& model, NeedleTissueData& data,
   const Eigen::Vector3d tip = needle_tip_m(data.needle);
   for (int l = 0; l < model.layer_count(); ++l) {
     LayerState& layer = data.layers[static_cast<std::size_t>(l)];
-    const double distance_m = signed_distance_m(model, data, l, tip, displacements_m);
-    if (layer.phase == LayerPhase::outside && distance_m < 0.0) {
-      const Eigen::Vector3d on_surface =
-          tip - distance_m * vec(model.scene.layers[static_cast<std::size_t>(l)].outward_normal);
+    if (layer.phase != LayerPhase::outside) {
+      if (layer.phase == LayerPhase::touching) add_contact_rows(model, data, l, displacements_m);
+      continue;
+    }
+    const SurfaceHit hit = layer_hit(model, data, l, tip, displacements_m);
+    if (hit.distance_m < 0.0) {
+      const Eigen::Vector3d& on_surface = hit.point_m;
       const bool through_hole =
           layer.holed &&
           (tissue_point_position_m(layer.hole, displacements_m) - on_surface).norm() <= model.scene.hole_radius_m;
@@ -335,7 +453,6 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
   for (std::size_t r = 0; r < m; ++r) first_node = std::min(first_node, std::max(1, data.rows[r].node));
   update_needle_compliance(data.needle, first_node);
   // Constraint points (rows sharing a needle point and a tissue point).
-  const int rank = model.compliance_rank;
   for (std::size_t r = 0; r < m; ++r) {
     const std::size_t first =
         data.point_count > 0
@@ -350,7 +467,7 @@ void assemble_compliance(const NeedleTissueModel& model, NeedleTissueData& data)
     begin = static_cast<std::size_t>(data.point_first_row[p]);
     end = static_cast<std::size_t>(data.point_first_row[p + 1]);
   };
-  if (rank > 0) {
+  if (model.nodal_compliance()) {
     tissue_node_compliance(model, data);
     assemble_low_rank(model, data, first_node - 1);
     remove_applied_response(model, data);
@@ -403,13 +520,18 @@ Eigen::Vector3d compliant_displacement_m(const NeedleTissueModel& model, const N
     return data.row_forces[r] - data.applied_forces[static_cast<std::size_t>(data.rows[r].slot)];
   };
   const int rank = model.compliance_rank;
-  if (rank > 0) {
-    // u = -V_node sum_r V_r^T d_r pending_r, through the rank-sized sum.
+  if (model.nodal_compliance()) {
     if (node < 0) return Eigen::Vector3d::Zero();
-    double sum[kMaxComplianceRank];
-    factor_sum(model, data, pending_n, sum);
-    const double* v = node_factors(model, node);
-    Eigen::Vector3d u = -Eigen::Vector3d(dot(v, sum, rank), dot(v + rank, sum, rank), dot(v + 2 * rank, sum, rank));
+    Eigen::Vector3d u;
+    if (rank > 0) {
+      // u = -V_node sum_r V_r^T d_r pending_r, through the rank-sized sum.
+      double sum[kMaxComplianceRank];
+      factor_sum(model, data, pending_n, sum);
+      const double* v = node_factors(model, node);
+      u = -Eigen::Vector3d(dot(v, sum, rank), dot(v + rank, sum, rank), dot(v + 2 * rank, sum, rank));
+    } else {
+      u = -full_order_response(model, data, pending_n, node);
+    }
     // A constraint point's own tissue point also yields locally under its whole force.
     for (int p = 0; p < data.point_count; ++p) {
       const auto begin = static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(p)]);

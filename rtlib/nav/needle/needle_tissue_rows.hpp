@@ -18,6 +18,16 @@ struct NeedleFrameAt {
 
 NeedleFrameAt needle_frame_at(const NeedleModel& model, const NeedleData& data, double arclength_m) noexcept;
 
+/// Layer `layer`'s surface (its TissueSurface, or its plane, at the given displacements) seen
+/// from `x_m`: the nearest surface point, its outward normal and x_m's signed distance
+/// (negative inside).
+SurfaceHit layer_hit(const NeedleTissueModel& model, const NeedleTissueData& data, int layer,
+                     const Eigen::Vector3d& x_m, std::span<const double> displacements_m) noexcept;
+
+/// The outward normal of layer `layer`'s surface nearest `x_m` (a plane's own, without a search).
+Eigen::Vector3d layer_normal_at(const NeedleTissueModel& model, const NeedleTissueData& data, int layer,
+                                const Eigen::Vector3d& x_m, std::span<const double> displacements_m) noexcept;
+
 /// The deepest punctured layer that holds the tip, or -1.
 int cutting_layer(const NeedleTissueModel& model, const NeedleTissueData& data, const Eigen::Vector3d& tip_m,
                   std::span<const double> displacements_m) noexcept;

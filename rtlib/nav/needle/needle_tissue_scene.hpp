@@ -2,6 +2,7 @@
 // What the needle meets: tissue layers (a capsule, parenchyma, a stiff inclusion) with their
 // puncture, cutting and friction parameters, the tissue's compliance seen from a point,
 // the path-constraint pool and the Gauss-Seidel settings. Plain data, fixed at init.
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -10,11 +11,21 @@
 
 namespace nav {
 
-/// One layer: the half-space behind a plane surface (a point on it and its outward unit
-/// normal, world frame, at rest), with the forces that the needle meets in it.
+/// A puncturable surface of the tissue: closed triangles over tissue nodes (counter-clockwise
+/// seen from outside), so that it moves with the tissue: the mesh's boundary (the liver's
+/// capsule) or the boundary of a region (a tumour, a vessel); see tissue_surface.hpp.
+struct TissueSurface {
+  std::vector<std::array<std::int32_t, 3>> triangles;
+};
+
+/// One layer: what is inside a surface, with the forces that the needle meets in it. The
+/// surface is one of the scene's TissueSurfaces, or else the plane through surface_point_m
+/// with its outward unit normal (world frame, at rest), as the verification scenes use. With
+/// a full-order tissue, the outermost layer's surface_point_m is where its compliance is probed.
 struct TissueLayer {
   Point3 surface_point_m{};
   Point3 outward_normal{0.0, 0.0, 1.0};
+  std::int32_t surface = -1;                  ///< index in NeedleTissueScene::surfaces; -1: the plane
   double puncture_force_n = 1.0;              ///< f_p: the surface gives way at this normal force
   double cutting_force_n = 0.3;               ///< resists the tip advancing into uncut tissue
   double friction_per_length_n_m = 10.0;      ///< shaft stick limit per inserted length
@@ -23,7 +34,11 @@ struct TissueLayer {
 
 /// The needle-tissue interaction scene.
 struct NeedleTissueScene {
-  std::vector<TissueLayer> layers;  ///< outermost first; a deeper layer's index is larger
+  std::vector<TissueLayer> layers;      ///< outermost first; a deeper layer's index is larger
+  std::vector<TissueSurface> surfaces;  ///< the layers' surfaces (tissue node indices)
+  /// A reduced tissue's step refreshes the surface vertices within the needle's length plus
+  /// this margin of its base (the needle reaches no others before the next tissue step).
+  double surface_reach_margin_m = 0.03;
   /// Local tissue compliance seen by a constraint point (m/N), and the Gaussian
   /// correlation length of the coupling between points (Dequidt's wall compliance). With a
   /// reduced tissue the point compliance is what the basis misses (see NeedleTissueModel).

@@ -77,9 +77,9 @@ void update_layers(const NeedleTissueModel& model, NeedleTissueData& data, std::
     LayerState& layer = data.layers[static_cast<std::size_t>(l)];
     if (layer.phase != LayerPhase::touching) continue;
     const TissueLayer& spec = model.scene.layers[static_cast<std::size_t>(l)];
-    const Eigen::Vector3d n(spec.outward_normal[0], spec.outward_normal[1], spec.outward_normal[2]);
     const double normal_n = data.slot_forces[static_cast<std::size_t>(3 * l)];
     const Eigen::Vector3d contact = position_after(model, data, layer.contact, displacements_m);
+    const Eigen::Vector3d n = detail::layer_normal_at(model, data, l, contact, displacements_m);
     if (normal_n >= spec.puncture_force_n * (1.0 - kAtBound)) {
       layer.phase = LayerPhase::punctured;
       layer.holed = true;
@@ -193,11 +193,8 @@ void step(const NeedleTissueModel& model, NeedleTissueData& data, const NeedleTi
       data.report.contact_force_n =
           std::max(data.report.contact_force_n, data.slot_forces[static_cast<std::size_t>(3 * l)]);
   data.report.active_rows = data.row_count;
-  if (model.layer_count() > 0) {
-    const TissueLayer& outer = model.scene.layers[0];
-    const Eigen::Vector3d n(outer.outward_normal[0], outer.outward_normal[1], outer.outward_normal[2]);
-    data.report.tip_depth_m = -n.dot(needle_tip_m(data.needle) - tissue_point_position_m(data.layers[0].surface, u));
-  }
+  if (model.layer_count() > 0)
+    data.report.tip_depth_m = -detail::layer_hit(model, data, 0, needle_tip_m(data.needle), u).distance_m;
   update_layers(model, data, u);
   update_path(model, data, u);
   data.report.active_path_points =

@@ -14,9 +14,12 @@ namespace {
 constexpr std::int64_t kRefreshBlockNodes = 64;
 
 /// Slots of refreshed nodes: four per layer (surface, contact, hole, cut front), one per
-/// path point, the tip anchor and the round-robin block.
+/// path point, the tip anchor, the round-robin block and every surface vertex.
 std::size_t refresh_capacity(const NeedleTissueModel& model) {
-  return static_cast<std::size_t>(4 * model.layer_count() + model.scene.max_path_points + 1 + kRefreshBlockNodes);
+  std::size_t surface_vertices = 0;
+  for (const detail::SurfaceBvh& bvh : model.surface_bvhs) surface_vertices += bvh.vertex_nodes.size();
+  return static_cast<std::size_t>(4 * model.layer_count() + model.scene.max_path_points + 1 + kRefreshBlockNodes) +
+         surface_vertices;
 }
 
 /// q after one step from rest under `force` (none: no load).
@@ -118,7 +121,8 @@ Result<ReducedCoupledNeedleData> make_coupled_needle_data(const ReducedCoupledNe
 
 namespace detail {
 
-void refresh_displacements(const ReducedModel& tissue, ReducedCoupledNeedleData& data) noexcept {
+void refresh_displacements(const ReducedCoupledNeedleModel& model, ReducedCoupledNeedleData& data) noexcept {
+  const ReducedModel& tissue = *model.tissue;
   std::size_t count = 0;
   const auto add = [&](std::int32_t node) {
     if (node >= 0) data.refreshed_nodes[count++] = node;
@@ -132,6 +136,18 @@ void refresh_displacements(const ReducedModel& tissue, ReducedCoupledNeedleData&
   for (const PathPoint& point : data.interaction.path)
     if (point.active) add(point.tissue.node);
   add(data.interaction.tip_anchor.node);
+  // The surfaces' vertices the needle can reach before the next tissue step, where they were.
+  const NeedleTissueModel& interaction = model.interaction;
+  const Eigen::Vector3d base = node_position_m(data.interaction.needle.positions_m, 0);
+  const double reach_m = interaction.needle.parameters.length_m + interaction.scene.surface_reach_margin_m;
+  for (const detail::SurfaceBvh& bvh : interaction.surface_bvhs)
+    for (const std::int32_t node : bvh.vertex_nodes) {
+      const auto at = 3 * static_cast<std::size_t>(node);
+      const Eigen::Vector3d now(interaction.tissue_rest_m[at] + data.displacements_m[at],
+                                interaction.tissue_rest_m[at + 1] + data.displacements_m[at + 1],
+                                interaction.tissue_rest_m[at + 2] + data.displacements_m[at + 2]);
+      if ((now - base).squaredNorm() <= reach_m * reach_m) add(node);
+    }
   const std::int64_t nodes = tissue.node_count();
   for (std::int64_t k = 0; k < std::min(kRefreshBlockNodes, nodes); ++k) {
     add(static_cast<std::int32_t>(data.refresh_cursor));

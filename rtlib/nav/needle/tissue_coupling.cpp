@@ -88,6 +88,13 @@ Result<CoupledNeedleModel> make_coupled_needle_model(const NeedleParameters& nee
                                                      int needle_steps_per_tissue_step) {
   if (auto valid = detail::validate_coupling(scene, max_point_forces, needle_steps_per_tissue_step); !valid)
     return valid.error();
+  if (has_rest_step_response(tissue)) {
+    // The tissue's own response at the constraint points' nodes, solved as they come.
+    auto interaction = make_needle_tissue_model(needle, scene, tissue.rest_positions_m());
+    if (!interaction.ok()) return interaction.error();
+    interaction.value().node_response_source = &tissue;
+    return CoupledNeedleModel{std::move(interaction).value(), &tissue, needle_steps_per_tissue_step, max_point_forces};
+  }
   const auto probed = probe_tet_fem_compliance(tissue, scene.layers.front().surface_point_m, 0.01);
   if (!probed.ok()) return probed.error();
   NeedleTissueScene coupled = scene;
@@ -107,8 +114,8 @@ Result<CoupledNeedleData> make_coupled_needle_data(const CoupledNeedleModel& mod
 
 namespace detail {
 
-void refresh_displacements(const TetFemModel& tissue, CoupledNeedleData& data) noexcept {
-  const std::span<const double> rest = tissue.rest_positions_m();
+void refresh_displacements(const CoupledNeedleModel& model, CoupledNeedleData& data) noexcept {
+  const std::span<const double> rest = model.tissue->rest_positions_m();
   for (std::size_t i = 0; i < data.displacements_m.size(); ++i)
     data.displacements_m[i] = data.tissue.positions_m[i] - rest[i];
 }

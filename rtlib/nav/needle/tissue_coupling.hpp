@@ -1,7 +1,8 @@
 #pragma once
 // Coupling of the needle-tissue constraints with the full-order tetrahedral tissue
-// (TetFemModel), through the tissue's point-force inputs and a compliance estimated by
-// probing the tissue at init (a 3x3 tensor with a Gaussian decay between points). The tick,
+// (TetFemModel), through the tissue's point-force inputs and its compliance: its response
+// over one step at the constraint points' nodes (solves with its rest factor), or, without
+// that factor, one probed at init (a 3x3 tensor with a Gaussian decay between points). The tick,
 // multi-rate included, is coupled_needle.hpp's step(); between tissue steps the constraints
 // see the tissue's response to force changes through the compliance only.
 #include <array>
@@ -30,8 +31,12 @@ Result<ProbedCompliance> probe_tet_fem_compliance(const TetFemModel& tissue, con
 using CoupledNeedleModel = CoupledNeedleModelOf<TetFemModel>;
 using CoupledNeedleData = CoupledNeedleDataOf<TetFemData>;
 
-/// Builds the coupled model; the scene's point compliance and correlation length are
-/// replaced by those probed at the first layer's surface point.
+/// Builds the coupled model. A tissue with a rest factor that steps implicitly
+/// (has_rest_step_response) gives its own response at the constraint points' nodes, solved as
+/// they come into use and cached (the scene's point compliance is then the local compliance
+/// of a point about its node: tissue points a few millimetres apart on one node move
+/// together without it, and W loses its definiteness); otherwise the scene's point compliance and correlation
+/// length are replaced by those probed at the first layer's surface point.
 Result<CoupledNeedleModel> make_coupled_needle_model(const NeedleParameters& needle, const NeedleTissueScene& scene,
                                                      const TetFemModel& tissue, std::size_t max_point_forces,
                                                      int needle_steps_per_tissue_step);

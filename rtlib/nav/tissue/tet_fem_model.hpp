@@ -78,6 +78,19 @@ Result<TetFemData> make_tet_fem_data(const TetFemModel& model);
 /// Advances the tissue by one step of model.options().step_s under `inputs`.
 void step(const TetFemModel& model, TetFemData& data, const TissueInputs& inputs) noexcept;
 
+/// Whether rest_step_response_m() can answer: the model keeps its rest factor (ldlt_warped)
+/// and steps implicitly (implicit Euler or quasi-static).
+bool has_rest_step_response(const TetFemModel& model) noexcept;
+
+/// The displacement of every node (3 per node, zero on constrained ones) over one step per
+/// newton on node `node` along axis `axis`, from the rest system's LDL^T factor without the
+/// rotations of a corotational step: h^2 A^-1 e for implicit Euler, A^-1 e quasi-static (A
+/// the rest system). Exact for linear elements from rest. `work` holds 2 free_dof_count()
+/// doubles. Returns false, `out_m` zeroed, when the model has no such response or the node is
+/// constrained. Allocation-free.
+bool rest_step_response_m(const TetFemModel& model, std::int32_t node, int axis, std::span<double> out_m,
+                          std::span<double> work) noexcept;
+
 /// Elastic energy of the current positions, in joules (element rotations recomputed).
 double elastic_energy_j(const TetFemModel& model, const TetFemData& data) noexcept;
 

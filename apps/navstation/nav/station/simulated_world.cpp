@@ -25,6 +25,10 @@ double seconds(TimeNs t) { return 1e-9 * static_cast<double>(t); }
 TimeNs period_ns(double rate_hz) { return static_cast<TimeNs>(std::llround(1e9 / rate_hz)); }
 
 /// The patient's full-order liver: the scene's model on the patient's (softer) material.
+/// The patient's needle points' compliance about their nodes: little beside the nodes' own
+/// (millimetres per newton), enough to keep points a few millimetres apart on one node apart.
+constexpr double kPatientLocalComplianceM_N = 5e-4;
+
 Result<TetFemModel> patient_liver(const StationLiver& liver, const Scene& scene, const WorldOptions& options,
                                   TimeNs step_ns) {
   TissueScene patient = liver.scene;
@@ -119,8 +123,12 @@ Status needle_and_tumour_truth(SimulatedWorld& world, const StationLiver& liver,
   const auto needle_error = [&](const Error& e) {
     return Error{.message = e.describe(), .file = scene.source_path, .line = needle.line, .field = "needle"};
   };
-  auto model = make_coupled_needle_model(needle.parameters, needle.interaction, patient.value(),
-                                         liver.scene.max_point_forces, every);
+  // The patient's full-order liver answers for itself at the needle's nodes; a point keeps
+  // only a small compliance about its node (the scene's is what a reduced liver misses).
+  NeedleTissueScene interaction = needle.interaction;
+  interaction.point_compliance_m_per_n = kPatientLocalComplianceM_N;
+  auto model =
+      make_coupled_needle_model(needle.parameters, interaction, patient.value(), liver.scene.max_point_forces, every);
   if (!model.ok()) return needle_error(model.error());
   const RigidPose marker_from_base = needle_marker_from_base();
   auto data =
