@@ -52,6 +52,11 @@ TEST(StationBuild, DemoBuildsItsLiverAndNeedleAndNothingElse) {
   EXPECT_FALSE(m.liver.reduced.has_value());
   ASSERT_TRUE(m.needle.has_value());
   EXPECT_EQ(m.needle->layer_count(), 2);
+  // Its layers are the liver's capsule and its tumour's boundary, taken from the mesh.
+  ASSERT_EQ(m.needle->surface_bvhs.size(), 2u);
+  EXPECT_EQ(m.needle->scene.layers[0].surface, 0);
+  EXPECT_EQ(m.needle->scene.layers[1].surface, 1);
+  EXPECT_GT(m.needle->scene.surfaces[0].triangles.size(), 10 * m.needle->scene.surfaces[1].triangles.size());
   EXPECT_FALSE(m.ligaments.has_value());
   EXPECT_TRUE(lists(f, "liver"));
   EXPECT_TRUE(lists(f, "needle"));
@@ -59,7 +64,7 @@ TEST(StationBuild, DemoBuildsItsLiverAndNeedleAndNothingElse) {
   // The generated liver's own tumour, its nodes and the data arenas as the models report them.
   EXPECT_EQ(m.liver.tumour_m, LiverLandmarks{}.tumour_centre_m);
   EXPECT_EQ(m.liver.full->node_count(), static_cast<std::int64_t>(m.liver.mesh.nodes_m.size()));
-  EXPECT_EQ(f.model_bytes("needle"), f.lines[3].bytes + f.lines[4].bytes + f.lines[5].bytes);
+  EXPECT_EQ(f.model_bytes("needle"), f.lines[3].bytes + f.lines[4].bytes + f.lines[5].bytes + f.lines[6].bytes);
   EXPECT_GE(f.lines[2].bytes, static_cast<std::int64_t>(m.liver.full_data->arena.used_bytes()));
   EXPECT_EQ(f.total_bytes(), f.model_bytes("liver") + f.model_bytes("needle"));
   const std::string table = format_footprint(f);
@@ -206,6 +211,13 @@ TEST(StationBuild, BuilderErrorsNameTheSceneSectionAndLine) {
   ASSERT_FALSE(mesh.ok());
   EXPECT_EQ(mesh.error().field, "liver.mesh");
   EXPECT_NE(mesh.error().message.find("none.vtu"), std::string::npos) << mesh.error().describe();
+  const std::string no_region =
+      edited(demo_text(), "{surface: tumour, puncture_force_n: 2.0}", "{region: 7, puncture_force_n: 2.0}");
+  const auto region = build_text(no_region);
+  ASSERT_FALSE(region.ok());
+  EXPECT_EQ(region.error().field, "needle.layers[1]");
+  EXPECT_EQ(region.error().line, line_of(no_region, "    - {region: 7"));
+  EXPECT_NE(region.error().message.find("region 7"), std::string::npos) << region.error().describe();
 }
 
 /// A reduced basis of the generated liver at `element_size_m` (4 linear modes of the scene

@@ -65,6 +65,10 @@ TEST(StationScene, DemoSceneParsesIntoItsStatedValues) {
   EXPECT_EQ(s.needle->parameters.outer_diameter_m, 0.00127);
   ASSERT_EQ(s.needle->interaction.layers.size(), 2u);
   EXPECT_EQ(s.needle->interaction.layers[1].puncture_force_n, 2.0);
+  ASSERT_EQ(s.needle->layer_surfaces.size(), 2u);  // the capsule, then the tumour's elements
+  ASSERT_TRUE(s.needle->layer_surfaces[0] && s.needle->layer_surfaces[1]);
+  EXPECT_EQ(s.needle->layer_surfaces[0]->region, -1);
+  EXPECT_EQ(s.needle->layer_surfaces[1]->region, static_cast<std::int32_t>(TissueRegion::tumour));
   EXPECT_FALSE(s.ligaments.has_value());
   EXPECT_EQ(s.devices.tracker.kind, TrackerKind::simulated);
   EXPECT_EQ(s.devices.tracker.position_noise_m, 0.00025);
@@ -317,8 +321,14 @@ TEST(StationScene, OutOfRangeValuesAreNamed) {
   expect_error("max_ahead_ms: 50,", "max_ahead_ms: -1,", "devices.clock.max_ahead_ms", "outside");
   expect_error("max_speed_m_per_s: 2.0", "max_speed_m_per_s: 0", "devices.tracker.max_speed_m_per_s",
                "outside (0, 100]");
-  expect_error("outward_normal: [0, 1, 0], puncture_force_n: 2.0", "outward_normal: [0, 1], puncture_force_n: 2.0",
+  expect_error("{surface: tumour, puncture_force_n: 2.0}",
+               "{surface_point_m: [0, 0, 0], outward_normal: [0, 1], puncture_force_n: 2.0}",
                "needle.layers[1].outward_normal", "list of 3 numbers");
+  expect_error("{surface: tumour, puncture_force_n: 2.0}", "{surface: tumour, region: 3, puncture_force_n: 2.0}",
+               "needle.layers[1].region", "either surface or region");
+  expect_error("{surface: tumour, puncture_force_n: 2.0}",
+               "{surface: tumour, outward_normal: [0, 1, 0], puncture_force_n: 2.0}", "needle.layers[1].surface",
+               "takes no surface_point_m or outward_normal");
   // A value each range allows but the needle's own validation refuses (bore wider than the tube).
   expect_error("inner_diameter_m: 0.00084", "inner_diameter_m: 0.002", "needle.inner_diameter_m", "");
 }
@@ -328,6 +338,8 @@ TEST(StationScene, BadChoicesListTheAllowedOnes) {
   expect_error("kind: simulated\n    rate_hz: 60", "kind: optical\n    rate_hz: 60", "devices.tracker.kind",
                "simulated|ndi|apriltag");
   expect_error("mesh: generated", "mesh: procedural", "liver.mesh", "expected 'generated'");
+  expect_error("{surface: tumour,", "{surface: vessel,", "needle.layers[1].surface",
+               "'vessel' is not one of capsule|tumour");
   expect_error("poses: nav/tool_pose", "poses: nav/tool pose", "topics.poses", "not a topic name");
   const std::string hung =
       edited(demo_text(), "devices:\n",

@@ -41,8 +41,12 @@ struct TissuePoint {
 struct LayerState {
   LayerPhase phase = LayerPhase::outside;
   bool holed = false;
-  TissuePoint surface;    ///< the layer's surface point, carried by its nearest tissue node
-  TissuePoint contact;    ///< the surface point under the tip while touching
+  TissuePoint surface;  ///< the layer's surface point, carried by its nearest tissue node
+  TissuePoint contact;  ///< the surface point under the tip while touching
+  /// The surface's outward normal where the tip first touched it: while touching, the tip
+  /// pushes on that tangent plane, carried by the contact point (the dent under the tip
+  /// leaves it alone).
+  Eigen::Vector3d contact_normal = Eigen::Vector3d::UnitZ();
   TissuePoint hole;       ///< where the surface was punctured
   TissuePoint cut_front;  ///< the deepest point cut so far
 };

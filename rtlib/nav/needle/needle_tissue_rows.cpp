@@ -47,7 +47,7 @@ void add_contact_rows(const NeedleTissueModel& model, NeedleTissueData& data, in
   const Eigen::Vector3d tip = needle_tip_m(data.needle);
   const Eigen::Vector3d contact =
       tissue_point_position_m(data.layers[static_cast<std::size_t>(layer)].contact, displacements_m);
-  const Eigen::Vector3d n = layer_normal_at(model, data, layer, contact, displacements_m);
+  const Eigen::Vector3d n = data.layers[static_cast<std::size_t>(layer)].contact_normal;
   Eigen::Vector3d t1, t2;
   complete_frame(n, std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY(), t1, t2);
   const std::int32_t node = data.layers[static_cast<std::size_t>(layer)].contact.node;
@@ -376,12 +376,6 @@ SurfaceHit layer_hit(const NeedleTissueModel& model, const NeedleTissueData& dat
   return hit;
 }
 
-Eigen::Vector3d layer_normal_at(const NeedleTissueModel& model, const NeedleTissueData& data, int layer,
-                                const Eigen::Vector3d& x_m, std::span<const double> displacements_m) noexcept {
-  const TissueLayer& spec = model.scene.layers[static_cast<std::size_t>(layer)];
-  return spec.surface < 0 ? vec(spec.outward_normal) : layer_hit(model, data, layer, x_m, displacements_m).normal;
-}
-
 NeedleFrameAt needle_frame_at(const NeedleModel& model, const NeedleData& data, double arclength_m) noexcept {
   NeedleFrameAt at;
   const double position = arclength_m / model.element_length_m;
@@ -433,6 +427,7 @@ void build_rows(const NeedleTissueModel& model, NeedleTissueData& data,
       } else {
         layer.phase = LayerPhase::touching;
         layer.contact = tissue_point_at(model, on_surface, displacements_m);
+        layer.contact_normal = hit.normal;
       }
     }
     if (layer.phase == LayerPhase::touching) add_contact_rows(model, data, l, displacements_m);

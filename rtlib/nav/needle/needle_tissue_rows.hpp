@@ -24,10 +24,6 @@ NeedleFrameAt needle_frame_at(const NeedleModel& model, const NeedleData& data, 
 SurfaceHit layer_hit(const NeedleTissueModel& model, const NeedleTissueData& data, int layer,
                      const Eigen::Vector3d& x_m, std::span<const double> displacements_m) noexcept;
 
-/// The outward normal of layer `layer`'s surface nearest `x_m` (a plane's own, without a search).
-Eigen::Vector3d layer_normal_at(const NeedleTissueModel& model, const NeedleTissueData& data, int layer,
-                                const Eigen::Vector3d& x_m, std::span<const double> displacements_m) noexcept;
-
 /// The deepest punctured layer that holds the tip, or -1.
 int cutting_layer(const NeedleTissueModel& model, const NeedleTissueData& data, const Eigen::Vector3d& tip_m,
                   std::span<const double> displacements_m) noexcept;

@@ -79,7 +79,7 @@ void update_layers(const NeedleTissueModel& model, NeedleTissueData& data, std::
     const TissueLayer& spec = model.scene.layers[static_cast<std::size_t>(l)];
     const double normal_n = data.slot_forces[static_cast<std::size_t>(3 * l)];
     const Eigen::Vector3d contact = position_after(model, data, layer.contact, displacements_m);
-    const Eigen::Vector3d n = detail::layer_normal_at(model, data, l, contact, displacements_m);
+    const Eigen::Vector3d& n = layer.contact_normal;
     if (normal_n >= spec.puncture_force_n * (1.0 - kAtBound)) {
       layer.phase = LayerPhase::punctured;
       layer.holed = true;

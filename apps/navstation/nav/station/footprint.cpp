@@ -91,6 +91,15 @@ MemoryFootprint measure_footprint(const StationModels& models) {
     const auto tables = sizeof(NeedleTissueModel) + needle.tissue_rest_m.size() * sizeof(double) +
                         needle.scene.layers.size() * sizeof(TissueLayer);
     f.lines.push_back({"needle", "tables", static_cast<std::int64_t>(tables), false});
+    if (!needle.surface_bvhs.empty()) {
+      std::size_t surfaces = 0;
+      const auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
+      for (const TissueSurface& surface : needle.scene.surfaces) surfaces += bytes(surface.triangles);
+      for (const detail::SurfaceBvh& b : needle.surface_bvhs)
+        surfaces += bytes(b.triangles) + bytes(b.corners) + bytes(b.neighbours) + bytes(b.vertex_nodes) +
+                    bytes(b.vertex_face_begin) + bytes(b.vertex_faces) + bytes(b.nodes);
+      f.lines.push_back({"needle", "surface hierarchies", static_cast<std::int64_t>(surfaces), false});
+    }
     f.lines.push_back({"needle", "beam data arena", arena_bytes(models.needle_data->needle.arena), false});
     f.lines.push_back({"needle", "interaction data arena", arena_bytes(models.needle_data->arena), false});
   }

@@ -167,14 +167,29 @@ LiverSettings read_liver(MapReader r, const std::string& scene_path, double tiss
   return liver;
 }
 
-TissueLayer read_layer(MapReader r) {
+/// One layer: a surface of the mesh (`surface: capsule | tumour`, or `region: N`, a tagged
+/// region's boundary) or a plane (surface_point_m and outward_normal).
+TissueLayer read_layer(MapReader r, std::optional<NeedleLayerSurface>& from_mesh) {
   TissueLayer layer;
-  layer.surface_point_m = r.point("surface_point_m");
-  layer.outward_normal = r.point("outward_normal");
-  const Point3& n = layer.outward_normal;
-  const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-  if (!(length > 1e-9)) r.fail_at("outward_normal", "must not be zero");
-  for (double& v : layer.outward_normal) v /= length;
+  const bool named = r.has("surface"), tagged = r.has("region");
+  if (named && tagged) r.fail_at("region", "a layer takes either surface or region, not both");
+  if ((named || tagged) && (r.has("surface_point_m") || r.has("outward_normal")))
+    r.fail_at(named ? "surface" : "region", "a surface of the mesh takes no surface_point_m or outward_normal");
+  if (named) {
+    from_mesh = NeedleLayerSurface{.line = r.line()};
+    if (r.choice("surface", {"capsule", "tumour"}) == 1)
+      from_mesh->region = static_cast<std::int32_t>(TissueRegion::tumour);
+  } else if (tagged) {
+    from_mesh =
+        NeedleLayerSurface{.region = static_cast<std::int32_t>(r.integer("region", 0, 1 << 30)), .line = r.line()};
+  } else {
+    layer.surface_point_m = r.point("surface_point_m");
+    layer.outward_normal = r.point("outward_normal");
+    const Point3& n = layer.outward_normal;
+    const double length = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(length > 1e-9)) r.fail_at("outward_normal", "must not be zero");
+    for (double& v : layer.outward_normal) v /= length;
+  }
   layer.puncture_force_n = r.number("puncture_force_n", kPositive, layer.puncture_force_n);
   layer.cutting_force_n = r.number("cutting_force_n", kNonNegative, layer.cutting_force_n);
   layer.friction_per_length_n_m = r.number("friction_per_length_n_m", kNonNegative, layer.friction_per_length_n_m);
@@ -207,9 +222,12 @@ NeedleSettings read_needle(MapReader r, double loop_rate_hz) {
     const YAML::Node layers = r.required("layers");
     if (!layers.IsSequence()) r.fail_at("layers", "expected a list of layers");
     if (layers.size() > 16) r.fail_at("layers", "at most 16 layers");
-    for (std::size_t i = 0; i < layers.size(); ++i)
-      s.layers.push_back(
-          read_layer(MapReader(r.file(), layers[i], r.path_of("layers") + "[" + std::to_string(i) + "]", r.mark())));
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      std::optional<NeedleLayerSurface> from_mesh;
+      s.layers.push_back(read_layer(
+          MapReader(r.file(), layers[i], r.path_of("layers") + "[" + std::to_string(i) + "]", r.mark()), from_mesh));
+      needle.layer_surfaces.push_back(from_mesh);
+    }
   }
   s.point_compliance_m_per_n = r.number("point_compliance_m_per_n", kPositive, s.point_compliance_m_per_n);
   s.max_path_points = static_cast<int>(r.integer("max_path_points", 0, 256, s.max_path_points));

@@ -96,9 +96,16 @@ struct LiverSettings {
 };
 
 /// `needle:` the needle and what it meets (present only when the scene has a needle).
+/// Where a needle layer's surface comes from in the liver mesh (station_needle_surfaces.hpp).
+struct NeedleLayerSurface {
+  std::int32_t region = -1;  ///< -1: the mesh's boundary (the capsule); else the boundary of the elements so tagged
+  int line = 0;
+};
+
 struct NeedleSettings {
   NeedleParameters parameters;    ///< step_s comes from loop_rate_hz
-  NeedleTissueScene interaction;  ///< its layers and constraint settings
+  NeedleTissueScene interaction;  ///< its layers (planes until their surfaces are taken from the mesh) and settings
+  std::vector<std::optional<NeedleLayerSurface>> layer_surfaces;  ///< per layer; none: its plane
   int line = 0;
 };
 

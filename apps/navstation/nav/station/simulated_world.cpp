@@ -14,6 +14,7 @@
 #include "nav/needle/coupled_needle_step.hpp"
 #include "nav/needle/tissue_coupling.hpp"
 #include "nav/station/station_loop.hpp"
+#include "nav/station/station_needle_surfaces.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 
 namespace nav::station {
@@ -125,7 +126,9 @@ Status needle_and_tumour_truth(SimulatedWorld& world, const StationLiver& liver,
   };
   // The patient's full-order liver answers for itself at the needle's nodes; a point keeps
   // only a small compliance about its node (the scene's is what a reduced liver misses).
-  NeedleTissueScene interaction = needle.interaction;
+  auto surfaces = station_needle_interaction(scene, liver.mesh, liver.tumour_m);
+  if (!surfaces.ok()) return surfaces.error();
+  NeedleTissueScene interaction = std::move(surfaces).value();
   interaction.point_compliance_m_per_n = kPatientLocalComplianceM_N;
   auto model =
       make_coupled_needle_model(needle.parameters, interaction, patient.value(), liver.scene.max_point_forces, every);

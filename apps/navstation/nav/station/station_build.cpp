@@ -10,6 +10,7 @@
 #include "nav/station/security_roles.hpp"
 #include "nav/station/station_dds.hpp"
 #include "nav/station/station_liver.hpp"
+#include "nav/station/station_needle_surfaces.hpp"
 
 namespace nav::station {
 
@@ -82,11 +83,13 @@ Status build_ligaments(const Scene& scene, StationModels& models) {
   return Done{};
 }
 
-Status build_needle(const NeedleSettings& settings, StationModels& models) {
+Status build_needle(const Scene& scene, StationModels& models) {
+  auto interaction = station_needle_interaction(scene, models.liver.mesh, models.liver.tumour_m);
+  if (!interaction.ok()) return interaction.error();  // it names its layer's line
   std::vector<double> rest_m;
   rest_m.reserve(3 * models.liver.mesh.nodes_m.size());
   for (const Point3& node : models.liver.mesh.nodes_m) rest_m.insert(rest_m.end(), node.begin(), node.end());
-  auto model = make_needle_tissue_model(settings.parameters, settings.interaction, rest_m);
+  auto model = make_needle_tissue_model(scene.needle->parameters, interaction.value(), rest_m);
   if (!model.ok()) return model.error();
   auto data = make_needle_tissue_data(model.value(), NeedlePose{});
   if (!data.ok()) return data.error();
@@ -223,8 +226,9 @@ Result<BuiltStation> build_station(Scene scene) {
   step = build_liver_model(s, models.liver);
   if (!step.ok()) return step.error();
   if (s.needle) {
-    step = build_needle(*s.needle, models);
-    if (!step.ok()) return at_section(step.error(), s, s.needle->line, "needle");
+    step = build_needle(s, models);
+    if (!step.ok())
+      return step.error().file.empty() ? at_section(step.error(), s, s.needle->line, "needle") : step.error();
   }
   built.footprint = measure_footprint(models);
   return built;

@@ -12,6 +12,7 @@
 #include "nav/reduced/reduction.hpp"
 #include "nav/station/scene_frames.hpp"
 #include "nav/station/station_build.hpp"
+#include "nav/station/station_needle_surfaces.hpp"
 #include "nav/station/tracker_registration.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 
@@ -143,9 +144,11 @@ Result<OperatingLoopModel> loop_on(const StationLiver& liver, const Scene& scene
   const OperatingLoopOptions o = loop_options(scene, breathing, calibration.value(), settings);
   std::optional<OperatingLoopNeedleOptions> needle;
   if (scene.needle) {
+    auto interaction = station_needle_interaction(scene, liver.mesh, liver.tumour_m);
+    if (!interaction.ok()) return interaction.error();
     needle.emplace();
     needle->parameters = scene.needle->parameters;
-    needle->scene = scene.needle->interaction;
+    needle->scene = std::move(interaction).value();
     needle->marker_from_base = calibration.value().marker_from_base;
     needle->max_point_forces = liver.scene.max_point_forces - (ligaments ? ligaments->attachment.nodes.size() : 0);
   }
