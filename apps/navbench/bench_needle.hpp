@@ -17,6 +17,7 @@
 #include "nav/needle/needle_step.hpp"
 #include "nav/needle/needle_tissue_model.hpp"
 #include "nav/needle/reduced_coupling.hpp"
+#include "nav/needle/tissue_surface.hpp"
 #include "nav/reduced/reduction.hpp"
 
 namespace navbench {
@@ -143,6 +144,25 @@ inline nav::NeedleTissueScene liver_capsule(const Approach& approach, double spa
   capsule.puncture_force_n = 0.3;
   capsule.cutting_force_n = 0.1;
   capsule.friction_per_length_n_m = 3.0;
+  return scene;
+}
+
+/// The same scene with its capsule taken from the mesh (its boundary, moving with the liver)
+/// instead of the tangent plane at the entry and, with `tumour`, the tumour's surface (the
+/// boundary of its elements) as a second layer.
+inline nav::NeedleTissueScene liver_surfaces(const EmbeddedLiverScene& liver, const Approach& approach,
+                                             double spacing_m, bool tumour) {
+  nav::NeedleTissueScene scene = liver_capsule(approach, spacing_m);
+  scene.surfaces.push_back(nav::mesh_boundary_surface(liver.liver.mesh));
+  scene.layers[0].surface = 0;
+  if (tumour) {
+    nav::TissueLayer inclusion = scene.layers[0];
+    inclusion.surface = 1;
+    inclusion.puncture_force_n = 1.0;
+    scene.layers.push_back(inclusion);
+    scene.surfaces.push_back(
+        nav::region_boundary_surface(liver.liver.mesh, static_cast<std::int32_t>(nav::TissueRegion::tumour)).value());
+  }
   return scene;
 }
 
