@@ -3,11 +3,13 @@
 // the shaft as the coupling to the full-order tissue does (a complete linear basis against
 // the exact linear full-order tissue); the multi-rate mode keeps the puncture; coupled
 // ticks allocate nothing and repeat bitwise; the solver's W equals H A^-1 H^T + C C^T (+ the
-// local compliance) by dense algebra; bad couplings are refused by name.
+// local compliance) by dense algebra, and with the full-order tissue H A^-1 H^T + the tissue's
+// stepped responses at the rows' nodes; bad couplings are refused by name.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <span>
 
 #include "nav/needle/reduced_coupling.hpp"
 #include "nav/needle/tissue_coupling.hpp"
@@ -215,7 +217,12 @@ TEST(NeedleReducedCoupling, SignoriniAndCoulombHoldOnTheSteppedReducedTissue) {
 /// W by dense algebra, apart from the solver's own: the needle's A^-1 from the assembled
 /// block-tridiagonal A inverted whole, the tissue's V V^T from the factors per row, and the
 /// local compliance on each constraint point's own rows.
-Eigen::MatrixXd dense_compliance(const NeedleTissueModel& model, const NeedleTissueData& data) {
+/// The solver's W by dense algebra: H A^-1 H^T (the needle's block-tridiagonal system inverted
+/// densely) plus the tissue's d_r^T C(node_r, node_s) d_s (`tissue_block(a, b)`: node a's
+/// displacement per newton on node b) plus the local compliance on each point's own rows.
+template <class TissueBlock>
+Eigen::MatrixXd dense_compliance(const NeedleTissueModel& model, const NeedleTissueData& data,
+                                 TissueBlock tissue_block) {
   const BlockTridiagonal& system = data.needle.system;
   const Eigen::Index n = 6 * system.blocks;
   Eigen::MatrixXd a = Eigen::MatrixXd::Zero(n, n);
@@ -228,8 +235,7 @@ Eigen::MatrixXd dense_compliance(const NeedleTissueModel& model, const NeedleTis
   }
   const Eigen::MatrixXd inverse = a.ldlt().solve(Eigen::MatrixXd::Identity(n, n));
   const auto m = static_cast<Eigen::Index>(data.row_count);
-  const int rank = model.compliance_rank;
-  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(m, n), c = Eigen::MatrixXd::Zero(m, rank);
+  Eigen::MatrixXd h = Eigen::MatrixXd::Zero(m, n), tissue = Eigen::MatrixXd::Zero(m, m);
   for (Eigen::Index r = 0; r < m; ++r) {
     const ConstraintRow& row = data.rows[static_cast<std::size_t>(r)];
     for (int k = 0; k < 2; ++k) {
@@ -237,13 +243,13 @@ Eigen::MatrixXd dense_compliance(const NeedleTissueModel& model, const NeedleTis
       const double w = k == 0 ? 1.0 - row.weight : row.weight;
       if (node >= 1 && w != 0.0) h.block<1, 3>(r, 6 * (node - 1)) = w * row.direction.transpose();
     }
-    if (row.tissue_node < 0) continue;
-    const double* v = model.compliance_factors.data() +
-                      3 * static_cast<std::size_t>(row.tissue_node) * static_cast<std::size_t>(rank);
-    for (int j = 0; j < rank; ++j)
-      c(r, j) = v[j] * row.direction.x() + v[rank + j] * row.direction.y() + v[2 * rank + j] * row.direction.z();
+    for (Eigen::Index c = 0; c < m; ++c) {
+      const ConstraintRow& other = data.rows[static_cast<std::size_t>(c)];
+      if (row.tissue_node >= 0 && other.tissue_node >= 0)
+        tissue(r, c) = row.direction.dot(tissue_block(row.tissue_node, other.tissue_node) * other.direction);
+    }
   }
-  Eigen::MatrixXd w = h * inverse * h.transpose() + c * c.transpose();
+  Eigen::MatrixXd w = h * inverse * h.transpose() + tissue;
   for (int p = 0; p < data.point_count; ++p)
     for (int r = data.point_first_row[static_cast<std::size_t>(p)];
          r < data.point_first_row[static_cast<std::size_t>(p) + 1]; ++r)
@@ -254,6 +260,20 @@ Eigen::MatrixXd dense_compliance(const NeedleTissueModel& model, const NeedleTis
   return w;
 }
 
+/// The largest difference between the solver's W and `dense`, relative to dense's largest
+/// entry, printed; and whether the solver's is exactly symmetric.
+double compared_with_dense(const NeedleTissueData& interaction, const Eigen::MatrixXd& dense, bool& symmetric) {
+  const auto m = static_cast<Eigen::Index>(interaction.row_count);
+  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> solver(
+      interaction.compliance.data(), m, m,
+      Eigen::OuterStride<>(static_cast<Eigen::Index>(interaction.compliance_stride)));
+  const double error = (solver - dense).cwiseAbs().maxCoeff() / dense.cwiseAbs().maxCoeff();
+  std::printf("%lld rows on %d constraint points: largest difference from the dense W %.2e of its largest entry\n",
+              static_cast<long long>(m), interaction.point_count, error);
+  symmetric = solver == solver.transpose();
+  return error;
+}
+
 TEST(NeedleReducedCoupling, TheSolversComplianceIsHAInverseHTransposedPlusTheTissuesVVTransposed) {
   const Slab slab;
   const ReducedModel tissue =
@@ -262,18 +282,53 @@ TEST(NeedleReducedCoupling, TheSolversComplianceIsHAInverseHTransposedPlusTheTis
       make_coupled_needle_model(NeedleParameters{}, top_layer(0.001), tissue, slab.mesh, 32, 1).value();
   ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
   insert(model, data, 0.0, 0.012);
-  const NeedleTissueData& interaction = data.interaction;
-  const auto m = static_cast<Eigen::Index>(interaction.row_count);
-  ASSERT_GE(interaction.report.active_path_points, 4);
-  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> solver(
-      interaction.compliance.data(), m, m,
-      Eigen::OuterStride<>(static_cast<Eigen::Index>(interaction.compliance_stride)));
-  const Eigen::MatrixXd dense = dense_compliance(model.interaction, interaction);
-  const double error = (solver - dense).cwiseAbs().maxCoeff() / dense.cwiseAbs().maxCoeff();
-  std::printf("%lld rows on %d constraint points: largest difference from the dense W %.2e of its largest entry\n",
-              static_cast<long long>(m), interaction.point_count, error);
-  EXPECT_LT(error, 1e-10);
-  EXPECT_EQ(solver, solver.transpose());  // exactly symmetric
+  ASSERT_GE(data.interaction.report.active_path_points, 4);
+  const int rank = model.interaction.compliance_rank;
+  const auto factors = [&](std::int32_t node) {  // node's 3 x rank rows of V
+    return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+        model.interaction.compliance_factors.data() + 3 * static_cast<std::size_t>(node) * static_cast<std::size_t>(rank),
+        3, rank);
+  };
+  const Eigen::MatrixXd dense = dense_compliance(model.interaction, data.interaction, [&](std::int32_t a, std::int32_t b) {
+    return Eigen::Matrix3d(factors(a) * factors(b).transpose());
+  });
+  bool symmetric = false;
+  EXPECT_LT(compared_with_dense(data.interaction, dense, symmetric), 1e-10);
+  EXPECT_TRUE(symmetric);
+}
+
+TEST(NeedleReducedCoupling, TheFullOrderSolversComplianceIsHAInverseHTransposedPlusTheSteppedNodeResponses) {
+  // The full order through its nodes' responses (three solves with its rest factor per node):
+  // its tissue block against the response of the tissue's own step, from rest, to a unit force
+  // on each node along each axis (exact linear elements, quasi-static).
+  const Slab slab;
+  const TetFemModel full = make_tet_fem_model(slab.mesh, slab.scene, testing::exact_linear_options()).value();
+  const CoupledNeedleModel model = make_coupled_needle_model(NeedleParameters{}, top_layer(0.001), full, 32, 1).value();
+  CoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
+  insert(model, data, 0.0, 0.012);
+  ASSERT_GE(data.interaction.report.active_path_points, 4);
+  const std::span<const double> rest = full.rest_positions_m();
+  const auto stepped_block = [&](std::int32_t a, std::int32_t b) {
+    Eigen::Matrix3d block;
+    for (int j = 0; j < 3; ++j) {
+      TetFemData tissue = make_tet_fem_data(full).value();
+      PointForce unit{b, {}};
+      unit.force_n[static_cast<std::size_t>(j)] = 1.0;
+      TissueInputs inputs;
+      inputs.point_forces = std::span<const PointForce>(&unit, 1);
+      step(full, tissue, inputs);
+      for (int i = 0; i < 3; ++i) {
+        const std::size_t at = 3 * static_cast<std::size_t>(a) + static_cast<std::size_t>(i);
+        block(i, j) = tissue.positions_m[at] - rest[at];
+      }
+    }
+    return block;
+  };
+  const Eigen::MatrixXd dense = dense_compliance(model.interaction, data.interaction, stepped_block);
+  bool symmetric = false;
+  EXPECT_LT(compared_with_dense(data.interaction, dense, symmetric), 1e-9);
+  EXPECT_TRUE(symmetric);
+  EXPECT_TRUE(data.interaction.health.healthy());
 }
 
 TEST(NeedleReducedCoupling, MultiRateTissueKeepsThePuncture) {
