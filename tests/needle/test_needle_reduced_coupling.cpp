@@ -286,12 +286,13 @@ TEST(NeedleReducedCoupling, TheSolversComplianceIsHAInverseHTransposedPlusTheTis
   const int rank = model.interaction.compliance_rank;
   const auto factors = [&](std::int32_t node) {  // node's 3 x rank rows of V
     return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-        model.interaction.compliance_factors.data() + 3 * static_cast<std::size_t>(node) * static_cast<std::size_t>(rank),
+        model.interaction.compliance_factors.data() +
+            3 * static_cast<std::size_t>(node) * static_cast<std::size_t>(rank),
         3, rank);
   };
-  const Eigen::MatrixXd dense = dense_compliance(model.interaction, data.interaction, [&](std::int32_t a, std::int32_t b) {
-    return Eigen::Matrix3d(factors(a) * factors(b).transpose());
-  });
+  const Eigen::MatrixXd dense = dense_compliance(
+      model.interaction, data.interaction,
+      [&](std::int32_t a, std::int32_t b) { return Eigen::Matrix3d(factors(a) * factors(b).transpose()); });
   bool symmetric = false;
   EXPECT_LT(compared_with_dense(data.interaction, dense, symmetric), 1e-10);
   EXPECT_TRUE(symmetric);
