@@ -270,8 +270,8 @@ SurfaceHit nearest_surface_point(const SurfaceBvh& bvh, std::span<const double> 
       }
       continue;
     }
-    // The nearer child is searched first; a full stack (never, for a median-split hierarchy)
-    // would skip the farther one.
+    // The nearer child is searched first. A median-split hierarchy is far shallower than the
+    // stack; were it full, both children would be skipped.
     const std::int32_t near = node.first, far = node.first + 1;
     const bool swap = box_distance2(box_of(far), x_m) < box_distance2(box_of(near), x_m);
     if (depth + 2 > stack.size()) continue;
