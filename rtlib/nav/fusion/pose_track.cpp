@@ -25,6 +25,7 @@ Result<PoseTrack> PoseTrack::create(const PoseTrackOptions& options) {
   if (options.missing_after_ns < options.max_age_ns)
     return option_error("missing_after_ns", "must be at least max_age_ns");
   if (options.max_extrapolation_ns < 0) return option_error("max_extrapolation_ns", "must not be negative");
+  if (options.fit_window_ns < 0) return option_error("fit_window_ns", "must not be negative");
   if (!(options.max_speed_m_s > 0.0)) return option_error("max_speed_m_s", "must be positive");
   if (!(options.max_angular_speed_rad_s > 0.0)) return option_error("max_angular_speed_rad_s", "must be positive");
   if (!(options.jump_allowance_m >= 0.0)) return option_error("jump_allowance_m", "must not be negative");
@@ -102,6 +103,48 @@ HealthFlags PoseTrack::push(const TimedPose& raw) noexcept {
   return reject(flags);
 }
 
+RigidPose PoseTrack::extrapolated(TimeNs horizon_ns) const noexcept {
+  const std::size_t count = samples_.size();
+  const TimedPose& newest = samples_.newest();
+  const TimedPose& previous = samples_.at(count - 2);
+  if (options_.fit_window_ns > 0 && newest.time_ns - previous.time_ns <= options_.fit_window_ns)
+    return fitted(horizon_ns);
+  const TimeNs span_ns = newest.time_ns - previous.time_ns;
+  const double fraction = static_cast<double>(span_ns + horizon_ns) / static_cast<double>(span_ns);
+  return geodesic(previous.pose, newest.pose, fraction);
+}
+
+/// The least-squares line through the samples within the window (times in seconds from the
+/// newest; rotations as rotation vectors in the newest's frame), evaluated horizon_ns past it.
+RigidPose PoseTrack::fitted(TimeNs horizon_ns) const noexcept {
+  const std::size_t count = samples_.size();
+  const TimedPose& newest = samples_.newest();
+  std::size_t first = count - 2;
+  while (first > 0 && newest.time_ns - samples_.at(first - 1).time_ns <= options_.fit_window_ns) --first;
+  const auto n = static_cast<double>(count - first);
+  double mean_s = 0.0;
+  Eigen::Vector3d mean_m = Eigen::Vector3d::Zero(), mean_rad = Eigen::Vector3d::Zero();
+  for (std::size_t k = first; k < count; ++k) {
+    const TimedPose& s = samples_.at(k);
+    mean_s += seconds(s.time_ns - newest.time_ns);
+    mean_m += s.pose.position_m;
+    mean_rad += relative_rotation_vector(newest.pose.rotation, s.pose.rotation);
+  }
+  mean_s /= n, mean_m /= n, mean_rad /= n;
+  double spread_s2 = 0.0;
+  Eigen::Vector3d velocity_m = Eigen::Vector3d::Zero(), velocity_rad = Eigen::Vector3d::Zero();
+  for (std::size_t k = first; k < count; ++k) {
+    const TimedPose& s = samples_.at(k);
+    const double t = seconds(s.time_ns - newest.time_ns) - mean_s;
+    spread_s2 += t * t;
+    velocity_m += t * (s.pose.position_m - mean_m);
+    velocity_rad += t * (relative_rotation_vector(newest.pose.rotation, s.pose.rotation) - mean_rad);
+  }
+  const double lever_s = (seconds(horizon_ns) - mean_s) / spread_s2;
+  return {mean_m + lever_s * velocity_m,
+          newest.pose.rotation * quaternion_from_rotation_vector(mean_rad + lever_s * velocity_rad)};
+}
+
 PoseQuery PoseTrack::sample_at(TimeNs time_ns) const noexcept {
   PoseQuery query;
   if (samples_.empty()) {
@@ -116,14 +159,7 @@ PoseQuery PoseTrack::sample_at(TimeNs time_ns) const noexcept {
     query.extrapolated = true;
     const TimeNs horizon_ns =
         query.age_ns < options_.max_extrapolation_ns ? query.age_ns : options_.max_extrapolation_ns;
-    if (count >= 2) {
-      const TimedPose& previous = samples_.at(count - 2);
-      const TimeNs span_ns = newest.time_ns - previous.time_ns;
-      const double fraction = static_cast<double>(span_ns + horizon_ns) / static_cast<double>(span_ns);
-      query.pose = geodesic(previous.pose, newest.pose, fraction);
-    } else {
-      query.pose = newest.pose;
-    }
+    query.pose = count >= 2 ? extrapolated(horizon_ns) : newest.pose;
     if (query.age_ns > options_.max_age_ns || query.age_ns > options_.max_extrapolation_ns)
       query.flags.raise(HealthFlag::stale_input);
     if (query.age_ns > options_.missing_after_ns) query.flags.raise(HealthFlag::missing_input);

@@ -347,6 +347,7 @@ TrackerSettings read_tracker(MapReader r, const std::string& scene_path) {
   t.kind = static_cast<TrackerKind>(r.choice("kind", {"simulated", "ndi", "apriltag"}));
   t.volume_radius_m = r.number("volume_radius_m", Range{0.0, 100.0, true}, t.volume_radius_m);
   t.max_speed_m_per_s = r.number("max_speed_m_per_s", Range{0.0, 100.0, true}, t.max_speed_m_per_s);
+  t.fit_window_ms = r.number("fit_window_ms", Range{0.0, 1000.0}, t.fit_window_ms);
   if (r.optional("tools")) t.tools = read_tool_roles(r.map("tools"), 0, (1LL << 31) - 1, t.tools);
   switch (t.kind) {
     case TrackerKind::simulated:

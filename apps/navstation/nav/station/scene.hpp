@@ -146,8 +146,11 @@ struct TrackerSettings {
   // every kind: where and how fast a tool can plausibly be (dds::PoseBounds)
   double volume_radius_m = 3.0;    ///< of the tracker's measurement volume, around its origin
   double max_speed_m_per_s = 2.0;  ///< of any tracked tool
-  ToolIds tools;                   ///< every kind: the tools' ids on nav/tool_pose
-  double rate_hz = 60.0;           ///< simulated: its sample rate; ndi: how often it is polled; apriltag: a file's pace
+  /// every kind: the loop extrapolates a tool's pose over the tracker's latency along the
+  /// least-squares velocity of its samples within this window (0: of its last two samples)
+  double fit_window_ms = 100.0;
+  ToolIds tools;          ///< every kind: the tools' ids on nav/tool_pose
+  double rate_hz = 60.0;  ///< simulated: its sample rate; ndi: how often it is polled; apriltag: a file's pace
   // simulated
   double latency_ms = 0.0;
   double position_noise_m = 0.0;

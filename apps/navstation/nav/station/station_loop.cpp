@@ -83,6 +83,8 @@ OperatingLoopOptions loop_options(const Scene& scene, const BreathingGeometry& b
   o.respiratory_reference_m = breathing.marker_rest_m[2];
   o.needle.max_extrapolation_ns = settings.needle_max_extrapolation_ns;
   o.probe.max_extrapolation_ns = settings.needle_max_extrapolation_ns;
+  o.needle.fit_window_ns = o.probe.fit_window_ns =
+      static_cast<TimeNs>(std::llround(scene.devices.tracker.fit_window_ms * 1e6));
   // The breathing fit's window (8 s) at the tracker's rate, and some.
   o.breathing.history_capacity = static_cast<std::size_t>(std::ceil(scene.devices.tracker.rate_hz * 8.0)) + 16;
   return o;
