@@ -7,7 +7,8 @@
 // first, completed (extend_basis) by POD directions of a training whose needle forces and
 // diaphragm displacements --load-scale widens (the probe pushes are already near what the
 // full-order training solve converges on; widened loads it cannot solve are left out and
-// named), with a force reduction and envelope trained on it.
+// named), with a force reduction and envelope trained on it. Either way the basis's error
+// estimate is then calibrated on the held-out loads (error_calibration.hpp).
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -23,6 +24,7 @@
 #include "commands.hpp"
 #include "nav/core/units.hpp"
 #include "nav/mesh/load_mesh.hpp"
+#include "nav/reduced/error_calibration.hpp"
 #include "nav/reduced/reduced_artifact.hpp"
 #include "nav/reduced/reduced_ladder_basis.hpp"
 #include "nav/reduced/reduction.hpp"
@@ -204,15 +206,36 @@ nav::Result<Training> solve_training(const nav::TetMesh& mesh, const nav::Tissue
   return t;
 }
 
+/// Calibrates the error estimate of `basis` on the held-out loads the full order solves (the
+/// others, beyond what it solves at a widened scale, are left out).
+nav::Result<nav::ErrorCalibrationReport> calibrate(const nav::TetMesh& mesh, const nav::TissueScene& scene,
+                                                   const nav::TrainingLoadOptions& options, int threads,
+                                                   nav::ReducedBasis& basis) {
+  const auto held_out = nav::make_training_loads(mesh, scene, options, nav::LoadSet::held_out);
+  nav::StaticSolveOptions solve;
+  solve.threads = threads;
+  solve.snapshot_fractions = {1.0};
+  const auto solved = nav::solve_each_static_load(mesh, scene, held_out, solve);
+  std::vector<nav::TrainingLoad> loads;
+  std::vector<std::vector<double>> full_order;
+  for (std::size_t k = 0; k < held_out.size(); ++k) {
+    if (!solved[k].ok()) continue;
+    loads.push_back(held_out[k]);
+    full_order.push_back(solved[k].value().displacements_m);
+  }
+  return nav::calibrate_error_estimate(mesh, scene, loads, full_order, basis);
+}
+
 /// The per-mode figure: the cumulative captured energy fraction for POD, the frequency in Hz
 /// of a vibration mode, nothing (0) for modal derivatives beyond the modes. Columns from
 /// `lower_r` on (an extended basis) are the cumulative fraction of the energy the lower rung
 /// missed.
 void print_report(const ReduceArgs& args, const nav::TetMesh& mesh, const nav::ReducedBasis& basis, int lower_r,
-                  const Training& training, double reduction_s) {
+                  const Training& training, const nav::ErrorCalibrationReport& held_out, double reduction_s) {
   std::string skipped;
   for (const std::string& name : training.skipped) skipped += (skipped.empty() ? "\"" : ", \"") + name + "\"";
   const bool pod = basis.source == nav::ReducedBasisSource::pod;
+  const nav::ReducedErrorCalibration& e = basis.error_calibration;
   const auto own = static_cast<std::size_t>(lower_r > 0 ? lower_r : basis.basis_size);
   const auto figure = [&](std::size_t k) {
     const double v = basis.column_values[k];
@@ -236,11 +259,14 @@ void print_report(const ReduceArgs& args, const nav::TetMesh& mesh, const nav::R
         "{\"out\": \"%s\", \"method\": \"%s\", \"force\": \"%s\", \"nodes\": %zu, \"tetrahedra\": %zu, \"r\": %d, %s"
         "\"training_loads\": %d, \"load_scale\": %.6g, \"skipped_loads\": [%s], \"%s\": [%s], \"cubature_samples\": "
         "%zu, "
-        "\"training_residual_bound\": %.6g, \"training_s\": %.2f, \"reduction_s\": %.2f}\n",
+        "\"training_residual_bound\": %.6g, \"error_estimate\": {\"gain\": %.6g, "
+        "\"held_out_loads\": %d, \"correlation\": %.4f, \"lowest_ratio\": %.4f, \"highest_ratio\": %.4f}, "
+        "\"training_s\": %.2f, \"reduction_s\": %.2f}\n",
         args.out.c_str(), args.method.c_str(), args.force.c_str(), mesh.nodes_m.size(), mesh.tets.size(),
         basis.basis_size, extension.c_str(), training.snapshots.count, args.load_scale, skipped.c_str(),
         pod ? "captured_energy_fraction" : "mode_frequency_hz", values(0, own).c_str(), basis.sample_tets.size(),
-        basis.training_residual_bound, training.seconds, reduction_s);
+        basis.training_residual_bound, e.gain, e.held_out_loads, e.correlation, e.lowest_ratio, e.highest_ratio,
+        training.seconds, reduction_s);
     return;
   }
   std::printf(
@@ -263,7 +289,17 @@ void print_report(const ReduceArgs& args, const nav::TetMesh& mesh, const nav::R
     }
   }
   std::printf("cubature: %zu sampled tetrahedra of %zu\n", basis.sample_tets.size(), mesh.tets.size());
-  std::printf("training residual bound: %.4g\nwritten: %s\n", basis.training_residual_bound, args.out.c_str());
+  std::printf("training residual bound: %.4g\n", basis.training_residual_bound);
+  std::printf(
+      "error estimate: %.3g times the displacement the basis misses under the point forces; on %d held-out loads "
+      "with point forces: correlation %.3f with the true largest nodal error, true / estimated %.2f to %.2f\n",
+      e.gain, e.held_out_loads, e.correlation, e.lowest_ratio, e.highest_ratio);
+  for (const nav::HeldOutEstimate& load : held_out.loads)
+    std::printf("  held out %-28s true %.3f mm, estimated %.3f mm\n", load.load.c_str(), 1e3 * load.true_error_m,
+                1e3 * load.estimated_error_m);
+  for (const nav::Error& unsolved : held_out.unsolved)
+    std::printf("  left out (the reduced model does not solve it): %s\n", unsolved.describe().c_str());
+  std::printf("written: %s\n", args.out.c_str());
 }
 
 /// The lower rung of --extend: an artifact of `mesh`, smaller than --r, of the --force asked
@@ -336,13 +372,19 @@ int reduce(const std::vector<std::string>& args) {
     std::fprintf(stderr, "navtool reduce: force reduction: %s\n", reduced.error().describe().c_str());
     return exit_failure;
   }
+  const auto calibrated = calibrate(mesh, scene, load_options, parsed->threads, basis.value());
+  if (!calibrated.ok()) {
+    std::fprintf(stderr, "navtool reduce: error estimate: %s\n", calibrated.error().describe().c_str());
+    return exit_failure;
+  }
   const double reduction_s = seconds_since(start);
   const auto saved = nav::save_reduced_basis(parsed->out, basis.value());
   if (!saved.ok()) {
     std::fprintf(stderr, "navtool reduce: %s\n", saved.error().describe().c_str());
     return exit_failure;
   }
-  print_report(*parsed, mesh, basis.value(), lower ? lower->basis_size : 0, training.value(), reduction_s);
+  print_report(*parsed, mesh, basis.value(), lower ? lower->basis_size : 0, training.value(), calibrated.value(),
+               reduction_s);
   return exit_ok;
 }
 

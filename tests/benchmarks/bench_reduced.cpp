@@ -4,7 +4,8 @@
 // rest tangent frozen or rebuilt every step; the linear reduced step; and the reconstruction
 // of 2000 nodes (the 1603 surface nodes plus interior ones), from the row-major basis and from
 // a display set. The samples are evenly spaced with
-// equal weights (speed does not depend on which tetrahedra ECSW picks). Each case reports
+// equal weights (speed does not depend on which tetrahedra ECSW picks); the frozen r = 16 step
+// under a needle's 32 point forces without and with the error estimate. Each case reports
 // step_us_median and step_us_p99 over its timed steps. Skipped when ../shared/data is missing.
 #include <benchmark/benchmark.h>
 
@@ -52,17 +53,10 @@ void report(benchmark::State& state, std::vector<double>& us) {
   state.counters["step_us_p99"] = us[std::min(us.size() - 1, (us.size() * 99) / 100)];
 }
 
-void run_step(benchmark::State& state, nav::ReducedForceKind kind, bool frozen) {
-  if (!liver()) {
-    state.SkipWithError("shared data missing: ../shared/data/liver/liverFine.vtu");
-    return;
-  }
-  const int r = static_cast<int>(state.range(0)), m = static_cast<int>(state.range(1));
-  nav::ReducedSolverOptions options;
-  options.frozen_tangent = frozen;
-  options.step_s = 0.001;
-  auto model = nav::make_reduced_model(liver()->mesh, liver()->scene, nav::TissueSolverOptions{},
-                                       truncated(*liver(), r, m, kind), options);
+/// Times the steps of the reduced model of `basis` on `scene` under `inputs`.
+void time_steps(benchmark::State& state, const nav::TissueScene& scene, const nav::ReducedBasis& basis,
+                const nav::ReducedSolverOptions& options, const nav::TissueInputs& inputs) {
+  auto model = nav::make_reduced_model(liver()->mesh, scene, nav::TissueSolverOptions{}, basis, options);
   if (!model.ok()) {
     state.SkipWithError(model.error().describe().c_str());
     return;
@@ -70,7 +64,6 @@ void run_step(benchmark::State& state, nav::ReducedForceKind kind, bool frozen) 
   auto data = nav::make_reduced_data(model.value()).value();
   std::vector<double> us;
   us.reserve(static_cast<std::size_t>(state.max_iterations));
-  const nav::TissueInputs inputs;
   for (auto _ : state) {
     const auto start = std::chrono::steady_clock::now();
     nav::step(model.value(), data, inputs);
@@ -81,6 +74,42 @@ void run_step(benchmark::State& state, nav::ReducedForceKind kind, bool frozen) 
   report(state, us);
   state.counters["healthy"] = data.health.healthy() ? 1.0 : 0.0;
   state.counters["memory_kb"] = static_cast<double>(model.value().memory_bytes()) / 1024.0;
+}
+
+void run_step(benchmark::State& state, nav::ReducedForceKind kind, bool frozen) {
+  if (!liver()) {
+    state.SkipWithError("shared data missing: ../shared/data/liver/liverFine.vtu");
+    return;
+  }
+  const int r = static_cast<int>(state.range(0)), m = static_cast<int>(state.range(1));
+  nav::ReducedSolverOptions options;
+  options.frozen_tangent = frozen;
+  options.step_s = 0.001;
+  time_steps(state, liver()->scene, truncated(*liver(), r, m, kind), options, nav::TissueInputs{});
+}
+
+/// The frozen corotational step (r = 16, 164 samples) under 32 point forces on 32 nodes (a
+/// needle's), without (0) and with (1) an error estimate (a synthetic calibration: its cost
+/// does not depend on the values).
+void BM_ReducedErrorEstimate(benchmark::State& state) {
+  if (!liver()) {
+    state.SkipWithError("shared data missing: ../shared/data/liver/liverFine.vtu");
+    return;
+  }
+  nav::ReducedBasis basis = truncated(*liver(), 16, 164, nav::ReducedForceKind::corotational_cubature);
+  if (state.range(0) == 1) {
+    basis.error_calibration.missing_compliance_m_per_n.assign(6 * liver()->mesh.nodes_m.size(), 1e-3);
+    basis.error_calibration.gain = 1.0;
+  }
+  nav::TissueScene scene = liver()->scene;
+  scene.max_point_forces = 32;
+  std::vector<nav::PointForce> forces;
+  for (std::int32_t k = 0; k < 32; ++k) forces.push_back({1000 + 97 * k, {0.0, 0.001, -0.002}});
+  nav::TissueInputs inputs;
+  inputs.point_forces = forces;
+  nav::ReducedSolverOptions options;
+  options.step_s = 0.001;
+  time_steps(state, scene, basis, options, inputs);
 }
 
 void BM_ReducedCorotationalFrozen(benchmark::State& s) {
@@ -169,6 +198,7 @@ BENCHMARK(BM_ReducedLinear)
     ->UseManualTime()
     ->Unit(benchmark::kMicrosecond)
     ->Iterations(3000);
+BENCHMARK(BM_ReducedErrorEstimate)->Arg(0)->Arg(1)->UseManualTime()->Unit(benchmark::kMicrosecond)->Iterations(3000);
 BENCHMARK(BM_ReconstructNodes)->Apply(reconstruction_cases);
 BENCHMARK(BM_ReconstructDisplay)->Apply(reconstruction_cases);
 

@@ -37,6 +37,12 @@ ReducedBasis synthetic_basis(const TetMesh& mesh, int r, ReducedForceKind kind) 
     for (int i = 0; i < 7; ++i) b.polynomial_coefficients.push_back(normal(rng));
   for (int i = 0; i < r; ++i) b.training_q_bound.push_back(std::abs(normal(rng)));
   b.training_residual_bound = 0.0123;
+  for (std::size_t i = 0; i < 2 * rows; ++i) b.error_calibration.missing_compliance_m_per_n.push_back(normal(rng));
+  b.error_calibration.gain = 1.25;
+  b.error_calibration.correlation = 0.875;
+  b.error_calibration.lowest_ratio = 0.39;
+  b.error_calibration.highest_ratio = 2.98;
+  b.error_calibration.held_out_loads = 10;
   return b;
 }
 
@@ -61,6 +67,11 @@ void expect_identical(const ReducedBasis& a, const ReducedBasis& b) {
   expect_bit_equal(a.polynomial_coefficients, b.polynomial_coefficients);
   expect_bit_equal(a.training_q_bound, b.training_q_bound);
   EXPECT_EQ(std::memcmp(&a.training_residual_bound, &b.training_residual_bound, sizeof(double)), 0);
+  const ReducedErrorCalibration &x = a.error_calibration, &y = b.error_calibration;
+  expect_bit_equal(x.missing_compliance_m_per_n, y.missing_compliance_m_per_n);
+  expect_bit_equal({x.gain, x.correlation, x.lowest_ratio, x.highest_ratio},
+                   {y.gain, y.correlation, y.lowest_ratio, y.highest_ratio});
+  EXPECT_EQ(x.held_out_loads, y.held_out_loads);
 }
 
 TEST(ReducedArtifact, FileRoundTripIsBitExact) {
@@ -139,6 +150,16 @@ TEST(ReducedArtifact, InconsistentDimensionsAreRefused) {
   EXPECT_NE(decoded.error().describe().find("inconsistent dimensions"), std::string::npos)
       << decoded.error().describe();
   EXPECT_EQ(decoded.error().field, "column_values");
+  basis = synthetic_basis(mesh, 2, ReducedForceKind::linear);
+  basis.error_calibration.missing_compliance_m_per_n.pop_back();  // not 6 per node
+  const auto calibration = decode_reduced_basis(encode_reduced_basis(basis), "dims.navrb", &mesh);
+  ASSERT_FALSE(calibration.ok());
+  EXPECT_EQ(calibration.error().field, "error_calibration.missing_compliance_m_per_n");
+  basis = synthetic_basis(mesh, 2, ReducedForceKind::linear);
+  basis.error_calibration.gain = -1.0;
+  const auto gain = decode_reduced_basis(encode_reduced_basis(basis), "gain.navrb", &mesh);
+  ASSERT_FALSE(gain.ok());
+  EXPECT_EQ(gain.error().field, "error_calibration");
 }
 
 TEST(ReducedArtifact, EveryByteFlipAndEveryTruncationIsAnError) {

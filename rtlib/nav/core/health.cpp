@@ -33,6 +33,8 @@ const char* health_flag_name(HealthFlag flag) noexcept {
       return "pose_jump_rejected";
     case HealthFlag::reduced_escalated:
       return "reduced_escalated";
+    case HealthFlag::reduced_error_over_bound:
+      return "reduced_error_over_bound";
   }
   return "unknown";
 }

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "nav/needle/coupled_needle_step.hpp"
+#include "nav/reduced/reduced_envelope.hpp"
 
 namespace nav::detail {
 namespace {
@@ -116,10 +117,6 @@ HealthFlags step_rung(const OperatingLoopModel& model, OperatingLoopData& data, 
   return raised;
 }
 
-bool indicator_fired(HealthFlags raised) noexcept {
-  return raised.has(HealthFlag::reduced_out_of_envelope) || raised.has(HealthFlag::non_finite_state);
-}
-
 /// Counts the steps whose state, M-projected on the rung below, is inside that rung's bounds
 /// and represented by it, and steps down when they are enough.
 void consider_stepping_down(const OperatingLoopModel& model, OperatingLoopData& data) noexcept {
@@ -161,7 +158,7 @@ HealthFlags step_liver(const OperatingLoopModel& model, OperatingLoopData& data,
   HealthFlags raised = step_rung(model, data, rung, inputs);
   if (raised.has(HealthFlag::bad_sample)) return raised;  // refused, the state untouched
   const ReducedLadderOptions& o = model.ladder->options();
-  const bool fired = indicator_fired(raised);
+  const bool fired = detail::reduced_indicator_fired(raised);
   data.flagged_steps = fired ? data.flagged_steps + 1 : 0;
   const bool escalate = fired && o.escalation_allowed && rung + 1 < static_cast<int>(model.rungs.size()) &&
                         data.flagged_steps >= o.escalate_after_steps;
@@ -173,7 +170,7 @@ HealthFlags step_liver(const OperatingLoopModel& model, OperatingLoopData& data,
   move_to(model, data, rung + 1, active.lookahead, upper.up_from_below, upper.unseen_prior);
   ++data.outputs.escalations;
   const HealthFlags again = step_rung(model, data, rung + 1, inputs);
-  data.flagged_steps = indicator_fired(again) ? 1 : 0;
+  data.flagged_steps = detail::reduced_indicator_fired(again) ? 1 : 0;
   raised.merge(again);
   raised.raise(HealthFlag::reduced_escalated);
   return raised;

@@ -30,8 +30,10 @@ enum SectionId : std::uint32_t {
   sample_weights_section,
   polynomial_section,
   q_bound_section,
+  missing_compliance_section,
+  error_calibration_section,
 };
-constexpr std::uint32_t kSectionCount = 7;
+constexpr std::uint32_t kSectionCount = 9;
 
 const char* section_name(std::uint32_t id) {
   switch (id) {
@@ -49,9 +51,28 @@ const char* section_name(std::uint32_t id) {
       return "polynomial_coefficients";
     case q_bound_section:
       return "training_q_bound";
+    case missing_compliance_section:
+      return "error_calibration.missing_compliance_m_per_n";
+    case error_calibration_section:
+      return "error_calibration";
     default:
       return "unknown";
   }
+}
+
+/// The error calibration's numbers, in file order.
+constexpr std::size_t kCalibrationValues = 5;
+
+std::vector<double> calibration_values(const ReducedErrorCalibration& c) {
+  return {c.gain, c.correlation, c.lowest_ratio, c.highest_ratio, static_cast<double>(c.held_out_loads)};
+}
+
+void read_calibration(const std::vector<double>& values, ReducedErrorCalibration& c) {
+  c.gain = values[0];
+  c.correlation = values[1];
+  c.lowest_ratio = values[2];
+  c.highest_ratio = values[3];
+  c.held_out_loads = std::isfinite(values[4]) ? static_cast<int>(std::clamp(values[4], 0.0, 1e9)) : -1;
 }
 
 /// The checksum of a section or of the whole file.
@@ -201,6 +222,14 @@ std::optional<Error> check_consistency(const ReducedBasis& b, const Reader& in) 
   for (const auto& [field, values] : arrays)
     if (!all_finite(*values)) return in.fail(field, "non-finite value");
   if (!std::isfinite(b.training_residual_bound)) return in.fail("training_residual_bound", "non-finite value");
+  const ReducedErrorCalibration& c = b.error_calibration;
+  if (!c.missing_compliance_m_per_n.empty() && c.missing_compliance_m_per_n.size() != 2 * rows)
+    return dimension_error("error_calibration.missing_compliance_m_per_n", c.missing_compliance_m_per_n.size(),
+                           "0 or 6 n = " + std::to_string(2 * rows));
+  if (!all_finite(c.missing_compliance_m_per_n))
+    return in.fail("error_calibration.missing_compliance_m_per_n", "non-finite value");
+  if (!all_finite(calibration_values(c)) || c.gain < 0.0 || c.held_out_loads < 0)
+    return in.fail("error_calibration", "gain or load count not finite and non-negative");
   return std::nullopt;
 }
 
@@ -230,6 +259,9 @@ std::vector<std::uint8_t> encode_reduced_basis(const ReducedBasis& basis) {
   put_section(out, sample_weights_section, std::span<const double>(basis.sample_weights));
   put_section(out, polynomial_section, std::span<const double>(basis.polynomial_coefficients));
   put_section(out, q_bound_section, std::span<const double>(basis.training_q_bound));
+  put_section(out, missing_compliance_section,
+              std::span<const double>(basis.error_calibration.missing_compliance_m_per_n));
+  put_section(out, error_calibration_section, std::span<const double>(calibration_values(basis.error_calibration)));
   const std::uint64_t size = out.size() + 8;
   for (int i = 0; i < 8; ++i) out[16 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(size >> (8 * i));
   put_u64(out, checksum(out));
@@ -272,6 +304,14 @@ Result<ReducedBasis> decode_reduced_basis(std::span<const std::uint8_t> bytes, c
   if (auto e = read_section(in, bytes, sample_weights_section, basis.sample_weights)) return *e;
   if (auto e = read_section(in, bytes, polynomial_section, basis.polynomial_coefficients)) return *e;
   if (auto e = read_section(in, bytes, q_bound_section, basis.training_q_bound)) return *e;
+  if (auto e = read_section(in, bytes, missing_compliance_section, basis.error_calibration.missing_compliance_m_per_n))
+    return *e;
+  std::vector<double> calibration;
+  if (auto e = read_section(in, bytes, error_calibration_section, calibration)) return *e;
+  if (calibration.size() != kCalibrationValues)
+    return in.fail("error_calibration", "inconsistent dimensions: " + std::to_string(calibration.size()) +
+                                            " values, expected " + std::to_string(kCalibrationValues));
+  read_calibration(calibration, basis.error_calibration);
   if (auto e = in.need(8, "file checksum")) return *e;
   const std::uint64_t computed = checksum(bytes.subspan(0, in.position()));
   if (in.u64() != computed) return in.fail("file_checksum", "whole-file checksum mismatch");

@@ -4,7 +4,8 @@
 //   header   magic "NAVRBAS\n" (8 bytes), format version (u32), section count (u32), file size
 //            in bytes (u64), mesh fingerprint (u64), node count (i32), r (i32), source (u32),
 //            force kind (u32), training residual bound (f64): 56 bytes;
-//   sections one per array field of ReducedBasis, in a fixed order: id (u32), element kind
+//   sections one per array field of ReducedBasis, in a fixed order (version 2 adds the error
+//            calibration's missing compliance and its five numbers): id (u32), element kind
 //            (u32: 1 f64, 2 i32), element count (u64), the elements, then the FNV-1a checksum
 //            (u64) of the section's id, kind, count and elements;
 //   trailer  the FNV-1a checksum (u64) of every byte before it.
@@ -21,7 +22,7 @@
 namespace nav {
 
 /// The format version this code writes and the only one it reads.
-inline constexpr std::uint32_t kReducedArtifactVersion = 1;
+inline constexpr std::uint32_t kReducedArtifactVersion = 2;
 
 /// The artifact bytes of `basis`.
 std::vector<std::uint8_t> encode_reduced_basis(const ReducedBasis& basis);

@@ -26,6 +26,22 @@ enum class ReducedForceKind : std::uint32_t {
   stvk_cubic_polynomial = 3,  ///< exact reduced St Venant-Kirchhoff: a cubic polynomial in q
 };
 
+/// The calibration of a reduced model's online error estimate (error_calibration.hpp): the
+/// displacement its basis misses under the point forces (a needle, a probe), from the static
+/// compliance it misses about each node, fitted on held-out loads against the full order's
+/// largest nodal error. Empty compliance: no estimate.
+struct ReducedErrorCalibration {
+  /// Per node, 6 values (xx, xy, xz, yy, yz, zz), m/N: the full order's static response to a
+  /// unit force spread over the nodes within a patch radius, averaged over them, less the
+  /// basis's own (K with the scene's springs); zero at constrained nodes.
+  std::vector<double> missing_compliance_m_per_n;
+  double gain = 0.0;  ///< estimated error = gain x the sum of |M_n f_n| over loaded nodes
+  /// On the held-out loads with point forces: the correlation of the estimate with the true
+  /// error, and the range of true / estimated error.
+  double correlation = 0.0, lowest_ratio = 0.0, highest_ratio = 0.0;
+  int held_out_loads = 0;
+};
+
 /// Everything the offline reduction computes for one mesh and scene.
 struct ReducedBasis {
   std::uint64_t mesh_fingerprint = 0;  ///< mesh_fingerprint() of the mesh it belongs to
@@ -51,6 +67,7 @@ struct ReducedBasis {
   /// largest relative residual of the reduced equations seen on the training loads.
   std::vector<double> training_q_bound;
   double training_residual_bound = 0.0;
+  ReducedErrorCalibration error_calibration;
 };
 
 /// A 64-bit fingerprint of a mesh's node coordinates and tetrahedra (FNV-1a over their

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "nav/core/finite.hpp"
 #include "nav/reduced/dense_cholesky.hpp"
 #include "nav/reduced/full_system.hpp"
 #include "nav/reduced/reduced_forces.hpp"
@@ -31,6 +32,8 @@ Status check_options(const ReducedSolverOptions& o) {
     return error("Rayleigh damping must be a non-negative number", "rayleigh_stiffness_s");
   if (!(o.envelope_factor > 0.0 && std::isfinite(o.envelope_factor)))
     return error("the envelope factor must be a positive number", "envelope_factor");
+  if (!(o.error_bound_m > 0.0 && std::isfinite(o.error_bound_m)))
+    return error("the error bound must be a positive number of metres", "error_bound_m");
   if (!kernel_isa_available(o.kernel_isa))
     return error("this build or CPU has no " + std::string(kernel_isa_name(o.kernel_isa)) + " kernels", "kernel_isa");
   return Done{};
@@ -152,6 +155,23 @@ void build_springs(const TetFemTables& full, ReducedTables& t) {
   Eigen::Map<RowMatrix>(t.spring_stiffness_r.data(), r, r) = springs;
 }
 
+/// The error estimate's tables (reduced_tables.hpp) from the basis's calibration; nothing
+/// without one. Errors name the calibration's field.
+Status build_error_estimate(const ReducedBasis& b, ReducedTables& t) {
+  const ReducedErrorCalibration& c = b.error_calibration;
+  if (c.missing_compliance_m_per_n.empty()) return Done{};
+  if (c.missing_compliance_m_per_n.size() != 6 * static_cast<std::size_t>(t.node_count))
+    return error("the missing compliance is not 6 values per node", "error_calibration.missing_compliance_m_per_n");
+  if (!all_finite(c.missing_compliance_m_per_n))
+    return error("the missing compliance has a non-finite value", "error_calibration.missing_compliance_m_per_n");
+  if (!(c.gain > 0.0 && std::isfinite(c.gain)))
+    return error("the error estimate's gain must be a positive number", "error_calibration.gain");
+  t.missing_compliance = c.missing_compliance_m_per_n;
+  t.error_gain = c.gain;
+  t.error_bound_m = t.options.error_bound_m;
+  return Done{};
+}
+
 /// The sampled tetrahedra's tables, blocked by kSampleLanes (see ReducedTables), and the
 /// linear stiffness they take back out: K_S = sum w U_s^T K_s U_s, K_Sl = sum w U_s^T K_s L_s.
 void build_samples(const TetFemTables& full, const ReducedBasis& b, ReducedTables& t) {
@@ -271,6 +291,7 @@ Result<ReducedModel> make_reduced_model(const TetMesh& mesh, const TissueScene& 
   if (basis.force_kind == ReducedForceKind::stvk_cubic_polynomial) t->polynomial = basis.polynomial_coefficients;
   if (auto s = build_frozen_factor(*t); !s) return s.error();
   t->q_bound = basis.training_q_bound;
+  if (auto s = build_error_estimate(basis, *t); !s) return s.error();
   return ReducedModel(std::move(t));
 }
 
@@ -372,7 +393,8 @@ std::int64_t ReducedModel::memory_bytes() const {
                                        &t.cubature_stiffness_r,
                                        &t.cubature_stiffness_lift_r,
                                        &t.polynomial,
-                                       &t.q_bound})
+                                       &t.q_bound,
+                                       &t.missing_compliance})
     doubles += v->size();
   return static_cast<std::int64_t>(sizeof(ReducedTables) + 8 * doubles + 4 * t.spring_nodes.size() +
                                    sizeof(LameParameters) * t.sample_lame.size());

@@ -1,9 +1,12 @@
 #pragma once
-// The online error indicator of a reduced model: how far its coordinates are beyond the
-// training envelope. Shared by the model's step and the ladder's moves.
+// The online error indicators of a reduced model: how far its coordinates are beyond the
+// training envelope, and the flags on which a ladder escalates. Shared by the model's step
+// and the ladders' moves.
 #include <algorithm>
 #include <cmath>
 #include <span>
+
+#include "nav/core/health.hpp"
 
 namespace nav::detail {
 
@@ -20,6 +23,13 @@ inline double envelope_ratio(std::span<const double> bound, double envelope_fact
       ratio = std::max(ratio, 2.0 * envelope_factor);
   }
   return ratio;
+}
+
+/// A reduced step's indicator: out of its envelope, its estimated error over its bound, or
+/// undone as non-finite.
+inline bool reduced_indicator_fired(HealthFlags raised) noexcept {
+  return raised.has(HealthFlag::reduced_out_of_envelope) || raised.has(HealthFlag::reduced_error_over_bound) ||
+         raised.has(HealthFlag::non_finite_state);
 }
 
 }  // namespace nav::detail

@@ -1,13 +1,12 @@
 #pragma once
 // The escalation ladder of the reduced liver: reduced models of growing basis size on one
 // mesh and scene, optionally topped by the full-order TetFemModel. The ladder steps its
-// active rung; when that rung's indicator fires (reduced_out_of_envelope, or a step undone
-// for a non-finite state) and the scene allows it, the state before the step is carried up
-// one rung (q_big = T q_small with T = U_big^T M U_small, the M-projection; to the full order
-// u = U q + L d, v = U q_dot) and the step is redone there. Optionally the ladder steps back
-// down once the state, M-projected on the rung below, has stayed inside that rung's envelope
-// and representable by it. Model/Data: every rung's data is allocated at init; step() is
-// noexcept, allocation-free and bitwise repeatable.
+// active rung; when that rung's indicator fires (reduced_out_of_envelope,
+// reduced_error_over_bound, or a step undone for a non-finite state) and the scene allows
+// it, the state before the step is carried up one rung (q_big = T q_small with T = U_big^T M U_small, the M-projection;
+// to the full order u = U q + L d, v = U q_dot) and the step is redone there. Optionally the ladder steps back down
+// once the state, M-projected on the rung below, has stayed inside that rung's envelope and representable by it.
+// Model/Data: every rung's data is allocated at init; step() is noexcept, allocation-free and bitwise repeatable.
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -88,6 +87,8 @@ struct ReducedLadderReport {
   bool de_escalated = false;  ///< after the step the ladder moved one rung down
   /// The indicator of the rung that first took the step: its largest |q_i| / training bound_i.
   double envelope_ratio = 0.0;
+  /// Its estimated error (0 without a calibrated estimate), metres.
+  double estimated_error_m = 0.0;
   /// On a rung with one below (and de-escalation on): the M-projection of the state on it, its
   /// envelope ratio and the relative part it cannot represent.
   double projected_envelope_ratio = 0.0;

@@ -140,10 +140,9 @@ HealthFlags step_rung(const ReducedLadderTables& t, ReducedLadderData& data, int
   return rung_data.health;
 }
 
-/// The indicator of a step on a reduced rung: out of its envelope, or undone as non-finite.
+/// The indicator of a step on a reduced rung (detail::reduced_indicator_fired).
 bool indicator_fired(const ReducedLadderTables& t, int rung, HealthFlags raised) {
-  return is_reduced(t, rung) &&
-         (raised.has(HealthFlag::reduced_out_of_envelope) || raised.has(HealthFlag::non_finite_state));
+  return is_reduced(t, rung) && detail::reduced_indicator_fired(raised);
 }
 
 /// Counts the steps whose state fits the rung below and steps down when they are enough.
@@ -193,8 +192,11 @@ void step(const ReducedLadderModel& model, ReducedLadderData& data, const Tissue
   std::copy(inputs.prescribed_displacement_m.begin(), inputs.prescribed_displacement_m.end(), data.prescribed_m);
   ++data.steps;
   const bool fired = indicator_fired(t, rung, raised);
-  if (is_reduced(t, rung))
-    data.report.envelope_ratio = data.reduced[static_cast<std::size_t>(rung)].report.envelope_ratio;
+  if (is_reduced(t, rung)) {
+    const ReducedStepReport& stepped = data.reduced[static_cast<std::size_t>(rung)].report;
+    data.report.envelope_ratio = stepped.envelope_ratio;
+    data.report.estimated_error_m = stepped.estimated_error_m;
+  }
   data.flagged_steps = fired ? data.flagged_steps + 1 : 0;
   const bool escalate =
       fired && o.escalation_allowed && rung + 1 < model.rung_count() && data.flagged_steps >= o.escalate_after_steps;

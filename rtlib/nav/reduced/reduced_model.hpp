@@ -42,6 +42,9 @@ struct ReducedSolverOptions {
   /// next step then rebuilds its tangent even when frozen_tangent is set. Beyond 10 times
   /// that, q_i is held at the limit with zero rate (no run-away in an untrained direction).
   double envelope_factor = 1.5;
+  /// With a calibrated error estimate (ReducedBasis::error_calibration): an estimated error
+  /// beyond this (metres) raises reduced_error_over_bound, on which a ladder escalates.
+  double error_bound_m = 2e-3;
   /// The instruction set of the cubature kernels: every choice gives the same bits; `best`
   /// is the widest this CPU runs (kernel_isa.hpp).
   KernelIsa kernel_isa = KernelIsa::best;
@@ -56,6 +59,11 @@ struct ReducedStepReport {
   double envelope_ratio = 0.0;
   bool out_of_envelope = false;
   int inverted_samples = 0;  ///< sampled tetrahedra with det F <= 0
+  /// With a calibrated error estimate: the displacement the basis misses under the step's
+  /// point forces, as an estimate of the largest nodal error against the full order
+  /// (metres), and whether it passed its bound.
+  double estimated_error_m = 0.0;
+  bool error_over_bound = false;
 };
 
 /// The immutable part of a reduced tissue model. Cheap to move, shares its tables when copied.

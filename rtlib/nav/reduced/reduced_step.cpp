@@ -1,5 +1,6 @@
 // Step-time integrators of a ReducedModel (implicit Euler and quasi-static Newton
-// iterations on the r x r system), its envelope check and the lazy reconstruction.
+// iterations on the r x r system), its envelope check, its error estimate and the lazy
+// reconstruction.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -192,6 +193,31 @@ void check_envelope(const ReducedTables& t, ReducedData& data) {
   if (data.report.out_of_envelope) data.health.raise(HealthFlag::reduced_out_of_envelope);
 }
 
+/// The error estimate under `inputs`: the displacement the basis misses under the point
+/// forces, gain x the sum over loaded nodes of |M_n f_n| (f_n the node's forces, scaled).
+void estimate_error(const ReducedTables& t, ReducedData& data, const TissueInputs& inputs) {
+  if (t.missing_compliance.empty()) return;
+  const std::span<const PointForce> forces = inputs.point_forces;
+  double sum_m = 0.0;
+  for (std::size_t i = 0; i < forces.size(); ++i) {
+    const std::int32_t node = forces[i].node;
+    if (std::any_of(forces.begin(), forces.begin() + static_cast<std::ptrdiff_t>(i),
+                    [&](const PointForce& f) { return f.node == node; }))
+      continue;  // summed with its first force
+    double f[3] = {0.0, 0.0, 0.0};
+    for (std::size_t j = i; j < forces.size(); ++j)
+      if (forces[j].node == node)
+        for (std::size_t c = 0; c < 3; ++c) f[c] += inputs.load_scale * forces[j].force_n[c];
+    const double* m = t.missing_compliance.data() + 6 * static_cast<std::size_t>(node);
+    const double u[3] = {m[0] * f[0] + m[1] * f[1] + m[2] * f[2], m[1] * f[0] + m[3] * f[1] + m[4] * f[2],
+                         m[2] * f[0] + m[4] * f[1] + m[5] * f[2]};
+    sum_m += std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+  }
+  data.report.estimated_error_m = t.error_gain * sum_m;
+  data.report.error_over_bound = data.report.estimated_error_m > t.error_bound_m;
+  if (data.report.error_over_bound) data.health.raise(HealthFlag::reduced_error_over_bound);
+}
+
 }  // namespace
 
 void step(const ReducedModel& model, ReducedData& data, const TissueInputs& inputs) noexcept {
@@ -220,6 +246,7 @@ void step(const ReducedModel& model, ReducedData& data, const TissueInputs& inpu
   if (data.report.inverted_samples > 0) data.health.raise(HealthFlag::inverted_element);
   std::copy(d, d + 3, data.prescribed_m);
   check_envelope(t, data);
+  estimate_error(t, data, inputs);
   ++data.steps;
 }
 

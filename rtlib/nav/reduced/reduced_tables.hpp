@@ -55,6 +55,12 @@ struct ReducedTables {
 
   std::vector<double> polynomial;  ///< stvk_cubic_polynomial only: see stvk_polynomial.hpp
   std::vector<double> q_bound;     ///< r, or empty: no envelope
+
+  // The error estimate (empty without a calibration): gain x the sum over loaded nodes of
+  // |M_n f_n| (ReducedErrorCalibration).
+  std::vector<double> missing_compliance;  ///< 6 per node: M_n
+  double error_gain = 0.0;
+  double error_bound_m = 0.0;  ///< the flag's threshold (options.error_bound_m)
 };
 
 /// The system matrix a I + b K + c Ks of a Newton iteration (Rayleigh damping acts on the

@@ -383,7 +383,7 @@ Result<Snapshots> solve_static_loads(const TetMesh& mesh, const TissueScene& sce
 
 Result<std::vector<double>> solve_reduced_static(const TetMesh& mesh, const TissueScene& scene,
                                                  const ReducedBasis& basis, const TrainingLoad& load,
-                                                 const ReducedStaticOptions& options) {
+                                                 const ReducedStaticOptions& options, ReducedStepReport* last_step) {
   ReducedSolverOptions o;
   o.integrator = ReducedIntegrator::quasi_static;
   o.step_s = StaticSolveOptions::default_solver().step_s;
@@ -405,10 +405,13 @@ Result<std::vector<double>> solve_reduced_static(const TetMesh& mesh, const Tiss
     reconstruct_all_displacements_m(model.value(), data.value(), u);
     last_move_m = largest_move_m(u, previous);
     previous = u;
-    if (fraction >= 1.0 && last_move_m <= options.converged_step_m) return u;
+    if (fraction < 1.0 || last_move_m > options.converged_step_m) continue;
+    if (last_step != nullptr) *last_step = data.value().report;
+    return u;
   }
-  return Error{.message = "reduced solve did not converge (last step moved " + std::to_string(last_move_m) + " m)",
-               .field = load.name};
+  return Error{
+      .message = "reduced solve did not converge (last step moved " + std::to_string(last_move_m * 1e9) + " nm)",
+      .field = load.name};
 }
 
 DisplacementError displacement_error(std::span<const double> u_m, std::span<const double> reference_m,

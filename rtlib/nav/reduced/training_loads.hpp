@@ -13,6 +13,7 @@
 #include "nav/core/error.hpp"
 #include "nav/mesh/tet_mesh.hpp"
 #include "nav/reduced/reduced_basis.hpp"
+#include "nav/reduced/reduced_model.hpp"
 #include "nav/tissue/tissue_scene.hpp"
 
 namespace nav {
@@ -120,11 +121,13 @@ struct ReducedStaticOptions {
 };
 
 /// Static displacements from rest (3 n, metres) of `load` with the reduced model of `basis`
-/// (built on scene_for_load(scene, load) with reduction_solver_options(basis.force_kind)).
-/// Errors: the model's own, or no convergence (naming the load).
+/// (built on scene_for_load(scene, load) with reduction_solver_options(basis.force_kind)),
+/// and, with `last_step`, the report of its last step. Errors: the model's own, or no
+/// convergence (naming the load).
 Result<std::vector<double>> solve_reduced_static(const TetMesh& mesh, const TissueScene& scene,
                                                  const ReducedBasis& basis, const TrainingLoad& load,
-                                                 const ReducedStaticOptions& options = {});
+                                                 const ReducedStaticOptions& options = {},
+                                                 ReducedStepReport* last_step = nullptr);
 
 /// Nodal displacement errors of `u_m` against `reference_m` (both 3 n): the RMS and largest
 /// nodal error, and the error at `target_node`, in metres, and the reference's largest

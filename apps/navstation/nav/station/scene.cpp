@@ -143,6 +143,7 @@ void read_reduced(MapReader& r, const std::string& scene_path, double tissue_rat
   o.rayleigh_mass_per_s = r.number("rayleigh_mass_per_s", kNonNegative, 0.0);
   o.rayleigh_stiffness_s = r.number("rayleigh_stiffness_s", kNonNegative, 0.0);
   o.envelope_factor = r.number("envelope_factor", Range{1.0, 100.0}, o.envelope_factor);
+  o.error_bound_m = 1e-3 * r.number("error_bound_mm", Range{0.0, 1000.0, true}, 1e3 * o.error_bound_m);
   o.step_s = 1.0 / tissue_rate_hz;
   if (r.optional("escalation")) liver.escalation = read_escalation(r.map("escalation"), scene_path, o.envelope_factor);
 }
