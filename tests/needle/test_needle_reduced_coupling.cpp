@@ -4,13 +4,16 @@
 // the exact linear full-order tissue); the multi-rate mode keeps the puncture; coupled
 // ticks allocate nothing and repeat bitwise; the solver's W equals H A^-1 H^T + C C^T (+ the
 // local compliance) by dense algebra, and with the full-order tissue H A^-1 H^T + the tissue's
-// stepped responses at the rows' nodes; bad couplings are refused by name.
+// stepped responses at the rows' nodes; the compliance a truncated basis misses at a node,
+// added back, makes the node's compliance the full order's and its puncture the full order's;
+// bad couplings are refused by name.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <cmath>
 #include <span>
 
+#include "nav/needle/missing_node_compliance.hpp"
 #include "nav/needle/reduced_coupling.hpp"
 #include "nav/needle/tissue_coupling.hpp"
 #include "nav/reduced/reduction.hpp"
@@ -377,6 +380,83 @@ TEST(NeedleReducedCoupling, CoupledTicksAllocateNothingAndRepeatBitwise) {
   EXPECT_EQ(hashes[0], hashes[1]);
 }
 
+TEST(NeedleReducedCoupling, TheMissingNodeComplianceMakesEachNodesComplianceTheFullOrders) {
+  const Slab slab;
+  const TetFemModel full = make_tet_fem_model(slab.mesh, slab.scene, testing::exact_linear_options()).value();
+  const ReducedModel reduced = reduced_slab(slab, 6, ReducedForceKind::linear, ReducedIntegrator::quasi_static);
+  const ReducedCoupledNeedleModel model =
+      make_coupled_needle_model(NeedleParameters{}, top_layer(), reduced, slab.mesh, 32, 1).value();
+  const auto missing = missing_node_compliance(model.interaction, full);
+  ASSERT_TRUE(missing.ok()) << missing.error().describe();
+  const std::size_t nodes = slab.mesh.nodes_m.size();
+  ASSERT_EQ(missing.value().size(), 6 * nodes);
+  const int r = model.interaction.compliance_rank;
+  std::vector<double> response(3 * nodes), work(2 * static_cast<std::size_t>(full.free_dof_count()));
+  double worst = 0.0, least_missed_share = 1.0;
+  int free_nodes = 0;
+  for (std::size_t n = 0; n < nodes; ++n) {
+    const double* m = missing.value().data() + 6 * n;
+    const Eigen::Matrix3d local =
+        (Eigen::Matrix3d() << m[0], m[1], m[2], m[1], m[3], m[4], m[2], m[4], m[5]).finished();
+    Eigen::Matrix3d node_response;
+    bool free = true;
+    for (int axis = 0; axis < 3; ++axis) {
+      free = rest_step_response_m(full, static_cast<std::int32_t>(n), axis, response, work);
+      node_response.col(axis) = Eigen::Map<const Eigen::Vector3d>(response.data() + 3 * n);
+    }
+    if (!free) {
+      EXPECT_EQ(local.norm(), 0.0) << "held node " << n;
+      continue;
+    }
+    ++free_nodes;
+    const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>> v(
+        model.interaction.compliance_factors.data() + 3 * n * static_cast<std::size_t>(r), 3, r);
+    worst = std::max(worst, (v * v.transpose() + local - node_response).norm() / node_response.norm());
+    least_missed_share = std::min(least_missed_share, local.trace() / node_response.trace());
+    EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(local).eigenvalues().minCoeff(), 0.0) << "node " << n;
+  }
+  std::printf(
+      "%d free nodes: |V V^T + L - R| / |R| at most %.2e; the basis of 6 modes misses at least %.0f %% of a "
+      "node's compliance\n",
+      free_nodes, worst, 100.0 * least_missed_share);
+  ASSERT_GT(free_nodes, 0);
+  // Galerkin: the basis's compliance at a node is below the full order's, so nothing is clipped
+  // and the sum is the full order's to rounding.
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_GT(least_missed_share, 0.1);
+}
+
+TEST(NeedleReducedCoupling, ATruncatedBasisWithItsMissingNodeCompliancePuncturesAsTheFullOrder) {
+  const Slab slab;
+  const TetFemModel full = make_tet_fem_model(slab.mesh, slab.scene, testing::exact_linear_options()).value();
+  const ReducedModel reduced = reduced_slab(slab, 6, ReducedForceKind::linear, ReducedIntegrator::quasi_static);
+  NeedleTissueScene layer = top_layer(0.01);
+  layer.point_compliance_m_per_n = 1e-8;
+  const CoupledNeedleModel full_model = make_coupled_needle_model(NeedleParameters{}, layer, full, 32, 1).value();
+  ReducedCoupledNeedleModel truncated =
+      make_coupled_needle_model(NeedleParameters{}, layer, reduced, slab.mesh, 32, 1).value();
+  CoupledNeedleData full_data = make_coupled_needle_data(full_model, above_slab(0.0)).value();
+  ReducedCoupledNeedleData without_data = make_coupled_needle_data(truncated, above_slab(0.0)).value();
+  const double full_puncture_m = insert(full_model, full_data, 0.0, 0.02);
+  const double without_m = insert(truncated, without_data, 0.0, 0.02);
+  truncated.interaction.node_local_compliance_m_per_n = missing_node_compliance(truncated.interaction, full).value();
+  ReducedCoupledNeedleData with_data = make_coupled_needle_data(truncated, above_slab(0.0)).value();
+  const double with_m = insert(truncated, with_data, 0.0, 0.02);
+  std::printf(
+      "puncture after lowering %.3f mm (full order), %.3f mm (6 modes), %.3f mm (6 modes and the missing "
+      "node compliance)\n",
+      1e3 * full_puncture_m, 1e3 * without_m, 1e3 * with_m);
+  ASSERT_GT(full_puncture_m, 0.005);
+  ASSERT_GT(without_m, 0.005);
+  ASSERT_GT(with_m, 0.005);
+  // The tip's one contact point on one node: its compliance is the full order's again, so the
+  // puncture force builds over the same lowering (within 1 % and one tick); the truncated
+  // basis alone is stiffer there and punctures sooner.
+  EXPECT_NEAR(with_m, full_puncture_m, 0.01 * full_puncture_m + kStepM);
+  EXPECT_LT(without_m, full_puncture_m - 0.1 * (full_puncture_m - 0.005));
+  EXPECT_LT(with_data.interaction.report.residual_m, truncated.interaction.scene.residual_bound_m);
+}
+
 TEST(NeedleReducedCoupling, BadCouplingsAreRefusedByName) {
   const Slab slab;
   const ReducedModel tissue = reduced_slab(slab, 8, ReducedForceKind::linear, ReducedIntegrator::quasi_static);
@@ -391,6 +471,23 @@ TEST(NeedleReducedCoupling, BadCouplingsAreRefusedByName) {
   ASSERT_FALSE(no_rate.ok());
   EXPECT_EQ(no_rate.error().field, "needle_steps_per_tissue_step");
   EXPECT_FALSE(reduced_compliance_factors(tissue, -1.0).ok());
+  const auto coupled = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, 1).value();
+  const TetFemModel cg = make_tet_fem_model(slab.mesh, slab.scene,
+                                            [] {
+                                              TissueSolverOptions o = testing::exact_linear_options();
+                                              o.solver = LinearSolver::cg_jacobi;
+                                              return o;
+                                            }())
+                             .value();
+  const auto no_factor = missing_node_compliance(coupled.interaction, cg);
+  ASSERT_FALSE(no_factor.ok());
+  EXPECT_EQ(no_factor.error().field, "full");
+  const TetMesh tall = testing::box_mesh({kSideM, kSideM, kSideM}, 0.01);
+  const TetFemModel other_full =
+      make_tet_fem_model(tall, testing::held_at_bottom(tall), testing::exact_linear_options()).value();
+  const auto other_mesh = missing_node_compliance(coupled.interaction, other_full);
+  ASSERT_FALSE(other_mesh.ok());
+  EXPECT_EQ(other_mesh.error().field, "full");
 }
 
 }  // namespace

@@ -309,6 +309,15 @@ void fill_row_entries(const NeedleTissueData& data, std::size_t r, std::size_t t
   }
 }
 
+/// The compliance a constraint point on `node` meets at its own node beyond the nodal
+/// compliance and the scene's isotropic point compliance (node_local_compliance_m_per_n; zero
+/// without it).
+Eigen::Matrix3d node_local_compliance_m_per_n(const NeedleTissueModel& model, std::int32_t node) {
+  if (node < 0 || model.node_local_compliance_m_per_n.empty()) return Eigen::Matrix3d::Zero();
+  const double* m = model.node_local_compliance_m_per_n.data() + 6 * static_cast<std::size_t>(node);
+  return (Eigen::Matrix3d() << m[0], m[1], m[2], m[1], m[3], m[4], m[2], m[4], m[5]).finished();
+}
+
 /// Low rank: W = H C H^T, C block-diagonal over the needle's translational freedoms from
 /// `first_block` (its compliance A^-1, read in place) and the distinct tissue nodes' (V_a V_b^T), as
 /// C H^T then H (C H^T) on the kernels (rows padded to whole lanes), lower triangle then
@@ -344,10 +353,14 @@ void assemble_low_rank(const NeedleTissueModel& model, NeedleTissueData& data, i
   for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
     const auto begin = static_cast<std::size_t>(data.point_first_row[p]),
                end = static_cast<std::size_t>(data.point_first_row[p + 1]);
-    for (std::size_t r = begin; r < end; ++r)
+    const Eigen::Matrix3d node_local = node_local_compliance_m_per_n(
+        model, data.distinct_tissue_nodes[static_cast<std::size_t>(data.point_tissue_index[p])]);
+    for (std::size_t r = begin; r < end; ++r) {
+      const Eigen::Vector3d& d_r = data.rows[r].direction;
       for (std::size_t s = begin; s <= r; ++s)
-        data.compliance[r * stride + s] +=
-            model.scene.point_compliance_m_per_n * data.rows[r].direction.dot(data.rows[s].direction);
+        data.compliance[r * stride + s] += model.scene.point_compliance_m_per_n * d_r.dot(data.rows[s].direction) +
+                                           d_r.dot(node_local * data.rows[s].direction);
+    }
   }
   kernels.mirror_lower(data.compliance.data(), m, stride);
 }
@@ -532,8 +545,12 @@ Eigen::Vector3d compliant_displacement_m(const NeedleTissueModel& model, const N
       const auto begin = static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(p)]);
       const auto end = static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(p) + 1]);
       if (data.rows[begin].tissue_point_m != point_m) continue;
-      for (std::size_t r = begin; r < end; ++r)
+      Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
+      for (std::size_t r = begin; r < end; ++r) {
         u -= model.scene.point_compliance_m_per_n * data.row_forces[r] * data.rows[r].direction;
+        force_n += data.row_forces[r] * data.rows[r].direction;
+      }
+      u -= node_local_compliance_m_per_n(model, node) * force_n;
       break;
     }
     return u;
