@@ -441,7 +441,9 @@ TEST(NeedleReducedCoupling, ATruncatedBasisWithItsMissingNodeCompliancePunctures
   const double without_m = insert(truncated, without_data, 0.0, 0.02);
   truncated.interaction.node_local_compliance_m_per_n = missing_node_compliance(truncated.interaction, full).value();
   ReducedCoupledNeedleData with_data = make_coupled_needle_data(truncated, above_slab(0.0)).value();
+  testing::AllocationGuard guard;
   const double with_m = insert(truncated, with_data, 0.0, 0.02);
+  EXPECT_EQ(guard.allocations(), 0u);
   std::printf(
       "puncture after lowering %.3f mm (full order), %.3f mm (6 modes), %.3f mm (6 modes and the missing "
       "node compliance)\n",

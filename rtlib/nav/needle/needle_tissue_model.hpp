@@ -82,7 +82,7 @@ struct NeedleTissueModel {
   /// With a nodal compliance: what a constraint point meets at its own node beyond it, 6 per
   /// tissue node (xx, xy, xz, yy, yz, zz; symmetric, positive semi-definite), e.g. the
   /// full-order response a basis misses (missing_node_compliance()); scene.point_compliance_m_per_n
-  /// adds to it isotropically. Empty: that scalar alone.
+  /// adds to it isotropically. Empty: that scalar alone (so too a node beyond its size).
   std::vector<double> node_local_compliance_m_per_n;
   /// A full-order tissue whose response over one step at the constraint points' nodes (three
   /// solves with its rest factor per node, rest_step_response_m(), kept in the data's cache

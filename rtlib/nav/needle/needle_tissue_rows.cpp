@@ -311,9 +311,10 @@ void fill_row_entries(const NeedleTissueData& data, std::size_t r, std::size_t t
 
 /// The compliance a constraint point on `node` meets at its own node beyond the nodal
 /// compliance and the scene's isotropic point compliance (node_local_compliance_m_per_n; zero
-/// without it).
+/// without it, or for a node it does not reach).
 Eigen::Matrix3d node_local_compliance_m_per_n(const NeedleTissueModel& model, std::int32_t node) {
-  if (node < 0 || model.node_local_compliance_m_per_n.empty()) return Eigen::Matrix3d::Zero();
+  if (node < 0 || 6 * static_cast<std::size_t>(node) + 6 > model.node_local_compliance_m_per_n.size())
+    return Eigen::Matrix3d::Zero();
   const double* m = model.node_local_compliance_m_per_n.data() + 6 * static_cast<std::size_t>(node);
   return (Eigen::Matrix3d() << m[0], m[1], m[2], m[1], m[3], m[4], m[2], m[4], m[5]).finished();
 }
