@@ -16,6 +16,7 @@
 #include "nav/needle/missing_node_compliance.hpp"
 #include "nav/needle/reduced_coupling.hpp"
 #include "nav/needle/tissue_coupling.hpp"
+#include "nav/reduced/packed_compliance.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "needle_coupling_support.hpp"
 #include "needle_insertion_support.hpp"
@@ -395,9 +396,7 @@ TEST(NeedleReducedCoupling, TheMissingNodeComplianceMakesEachNodesComplianceTheF
   double worst = 0.0, least_missed_share = 1.0;
   int free_nodes = 0;
   for (std::size_t n = 0; n < nodes; ++n) {
-    const double* m = missing.value().data() + 6 * n;
-    const Eigen::Matrix3d local =
-        (Eigen::Matrix3d() << m[0], m[1], m[2], m[1], m[3], m[4], m[2], m[4], m[5]).finished();
+    const Eigen::Matrix3d local = unpack_compliance(missing.value().data() + 6 * n);
     Eigen::Matrix3d node_response;
     bool free = true;
     for (int axis = 0; axis < 3; ++axis) {

@@ -1,8 +1,8 @@
 #include "nav/needle/missing_node_compliance.hpp"
 
 #include <Eigen/Eigenvalues>
-#include <algorithm>
 
+#include "nav/reduced/packed_compliance.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 
 namespace nav {
@@ -32,8 +32,7 @@ Result<std::vector<double>> missing_node_compliance(const NeedleTissueModel& cou
     const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(0.5 * (missed + missed.transpose()));
     const Eigen::Vector3d kept = eigen.eigenvalues().cwiseMax(0.0);
     missed = eigen.eigenvectors() * kept.asDiagonal() * eigen.eigenvectors().transpose();
-    const double values[6] = {missed(0, 0), missed(0, 1), missed(0, 2), missed(1, 1), missed(1, 2), missed(2, 2)};
-    std::copy(values, values + 6, out.data() + 6 * n);
+    pack_compliance(missed, out.data() + 6 * n);
   }
   return out;
 }

@@ -5,6 +5,7 @@
 
 #include "nav/needle/needle_step.hpp"
 #include "nav/needle/tissue_points.hpp"
+#include "nav/reduced/packed_compliance.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 
 namespace nav::detail {
@@ -315,8 +316,7 @@ void fill_row_entries(const NeedleTissueData& data, std::size_t r, std::size_t t
 Eigen::Matrix3d node_local_compliance_m_per_n(const NeedleTissueModel& model, std::int32_t node) {
   if (node < 0 || 6 * static_cast<std::size_t>(node) + 6 > model.node_local_compliance_m_per_n.size())
     return Eigen::Matrix3d::Zero();
-  const double* m = model.node_local_compliance_m_per_n.data() + 6 * static_cast<std::size_t>(node);
-  return (Eigen::Matrix3d() << m[0], m[1], m[2], m[1], m[3], m[4], m[2], m[4], m[5]).finished();
+  return unpack_compliance(model.node_local_compliance_m_per_n.data() + 6 * static_cast<std::size_t>(node));
 }
 
 /// Low rank: W = H C H^T, C block-diagonal over the needle's translational freedoms from

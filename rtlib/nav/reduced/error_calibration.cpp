@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "nav/reduced/full_system.hpp"
+#include "nav/reduced/packed_compliance.hpp"
 
 namespace nav {
 namespace {
@@ -57,9 +58,7 @@ Result<std::vector<double>> missing_patch_compliance(const TetMesh& mesh, const 
     }
     missed -= mean_rows * flexibility * mean_rows.transpose();
     missed = 0.5 * (missed + missed.transpose()).eval();
-    double* m = out.data() + 6 * static_cast<std::size_t>(tables.free_nodes[i]);
-    const double values[6] = {missed(0, 0), missed(0, 1), missed(0, 2), missed(1, 1), missed(1, 2), missed(2, 2)};
-    std::copy(values, values + 6, m);
+    pack_compliance(missed, out.data() + 6 * static_cast<std::size_t>(tables.free_nodes[i]));
   }
   return out;
 }
