@@ -32,6 +32,7 @@
 
 namespace {
 
+using nav::seconds_of;
 using nav::TimeNs;
 
 constexpr TimeNs kTrackerPeriodNs = nav::kNsPerSecond / 60;
@@ -63,15 +64,13 @@ struct Shared {
   std::atomic<bool> done{false};
 };
 
-double seconds(TimeNs t_ns) { return 1e-9 * static_cast<double>(t_ns); }
-
 /// The tracker driver: every period, the three markers as measured kTrackerDelayNs ago.
 void tracker_thread(Shared& shared, const embedding::PatientMotion& motion, const nav::RigidPose& probe) {
   embedding::DeviceNoise noise(1, 0.25e-3);
   nav::FixedRateTimer timer(shared.clock, kTrackerPeriodNs, shared.start_ns + kTrackerDelayNs);
   while (!shared.done.load(std::memory_order_acquire)) {
     const TimeNs measured_ns = timer.wait_next_tick().deadline_ns - shared.start_ns - kTrackerDelayNs;
-    const double t_s = seconds(measured_ns);
+    const double t_s = seconds_of(measured_ns);
     TrackerSample needle{TrackerSample::Tool::needle, measured_ns, motion.needle_marker(t_s)};
     needle.pose.position_m += noise();
     TrackerSample probe_sample{TrackerSample::Tool::probe, measured_ns, probe};
@@ -88,7 +87,7 @@ void ultrasound_thread(Shared& shared, const embedding::PatientMotion& motion, c
   nav::FixedRateTimer timer(shared.clock, kUltrasoundPeriodNs, shared.start_ns + kUltrasoundDelayNs);
   while (!shared.done.load(std::memory_order_acquire)) {
     const TimeNs captured_ns = timer.wait_next_tick().deadline_ns - shared.start_ns - kUltrasoundDelayNs;
-    const Eigen::Vector3d seen = truth.at(motion.diaphragm_lift_m(seconds(captured_ns))) + noise();
+    const Eigen::Vector3d seen = truth.at(motion.diaphragm_lift_m(seconds_of(captured_ns))) + noise();
     shared.ultrasound.try_push({captured_ns, {seen[0], seen[1], seen[2]}});
   }
 }
@@ -144,12 +143,12 @@ void score(const nav::OperatingLoopOutputs& o, const embedding::PatientMotion& m
   if (s.ready_ns < 0 && !o.degraded) s.ready_ns = o.time_ns;
   if (o.tissue_steps == s.last_step || o.tissue_time_ns < kSettledNs) return;
   s.last_step = o.tissue_steps;
-  const double t_s = seconds(o.tissue_time_ns);
+  const double t_s = seconds_of(o.tissue_time_ns);
   const Eigen::Vector3d tumour = truth.at(motion.diaphragm_lift_m(t_s));
   s.now2 += (vec(o.tumour_now_m) - tumour).squaredNorm();
-  s.ahead2 += (vec(o.tumour_ahead_m) - truth.at(motion.diaphragm_lift_m(t_s + seconds(latency_ns)))).squaredNorm();
+  s.ahead2 += (vec(o.tumour_ahead_m) - truth.at(motion.diaphragm_lift_m(t_s + seconds_of(latency_ns)))).squaredNorm();
   s.marker2 += (truth.at(motion.marker_rise_m(t_s)) - tumour).squaredNorm();  // the liver following the marker exactly
-  s.tip2 += (vec(o.needle_tip_m) - motion.needle_tip_m(seconds(o.time_ns))).squaredNorm();
+  s.tip2 += (vec(o.needle_tip_m) - motion.needle_tip_m(seconds_of(o.time_ns))).squaredNorm();
   ++s.steps;
 }
 
@@ -241,7 +240,7 @@ int main(int argc, char** argv) {
                         tip_mm = 1e3 * vec(last.needle_tip_m);
   std::printf(
       "last outputs at %.3f s: tumour now (%.1f, %.1f, %.1f) mm, sd %.2f mm; ahead (%.1f, %.1f, %.1f) mm, sd %.2f mm\n",
-      seconds(last.time_ns), now_mm[0], now_mm[1], now_mm[2], sd_mm(last.tumour_now_covariance_m2), ahead_mm[0],
+      seconds_of(last.time_ns), now_mm[0], now_mm[1], now_mm[2], sd_mm(last.tumour_now_covariance_m2), ahead_mm[0],
       ahead_mm[1], ahead_mm[2], sd_mm(last.tumour_ahead_covariance_m2));
   std::printf("  needle tip (%.1f, %.1f, %.1f) mm, %.1f mm from the tumour\n", tip_mm[0], tip_mm[1], tip_mm[2],
               1e3 * last.tip_to_tumour_m);
@@ -251,7 +250,7 @@ int main(int argc, char** argv) {
       last.degraded ? "yes" : "no", last.needle.flags.bits(), last.probe.flags.bits(), last.respiratory.flags.bits(),
       last.ultrasound.flags.bits(), last.tissue.bits(), last.loop.bits());
   std::printf("outputs finite: %s; first tick with nothing degraded at %.3f s\n", scores.finite ? "yes" : "no",
-              seconds(scores.ready_ns));
+              seconds_of(scores.ready_ns));
   // The same figures on one line, for scripts and tests.
   std::printf("figures: %lld %lld %lld %.4f %.4f %.4f %.4f %d %d\n", static_cast<long long>(misses),
               static_cast<long long>(record.tracker_samples), static_cast<long long>(record.tumour_points),

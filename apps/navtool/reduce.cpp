@@ -46,8 +46,9 @@ constexpr const char* kReduceUsage =
     "                   (default 1; gravity and probe pushes stay): a wider training for an\n"
     "                   upper rung, e.g. 3; above 1, loads the full order cannot solve are\n"
     "                   left out and named\n"
-    "  --threads N      training loads solved at once (default: the machine's cores); the\n"
-    "                   artifact does not depend on it\n";
+    "  --threads N      training loads solved at once, and threads sharing the error\n"
+    "                   estimate's calibration (default: the machine's cores); the artifact\n"
+    "                   does not depend on it\n";
 
 /// The command line of reduce.
 struct ReduceArgs {
@@ -223,7 +224,9 @@ nav::Result<nav::ErrorCalibrationReport> calibrate(const nav::TetMesh& mesh, con
     loads.push_back(held_out[k]);
     full_order.push_back(solved[k].value().displacements_m);
   }
-  return nav::calibrate_error_estimate(mesh, scene, loads, full_order, basis);
+  nav::ErrorCalibrationOptions calibration;
+  calibration.threads = threads;
+  return nav::calibrate_error_estimate(mesh, scene, loads, full_order, basis, calibration);
 }
 
 /// The per-mode figure: the cumulative captured energy fraction for POD, the frequency in Hz

@@ -15,7 +15,10 @@
 #include <cstdio>
 #include <memory>
 
+#include <Eigen/SparseCholesky>
+
 #include "nav/reduced/error_calibration.hpp"
+#include "nav/reduced/full_system.hpp"
 #include "nav/reduced/reduced_ladder.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "nav/tissue/liver_scenes.hpp"
@@ -39,6 +42,8 @@ struct Trained {
   ErrorCalibrationReport report;
   std::vector<TrainingLoad> trained_side, untrained_side;  ///< held-out loads with point forces
   std::vector<TrainingLoad> training;                      ///< what the basis was trained on
+  std::vector<TrainingLoad> calibration;                   ///< the trained side's held-out loads
+  std::vector<std::vector<double>> calibration_full_m;     ///< their full-order solutions
 };
 
 /// Loads without point forces, and those whose first force lies on the trained side.
@@ -97,13 +102,13 @@ const Trained* trained() {
         add_force_reduction(t->mesh, t->scene, solver, reduction, snapshots.displacements_m, snapshots.count, t->basis)
             .ok());
     const auto held_out = make_training_loads(t->mesh, t->scene, options, LoadSet::held_out);
-    const std::vector<TrainingLoad> calibration = one_side(t->mesh, held_out, t->split_x, true);
+    t->calibration = one_side(t->mesh, held_out, t->split_x, true);
     for (const TrainingLoad& load : one_side(t->mesh, held_out, t->split_x, false))
       if (load.name.starts_with("push")) t->untrained_side.push_back(load);
-    for (const TrainingLoad& load : calibration)
+    for (const TrainingLoad& load : t->calibration)
       if (!load.point_forces.empty()) t->trained_side.push_back(load);
-    auto report =
-        calibrate_error_estimate(t->mesh, t->scene, calibration, full_order_solutions(*t, calibration), t->basis);
+    t->calibration_full_m = full_order_solutions(*t, t->calibration);
+    auto report = calibrate_error_estimate(t->mesh, t->scene, t->calibration, t->calibration_full_m, t->basis);
     EXPECT_TRUE(report.ok()) << report.error().describe();
     if (report.ok()) t->report = std::move(report).value();
     return t;
@@ -160,6 +165,56 @@ TEST(ErrorEstimate, CalibratedOnTheTrainedSidesHeldOutLoads) {
       "on the %zu training loads with point forces: correlation %.3f, %d above the 2 mm bound with a smaller error\n",
       truth.size(), training_correlation, false_alarms);
   EXPECT_GT(training_correlation, 0.4);
+}
+
+TEST(ErrorEstimate, TheMissingComplianceIsThePatchsFullOrderResponseLessTheBasissOnAnyThreads) {
+  const Trained* t = trained();
+  NAV_REQUIRE_SHARED_DATA(testing::shared_data_path("liver/liverFine.vtu"));
+  const std::vector<double>& one_thread = t->basis.error_calibration.missing_compliance_m_per_n;
+  ReducedBasis shared = t->basis;
+  ErrorCalibrationOptions three;
+  three.threads = 3;
+  ASSERT_TRUE(calibrate_error_estimate(t->mesh, t->scene, t->calibration, t->calibration_full_m, shared, three).ok());
+  EXPECT_EQ(shared.error_calibration.missing_compliance_m_per_n, one_thread);  // bit for bit
+
+  // The reference, every 25th free node: the patch's load solved with the rest factor (forward
+  // and back), its response averaged over the patch, less the basis's static compliance there.
+  const auto system =
+      detail::make_full_system(t->mesh, t->scene, reduction_solver_options(t->basis.force_kind)).value();
+  const std::vector<std::int32_t>& free_nodes = system.model.tables().free_nodes;
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(system.stiffness);
+  const Eigen::Index r = t->basis.basis_size;
+  Eigen::MatrixXd u(system.stiffness.rows(), r);
+  for (std::size_t i = 0; i < free_nodes.size(); ++i)
+    for (Eigen::Index c = 0; c < r; ++c)
+      for (int d = 0; d < 3; ++d)
+        u(3 * static_cast<Eigen::Index>(i) + d, c) =
+            t->basis.basis[static_cast<std::size_t>(c) * 3 * t->mesh.nodes_m.size() + 3 * free_nodes[i] + d];
+  const Eigen::MatrixXd reduced_flexibility = (u.transpose() * system.stiffness * u).inverse();
+  const double radius_m = ErrorCalibrationOptions{}.patch_radius_m;
+  double worst = 0.0;
+  for (std::size_t i = 0; i < free_nodes.size(); i += 25) {
+    const Point3& centre = t->mesh.nodes_m[static_cast<std::size_t>(free_nodes[i])];
+    Eigen::MatrixXd patch_load = Eigen::MatrixXd::Zero(system.stiffness.rows(), 3);
+    for (std::size_t j = 0; j < free_nodes.size(); ++j) {
+      const Point3& p = t->mesh.nodes_m[static_cast<std::size_t>(free_nodes[j])];
+      const double d2 = (p[0] - centre[0]) * (p[0] - centre[0]) + (p[1] - centre[1]) * (p[1] - centre[1]) +
+                        (p[2] - centre[2]) * (p[2] - centre[2]);
+      if (d2 <= radius_m * radius_m) patch_load.middleRows<3>(3 * static_cast<Eigen::Index>(j)).setIdentity();
+    }
+    patch_load /= patch_load.col(0).sum();
+    const Eigen::MatrixXd response = factor.solve(patch_load);
+    const Eigen::Matrix3d full = patch_load.transpose() * response;
+    const Eigen::Matrix3d reduced = (patch_load.transpose() * u) * reduced_flexibility * (u.transpose() * patch_load);
+    const Eigen::Matrix3d expected = full - reduced;
+    const double* packed = one_thread.data() + 6 * static_cast<std::size_t>(free_nodes[i]);
+    const Eigen::Matrix3d got = (Eigen::Matrix3d() << packed[0], packed[1], packed[2], packed[1], packed[3], packed[4],
+                                 packed[2], packed[4], packed[5])
+                                    .finished();
+    worst = std::max(worst, (got - expected).norm() / full.norm());
+  }
+  std::printf("missing patch compliance against forward and back solves: worst relative difference %.2e\n", worst);
+  EXPECT_LT(worst, 1e-9);
 }
 
 TEST(ErrorEstimate, AnUntrainedPushInsideTheEnvelopeFiresItAndTheLadderEscalatesToAQuarterOfTheError) {

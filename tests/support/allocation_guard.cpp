@@ -1,6 +1,7 @@
 #include "support/allocation_guard.hpp"
 
 #include <atomic>
+#include <cstdio>
 #include <cstdlib>
 #include <new>
 
@@ -16,8 +17,21 @@ void count(std::size_t bytes) {
 
 }  // namespace
 
-#if defined(NAV_ALLOCATION_GUARD_MALLOC_HOOKS)
-// glibc's own entry points, so the hooks can count and forward.
+#if defined(NAV_ALLOCATION_GUARD_SANITIZER_HOOKS)
+// A sanitizer owns malloc and operator new (and links its own definitions of every form): it
+// reports each allocation of either, on any thread, to the hooks installed here.
+#include <sanitizer/allocator_interface.h>
+
+namespace {
+
+void on_allocation(const volatile void*, std::size_t bytes) { count(bytes); }
+void on_free(const volatile void*) {}
+const int g_sanitizer_hooks = __sanitizer_install_malloc_and_free_hooks(on_allocation, on_free);
+
+}  // namespace
+#else
+// The malloc family and every replaceable form of operator new counted here: glibc's own
+// entry points, so the hooks can count and forward.
 extern "C" {
 void* __libc_malloc(std::size_t);
 void* __libc_calloc(std::size_t, std::size_t);
@@ -48,28 +62,19 @@ int posix_memalign(void** out, std::size_t alignment, std::size_t size) {
 }
 void free(void* pointer) { __libc_free(pointer); }
 }
-#define NAV_RAW_ALLOCATE(size) __libc_malloc(size)
-#define NAV_RAW_ALIGNED_ALLOCATE(alignment, size) __libc_memalign(alignment, size)
-#define NAV_RAW_FREE(pointer) __libc_free(pointer)
-#else
-#define NAV_RAW_ALLOCATE(size) std::malloc(size)
-#define NAV_RAW_ALIGNED_ALLOCATE(alignment, size) \
-  std::aligned_alloc(alignment, ((size) + (alignment)-1) / (alignment) * (alignment))
-#define NAV_RAW_FREE(pointer) std::free(pointer)
-#endif
 
 namespace {
 
 void* counted_new(std::size_t size) {
   count(size);
-  void* pointer = NAV_RAW_ALLOCATE(size == 0 ? 1 : size);
+  void* pointer = __libc_malloc(size == 0 ? 1 : size);
   if (pointer == nullptr) throw std::bad_alloc();
   return pointer;
 }
 
 void* counted_aligned_new(std::size_t size, std::align_val_t alignment) {
   count(size);
-  void* pointer = NAV_RAW_ALIGNED_ALLOCATE(static_cast<std::size_t>(alignment), size == 0 ? 1 : size);
+  void* pointer = __libc_memalign(static_cast<std::size_t>(alignment), size == 0 ? 1 : size);
   if (pointer == nullptr) throw std::bad_alloc();
   return pointer;
 }
@@ -86,7 +91,6 @@ void* or_null(Allocate allocate) noexcept {
 
 }  // namespace
 
-// Every replaceable form, so that no sanitizer runtime's own definitions are linked beside these.
 void* operator new(std::size_t size) { return counted_new(size); }
 void* operator new[](std::size_t size) { return counted_new(size); }
 void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
@@ -103,24 +107,32 @@ void* operator new(std::size_t size, std::align_val_t alignment, const std::noth
 void* operator new[](std::size_t size, std::align_val_t alignment, const std::nothrow_t&) noexcept {
   return or_null([&] { return counted_aligned_new(size, alignment); });
 }
-void operator delete(void* pointer) noexcept { NAV_RAW_FREE(pointer); }
-void operator delete[](void* pointer) noexcept { NAV_RAW_FREE(pointer); }
-void operator delete(void* pointer, const std::nothrow_t&) noexcept { NAV_RAW_FREE(pointer); }
-void operator delete[](void* pointer, const std::nothrow_t&) noexcept { NAV_RAW_FREE(pointer); }
-void operator delete(void* pointer, std::size_t) noexcept { NAV_RAW_FREE(pointer); }
-void operator delete[](void* pointer, std::size_t) noexcept { NAV_RAW_FREE(pointer); }
-void operator delete(void* pointer, std::align_val_t) noexcept { NAV_RAW_FREE(pointer); }
-void operator delete[](void* pointer, std::align_val_t) noexcept { NAV_RAW_FREE(pointer); }
-void operator delete(void* pointer, std::align_val_t, const std::nothrow_t&) noexcept { NAV_RAW_FREE(pointer); }
-void operator delete[](void* pointer, std::align_val_t, const std::nothrow_t&) noexcept { NAV_RAW_FREE(pointer); }
-void operator delete(void* pointer, std::size_t, std::align_val_t) noexcept { NAV_RAW_FREE(pointer); }
-void operator delete[](void* pointer, std::size_t, std::align_val_t) noexcept { NAV_RAW_FREE(pointer); }
+void operator delete(void* pointer) noexcept { __libc_free(pointer); }
+void operator delete[](void* pointer) noexcept { __libc_free(pointer); }
+void operator delete(void* pointer, const std::nothrow_t&) noexcept { __libc_free(pointer); }
+void operator delete[](void* pointer, const std::nothrow_t&) noexcept { __libc_free(pointer); }
+void operator delete(void* pointer, std::size_t) noexcept { __libc_free(pointer); }
+void operator delete[](void* pointer, std::size_t) noexcept { __libc_free(pointer); }
+void operator delete(void* pointer, std::align_val_t) noexcept { __libc_free(pointer); }
+void operator delete[](void* pointer, std::align_val_t) noexcept { __libc_free(pointer); }
+void operator delete(void* pointer, std::align_val_t, const std::nothrow_t&) noexcept { __libc_free(pointer); }
+void operator delete[](void* pointer, std::align_val_t, const std::nothrow_t&) noexcept { __libc_free(pointer); }
+void operator delete(void* pointer, std::size_t, std::align_val_t) noexcept { __libc_free(pointer); }
+void operator delete[](void* pointer, std::size_t, std::align_val_t) noexcept { __libc_free(pointer); }
+#endif
 
 namespace nav::testing {
 
 AllocationGuard::AllocationGuard()
     : start_allocations_(g_allocations.load(std::memory_order_seq_cst)),
-      start_bytes_(g_bytes.load(std::memory_order_seq_cst)) {}
+      start_bytes_(g_bytes.load(std::memory_order_seq_cst)) {
+#if defined(NAV_ALLOCATION_GUARD_SANITIZER_HOOKS)
+  if (g_sanitizer_hooks == 0) {  // a guard that counts nothing would pass every test it is in
+    std::fputs("AllocationGuard: the sanitizer runtime refused the allocation hooks\n", stderr);
+    std::abort();
+  }
+#endif
+}
 
 AllocationGuard::~AllocationGuard() = default;
 
@@ -129,13 +141,5 @@ std::size_t AllocationGuard::allocations() const {
 }
 
 std::size_t AllocationGuard::bytes() const { return g_bytes.load(std::memory_order_seq_cst) - start_bytes_; }
-
-bool allocation_guard_hooks_malloc() {
-#if defined(NAV_ALLOCATION_GUARD_MALLOC_HOOKS)
-  return true;
-#else
-  return false;
-#endif
-}
 
 }  // namespace nav::testing

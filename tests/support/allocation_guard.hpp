@@ -1,13 +1,14 @@
 #pragma once
 // Counts heap allocations made by any thread inside a scope, so that tests can prove
 // that step functions never allocate. Linked into every test program: it replaces the
-// global operator new/delete and, outside sanitizer builds, malloc/calloc/realloc/free.
+// global operator new/delete and malloc/calloc/realloc/free or, in sanitizer builds, hooks
+// into the sanitizer's allocator.
 #include <cstddef>
 
 namespace nav::testing {
 
-/// While alive, counts every heap allocation (operator new in all its forms, and the
-/// malloc family where hooked). Guards nest; each sees the allocations of its own scope.
+/// While alive, counts every heap allocation (operator new in all its forms and the malloc
+/// family). Guards nest; each sees the allocations of its own scope.
 class AllocationGuard {
  public:
   AllocationGuard();
@@ -24,8 +25,5 @@ class AllocationGuard {
   std::size_t start_allocations_;
   std::size_t start_bytes_;
 };
-
-/// True when the malloc family is hooked too (false under sanitizers, which own malloc).
-bool allocation_guard_hooks_malloc();
 
 }  // namespace nav::testing

@@ -9,10 +9,6 @@
 namespace nav {
 namespace {
 
-Error error(std::string message, std::string field) {
-  return Error{.message = std::move(message), .field = std::move(field)};
-}
-
 /// Gauss-Legendre abscissae and weights on [0, 1], n = 1 to 4.
 void gauss_rule(int n, std::vector<double>& x, std::vector<double>& w) {
   static const double x2 = 0.5 / std::sqrt(3.0), x3 = 0.5 * std::sqrt(0.6);
@@ -87,26 +83,27 @@ Status check_grid(const FrameGrid& grid) {
   int axes_with_frames = 0;
   for (int d = 0; d < 3; ++d) {
     const std::string axis = "[" + std::to_string(d) + "]";
-    if (grid.counts[d] < 1) return error("every axis needs at least one frame", "counts" + axis);
+    if (grid.counts[d] < 1) return field_error("every axis needs at least one frame", "counts" + axis);
     if (grid.counts[d] > 1) {
       ++axes_with_frames;
       if (!(grid.spacing_m[d] > 0.0 && std::isfinite(grid.spacing_m[d])))
-        return error("the spacing must be positive", "spacing_m" + axis);
+        return field_error("the spacing must be positive", "spacing_m" + axis);
     } else if (!(grid.extent_m[d] > 0.0 && std::isfinite(grid.extent_m[d]))) {
-      return error("an axis with one frame needs a positive extent (thickness or section)", "extent_m" + axis);
+      return field_error("an axis with one frame needs a positive extent (thickness or section)", "extent_m" + axis);
     }
     for (int e = 0; e < 3; ++e) {
       const double expected = d == e ? 1.0 : 0.0;
       if (!(std::abs(dot(grid.axes[d], grid.axes[e]) - expected) < 1e-9))
-        return error("the axes must be orthonormal", "axes" + axis);
+        return field_error("the axes must be orthonormal", "axes" + axis);
     }
   }
-  if (axes_with_frames == 0) return error("a grid needs two frames along at least one axis", "counts");
+  if (axes_with_frames == 0) return field_error("a grid needs two frames along at least one axis", "counts");
   if (grid.points_per_cell_axis < 1 || grid.points_per_cell_axis > 4)
-    return error("1 to 4 Gauss points per cell axis", "points_per_cell_axis");
-  if (grid.points_across < 1 || grid.points_across > 4) return error("1 to 4 Gauss points across", "points_across");
+    return field_error("1 to 4 Gauss points per cell axis", "points_per_cell_axis");
+  if (grid.points_across < 1 || grid.points_across > 4)
+    return field_error("1 to 4 Gauss points across", "points_across");
   for (double c : grid.origin_m)
-    if (!std::isfinite(c)) return error("the origin must be finite", "origin_m");
+    if (!std::isfinite(c)) return field_error("the origin must be finite", "origin_m");
   return Done{};
 }
 
@@ -171,7 +168,7 @@ Result<FrameLayout> make_grid_layout(const FrameGrid& grid, const std::function<
                                                  neighbours.gradients_per_m.end());
               full.neighbour_offsets.push_back(static_cast<std::int32_t>(full.neighbour_frames.size()));
             }
-  if (full.points_m.empty()) return error("no integration point is kept", "keep");
+  if (full.points_m.empty()) return field_error("no integration point is kept", "keep");
   // Keep the frames that some point reaches, in grid order.
   std::vector<std::int32_t> renumber(full.frames_m.size(), -1);
   for (std::int32_t f : full.neighbour_frames) renumber[static_cast<std::size_t>(f)] = 0;
@@ -195,7 +192,8 @@ Result<PointNeighbours> grid_point_neighbours(const FrameGrid& grid, const Frame
   for (std::int32_t& f : neighbours.frames) {
     const auto it = std::lower_bound(layout.grid_frames.begin(), layout.grid_frames.end(), f);
     if (it == layout.grid_frames.end() || *it != f)
-      return error("the point needs grid frame " + std::to_string(f) + ", which the layout does not have", "point_m");
+      return field_error("the point needs grid frame " + std::to_string(f) + ", which the layout does not have",
+                         "point_m");
     f = static_cast<std::int32_t>(it - layout.grid_frames.begin());
   }
   return neighbours;

@@ -12,49 +12,46 @@ namespace {
 
 using detail::FrameTables;
 
-Error error(std::string message, std::string field) {
-  return Error{.message = std::move(message), .field = std::move(field)};
-}
-
 bool finite_non_negative(double value) { return std::isfinite(value) && value >= 0.0; }
 
 Status check_options(const FrameTissueOptions& options) {
   if (!(std::isfinite(options.step_s) && options.step_s > 0.0))
-    return error("the step must be a positive number of seconds", "step_s");
-  if (options.cg_iterations < 1) return error("at least one CG iteration is needed", "cg_iterations");
+    return field_error("the step must be a positive number of seconds", "step_s");
+  if (options.cg_iterations < 1) return field_error("at least one CG iteration is needed", "cg_iterations");
   if (!finite_non_negative(options.rayleigh_mass_per_s))
-    return error("damping must be a non-negative number", "rayleigh_mass_per_s");
+    return field_error("damping must be a non-negative number", "rayleigh_mass_per_s");
   if (!finite_non_negative(options.rayleigh_stiffness_s))
-    return error("damping must be a non-negative number", "rayleigh_stiffness_s");
-  if (!(options.cg_residual_bound > 0.0)) return error("the residual bound must be positive", "cg_residual_bound");
+    return field_error("damping must be a non-negative number", "rayleigh_stiffness_s");
+  if (!(options.cg_residual_bound > 0.0))
+    return field_error("the residual bound must be positive", "cg_residual_bound");
   return Done{};
 }
 
 /// Pairs, weights and the partition of unity of every point.
 Status build_pairs(const FrameLayout& layout, FrameTables& t) {
   const std::size_t points = layout.points_m.size(), frames = layout.frames_m.size();
-  if (frames == 0) return error("the layout has no frame", "layout.frames_m");
-  if (points == 0) return error("the layout has no integration point", "layout.points_m");
-  if (layout.volumes_m3.size() != points) return error("one volume per point is needed", "layout.volumes_m3");
+  if (frames == 0) return field_error("the layout has no frame", "layout.frames_m");
+  if (points == 0) return field_error("the layout has no integration point", "layout.points_m");
+  if (layout.volumes_m3.size() != points) return field_error("one volume per point is needed", "layout.volumes_m3");
   if (layout.neighbour_offsets.size() != points + 1 || layout.neighbour_offsets.front() != 0)
-    return error("one offset per point and a final one are needed, starting at 0", "layout.neighbour_offsets");
+    return field_error("one offset per point and a final one are needed, starting at 0", "layout.neighbour_offsets");
   const std::size_t pairs = layout.neighbour_frames.size();
   if (static_cast<std::size_t>(layout.neighbour_offsets.back()) != pairs || layout.weights.size() != pairs ||
       layout.weight_gradients_per_m.size() != pairs)
-    return error("frames, weights and gradients must have one entry per pair", "layout.neighbour_frames");
+    return field_error("frames, weights and gradients must have one entry per pair", "layout.neighbour_frames");
   for (std::size_t s = 0; s < points; ++s) {
     const std::string point = "point " + std::to_string(s);
     if (!(layout.volumes_m3[s] > 0.0 && std::isfinite(layout.volumes_m3[s])))
-      return error(point + " has no volume", "layout.volumes_m3");
+      return field_error(point + " has no volume", "layout.volumes_m3");
     if (layout.neighbour_offsets[s + 1] <= layout.neighbour_offsets[s])
-      return error(point + " has no frame", "layout.neighbour_offsets");
+      return field_error(point + " has no frame", "layout.neighbour_offsets");
     double sum = 0.0, scale = 0.0;
     Point3 gradient_sum{};
     for (auto k = static_cast<std::size_t>(layout.neighbour_offsets[s]);
          k < static_cast<std::size_t>(layout.neighbour_offsets[s + 1]); ++k) {
       const std::int32_t f = layout.neighbour_frames[k];
       if (f < 0 || static_cast<std::size_t>(f) >= frames)
-        return error(point + " refers to frame " + std::to_string(f), "layout.neighbour_frames");
+        return field_error(point + " refers to frame " + std::to_string(f), "layout.neighbour_frames");
       sum += layout.weights[k];
       gradient_sum = gradient_sum + layout.weight_gradients_per_m[k];
       scale = std::max(scale, norm(layout.weight_gradients_per_m[k]));
@@ -65,14 +62,14 @@ Status build_pairs(const FrameLayout& layout, FrameTables& t) {
       t.pair_frame.push_back(f);
       t.pair_weight.push_back(layout.weights[k]);
     }
-    if (!(std::abs(sum - 1.0) < 1e-9)) return error(point + ": the weights do not sum to one", "layout.weights");
+    if (!(std::abs(sum - 1.0) < 1e-9)) return field_error(point + ": the weights do not sum to one", "layout.weights");
     if (!(norm(gradient_sum) <= 1e-9 * std::max(scale, 1.0)))
-      return error(point + ": the weight gradients do not sum to zero", "layout.weight_gradients_per_m");
+      return field_error(point + ": the weight gradients do not sum to zero", "layout.weight_gradients_per_m");
     t.volume_m3.push_back(layout.volumes_m3[s]);
   }
   t.offsets = layout.neighbour_offsets;
   for (double value : t.pair_rest_arm)
-    if (!std::isfinite(value)) return error("positions must be finite", "layout.points_m");
+    if (!std::isfinite(value)) return field_error("positions must be finite", "layout.points_m");
   return Done{};
 }
 
@@ -96,7 +93,7 @@ Status build_masses(const FrameLayout& layout, FrameTables& t) {
   }
   for (std::size_t i = 0; i < t.mass_kg.size(); ++i)
     if (!(t.mass_kg[i] > 0.0))
-      return error("frame " + std::to_string(i) + " carries no integration point", "layout.frames_m");
+      return field_error("frame " + std::to_string(i) + " carries no integration point", "layout.frames_m");
   return Done{};
 }
 
@@ -106,20 +103,20 @@ Status build_supports(const FrameSupports& supports, FrameTables& t) {
   std::vector<int> kind(n, 0);
   for (std::int32_t f : supports.fixed_frames) {
     if (f < 0 || static_cast<std::size_t>(f) >= n)
-      return error("frame " + std::to_string(f) + " is out of range", "supports.fixed_frames");
+      return field_error("frame " + std::to_string(f) + " is out of range", "supports.fixed_frames");
     if (kind[static_cast<std::size_t>(f)] != 0)
-      return error("frame " + std::to_string(f) + " is listed twice", "supports.fixed_frames");
+      return field_error("frame " + std::to_string(f) + " is listed twice", "supports.fixed_frames");
     kind[static_cast<std::size_t>(f)] = 1;
     std::fill_n(t.constrained.begin() + 6 * f, 6, 1);
   }
   if (!supports.driven_axes.empty() && supports.driven_axes.size() != supports.driven_frames.size())
-    return error("one axis mask per driven frame, or none", "supports.driven_axes");
+    return field_error("one axis mask per driven frame, or none", "supports.driven_axes");
   for (std::size_t d = 0; d < supports.driven_frames.size(); ++d) {
     const std::int32_t f = supports.driven_frames[d];
     if (f < 0 || static_cast<std::size_t>(f) >= n)
-      return error("frame " + std::to_string(f) + " is out of range", "supports.driven_frames");
+      return field_error("frame " + std::to_string(f) + " is out of range", "supports.driven_frames");
     if (kind[static_cast<std::size_t>(f)] != 0)
-      return error("frame " + std::to_string(f) + " is fixed or driven twice", "supports.driven_frames");
+      return field_error("frame " + std::to_string(f) + " is fixed or driven twice", "supports.driven_frames");
     kind[static_cast<std::size_t>(f)] = 2;
     const std::array<bool, 3> axes =
         supports.driven_axes.empty() ? std::array<bool, 3>{true, true, true} : supports.driven_axes[d];
@@ -131,7 +128,8 @@ Status build_supports(const FrameSupports& supports, FrameTables& t) {
   t.fixed_frames = supports.fixed_frames;
   t.driven_frames = supports.driven_frames;
   t.hold_driven_rotations = supports.hold_driven_rotations;
-  if (std::count(t.constrained.begin(), t.constrained.end(), 0) == 0) return error("every DOF is held", "supports");
+  if (std::count(t.constrained.begin(), t.constrained.end(), 0) == 0)
+    return field_error("every DOF is held", "supports");
   return Done{};
 }
 
@@ -146,10 +144,10 @@ Status build_band(FrameTables& t) {
   }
   t.half_bandwidth = 6 * frames_apart + 5;
   if (6 * t.frame_count * (t.half_bandwidth + 1) > t.options.max_band_entries)
-    return error("the band of " + std::to_string(6 * t.frame_count) + " DOFs and half-bandwidth " +
-                     std::to_string(t.half_bandwidth) +
-                     " exceeds max_band_entries: number the frames along the short axes first, or use CG",
-                 "solver");
+    return field_error("the band of " + std::to_string(6 * t.frame_count) + " DOFs and half-bandwidth " +
+                           std::to_string(t.half_bandwidth) +
+                           " exceeds max_band_entries: number the frames along the short axes first, or use CG",
+                       "solver");
   return Done{};
 }
 
@@ -159,7 +157,7 @@ Result<FrameTissueModel> make_frame_tissue_model(const FrameTissueScene& scene, 
   if (auto s = check_options(options); !s) return s.error();
   if (auto s = check_material(scene.material, "material"); !s) return s.error();
   for (double g : scene.gravity_m_s2)
-    if (!std::isfinite(g)) return error("gravity must be finite", "gravity_m_s2");
+    if (!std::isfinite(g)) return field_error("gravity must be finite", "gravity_m_s2");
   auto tables = std::make_shared<FrameTables>();
   FrameTables& t = *tables;
   t.options = options;
@@ -171,7 +169,7 @@ Result<FrameTissueModel> make_frame_tissue_model(const FrameTissueScene& scene, 
   t.max_frame_forces = scene.max_frame_forces;
   for (const Point3& p : scene.layout.frames_m) {
     for (double c : p)
-      if (!std::isfinite(c)) return error("frame positions must be finite", "layout.frames_m");
+      if (!std::isfinite(c)) return field_error("frame positions must be finite", "layout.frames_m");
     t.rest_m.insert(t.rest_m.end(), p.begin(), p.end());
   }
   if (auto s = build_pairs(scene.layout, t); !s) return s.error();

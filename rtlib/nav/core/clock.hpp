@@ -12,6 +12,9 @@ using TimeNs = std::int64_t;
 constexpr TimeNs kNsPerMs = 1'000'000;
 constexpr TimeNs kNsPerSecond = 1'000'000'000;
 
+/// A duration (or time) in seconds.
+constexpr double seconds_of(TimeNs duration_ns) noexcept { return static_cast<double>(duration_ns) * 1e-9; }
+
 /// The source of time for loops and timestamps; real or simulated.
 class Clock {
  public:

@@ -19,6 +19,11 @@ struct Error {
   std::string describe() const;
 };
 
+/// The Error of a check on `field` (no file or line): a build function's refusal.
+inline Error field_error(std::string message, std::string field) {
+  return Error{.message = std::move(message), .field = std::move(field)};
+}
+
 /// The value of an init-time operation or the Error that prevented it.
 template <typename T>
 class Result {

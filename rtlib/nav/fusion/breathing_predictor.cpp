@@ -11,11 +11,9 @@
 namespace nav {
 namespace {
 
-Error option_error(const char* field, const std::string& message) {
+Error predictor_option_error(const char* field, const std::string& message) {
   return Error{.message = message, .field = std::string("breathing_predictor.") + field};
 }
-
-double seconds(TimeNs duration_ns) noexcept { return static_cast<double>(duration_ns) * 1e-9; }
 
 /// d/dx of a cos(x) + b sin(x), given cos(x) and sin(x).
 double harmonic_derivative(double a, double b, double c, double s) noexcept { return b * c - a * s; }
@@ -24,16 +22,18 @@ double harmonic_derivative(double a, double b, double c, double s) noexcept { re
 
 Result<BreathingPredictor> BreathingPredictor::create(const BreathingPredictorOptions& options) {
   if (options.history_capacity < 4 * static_cast<std::size_t>(kCoefficients))
-    return option_error("history_capacity", "must hold at least " + std::to_string(4 * kCoefficients) + " samples");
-  if (options.min_period_ns <= 0) return option_error("min_period_ns", "must be positive");
+    return predictor_option_error("history_capacity",
+                                  "must hold at least " + std::to_string(4 * kCoefficients) + " samples");
+  if (options.min_period_ns <= 0) return predictor_option_error("min_period_ns", "must be positive");
   if (options.max_period_ns <= options.min_period_ns)
-    return option_error("max_period_ns", "must be longer than min_period_ns");
+    return predictor_option_error("max_period_ns", "must be longer than min_period_ns");
   if (options.fit_window_ns < options.max_period_ns)
-    return option_error("fit_window_ns", "must cover at least max_period_ns, so that every period can be fitted");
-  if (!(options.hysteresis_m >= 0.0)) return option_error("hysteresis_m", "must not be negative");
-  if (options.max_age_ns <= 0) return option_error("max_age_ns", "must be positive");
+    return predictor_option_error("fit_window_ns",
+                                  "must cover at least max_period_ns, so that every period can be fitted");
+  if (!(options.hysteresis_m >= 0.0)) return predictor_option_error("hysteresis_m", "must not be negative");
+  if (options.max_age_ns <= 0) return predictor_option_error("max_age_ns", "must be positive");
   if (!options.axis.allFinite() || !(options.axis.norm() > 0.0))
-    return option_error("axis", "must be a finite non-zero vector");
+    return predictor_option_error("axis", "must be a finite non-zero vector");
   BreathingPredictorOptions normalised = options;
   normalised.axis.normalize();
   return BreathingPredictor(normalised);
@@ -108,8 +108,9 @@ void BreathingPredictor::update_period() noexcept {
   for (std::size_t i = 1; i < interval_count_; ++i)  // insertion sort of the few kept intervals
     for (std::size_t j = i; j > 0 && sorted[j - 1] > sorted[j]; --j) std::swap(sorted[j - 1], sorted[j]);
   const std::size_t middle = interval_count_ / 2;
-  const double median_s = interval_count_ % 2 == 1 ? seconds(sorted[middle])
-                                                   : 0.5 * (seconds(sorted[middle - 1]) + seconds(sorted[middle]));
+  const double median_s = interval_count_ % 2 == 1
+                              ? seconds_of(sorted[middle])
+                              : 0.5 * (seconds_of(sorted[middle - 1]) + seconds_of(sorted[middle]));
   const double crossings_rad_s = 2.0 * std::numbers::pi / median_s;
   // The refined frequency stands while it agrees with the crossings; otherwise (first period,
   // a change of breathing, a diverged refinement) the crossings' estimate takes over.
@@ -137,7 +138,7 @@ void BreathingPredictor::refit() noexcept {
     if (fitted_samples == 0) first_ns = sample.time_ns;
     ++fitted_samples;
     sum_m += sample.displacement_m;
-    const double tau_s = seconds(sample.time_ns - newest_ns);
+    const double tau_s = seconds_of(sample.time_ns - newest_ns);
     const double c = std::cos(omega_rad_s_ * tau_s);
     const double s = std::sin(omega_rad_s_ * tau_s);
     const double c2 = 2.0 * c * c - 1.0;
@@ -152,7 +153,7 @@ void BreathingPredictor::refit() noexcept {
   const double window_mean_m = sum_m / static_cast<double>(fitted_samples);
   fitted_ = false;
   const bool enough = omega_rad_s_ > 0.0 && fitted_samples >= 4 * static_cast<std::size_t>(kCoefficients) &&
-                      omega_rad_s_ * seconds(newest_ns - first_ns) >= 2.0 * std::numbers::pi;
+                      omega_rad_s_ * seconds_of(newest_ns - first_ns) >= 2.0 * std::numbers::pi;
   if (enough) {
     const Eigen::LDLT<Normal> factor(normal);
     const Unknowns solution = factor.solve(right);
@@ -180,7 +181,7 @@ BreathingEstimate BreathingPredictor::predict(TimeNs now_ns, TimeNs horizon_ns) 
     estimate.flags.raise(HealthFlag::missing_input);
     return estimate;
   }
-  const double angle_rad = omega_rad_s_ * seconds(now_ns + horizon_ns - newest.time_ns);
+  const double angle_rad = omega_rad_s_ * seconds_of(now_ns + horizon_ns - newest.time_ns);
   const double c = std::cos(angle_rad);
   const double s = std::sin(angle_rad);
   Coefficients basis;

@@ -6,7 +6,7 @@
 namespace nav {
 namespace {
 
-Error option_error(const char* field, const std::string& message) {
+Error track_option_error(const char* field, const std::string& message) {
   return Error{.message = message, .field = std::string("pose_track.") + field};
 }
 
@@ -15,31 +15,31 @@ bool finite_unit_pose(const RigidPose& pose, double tolerance) noexcept {
   return std::abs(pose.rotation.norm() - 1.0) <= tolerance;
 }
 
-double seconds(TimeNs duration_ns) noexcept { return static_cast<double>(duration_ns) * 1e-9; }
-
 }  // namespace
 
 Result<PoseTrack> PoseTrack::create(const PoseTrackOptions& options) {
-  if (options.capacity < 2) return option_error("capacity", "must hold at least 2 samples");
-  if (options.max_age_ns <= 0) return option_error("max_age_ns", "must be positive");
+  if (options.capacity < 2) return track_option_error("capacity", "must hold at least 2 samples");
+  if (options.max_age_ns <= 0) return track_option_error("max_age_ns", "must be positive");
   if (options.missing_after_ns < options.max_age_ns)
-    return option_error("missing_after_ns", "must be at least max_age_ns");
-  if (options.max_extrapolation_ns < 0) return option_error("max_extrapolation_ns", "must not be negative");
-  if (options.fit_window_ns < 0) return option_error("fit_window_ns", "must not be negative");
-  if (!(options.max_speed_m_s > 0.0)) return option_error("max_speed_m_s", "must be positive");
-  if (!(options.max_angular_speed_rad_s > 0.0)) return option_error("max_angular_speed_rad_s", "must be positive");
-  if (!(options.jump_allowance_m >= 0.0)) return option_error("jump_allowance_m", "must not be negative");
-  if (!(options.jump_allowance_rad >= 0.0)) return option_error("jump_allowance_rad", "must not be negative");
-  if (options.jump_confirmations < 1) return option_error("jump_confirmations", "must be at least 1");
-  if (options.recovery_samples < 1) return option_error("recovery_samples", "must be at least 1");
-  if (!(options.unit_quaternion_tolerance > 0.0)) return option_error("unit_quaternion_tolerance", "must be positive");
+    return track_option_error("missing_after_ns", "must be at least max_age_ns");
+  if (options.max_extrapolation_ns < 0) return track_option_error("max_extrapolation_ns", "must not be negative");
+  if (options.fit_window_ns < 0) return track_option_error("fit_window_ns", "must not be negative");
+  if (!(options.max_speed_m_s > 0.0)) return track_option_error("max_speed_m_s", "must be positive");
+  if (!(options.max_angular_speed_rad_s > 0.0))
+    return track_option_error("max_angular_speed_rad_s", "must be positive");
+  if (!(options.jump_allowance_m >= 0.0)) return track_option_error("jump_allowance_m", "must not be negative");
+  if (!(options.jump_allowance_rad >= 0.0)) return track_option_error("jump_allowance_rad", "must not be negative");
+  if (options.jump_confirmations < 1) return track_option_error("jump_confirmations", "must be at least 1");
+  if (options.recovery_samples < 1) return track_option_error("recovery_samples", "must be at least 1");
+  if (!(options.unit_quaternion_tolerance > 0.0))
+    return track_option_error("unit_quaternion_tolerance", "must be positive");
   return PoseTrack(options);
 }
 
 PoseTrack::PoseTrack(const PoseTrackOptions& options) : options_(options), samples_(options.capacity) {}
 
 bool PoseTrack::is_jump(const TimedPose& from, const TimedPose& to) const noexcept {
-  const double dt_s = seconds(to.time_ns - from.time_ns);
+  const double dt_s = seconds_of(to.time_ns - from.time_ns);
   const double distance_m = (to.pose.position_m - from.pose.position_m).norm();
   const double angle_rad = relative_rotation_vector(from.pose.rotation, to.pose.rotation).norm();
   return distance_m > options_.max_speed_m_s * dt_s + options_.jump_allowance_m ||
@@ -126,7 +126,7 @@ RigidPose PoseTrack::fitted(TimeNs horizon_ns) const noexcept {
   Eigen::Vector3d mean_m = Eigen::Vector3d::Zero(), mean_rad = Eigen::Vector3d::Zero();
   for (std::size_t k = first; k < count; ++k) {
     const TimedPose& s = samples_.at(k);
-    mean_s += seconds(s.time_ns - newest.time_ns);
+    mean_s += seconds_of(s.time_ns - newest.time_ns);
     mean_m += s.pose.position_m;
     mean_rad += relative_rotation_vector(newest.pose.rotation, s.pose.rotation);
   }
@@ -135,12 +135,12 @@ RigidPose PoseTrack::fitted(TimeNs horizon_ns) const noexcept {
   Eigen::Vector3d velocity_m = Eigen::Vector3d::Zero(), velocity_rad = Eigen::Vector3d::Zero();
   for (std::size_t k = first; k < count; ++k) {
     const TimedPose& s = samples_.at(k);
-    const double t = seconds(s.time_ns - newest.time_ns) - mean_s;
+    const double t = seconds_of(s.time_ns - newest.time_ns) - mean_s;
     spread_s2 += t * t;
     velocity_m += t * (s.pose.position_m - mean_m);
     velocity_rad += t * (relative_rotation_vector(newest.pose.rotation, s.pose.rotation) - mean_rad);
   }
-  const double lever_s = (seconds(horizon_ns) - mean_s) / spread_s2;
+  const double lever_s = (seconds_of(horizon_ns) - mean_s) / spread_s2;
   return {mean_m + lever_s * velocity_m,
           newest.pose.rotation * quaternion_from_rotation_vector(mean_rad + lever_s * velocity_rad)};
 }

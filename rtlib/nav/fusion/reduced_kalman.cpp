@@ -11,10 +11,6 @@
 namespace nav {
 namespace {
 
-Error error(std::string message, std::string field) {
-  return Error{.message = std::move(message), .field = std::move(field)};
-}
-
 /// Sum of a[j] b[j] over n values, in index order.
 double dot(const double* a, const double* b, int n) noexcept {
   double sum = 0.0;
@@ -26,17 +22,17 @@ std::size_t at(int i) { return static_cast<std::size_t>(i); }
 
 Status check_options(const ReducedKalmanOptions& o, int r) {
   if (o.correction_std.size() != at(r))
-    return error("one standard deviation per reduced coordinate is needed (" + std::to_string(r) + ")",
-                 "correction_std");
+    return field_error("one standard deviation per reduced coordinate is needed (" + std::to_string(r) + ")",
+                       "correction_std");
   for (std::size_t i = 0; i < o.correction_std.size(); ++i)
     if (!(std::isfinite(o.correction_std[i]) && o.correction_std[i] > 0.0))
-      return error("must be a positive number", "correction_std[" + std::to_string(i) + "]");
+      return field_error("must be a positive number", "correction_std[" + std::to_string(i) + "]");
   if (!(o.correlation_time_s > 0.0))
-    return error("must be positive (infinity: a constant correction)", "correlation_time_s");
+    return field_error("must be positive (infinity: a constant correction)", "correlation_time_s");
   if (!(std::isfinite(o.observation_std_m) && o.observation_std_m > 0.0))
-    return error("must be a positive number of metres", "observation_std_m");
+    return field_error("must be a positive number of metres", "observation_std_m");
   if (!(std::isfinite(o.gate_chi_square) && o.gate_chi_square > 0.0))
-    return error("must be a positive number", "gate_chi_square");
+    return field_error("must be a positive number", "gate_chi_square");
   return Done{};
 }
 
@@ -44,11 +40,11 @@ Status check_point(const ObservedPoint& p, std::int32_t node_count, std::size_t 
   const std::string field = "points[" + std::to_string(k) + "]";
   double sum = 0.0;
   for (int a = 0; a < 4; ++a) {
-    if (p.nodes[at(a)] < 0 || p.nodes[at(a)] >= node_count) return error("node out of range", field);
-    if (!std::isfinite(p.weights[at(a)])) return error("weight is not finite", field);
+    if (p.nodes[at(a)] < 0 || p.nodes[at(a)] >= node_count) return field_error("node out of range", field);
+    if (!std::isfinite(p.weights[at(a)])) return field_error("weight is not finite", field);
     sum += p.weights[at(a)];
   }
-  if (std::abs(sum - 1.0) > 1e-9) return error("the weights do not sum to 1", field);
+  if (std::abs(sum - 1.0) > 1e-9) return field_error("the weights do not sum to 1", field);
   return Done{};
 }
 
@@ -65,15 +61,15 @@ Result<ReducedKalmanModel> make_reduced_kalman_model(const TetMesh& mesh, const 
                                                      const ReducedKalmanOptions& options) {
   const std::size_t n3 = 3 * mesh.nodes_m.size();
   if (basis.mesh_fingerprint != mesh_fingerprint(mesh))
-    return error("the basis belongs to another mesh", "mesh_fingerprint");
+    return field_error("the basis belongs to another mesh", "mesh_fingerprint");
   if (basis.node_count != static_cast<std::int32_t>(mesh.nodes_m.size()) || reduced.node_count() != basis.node_count)
-    return error("the node counts of mesh, basis and reduced model differ", "node_count");
+    return field_error("the node counts of mesh, basis and reduced model differ", "node_count");
   const int r = basis.basis_size;
   if (r < 1 || basis.basis.size() != n3 * at(r) || reduced.basis_size() != r)
-    return error("the basis is not 3 node_count x basis_size, or not the reduced model's", "basis");
+    return field_error("the basis is not 3 node_count x basis_size, or not the reduced model's", "basis");
   if (!basis.diaphragm_lift.empty() && basis.diaphragm_lift.size() != 3 * n3)
-    return error("the lift is not 3 node_count x 3", "diaphragm_lift");
-  if (points.empty()) return error("at least one observed point is needed", "points");
+    return field_error("the lift is not 3 node_count x 3", "diaphragm_lift");
+  if (points.empty()) return field_error("at least one observed point is needed", "points");
   if (auto status = check_options(options, r); !status.ok()) return status.error();
   for (std::size_t k = 0; k < points.size(); ++k)
     if (auto status = check_point(points[k], basis.node_count, k); !status.ok()) return status.error();

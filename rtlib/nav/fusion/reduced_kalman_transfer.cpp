@@ -8,7 +8,7 @@
 namespace nav {
 namespace {
 
-std::size_t at(int i) { return static_cast<std::size_t>(i); }
+std::size_t index_at(int i) { return static_cast<std::size_t>(i); }
 
 }  // namespace
 
@@ -19,26 +19,26 @@ void carry_filter(const ReducedKalmanModel& from_model, const ReducedKalmanData&
   // dq' = A dq; the product A P (m x n) goes to the workspace, then A P A^T (+ added).
   for (int i = 0; i < m; ++i) {
     double sum = 0.0;
-    for (int j = 0; j < n; ++j) sum += a[at(i * n + j)] * from.correction[at(j)];
-    to.correction[at(i)] = sum;
+    for (int j = 0; j < n; ++j) sum += a[index_at(i * n + j)] * from.correction[index_at(j)];
+    to.correction[index_at(i)] = sum;
   }
   for (int i = 0; i < m; ++i)
     for (int k = 0; k < n; ++k) {
       double sum = 0.0;
-      for (int j = 0; j < n; ++j) sum += a[at(i * n + j)] * from.covariance[at(j * n + k)];
-      workspace[at(i * n + k)] = sum;
+      for (int j = 0; j < n; ++j) sum += a[index_at(i * n + j)] * from.covariance[index_at(j * n + k)];
+      workspace[index_at(i * n + k)] = sum;
     }
   for (int i = 0; i < m; ++i)
     for (int l = 0; l < m; ++l) {
-      double sum = added.empty() ? 0.0 : added[at(i * m + l)];
-      for (int k = 0; k < n; ++k) sum += workspace[at(i * n + k)] * a[at(l * n + k)];
-      to.covariance[at(i * m + l)] = sum;
+      double sum = added.empty() ? 0.0 : added[index_at(i * m + l)];
+      for (int k = 0; k < n; ++k) sum += workspace[index_at(i * n + k)] * a[index_at(l * n + k)];
+      to.covariance[index_at(i * m + l)] = sum;
     }
   for (int i = 0; i < m; ++i)  // exactly symmetric, as the filter keeps it
     for (int l = 0; l < i; ++l) {
-      const double mean = 0.5 * (to.covariance[at(i * m + l)] + to.covariance[at(l * m + i)]);
-      to.covariance[at(i * m + l)] = mean;
-      to.covariance[at(l * m + i)] = mean;
+      const double mean = 0.5 * (to.covariance[index_at(i * m + l)] + to.covariance[index_at(l * m + i)]);
+      to.covariance[index_at(i * m + l)] = mean;
+      to.covariance[index_at(l * m + i)] = mean;
     }
   to.last_update_ns = from.last_update_ns;
   to.accepted_updates = from.accepted_updates;

@@ -8,7 +8,7 @@ namespace {
 
 constexpr std::int64_t kMaxTagsPerElement = 64;
 
-bool read_nodes(TextScanner& scanner, MshState& state) {
+bool read_msh2_nodes(TextScanner& scanner, MshState& state) {
   std::int64_t count = 0;
   if (!read_msh_count(scanner, count, "$Nodes") || !scanner.end_line("$Nodes")) return false;
   state.mesh.nodes_m.reserve(std::min<std::size_t>(static_cast<std::size_t>(count), scanner.remaining() / 8));
@@ -57,7 +57,7 @@ bool read_element(TextScanner& scanner, std::int64_t index, std::int64_t count, 
   return true;
 }
 
-bool read_elements(TextScanner& scanner, MshState& state) {
+bool read_msh2_elements(TextScanner& scanner, MshState& state) {
   std::int64_t count = 0;
   if (!read_msh_count(scanner, count, "$Elements") || !scanner.end_line("$Elements")) return false;
   bool has_tags = false;
@@ -71,8 +71,8 @@ bool read_elements(TextScanner& scanner, MshState& state) {
 }  // namespace
 
 std::optional<bool> read_msh2_section(TextScanner& scanner, std::string_view name, MshState& state) {
-  if (name == "$Nodes") return read_nodes(scanner, state);
-  if (name == "$Elements") return read_elements(scanner, state);
+  if (name == "$Nodes") return read_msh2_nodes(scanner, state);
+  if (name == "$Elements") return read_msh2_elements(scanner, state);
   return std::nullopt;
 }
 

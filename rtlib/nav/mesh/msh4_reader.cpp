@@ -104,7 +104,7 @@ bool read_node_block(TextScanner& scanner, std::int64_t index, std::int64_t coun
   return true;
 }
 
-bool read_nodes(TextScanner& scanner, MshState& state) {
+bool read_msh4_nodes(TextScanner& scanner, MshState& state) {
   std::array<std::int64_t, 4> header{};  // blocks, nodes, min tag, max tag
   if (!read_header(scanner, header, "$Nodes")) return false;
   if (header[0] < 0 || header[1] < 0 || header[1] > kInt32Max) {
@@ -151,7 +151,7 @@ bool read_element_block(TextScanner& scanner, std::int64_t index, std::int64_t c
   return true;
 }
 
-bool read_elements(TextScanner& scanner, MshState& state) {
+bool read_msh4_elements(TextScanner& scanner, MshState& state) {
   std::array<std::int64_t, 4> header{};  // blocks, elements, min tag, max tag
   if (!read_header(scanner, header, "$Elements")) return false;
   if (header[0] < 0 || header[1] < 0) return scanner.fail("$Elements", "negative element count");
@@ -169,8 +169,8 @@ bool read_elements(TextScanner& scanner, MshState& state) {
 
 std::optional<bool> read_msh4_section(TextScanner& scanner, std::string_view name, MshState& state) {
   if (name == "$Entities") return read_entities(scanner, state);
-  if (name == "$Nodes") return read_nodes(scanner, state);
-  if (name == "$Elements") return read_elements(scanner, state);
+  if (name == "$Nodes") return read_msh4_nodes(scanner, state);
+  if (name == "$Elements") return read_msh4_elements(scanner, state);
   return std::nullopt;
 }
 

@@ -4,11 +4,7 @@
 #include <cmath>
 
 namespace nav {
-
 namespace {
-
-/// Relative slack under which a force counts as at its bound.
-constexpr double kAtBound = 1e-9;
 
 constexpr auto kMaxGroup = static_cast<std::size_t>(kMaxRowsPerPoint);
 
@@ -60,7 +56,7 @@ double row_limit_n(std::span<const ConstraintRow> rows, std::size_t r, std::span
 }
 
 double law_violation_m(const ConstraintRow& row, double gap_m, double force_n, double limit_n) noexcept {
-  const double slack = kAtBound * std::max(1.0, limit_n);
+  const double slack = kForceAtBoundSlack * std::max(1.0, limit_n);
   switch (row.law) {
     case RowLaw::bilateral:
       return std::abs(gap_m);

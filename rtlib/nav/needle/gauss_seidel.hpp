@@ -14,6 +14,9 @@
 
 namespace nav {
 
+/// Relative slack under which a force counts as at its bound (a friction or puncture limit).
+inline constexpr double kForceAtBoundSlack = 1e-9;
+
 /// Where the solver works: one sweep row per constraint row, and the kernels' variant.
 struct GaussSeidelWorkspace {
   std::span<detail::SweepRow> rows;

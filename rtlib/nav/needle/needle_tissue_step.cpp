@@ -8,11 +8,7 @@
 #include "nav/needle/tissue_points.hpp"
 
 namespace nav {
-
 namespace {
-
-/// Relative slack under which a force counts as at its bound.
-constexpr double kAtBound = 1e-9;
 
 using detail::compliant_displacement_m;
 
@@ -80,7 +76,7 @@ void update_layers(const NeedleTissueModel& model, NeedleTissueData& data, std::
     const double normal_n = data.slot_forces[static_cast<std::size_t>(3 * l)];
     const Eigen::Vector3d contact = position_after(model, data, layer.contact, displacements_m);
     const Eigen::Vector3d& n = layer.contact_normal;
-    if (normal_n >= spec.puncture_force_n * (1.0 - kAtBound)) {
+    if (normal_n >= spec.puncture_force_n * (1.0 - kForceAtBoundSlack)) {
       layer.phase = LayerPhase::punctured;
       layer.holed = true;
       layer.hole = layer.contact;
@@ -114,7 +110,8 @@ void update_path(const NeedleTissueModel& model, NeedleTissueData& data, std::sp
   } else {
     const TissueLayer& spec = model.scene.layers[static_cast<std::size_t>(cut)];
     // A cut at its force advances the front to the tissue point at the tip.
-    if (data.slot_forces[static_cast<std::size_t>(model.tip_slot())] >= spec.cutting_force_n * (1.0 - kAtBound))
+    if (data.slot_forces[static_cast<std::size_t>(model.tip_slot())] >=
+        spec.cutting_force_n * (1.0 - kForceAtBoundSlack))
       data.layers[static_cast<std::size_t>(cut)].cut_front = data.tip_anchor;
   }
   // Slip: a tissue point at its friction bound now faces another material point of the
@@ -123,7 +120,7 @@ void update_path(const NeedleTissueModel& model, NeedleTissueData& data, std::sp
   for (std::size_t r = 0; r < rows.size(); ++r) {
     if (rows[r].law != RowLaw::friction_axial) continue;
     const double limit_n = row_limit_n(rows, r, data.row_forces);
-    if (std::abs(data.row_forces[r]) >= limit_n * (1.0 - kAtBound))
+    if (std::abs(data.row_forces[r]) >= limit_n * (1.0 - kForceAtBoundSlack))
       data.path[static_cast<std::size_t>((rows[r].slot - model.path_slot(0)) / 3)].arclength_m -= data.row_gaps[r];
   }
   double newest_m = -1.0;

@@ -4,6 +4,9 @@
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <system_error>
+#include <thread>
 
 #include "nav/reduced/full_system.hpp"
 #include "nav/reduced/packed_compliance.hpp"
@@ -11,13 +14,60 @@
 namespace nav {
 namespace {
 
+/// What every free node's missing compliance is computed from (see missing_patch_compliance).
+struct PatchProblem {
+  const TetMesh& mesh;
+  const std::vector<std::int32_t>& free_nodes;
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>& factor;
+  const Eigen::MatrixXd& free_basis;   ///< U: the basis rows of the free nodes, in their order
+  const Eigen::MatrixXd& flexibility;  ///< (U^T (K + Ks) U)^-1
+  double radius_m;
+};
+
+/// Writes the missing compliance of the free nodes first, first + stride, ... into `out` (one
+/// thread's share: every node's values depend on nothing but the problem).
+void fill_missing_compliance(const PatchProblem& p, std::size_t first, std::size_t stride, std::vector<double>& out) {
+  const Eigen::Index unknowns = p.free_basis.rows();
+  const Eigen::Index r = p.free_basis.cols();
+  Eigen::VectorXd load = Eigen::VectorXd::Zero(unknowns);
+  Eigen::Matrix<double, Eigen::Dynamic, 3> forward(unknowns, 3);
+  const Eigen::VectorXd inverse_d = p.factor.vectorD().cwiseInverse();
+  std::vector<Eigen::Index> patch;
+  for (std::size_t i = first; i < p.free_nodes.size(); i += stride) {
+    const Point3& centre = p.mesh.nodes_m[static_cast<std::size_t>(p.free_nodes[i])];
+    patch.clear();
+    for (std::size_t j = 0; j < p.free_nodes.size(); ++j) {
+      const Point3& q = p.mesh.nodes_m[static_cast<std::size_t>(p.free_nodes[j])];
+      const double d2 = (q[0] - centre[0]) * (q[0] - centre[0]) + (q[1] - centre[1]) * (q[1] - centre[1]) +
+                        (q[2] - centre[2]) * (q[2] - centre[2]);
+      if (d2 <= p.radius_m * p.radius_m) patch.push_back(3 * static_cast<Eigen::Index>(j));
+    }
+    const double weight = 1.0 / static_cast<double>(patch.size());
+    Eigen::Matrix<double, 3, Eigen::Dynamic> mean_rows = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, r);
+    for (const Eigen::Index at : patch) mean_rows += weight * p.free_basis.middleRows<3>(at);
+    for (int c = 0; c < 3; ++c) {
+      for (const Eigen::Index at : patch) load[at + c] = weight;
+      forward.col(c) = p.factor.permutationP() * load;
+      for (const Eigen::Index at : patch) load[at + c] = 0.0;
+    }
+    p.factor.matrixL().solveInPlace(forward);
+    Eigen::Matrix3d missed = forward.transpose() * inverse_d.asDiagonal() * forward;
+    missed -= mean_rows * p.flexibility * mean_rows.transpose();
+    missed = 0.5 * (missed + missed.transpose()).eval();
+    pack_compliance(missed, out.data() + 6 * static_cast<std::size_t>(p.free_nodes[i]));
+  }
+}
+
 /// The static compliance the basis misses about every node, 6 values per node (see
 /// ReducedErrorCalibration): a unit force spread evenly over the free nodes within the patch
-/// radius, its full-order response (3 solves per free node with the rest factor of K + Ks)
-/// averaged over the same nodes, less the basis's own, W_n (U^T (K + Ks) U)^-1 W_n^T with W_n
-/// the patch's mean basis rows.
+/// radius, its full-order response averaged over the same nodes, less the basis's own,
+/// W_n (U^T (K + Ks) U)^-1 W_n^T with W_n the patch's mean basis rows. The full order's is
+/// the quadratic form b_c^T (K + Ks)^-1 b_d of the patch's loads b, with the rest factor
+/// P (K + Ks) P^T = L D L^T: y_c^T D^-1 y_d with y = L^-1 P b, 3 forward solves per free node
+/// (a forward solve skips the columns where y is still zero: most of them, for a patch), the
+/// nodes shared out over `threads`.
 Result<std::vector<double>> missing_patch_compliance(const TetMesh& mesh, const TissueScene& scene,
-                                                     const ReducedBasis& basis, double radius_m) {
+                                                     const ReducedBasis& basis, double radius_m, int threads) {
   auto system = detail::make_full_system(mesh, scene, reduction_solver_options(basis.force_kind));
   if (!system.ok()) return system.error();
   const detail::TetFemTables& tables = system.value().model.tables();
@@ -33,33 +83,30 @@ Result<std::vector<double>> missing_patch_compliance(const TetMesh& mesh, const 
     u.middleRows<3>(3 * static_cast<Eigen::Index>(i)) = all.middleRows<3>(3 * tables.free_nodes[i]);
   const Eigen::MatrixXd flexibility = (u.transpose() * (stiffness * u)).ldlt().solve(Eigen::MatrixXd::Identity(r, r));
   std::vector<double> out(6 * mesh.nodes_m.size(), 0.0);
-  Eigen::VectorXd load = Eigen::VectorXd::Zero(stiffness.rows());
-  std::vector<Eigen::Index> patch;
-  for (std::size_t i = 0; i < tables.free_nodes.size(); ++i) {
-    const Point3& centre = mesh.nodes_m[static_cast<std::size_t>(tables.free_nodes[i])];
-    patch.clear();
-    for (std::size_t j = 0; j < tables.free_nodes.size(); ++j) {
-      const Point3& p = mesh.nodes_m[static_cast<std::size_t>(tables.free_nodes[j])];
-      const double d2 = (p[0] - centre[0]) * (p[0] - centre[0]) + (p[1] - centre[1]) * (p[1] - centre[1]) +
-                        (p[2] - centre[2]) * (p[2] - centre[2]);
-      if (d2 <= radius_m * radius_m) patch.push_back(3 * static_cast<Eigen::Index>(j));
+  const PatchProblem problem{mesh, tables.free_nodes, factor, u, flexibility, radius_m};
+  const auto shares = static_cast<std::size_t>(std::max(threads, 1));
+  std::vector<std::string> failures(shares);
+  const auto fill_share = [&](std::size_t share) noexcept {
+    try {
+      fill_missing_compliance(problem, share, shares, out);
+    } catch (const std::exception& e) {
+      failures[share] = e.what();
     }
-    const double weight = 1.0 / static_cast<double>(patch.size());
-    Eigen::Matrix<double, 3, Eigen::Dynamic> mean_rows = Eigen::Matrix<double, 3, Eigen::Dynamic>::Zero(3, r);
-    for (const Eigen::Index at : patch) mean_rows += weight * u.middleRows<3>(at);
-    Eigen::Matrix3d missed;
-    for (int c = 0; c < 3; ++c) {
-      for (const Eigen::Index at : patch) load[at + c] = weight;
-      const Eigen::VectorXd response = factor.solve(load);
-      for (const Eigen::Index at : patch) load[at + c] = 0.0;
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (const Eigen::Index at : patch) mean += weight * response.segment<3>(at);
-      missed.col(c) = mean;
+  };
+  std::vector<std::thread> helpers;
+  std::size_t share = 1;
+  for (; share < shares; ++share) {
+    try {
+      helpers.emplace_back(fill_share, share);
+    } catch (const std::system_error&) {
+      break;  // no more threads to be had: the caller takes the remaining shares
     }
-    missed -= mean_rows * flexibility * mean_rows.transpose();
-    missed = 0.5 * (missed + missed.transpose()).eval();
-    pack_compliance(missed, out.data() + 6 * static_cast<std::size_t>(tables.free_nodes[i]));
   }
+  for (std::size_t own = share; own < shares; ++own) fill_share(own);
+  fill_share(0);
+  for (std::thread& helper : helpers) helper.join();
+  for (const std::string& failure : failures)
+    if (!failure.empty()) return Error{.message = "missing compliance: " + failure, .field = "basis"};
   return out;
 }
 
@@ -84,7 +131,7 @@ Result<ErrorCalibrationReport> calibrate_error_estimate(const TetMesh& mesh, con
                                                         ReducedBasis& basis, const ErrorCalibrationOptions& options) {
   if (full_order_m.size() != loads.size())
     return Error{.message = "one full-order solution per load is needed", .field = "full_order_m"};
-  auto compliance = missing_patch_compliance(mesh, scene, basis, options.patch_radius_m);
+  auto compliance = missing_patch_compliance(mesh, scene, basis, options.patch_radius_m, options.threads);
   if (!compliance.ok()) return compliance.error();
   ReducedErrorCalibration& c = basis.error_calibration;
   c = {};

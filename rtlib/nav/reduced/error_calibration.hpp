@@ -1,8 +1,8 @@
 #pragma once
 // The offline calibration of a reduced model's online error estimate (ReducedErrorCalibration,
 // evaluated by every reduced step): the static compliance the basis misses about every node
-// (the full order's response to a unit force spread over the patch radius, 3 solves per free
-// node with its rest factor, less the basis's own), then, on held-out loads solved by the full
+// (the full order's response to a unit force spread over the patch radius, 3 forward solves
+// per free node with its rest factor, less the basis's own), then, on held-out loads solved by the full
 // order, each load's reduced static solution, its true largest nodal error and the
 // displacement the basis misses under its point forces. The gain
 // is the geometric mean of true error over that displacement on the loads with point forces
@@ -27,6 +27,9 @@ namespace nav {
 /// equilibrium over thousands of steps).
 struct ErrorCalibrationOptions {
   double patch_radius_m = 0.012;  ///< a probe's patch (TrainingLoadOptions::probe_patch_radius_m)
+  /// Threads sharing the nodes' missing compliances (1: all on the caller's); the values do
+  /// not depend on it.
+  int threads = 1;
   ReducedStaticOptions reduced_static = [] {
     ReducedStaticOptions o;
     o.relaxation_per_s = 0.0;

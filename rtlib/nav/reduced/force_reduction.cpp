@@ -14,10 +14,6 @@
 namespace nav {
 namespace {
 
-Error error(std::string message, std::string field) {
-  return Error{.message = std::move(message), .field = std::move(field)};
-}
-
 /// Most rows (r per snapshot) of the ECSW training matrix: its snapshots are spread evenly.
 constexpr Eigen::Index kMaxTrainingRows = 512;
 
@@ -102,7 +98,7 @@ Status select_samples(const Eigen::MatrixXd& columns, const Eigen::VectorXd& tar
     weights = detail::nnls(sub, target, start).x;
     residual = target - sub * weights;
   }
-  if (selected.empty()) return error("no element reduces the training forces", "snapshots_m");
+  if (selected.empty()) return field_error("no element reduces the training forces", "snapshots_m");
   basis.sample_tets.clear();
   basis.sample_weights.clear();
   std::vector<std::pair<Eigen::Index, double>> kept;
@@ -120,12 +116,12 @@ Status select_samples(const Eigen::MatrixXd& columns, const Eigen::VectorXd& tar
 /// The exact cubic polynomial of the reduced St Venant-Kirchhoff force.
 Status add_polynomial(const detail::FullSystem& system, const TissueSolverOptions& solver, ReducedBasis& basis) {
   if (solver.law != ElementLaw::st_venant_kirchhoff)
-    return error("the cubic polynomial needs the St Venant-Kirchhoff law", "law");
+    return field_error("the cubic polynomial needs the St Venant-Kirchhoff law", "law");
   if (solver.incompressibility_gain_pa != 0.0)
-    return error("the incompressibility penalty is not a polynomial: the cubic polynomial needs it off",
-                 "incompressibility_gain_pa");
+    return field_error("the incompressibility penalty is not a polynomial: the cubic polynomial needs it off",
+                       "incompressibility_gain_pa");
   if (!basis.diaphragm_lift.empty())
-    return error("the cubic polynomial force has no diaphragm lift", "prescribed_nodes");
+    return field_error("the cubic polynomial force has no diaphragm lift", "prescribed_nodes");
   const auto n3 = 3 * static_cast<std::size_t>(basis.node_count);
   const auto r = static_cast<std::size_t>(basis.basis_size);
   std::vector<double> rows(n3 * r);
@@ -141,15 +137,16 @@ Status add_force_reduction(const TetMesh& mesh, const TissueScene& scene, const 
                            const ReductionOptions& options, std::span<const double> snapshots_m, int snapshot_count,
                            ReducedBasis& basis) {
   if (basis.mesh_fingerprint != mesh_fingerprint(mesh))
-    return error("the basis belongs to another mesh", "mesh_fingerprint");
-  if (options.max_cubature_samples < 1) return error("at least one cubature sample is needed", "max_cubature_samples");
+    return field_error("the basis belongs to another mesh", "mesh_fingerprint");
+  if (options.max_cubature_samples < 1)
+    return field_error("at least one cubature sample is needed", "max_cubature_samples");
   if (!(options.cubature_relative_tolerance >= 0.0))
-    return error("the tolerance must be non-negative", "cubature_relative_tolerance");
+    return field_error("the tolerance must be non-negative", "cubature_relative_tolerance");
   auto system = detail::make_full_system(mesh, scene, solver);
   if (!system.ok()) return system.error();
   if (basis.basis.size() != 3 * mesh.nodes_m.size() * static_cast<std::size_t>(std::max(basis.basis_size, 0)) ||
       basis.basis_size < 1)
-    return error("the basis is not 3 node_count x basis_size", "basis");
+    return field_error("the basis is not 3 node_count x basis_size", "basis");
   auto states = training_states(system.value(), basis, snapshots_m, snapshot_count);
   if (!states.ok()) return states.error();
   const Eigen::MatrixXd& q = states.value().q;
@@ -163,7 +160,7 @@ Status add_force_reduction(const TetMesh& mesh, const TissueScene& scene, const 
   if (basis.force_kind == ReducedForceKind::linear) return Done{};
   if (basis.force_kind == ReducedForceKind::stvk_cubic_polynomial) return add_polynomial(system.value(), solver, basis);
   if (basis.force_kind == ReducedForceKind::stvk_cubature && solver.law != ElementLaw::st_venant_kirchhoff)
-    return error("a St Venant-Kirchhoff cubature needs the St Venant-Kirchhoff law", "law");
+    return field_error("a St Venant-Kirchhoff cubature needs the St Venant-Kirchhoff law", "law");
 
   // Every element as a sample of weight 1: the tables the per-element forces are evaluated with.
   ReducedBasis every = basis;
@@ -194,7 +191,8 @@ Status add_force_reduction(const TetMesh& mesh, const TissueScene& scene, const 
   }
   const Eigen::VectorXd target = columns.rowwise().sum();
   if (!(target.norm() > 0.0))
-    return error("the training snapshots have no non-linear force to reduce (use the linear force)", "snapshots_m");
+    return field_error("the training snapshots have no non-linear force to reduce (use the linear force)",
+                       "snapshots_m");
   if (auto s = select_samples(columns, target, r, options, basis); !s) return s;
   Eigen::VectorXd approximation = Eigen::VectorXd::Zero(target.size());
   for (std::size_t s = 0; s < basis.sample_tets.size(); ++s)

@@ -44,10 +44,6 @@ class ShiftInvertOperator {
 /// nothing (its rigid motions are then modes of w^2 = 0), far below the first elastic w^2.
 constexpr double kShift = -1.0;
 
-Error error(std::string message, std::string field) {
-  return Error{.message = std::move(message), .field = std::move(field)};
-}
-
 /// The `count` lowest modes (free-dof columns) and their w^2.
 Result<std::pair<Eigen::MatrixXd, Eigen::VectorXd>> lowest_modes(const FullSystem& system, Eigen::Index count) {
   const Eigen::Index n = system.stiffness.rows();
@@ -63,18 +59,18 @@ Result<std::pair<Eigen::MatrixXd, Eigen::VectorXd>> lowest_modes(const FullSyste
   if (count >= n || ncv <= count) {  // a complete basis, or nearly: a dense solve
     const Eigen::MatrixXd dense(system.stiffness);
     Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> solver(dense, Eigen::MatrixXd(mass));
-    if (solver.info() != Eigen::Success) return error("the dense eigen solver failed", "basis_size");
+    if (solver.info() != Eigen::Success) return field_error("the dense eigen solver failed", "basis_size");
     values = solver.eigenvalues().head(count);
     vectors = solver.eigenvectors().leftCols(count);
   } else {
     Spectra::SymGEigsShiftSolver<ShiftInvertOperator, Spectra::SparseSymMatProd<double>,
                                  Spectra::GEigsMode::ShiftInvert>
         solver(op, mass_op, count, ncv, kShift);
-    if (!op.factored()) return error("the shifted stiffness cannot be factored", "fixed_nodes");
+    if (!op.factored()) return field_error("the shifted stiffness cannot be factored", "fixed_nodes");
     solver.init();
     solver.compute(Spectra::SortRule::LargestMagn, 1000, 1e-12, Spectra::SortRule::SmallestAlge);
     if (solver.info() != Spectra::CompInfo::Successful)
-      return error("the Lanczos iteration did not converge", "basis_size");
+      return field_error("the Lanczos iteration did not converge", "basis_size");
     values = solver.eigenvalues();
     vectors = solver.eigenvectors();
   }
@@ -119,8 +115,8 @@ Result<Eigen::MatrixXd> with_modal_derivatives(const FullSystem& system, const E
   const TetFemTables& tables = system.model.tables();
   Eigen::SimplicialLDLT<SparseMatrix> factor(system.stiffness);
   if (factor.info() != Eigen::Success)
-    return error("modal derivatives need a stiffness made regular by fixed nodes, springs or a prescribed region",
-                 "fixed_nodes");
+    return field_error("modal derivatives need a stiffness made regular by fixed nodes, springs or a prescribed region",
+                       "fixed_nodes");
   const Eigen::Index k = modes.cols();
   Eigen::MatrixXd columns(modes.rows(), k + k * (k + 1) / 2);
   columns.leftCols(k) = modes;
@@ -141,12 +137,13 @@ Result<Eigen::MatrixXd> with_modal_derivatives(const FullSystem& system, const E
 
 Result<ReducedBasis> make_modal_basis(const TetMesh& mesh, const TissueScene& scene, const TissueSolverOptions& solver,
                                       const ReductionOptions& options) {
-  if (options.source == ReducedBasisSource::pod) return error("a POD basis is built by make_pod_basis", "source");
+  if (options.source == ReducedBasisSource::pod) return field_error("a POD basis is built by make_pod_basis", "source");
   auto system = detail::make_full_system(mesh, scene, solver);
   if (!system.ok()) return system.error();
   const Eigen::Index free_dofs = system.value().stiffness.rows();
   if (options.basis_size < 1 || options.basis_size > free_dofs)
-    return error("the basis size must be between 1 and the " + std::to_string(free_dofs) + " free dofs", "basis_size");
+    return field_error("the basis size must be between 1 and the " + std::to_string(free_dofs) + " free dofs",
+                       "basis_size");
   const bool derivatives = options.source == ReducedBasisSource::modal_derivatives;
   Eigen::Index mode_count = options.basis_size;
   if (derivatives) {  // k modes give k (k + 3) / 2 columns before orthonormalisation
@@ -167,8 +164,9 @@ Result<ReducedBasis> make_modal_basis(const TetMesh& mesh, const TissueScene& sc
   const Eigen::MatrixXd basis_columns =
       detail::mass_orthonormalize(columns, system.value().mass_kg, kDropFraction, options.basis_size);
   if (basis_columns.cols() < options.basis_size)
-    return error("the modes and their derivatives span only " + std::to_string(basis_columns.cols()) + " directions",
-                 "basis_size");
+    return field_error(
+        "the modes and their derivatives span only " + std::to_string(basis_columns.cols()) + " directions",
+        "basis_size");
   auto basis = detail::pack_basis(mesh, system.value(), basis_columns, options.source, options.force_kind);
   if (!basis.ok()) return basis;
   for (Eigen::Index c = 0; c < std::min<Eigen::Index>(values.size(), options.basis_size); ++c)

@@ -18,24 +18,21 @@ namespace {
 using detail::ReducedTables;
 using detail::TetFemTables;
 
-Error error(std::string message, std::string field) {
-  return Error{.message = std::move(message), .field = std::move(field)};
-}
-
 Status check_options(const ReducedSolverOptions& o) {
   if (!(std::isfinite(o.step_s) && o.step_s > 0.0))
-    return error("the step must be a positive number of seconds", "step_s");
-  if (o.newton_iterations < 1) return error("at least one Newton iteration is needed", "newton_iterations");
+    return field_error("the step must be a positive number of seconds", "step_s");
+  if (o.newton_iterations < 1) return field_error("at least one Newton iteration is needed", "newton_iterations");
   if (!(o.rayleigh_mass_per_s >= 0.0 && std::isfinite(o.rayleigh_mass_per_s)))
-    return error("Rayleigh damping must be a non-negative number", "rayleigh_mass_per_s");
+    return field_error("Rayleigh damping must be a non-negative number", "rayleigh_mass_per_s");
   if (!(o.rayleigh_stiffness_s >= 0.0 && std::isfinite(o.rayleigh_stiffness_s)))
-    return error("Rayleigh damping must be a non-negative number", "rayleigh_stiffness_s");
+    return field_error("Rayleigh damping must be a non-negative number", "rayleigh_stiffness_s");
   if (!(o.envelope_factor > 0.0 && std::isfinite(o.envelope_factor)))
-    return error("the envelope factor must be a positive number", "envelope_factor");
+    return field_error("the envelope factor must be a positive number", "envelope_factor");
   if (!(o.error_bound_m > 0.0 && std::isfinite(o.error_bound_m)))
-    return error("the error bound must be a positive number of metres", "error_bound_m");
+    return field_error("the error bound must be a positive number of metres", "error_bound_m");
   if (!kernel_isa_available(o.kernel_isa))
-    return error("this build or CPU has no " + std::string(kernel_isa_name(o.kernel_isa)) + " kernels", "kernel_isa");
+    return field_error("this build or CPU has no " + std::string(kernel_isa_name(o.kernel_isa)) + " kernels",
+                       "kernel_isa");
   return Done{};
 }
 
@@ -43,34 +40,36 @@ Status check_basis(const TetMesh& mesh, const ReducedBasis& b) {
   const auto n3 = 3 * mesh.nodes_m.size();
   const auto r = static_cast<std::size_t>(b.basis_size);
   if (b.mesh_fingerprint != mesh_fingerprint(mesh))
-    return error("the basis belongs to another mesh", "mesh_fingerprint");
+    return field_error("the basis belongs to another mesh", "mesh_fingerprint");
   if (b.node_count != static_cast<std::int32_t>(mesh.nodes_m.size()))
-    return error("the node count differs from the mesh's", "node_count");
-  if (b.basis_size < 1 || b.basis.size() != n3 * r) return error("the basis is not 3 node_count x basis_size", "basis");
+    return field_error("the node count differs from the mesh's", "node_count");
+  if (b.basis_size < 1 || b.basis.size() != n3 * r)
+    return field_error("the basis is not 3 node_count x basis_size", "basis");
   if (!b.diaphragm_lift.empty() && b.diaphragm_lift.size() != 3 * n3)
-    return error("the lift is not 3 node_count x 3", "diaphragm_lift");
+    return field_error("the lift is not 3 node_count x 3", "diaphragm_lift");
   if (b.sample_tets.size() != b.sample_weights.size())
-    return error("one weight per sampled tetrahedron is needed", "sample_weights");
+    return field_error("one weight per sampled tetrahedron is needed", "sample_weights");
   for (std::size_t s = 0; s < b.sample_tets.size(); ++s) {
     if (b.sample_tets[s] < 0 || static_cast<std::size_t>(b.sample_tets[s]) >= mesh.tets.size())
-      return error("sample " + std::to_string(s) + " is not a tetrahedron of the mesh", "sample_tets");
+      return field_error("sample " + std::to_string(s) + " is not a tetrahedron of the mesh", "sample_tets");
     if (!(b.sample_weights[s] >= 0.0 && std::isfinite(b.sample_weights[s])))
-      return error("sample " + std::to_string(s) + " has a negative or non-finite weight", "sample_weights");
+      return field_error("sample " + std::to_string(s) + " has a negative or non-finite weight", "sample_weights");
   }
   const bool cubature =
       b.force_kind == ReducedForceKind::corotational_cubature || b.force_kind == ReducedForceKind::stvk_cubature;
-  if (cubature && b.sample_tets.empty()) return error("a cubature force needs sampled tetrahedra", "sample_tets");
+  if (cubature && b.sample_tets.empty()) return field_error("a cubature force needs sampled tetrahedra", "sample_tets");
   if (b.force_kind == ReducedForceKind::stvk_cubic_polynomial) {
     if (b.polynomial_coefficients.size() != detail::stvk_polynomial_size(b.basis_size))
-      return error(
+      return field_error(
           "the cubic polynomial needs " + std::to_string(detail::stvk_polynomial_size(b.basis_size)) + " coefficients",
           "polynomial_coefficients");
-    if (!b.diaphragm_lift.empty()) return error("the cubic polynomial force has no diaphragm lift", "diaphragm_lift");
+    if (!b.diaphragm_lift.empty())
+      return field_error("the cubic polynomial force has no diaphragm lift", "diaphragm_lift");
   }
   if (!b.training_q_bound.empty() && b.training_q_bound.size() != r)
-    return error("one bound per column is needed", "training_q_bound");
+    return field_error("one bound per column is needed", "training_q_bound");
   for (double value : b.basis)
-    if (!std::isfinite(value)) return error("the basis has a non-finite value", "basis");
+    if (!std::isfinite(value)) return field_error("the basis has a non-finite value", "basis");
   return Done{};
 }
 
@@ -102,7 +101,7 @@ Status build_projections(const TetFemTables& full, ReducedTables& t) {
     mass_r += full.mass_kg[static_cast<std::size_t>(node)] * block.transpose() * block;
   }
   if ((mass_r - Eigen::MatrixXd::Identity(r, r)).cwiseAbs().maxCoeff() > 1e-6)
-    return error("the basis is not mass-orthonormal (U^T M U differs from I by more than 1e-6)", "basis");
+    return field_error("the basis is not mass-orthonormal (U^T M U differs from I by more than 1e-6)", "basis");
   for (std::size_t e = 0; e < full.tets.size(); ++e) {
     Matrix43 gradients;
     for (int a = 0; a < 4; ++a)
@@ -161,11 +160,12 @@ Status build_error_estimate(const ReducedBasis& b, ReducedTables& t) {
   const ReducedErrorCalibration& c = b.error_calibration;
   if (c.missing_compliance_m_per_n.empty()) return Done{};
   if (c.missing_compliance_m_per_n.size() != 6 * static_cast<std::size_t>(t.node_count))
-    return error("the missing compliance is not 6 values per node", "error_calibration.missing_compliance_m_per_n");
+    return field_error("the missing compliance is not 6 values per node",
+                       "error_calibration.missing_compliance_m_per_n");
   if (!all_finite(c.missing_compliance_m_per_n))
-    return error("the missing compliance has a non-finite value", "error_calibration.missing_compliance_m_per_n");
+    return field_error("the missing compliance has a non-finite value", "error_calibration.missing_compliance_m_per_n");
   if (!(c.gain > 0.0 && std::isfinite(c.gain)))
-    return error("the error estimate's gain must be a positive number", "error_calibration.gain");
+    return field_error("the error estimate's gain must be a positive number", "error_calibration.gain");
   t.missing_compliance = c.missing_compliance_m_per_n;
   t.error_gain = c.gain;
   t.error_bound_m = t.options.error_bound_m;
@@ -248,10 +248,11 @@ Status build_frozen_factor(ReducedTables& t) {
   detail::system_matrix(t.stiffness_r, t.spring_stiffness_r, c.identity, c.stiffness, c.spring, t.r, t.frozen_factor);
   if (!detail::cholesky_in_place(t.frozen_factor, t.r)) {
     const bool implicit = t.options.integrator == ReducedIntegrator::implicit_euler;
-    return error(implicit ? "the reduced system is not positive definite"
-                          : "the quasi-static reduced system is singular: the scene needs fixed nodes, springs or a "
-                            "prescribed region",
-                 implicit ? "step_s" : "fixed_nodes");
+    return field_error(implicit
+                           ? "the reduced system is not positive definite"
+                           : "the quasi-static reduced system is singular: the scene needs fixed nodes, springs or a "
+                             "prescribed region",
+                       implicit ? "step_s" : "fixed_nodes");
   }
   return Done{};
 }
@@ -263,12 +264,13 @@ Result<ReducedModel> make_reduced_model(const TetMesh& mesh, const TissueScene& 
                                         const ReducedSolverOptions& options) {
   if (auto s = check_options(options); !s) return s.error();
   if (auto s = check_basis(mesh, basis); !s) return s.error();
-  if (scene.probe_stiffness_n_m > 0.0) return error("the reduced model has no probe contact", "probe_stiffness_n_m");
+  if (scene.probe_stiffness_n_m > 0.0)
+    return field_error("the reduced model has no probe contact", "probe_stiffness_n_m");
   auto system = detail::make_full_system(mesh, scene, solver);
   if (!system.ok()) return system.error();
   const TetFemTables& full = system.value().model.tables();
   if (full.prescribed_nodes.empty() != basis.diaphragm_lift.empty())
-    return error("the lift must be present exactly when the scene prescribes nodes", "diaphragm_lift");
+    return field_error("the lift must be present exactly when the scene prescribes nodes", "diaphragm_lift");
   auto t = std::make_shared<ReducedTables>();
   t->options = options;
   t->lane_kernels = &detail::reduced_lane_kernels(options.kernel_isa);
@@ -352,7 +354,7 @@ Result<ReducedDisplaySet> make_reduced_display_set(const ReducedModel& model, st
   if (t.has_lift) display.lift_panels.assign(panels * 3 * L, 0.0);
   for (std::size_t k = 0; k < nodes.size(); ++k) {
     if (nodes[k] < 0 || nodes[k] >= t.node_count)
-      return error(
+      return field_error(
           "display node " + std::to_string(k) + " (" + std::to_string(nodes[k]) + ") is not a node of the model",
           "nodes");
     for (std::size_t c = 0; c < 3; ++c) {

@@ -8,8 +8,6 @@
 namespace nav::detail {
 namespace {
 
-constexpr int L = kSampleLanes;
-
 /// force = -A q - B d (A r x r, B r x 3, row-major).
 void stiffness_force(const ReducedTables& t, std::span<const double> a, std::span<const double> b,
                      const ReducedState& state, std::span<double> force) {
@@ -29,8 +27,9 @@ void linear_force(const ReducedTables& t, const ReducedState& state, std::span<d
 }
 
 ForceScratchSizes force_scratch_sizes(const ReducedTables& t) noexcept {
-  const auto lanes = static_cast<std::size_t>(t.sample_blocks) * L;
-  return {12 * lanes, 9 * lanes, static_cast<std::size_t>(t.r) * L + 10 * lanes + corotational_tangent_work_size(t.r)};
+  const auto lanes = static_cast<std::size_t>(t.sample_blocks) * kSampleLanes;
+  return {12 * lanes, 9 * lanes,
+          static_cast<std::size_t>(t.r) * kSampleLanes + 10 * lanes + corotational_tangent_work_size(t.r)};
 }
 
 int evaluate_internal_force(const ReducedTables& t, const ReducedState& state, ForceScratch scratch,
@@ -48,8 +47,8 @@ int evaluate_internal_force(const ReducedTables& t, const ReducedState& state, F
   }
   stiffness_force(t, t.cubature_stiffness_r, t.cubature_stiffness_lift_r, state, force);
   if (with_tangent) std::copy(t.cubature_stiffness_r.begin(), t.cubature_stiffness_r.end(), tangent.begin());
-  const std::size_t lanes = static_cast<std::size_t>(t.sample_blocks) * L;
-  const std::span<double> lane_forces = scratch.tangent_rows.first(static_cast<std::size_t>(r) * L);
+  const std::size_t lanes = static_cast<std::size_t>(t.sample_blocks) * kSampleLanes;
+  const std::span<double> lane_forces = scratch.tangent_rows.first(static_cast<std::size_t>(r) * kSampleLanes);
   const std::span<double> gradients = scratch.tangent_rows.subspan(lane_forces.size(), 10 * lanes);
   const std::span<double> rows_work = scratch.tangent_rows.subspan(lane_forces.size() + gradients.size());
   std::fill(lane_forces.begin(), lane_forces.end(), 0.0);
@@ -64,9 +63,9 @@ int evaluate_internal_force(const ReducedTables& t, const ReducedState& state, F
       add_stvk_tangent_block(t, b, work, tangent);
   }
   // The lanes' sums, combined in a fixed tree.
-  static_assert(L == 8, "the lane sum below is written for 8 lanes");
+  static_assert(kSampleLanes == 8, "the lane sum below is written for 8 lanes");
   for (int j = 0; j < r; ++j) {
-    const double* s = lane_forces.data() + j * L;
+    const double* s = lane_forces.data() + j * kSampleLanes;
     force[static_cast<std::size_t>(j)] += ((s[0] + s[1]) + (s[2] + s[3])) + ((s[4] + s[5]) + (s[6] + s[7]));
   }
   if (with_tangent && corotational)  // the blocks filled the upper triangle

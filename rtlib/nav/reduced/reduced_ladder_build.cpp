@@ -12,20 +12,17 @@ namespace {
 
 using detail::ReducedLadderTables;
 
-Error error(std::string message, std::string field) {
-  return Error{.message = std::move(message), .field = std::move(field)};
-}
-
 std::string rung_field(std::size_t i, const std::string& field) { return "rungs[" + std::to_string(i) + "]." + field; }
 
 Status check_ladder_options(const ReducedLadderOptions& o) {
   if (o.escalate_after_steps < 1)
-    return error("at least one flagged step must trigger an escalation", "escalate_after_steps");
-  if (o.de_escalate_after_steps < 0) return error("the count must be 0 (never) or positive", "de_escalate_after_steps");
+    return field_error("at least one flagged step must trigger an escalation", "escalate_after_steps");
+  if (o.de_escalate_after_steps < 0)
+    return field_error("the count must be 0 (never) or positive", "de_escalate_after_steps");
   if (!(o.de_escalation_envelope_ratio >= 0.0 && std::isfinite(o.de_escalation_envelope_ratio)))
-    return error("the ratio must be a non-negative number", "de_escalation_envelope_ratio");
+    return field_error("the ratio must be a non-negative number", "de_escalation_envelope_ratio");
   if (!(o.de_escalation_residual >= 0.0 && std::isfinite(o.de_escalation_residual)))
-    return error("the residual must be a non-negative number", "de_escalation_residual");
+    return field_error("the residual must be a non-negative number", "de_escalation_residual");
   return Done{};
 }
 
@@ -33,29 +30,30 @@ Status check_ladder_options(const ReducedLadderOptions& o) {
 /// stepped down to has its envelope factor above the de-escalation ratio.
 Status check_rungs(std::span<const ReducedRungSpec> rungs, bool full_order_on_top, const TissueSolverOptions& solver,
                    const ReducedLadderOptions& options) {
-  if (rungs.empty()) return error("a ladder needs at least one reduced rung", "rungs");
+  if (rungs.empty()) return field_error("a ladder needs at least one reduced rung", "rungs");
   const ReducedSolverOptions& first = rungs[0].options;
   for (std::size_t i = 0; i < rungs.size(); ++i) {
     if (rungs[i].options.step_s != first.step_s)
-      return error("every rung must have rung 0's step", rung_field(i, "options.step_s"));
+      return field_error("every rung must have rung 0's step", rung_field(i, "options.step_s"));
     if (rungs[i].options.integrator != first.integrator)
-      return error("every rung must have rung 0's integrator", rung_field(i, "options.integrator"));
+      return field_error("every rung must have rung 0's integrator", rung_field(i, "options.integrator"));
     if (i > 0 && rungs[i].basis.basis_size <= rungs[i - 1].basis.basis_size)
-      return error("basis sizes must grow strictly from rung to rung", rung_field(i, "basis.basis_size"));
+      return field_error("basis sizes must grow strictly from rung to rung", rung_field(i, "basis.basis_size"));
     const bool below_another = i + 1 < rungs.size() || full_order_on_top;
     if (below_another && options.de_escalate_after_steps > 0 &&
         !(options.de_escalation_envelope_ratio < rungs[i].options.envelope_factor))
-      return error("the de-escalation ratio must be below every lower rung's envelope factor",
-                   "de_escalation_envelope_ratio");
+      return field_error("the de-escalation ratio must be below every lower rung's envelope factor",
+                         "de_escalation_envelope_ratio");
   }
   if (!full_order_on_top) return Done{};
-  if (solver.step_s != first.step_s) return error("the full order's step must be the reduced rungs' step", "step_s");
+  if (solver.step_s != first.step_s)
+    return field_error("the full order's step must be the reduced rungs' step", "step_s");
   const bool same_integrator =
       (first.integrator == ReducedIntegrator::implicit_euler && solver.integrator == Integrator::implicit_euler) ||
       (first.integrator == ReducedIntegrator::quasi_static && solver.integrator == Integrator::quasi_static);
   if (!same_integrator)
-    return error("the full order's integrator must be the reduced rungs' (implicit Euler or quasi-static)",
-                 "integrator");
+    return field_error("the full order's integrator must be the reduced rungs' (implicit Euler or quasi-static)",
+                       "integrator");
   return Done{};
 }
 

@@ -14,14 +14,6 @@ namespace {
 
 using Vector6 = Eigen::Matrix<double, 6, 1>;
 
-const ElasticMaterial& material_of(const TetMesh& mesh, std::size_t tet, const TissueScene& scene) {
-  if (tet < mesh.tet_regions.size()) {
-    for (const auto& [region, material] : scene.region_materials)
-      if (region == mesh.tet_regions[tet]) return material;
-  }
-  return scene.default_material;
-}
-
 /// The first feature of `scene` or `loads` a linear static solve does not take, as an Error.
 Status check_supported(const TissueScene& scene, const TissueInputs& loads) {
   const auto unsupported = [](const char* field) {

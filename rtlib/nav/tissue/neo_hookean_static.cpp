@@ -16,10 +16,6 @@ namespace {
 using detail::TetFemTables;
 using Gradients = Eigen::Map<const Eigen::Matrix<double, 4, 3, Eigen::RowMajor>>;
 
-Error error(std::string message, std::string field) {
-  return Error{.message = std::move(message), .field = std::move(field)};
-}
-
 /// Largest line-search halvings before the increment is declared failed.
 constexpr int kMaxHalvings = 40;
 
@@ -130,7 +126,7 @@ Result<Problem> make_problem(const TetFemTables& tables, const TissueInputs& loa
   for (const DofConstraint& constraint : constraints) {
     if (constraint.node < 0 || constraint.node >= tables.node_count || constraint.axis < 0 || constraint.axis > 2 ||
         !std::isfinite(constraint.displacement_m))
-      return error("constraint on node " + std::to_string(constraint.node) + " is out of range", "constraints");
+      return field_error("constraint on node " + std::to_string(constraint.node) + " is out of range", "constraints");
     const std::size_t i = 3 * static_cast<std::size_t>(constraint.node) + static_cast<std::size_t>(constraint.axis);
     held[i] = true;
     p.held_target_m[i] = constraint.displacement_m;
@@ -138,7 +134,7 @@ Result<Problem> make_problem(const TetFemTables& tables, const TissueInputs& loa
   p.free_of.assign(n3, -1);
   for (std::size_t i = 0; i < n3; ++i)
     if (!held[i]) p.free_of[i] = p.free_count++;
-  if (p.free_count == 0) return error("every degree of freedom is held", "constraints");
+  if (p.free_count == 0) return field_error("every degree of freedom is held", "constraints");
   return p;
 }
 
@@ -148,10 +144,11 @@ Result<NeoHookeanSolution> solve_neo_hookean_static(const TetMesh& mesh, const T
                                                     const TissueInputs& loads,
                                                     std::span<const DofConstraint> constraints,
                                                     const NeoHookeanOptions& options) {
-  if (loads.probe.active) return error("the reference does not model the probe: prescribe the pressed nodes", "probe");
-  if (!scene.spring_nodes.empty()) return error("the reference does not model frame springs", "spring_nodes");
+  if (loads.probe.active)
+    return field_error("the reference does not model the probe: prescribe the pressed nodes", "probe");
+  if (!scene.spring_nodes.empty()) return field_error("the reference does not model frame springs", "spring_nodes");
   if (options.load_increments < 1 || options.max_newton_iterations < 1 || !(options.relative_tolerance > 0.0))
-    return error("increments, iterations and tolerance must be positive", "options");
+    return field_error("increments, iterations and tolerance must be positive", "options");
   TissueSolverOptions element_options;
   element_options.integrator = Integrator::explicit_central_difference;
   element_options.rotation = ElementRotation::none;
@@ -192,7 +189,7 @@ Result<NeoHookeanSolution> solve_neo_hookean_static(const TetMesh& mesh, const T
       if (!analysed) ldlt.analyzePattern(tangent);
       analysed = true;
       ldlt.factorize(tangent);
-      if (ldlt.info() != Eigen::Success) return error("the neo-Hookean tangent could not be factored", "tangent");
+      if (ldlt.info() != Eigen::Success) return field_error("the neo-Hookean tangent could not be factored", "tangent");
       Eigen::VectorXd rhs(p.free_count);
       for (std::size_t i = 0; i < n3; ++i)
         if (p.free_of[i] >= 0) rhs[p.free_of[i]] = residual[i] - held_coupling[static_cast<std::size_t>(p.free_of[i])];
@@ -213,12 +210,12 @@ Result<NeoHookeanSolution> solve_neo_hookean_static(const TetMesh& mesh, const T
           break;
       }
       if (halvings == kMaxHalvings)
-        return error("the line search failed at increment " + std::to_string(increment), "load_increments");
+        return field_error("the line search failed at increment " + std::to_string(increment), "load_increments");
       x = trial;
       ++solution.newton_iterations;
     }
     if (!converged)
-      return error("Newton did not converge at increment " + std::to_string(increment), "max_newton_iterations");
+      return field_error("Newton did not converge at increment " + std::to_string(increment), "max_newton_iterations");
   }
   solution.reaction_forces_n.assign(n3, 0.0);
   for (std::size_t i = 0; i < n3; ++i)

@@ -47,8 +47,8 @@ Eigen::Matrix3d hooke(const Eigen::Matrix3d& strain, const LameParameters& lame)
   return sigma;
 }
 
-/// The rotation of F's polar decomposition F = R U.
-Eigen::Matrix3d polar_rotation(const Eigen::Matrix3d& f) {
+/// The rotation of F's polar decomposition F = R U, from its singular value decomposition.
+Eigen::Matrix3d svd_polar_rotation(const Eigen::Matrix3d& f) {
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(f, Eigen::ComputeFullU | Eigen::ComputeFullV);
   Eigen::Matrix3d u = svd.matrixU();
   if ((u * svd.matrixV().transpose()).determinant() < 0.0) u.col(2) = -u.col(2);
@@ -61,7 +61,7 @@ Eigen::Matrix3d first_piola(StaticLaw law, const Eigen::Matrix3d& f, const LameP
     case StaticLaw::linear:
       return hooke(f - Eigen::Matrix3d::Identity(), lame);
     case StaticLaw::corotational: {
-      const Eigen::Matrix3d r = polar_rotation(f);
+      const Eigen::Matrix3d r = svd_polar_rotation(f);
       return r * hooke(r.transpose() * f - Eigen::Matrix3d::Identity(), lame);
     }
     case StaticLaw::st_venant_kirchhoff:

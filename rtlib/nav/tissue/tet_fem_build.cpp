@@ -17,32 +17,24 @@ namespace {
 using detail::NodeKind;
 using detail::TetFemTables;
 
-Error error(std::string message, std::string field) {
-  return Error{.message = std::move(message), .field = std::move(field)};
-}
-
 Status check_options(const TissueSolverOptions& options) {
   if (!(std::isfinite(options.step_s) && options.step_s > 0.0))
-    return error("the step must be a positive number of seconds", "step_s");
-  if (options.cg_iterations < 1) return error("at least one CG iteration is needed", "cg_iterations");
+    return field_error("the step must be a positive number of seconds", "step_s");
+  if (options.cg_iterations < 1) return field_error("at least one CG iteration is needed", "cg_iterations");
   if (!(options.rayleigh_mass_per_s >= 0.0 && std::isfinite(options.rayleigh_mass_per_s)))
-    return error("Rayleigh damping must be a non-negative number", "rayleigh_mass_per_s");
+    return field_error("Rayleigh damping must be a non-negative number", "rayleigh_mass_per_s");
   if (!(options.rayleigh_stiffness_s >= 0.0 && std::isfinite(options.rayleigh_stiffness_s)))
-    return error("Rayleigh damping must be a non-negative number", "rayleigh_stiffness_s");
+    return field_error("Rayleigh damping must be a non-negative number", "rayleigh_stiffness_s");
   if (!(options.incompressibility_gain_pa >= 0.0 && std::isfinite(options.incompressibility_gain_pa)))
-    return error("the incompressibility gain must be a non-negative number of pascals", "incompressibility_gain_pa");
+    return field_error("the incompressibility gain must be a non-negative number of pascals",
+                       "incompressibility_gain_pa");
   if (options.incompressibility_gain_pa > 0.0 && options.law != ElementLaw::st_venant_kirchhoff)
-    return error("the incompressibility penalty belongs to the St Venant-Kirchhoff law", "incompressibility_gain_pa");
+    return field_error("the incompressibility penalty belongs to the St Venant-Kirchhoff law",
+                       "incompressibility_gain_pa");
   if (options.integrator == Integrator::explicit_central_difference && options.rayleigh_stiffness_s > 0.0)
-    return error("stiffness-proportional damping is not available to the explicit integrator", "rayleigh_stiffness_s");
+    return field_error("stiffness-proportional damping is not available to the explicit integrator",
+                       "rayleigh_stiffness_s");
   return Done{};
-}
-
-const ElasticMaterial& material_of(const TetMesh& mesh, std::size_t tet, const TissueScene& scene) {
-  if (tet < mesh.tet_regions.size())
-    for (const auto& [region, material] : scene.region_materials)
-      if (region == mesh.tet_regions[tet]) return material;
-  return scene.default_material;
 }
 
 Status build_elements(const TetMesh& mesh, const TissueScene& scene, TetFemTables& tables) {
@@ -55,11 +47,12 @@ Status build_elements(const TetMesh& mesh, const TissueScene& scene, TetFemTable
     std::array<Point3, 4> corners;
     for (int a = 0; a < 4; ++a) {
       if (mesh.tets[e][a] < 0 || mesh.tets[e][a] >= n)
-        return error("element " + std::to_string(e) + " refers to node " + std::to_string(mesh.tets[e][a]), "tets");
+        return field_error("element " + std::to_string(e) + " refers to node " + std::to_string(mesh.tets[e][a]),
+                           "tets");
       corners[a] = mesh.nodes_m[static_cast<std::size_t>(mesh.tets[e][a])];
     }
     const double volume_m3 = signed_tet_volume_m3(corners[0], corners[1], corners[2], corners[3]);
-    if (!(volume_m3 > 0.0)) return error("element " + std::to_string(e) + " is inverted or flat", "tets");
+    if (!(volume_m3 > 0.0)) return field_error("element " + std::to_string(e) + " is inverted or flat", "tets");
     const Matrix43 gradients = shape_gradients(corners);
     for (int a = 0; a < 4; ++a)
       for (int c = 0; c < 3; ++c) tables.gradients[12 * e + 3 * a + c] = gradients(a, c);
@@ -76,7 +69,7 @@ Status build_masses(const TetMesh& mesh, const TissueScene& scene, TetFemTables&
     for (std::int32_t node : mesh.tets[e]) tables.mass_kg[static_cast<std::size_t>(node)] += share_kg;
   }
   if (scene.uniform_total_mass_kg < 0.0 || !std::isfinite(scene.uniform_total_mass_kg))
-    return error("the total mass must be a non-negative number of kilograms", "uniform_total_mass_kg");
+    return field_error("the total mass must be a non-negative number of kilograms", "uniform_total_mass_kg");
   if (scene.uniform_total_mass_kg > 0.0)
     for (double& mass_kg : tables.mass_kg)
       if (mass_kg > 0.0) mass_kg = scene.uniform_total_mass_kg / static_cast<double>(tables.node_count);
@@ -85,7 +78,7 @@ Status build_masses(const TetMesh& mesh, const TissueScene& scene, TetFemTables&
 
 Status check_nodes(const std::vector<std::int32_t>& nodes, std::int64_t node_count, const char* field) {
   for (std::int32_t node : nodes)
-    if (node < 0 || node >= node_count) return error("node " + std::to_string(node) + " is out of range", field);
+    if (node < 0 || node >= node_count) return field_error("node " + std::to_string(node) + " is out of range", field);
   return Done{};
 }
 
@@ -102,14 +95,14 @@ Status build_supports(const TissueScene& scene, TetFemTables& tables) {
   if (auto s = check_nodes(scene.prescribed_nodes, n, "prescribed_nodes"); !s) return s;
   if (auto s = check_nodes(scene.spring_nodes, n, "spring_nodes"); !s) return s;
   if (!scene.spring_nodes.empty() && !(scene.spring_stiffness_n_m > 0.0 && std::isfinite(scene.spring_stiffness_n_m)))
-    return error("springs need a positive stiffness in N/m", "spring_stiffness_n_m");
+    return field_error("springs need a positive stiffness in N/m", "spring_stiffness_n_m");
   if (!(scene.probe_stiffness_n_m >= 0.0 && std::isfinite(scene.probe_stiffness_n_m)))
-    return error("the probe stiffness must be a non-negative number of N/m", "probe_stiffness_n_m");
+    return field_error("the probe stiffness must be a non-negative number of N/m", "probe_stiffness_n_m");
   tables.node_kind.assign(static_cast<std::size_t>(n), NodeKind::free);
   for (std::int32_t node : scene.fixed_nodes) tables.node_kind[static_cast<std::size_t>(node)] = NodeKind::fixed;
   for (std::int32_t node : scene.prescribed_nodes) {
     if (tables.node_kind[static_cast<std::size_t>(node)] == NodeKind::fixed)
-      return error("node " + std::to_string(node) + " is both fixed and prescribed", "prescribed_nodes");
+      return field_error("node " + std::to_string(node) + " is both fixed and prescribed", "prescribed_nodes");
     tables.node_kind[static_cast<std::size_t>(node)] = NodeKind::prescribed;
   }
   for (std::int64_t node = 0; node < n; ++node)
@@ -135,7 +128,7 @@ Status build_traction(const TetMesh& mesh, const TissueScene& scene, TetFemTable
   for (const auto& triangle : scene.traction_triangles) {
     for (std::int32_t node : triangle)
       if (node < 0 || node >= tables.node_count)
-        return error("node " + std::to_string(node) + " is out of range", "traction_triangles");
+        return field_error("node " + std::to_string(node) + " is out of range", "traction_triangles");
     const Point3& a = mesh.nodes_m[static_cast<std::size_t>(triangle[0])];
     const double third_m2 = norm(cross(mesh.nodes_m[static_cast<std::size_t>(triangle[1])] - a,
                                        mesh.nodes_m[static_cast<std::size_t>(triangle[2])] - a)) /
@@ -159,8 +152,8 @@ Result<TetFemModel> make_tet_fem_model(const TetMesh& mesh, const TissueScene& s
   for (const auto& [region, material] : scene.region_materials)
     if (auto s = check_material(material, "region_materials[" + std::to_string(region) + "]"); !s) return s.error();
   for (double g : scene.gravity_m_s2)
-    if (!std::isfinite(g)) return error("gravity must be finite", "gravity_m_s2");
-  if (mesh.tets.empty()) return error("the mesh has no element", "tets");
+    if (!std::isfinite(g)) return field_error("gravity must be finite", "gravity_m_s2");
+  if (mesh.tets.empty()) return field_error("the mesh has no element", "tets");
 
   auto tables = std::make_shared<TetFemTables>();
   tables->options = options;
@@ -177,7 +170,7 @@ Result<TetFemModel> make_tet_fem_model(const TetMesh& mesh, const TissueScene& s
     tables->probe_nodes = extract_boundary(mesh).mesh_node_of_vertex;
     std::sort(tables->probe_nodes.begin(), tables->probe_nodes.end());
   }
-  if (tables->free_nodes.empty()) return error("every node is fixed or prescribed", "fixed_nodes");
+  if (tables->free_nodes.empty()) return field_error("every node is fixed or prescribed", "fixed_nodes");
   if (auto s = detail::build_rest_system(*tables); !s) return s.error();
   return TetFemModel(std::move(tables));
 }

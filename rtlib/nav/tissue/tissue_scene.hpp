@@ -44,6 +44,14 @@ struct TissueScene {
   std::size_t max_point_forces = 16;
 };
 
+/// The material of element `tet`: its region's in scene.region_materials, else the default.
+inline const ElasticMaterial& material_of(const TetMesh& mesh, std::size_t tet, const TissueScene& scene) {
+  if (tet < mesh.tet_regions.size())
+    for (const auto& [region, material] : scene.region_materials)
+      if (region == mesh.tet_regions[tet]) return material;
+  return scene.default_material;
+}
+
 /// Which rotation the elements are measured in.
 enum class ElementRotation {
   corotational,  ///< the polar rotation of each element's deformation gradient

@@ -95,7 +95,7 @@ MemoryFootprint measure_footprint(const StationModels& models) {
       std::size_t surfaces = 0;
       const auto bytes = [](const auto& v) { return v.size() * sizeof(v[0]); };
       for (const TissueSurface& surface : needle.scene.surfaces) surfaces += bytes(surface.triangles);
-      for (const detail::SurfaceBvh& b : needle.surface_bvhs)
+      for (const nav::detail::SurfaceBvh& b : needle.surface_bvhs)
         surfaces += bytes(b.triangles) + bytes(b.corners) + bytes(b.neighbours) + bytes(b.vertex_nodes) +
                     bytes(b.vertex_face_begin) + bytes(b.vertex_faces) + bytes(b.nodes);
       f.lines.push_back({"needle", "surface hierarchies", static_cast<std::int64_t>(surfaces), false});

@@ -21,8 +21,6 @@ namespace nav::station {
 
 namespace {
 
-double seconds(TimeNs t) { return 1e-9 * static_cast<double>(t); }
-
 TimeNs period_ns(double rate_hz) { return static_cast<TimeNs>(std::llround(1e9 / rate_hz)); }
 
 /// The patient's full-order liver: the scene's model on the patient's (softer) material.
@@ -35,7 +33,7 @@ Result<TetFemModel> patient_liver(const StationLiver& liver, const Scene& scene,
   TissueScene patient = liver.scene;
   patient.default_material.youngs_modulus_pa *= options.truth_stiffness_factor;
   TissueSolverOptions solver = scene.liver.full;
-  solver.step_s = seconds(step_ns);
+  solver.step_s = seconds_of(step_ns);
   auto model = make_tet_fem_model(liver.mesh, patient, solver);
   if (!model.ok())
     return Error{.message = model.error().describe(),
@@ -77,7 +75,7 @@ Status record_tumour(SimulatedWorld& world, const StationLiver& liver, const Sce
     char message[160];
     std::snprintf(message, sizeof message,
                   "the simulated patient's liver ran away at %.2f s: its tumour is %.4g mm from rest",
-                  seconds(static_cast<TimeNs>(i) * world.step_ns), 1e3 * std::sqrt(moved_m2));
+                  seconds_of(static_cast<TimeNs>(i) * world.step_ns), 1e3 * std::sqrt(moved_m2));
     return Error{.message = message, .file = scene.source_path, .line = scene.liver.line, .field = "liver.model"};
   }
   world.tumour_truth_m.push_back(tumour);
@@ -249,7 +247,7 @@ Point3 SimulatedWorld::tumour_at(TimeNs time_ns) const {
 
 Eigen::Vector3d SimulatedWorld::needle_tip_at(TimeNs time_ns) const {
   if (needle_tip_truth_m.empty())
-    return needle_start_m + seconds(std::min(time_ns, needle_stop_ns)) * needle_velocity_m_s;
+    return needle_start_m + seconds_of(std::min(time_ns, needle_stop_ns)) * needle_velocity_m_s;
   const TimeNs clamped =
       std::clamp<TimeNs>(time_ns, 0, static_cast<TimeNs>(needle_tip_truth_m.size() - 1) * needle_step_ns);
   const Point3& p = needle_tip_truth_m[static_cast<std::size_t>(clamped / needle_step_ns)];
@@ -259,12 +257,13 @@ Eigen::Vector3d SimulatedWorld::needle_tip_at(TimeNs time_ns) const {
 RigidPose SimulatedWorld::needle_marker_at(TimeNs time_ns) const {
   const Eigen::Quaterniond rotation =
       Eigen::Quaterniond::FromTwoVectors(-Eigen::Vector3d::UnitZ(), needle_velocity_m_s.normalized());
-  const Eigen::Vector3d tip = needle_start_m + seconds(std::min(time_ns, needle_stop_ns)) * needle_velocity_m_s;
+  const Eigen::Vector3d tip = needle_start_m + seconds_of(std::min(time_ns, needle_stop_ns)) * needle_velocity_m_s;
   return {tip - rotation * Eigen::Vector3d{0.0, 0.0, -needle_length_m}, rotation};
 }
 
 RigidPose SimulatedWorld::probe_at(TimeNs time_ns) const {
-  const double sweep_rad = probe_sweep_rad * std::sin(2.0 * std::numbers::pi * seconds(time_ns) / probe_sweep_period_s);
+  const double sweep_rad =
+      probe_sweep_rad * std::sin(2.0 * std::numbers::pi * seconds_of(time_ns) / probe_sweep_period_s);
   return {probe_centre_m, Eigen::Quaterniond(Eigen::AngleAxisd(sweep_rad, Eigen::Vector3d::UnitX()))};
 }
 
@@ -274,7 +273,8 @@ TimeNs world_period_ns(const WorldOptions& options) {
 }
 
 double marker_displacement_m(const WorldOptions& options, TimeNs time_ns) {
-  return options.marker_amplitude_m * std::sin(2.0 * std::numbers::pi * seconds(time_ns) / options.breathing_period_s);
+  return options.marker_amplitude_m *
+         std::sin(2.0 * std::numbers::pi * seconds_of(time_ns) / options.breathing_period_s);
 }
 
 Status check_simulated_devices(const Scene& scene) {

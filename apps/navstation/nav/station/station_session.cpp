@@ -8,6 +8,7 @@
 
 #include "nav/core/health_names.hpp"
 #include "nav/dds/sample_fault.hpp"
+#include "nav/station/format_numbers.hpp"
 #include "nav/station/station_build.hpp"
 #include "nav/station/station_dds.hpp"
 #include "nav/station/station_loop.hpp"
@@ -27,13 +28,6 @@ std::string io_setup_text(const StationRun& run) {
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-std::string format(const char* pattern, double a = 0.0, double b = 0.0, double c = 0.0, double d = 0.0,
-                   double e = 0.0) {
-  char text[256];
-  std::snprintf(text, sizeof(text), pattern, a, b, c, d, e);
-  return text;
 }
 
 double distance_mm(const Point3& a, const Point3& b) { return 1e3 * std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]); }
@@ -211,51 +205,52 @@ std::string run_figures(const Scene& scene, const StationRun& run, const Display
                         TimeNs miss_threshold_ns) {
   const StepStatistics& t = run.steps;
   std::string out;
-  out += format("step time over %.0f ticks: median %.1f us, p99 %.1f us, p99.9 %.1f us", static_cast<double>(t.ticks),
-                t.median_us, t.p99_us, t.p999_us);
-  out += format(", p99.99 %.1f us, max %.1f us\n", t.p9999_us, t.max_us);
-  out +=
-      format("tick lateness: jitter (std) %.1f us, p99 %.1f us, p99.99 %.1f us, max %.1f us (tick %.0f)\n", t.jitter_us,
-             t.lateness_p99_us, t.lateness_p9999_us, t.max_lateness_us, static_cast<double>(t.latest_tick));
-  out += format("deadline misses (> %.0f ms late): %.0f (> 1 ms late: %.0f), skipped ticks: %.0f\n",
-                1e-6 * static_cast<double>(miss_threshold_ns), static_cast<double>(t.deadline_misses),
-                static_cast<double>(t.late_over_1ms), static_cast<double>(t.skipped_ticks));
-  out += format("I/O thread: %.0f samples pushed, %.0f outputs read\n", static_cast<double>(run.samples_pushed),
-                static_cast<double>(run.outputs_read));
+  out += format_numbers("step time over %.0f ticks: median %.1f us, p99 %.1f us, p99.9 %.1f us",
+                        static_cast<double>(t.ticks), t.median_us, t.p99_us, t.p999_us);
+  out += format_numbers(", p99.99 %.1f us, max %.1f us\n", t.p9999_us, t.max_us);
+  out += format_numbers("tick lateness: jitter (std) %.1f us, p99 %.1f us, p99.99 %.1f us, max %.1f us (tick %.0f)\n",
+                        t.jitter_us, t.lateness_p99_us, t.lateness_p9999_us, t.max_lateness_us,
+                        static_cast<double>(t.latest_tick));
+  out += format_numbers("deadline misses (> %.0f ms late): %.0f (> 1 ms late: %.0f), skipped ticks: %.0f\n",
+                        1e-6 * static_cast<double>(miss_threshold_ns), static_cast<double>(t.deadline_misses),
+                        static_cast<double>(t.late_over_1ms), static_cast<double>(t.skipped_ticks));
+  out += format_numbers("I/O thread: %.0f samples pushed, %.0f outputs read\n", static_cast<double>(run.samples_pushed),
+                        static_cast<double>(run.outputs_read));
   const ObserverCounts& u = run.observer;
-  out += format(
+  out += format_numbers(
       "ultrasound: %.0f B-mode frames, %.0f tumour points found (dropped: %.0f without a confident detection, %.0f "
       "without a probe pose)\n",
       static_cast<double>(u.frames), static_cast<double>(u.observations), static_cast<double>(u.dropped_no_detection),
       static_cast<double>(u.dropped_no_pose));
-  out += format("  tumour tracker per frame (I/O thread): median %.2f ms, p99 %.2f ms\n",
-                1e-3 * run.frame_processing.median_us, 1e-3 * run.frame_processing.p99_us);
+  out += format_numbers("  tumour tracker per frame (I/O thread): median %.2f ms, p99 %.2f ms\n",
+                        1e-3 * run.frame_processing.median_us, 1e-3 * run.frame_processing.p99_us);
   if (run.dds) {
     const DdsRunReport& d = *run.dds;
-    out += format(
+    out += format_numbers(
         "DDS (domain %.0f; shared memory and UDP on 127.0.0.1): %.0f poses and %.0f frames received, %.0f outputs "
         "published\n",
         static_cast<double>(scene.topics.domain_id), static_cast<double>(d.poses_received),
         static_cast<double>(d.frames_received), static_cast<double>(d.outputs_published));
     if (d.forces_published > 0 || d.forces_dropped > 0)
-      out += format("  needle forces at the loop rate: %.0f published, %.0f dropped\n",
-                    static_cast<double>(d.forces_published), static_cast<double>(d.forces_dropped));
+      out += format_numbers("  needle forces at the loop rate: %.0f published, %.0f dropped\n",
+                            static_cast<double>(d.forces_published), static_cast<double>(d.forces_dropped));
     if (d.pose_latency.count > 0)  // the devices in this process: their write times are known
-      out += format("  writer to reader: poses median %.0f us, p99 %.0f us; frames median %.0f us, p99 %.0f us\n",
-                    d.pose_latency.median_us, d.pose_latency.p99_us, d.frame_latency.median_us, d.frame_latency.p99_us);
-    out += format(
+      out += format_numbers(
+          "  writer to reader: poses median %.0f us, p99 %.0f us; frames median %.0f us, p99 %.0f us\n",
+          d.pose_latency.median_us, d.pose_latency.p99_us, d.frame_latency.median_us, d.frame_latency.p99_us);
+    out += format_numbers(
         "  deformed surface (%.0f vertices): %.0f published; reconstruction on the I/O thread median %.0f us, p99 %.0f "
         "us\n",
         static_cast<double>(surface.nodes.size()), static_cast<double>(d.surfaces_published),
         d.surface_reconstruction.median_us, d.surface_reconstruction.p99_us);
-    out += format("  lost on the way (sent, never delivered): %.0f poses, %.0f frames\n",
-                  static_cast<double>(d.poses_lost), static_cast<double>(d.frames_lost));
-    out += format("  samples accepted %.0f;", static_cast<double>(d.boundary.accepted));
+    out += format_numbers("  lost on the way (sent, never delivered): %.0f poses, %.0f frames\n",
+                          static_cast<double>(d.poses_lost), static_cast<double>(d.frames_lost));
+    out += format_numbers("  samples accepted %.0f;", static_cast<double>(d.boundary.accepted));
     out += " dropped at the boundary: " + dds::drops_by_reason(d.boundary) + "\n";
     if (dds::refused_as_invalid(d.boundary) > 0)
       out += "  refused by input: " + dds::refusals_by_input(d.input_refused) + "\n";
     if (const std::optional<std::uint32_t> reference = scene.devices.tracker.tools.reference)
-      out += format(
+      out += format_numbers(
           "  registered to the model through the reference (tool %.0f); poses before its first, not used: %.0f\n",
           static_cast<double>(*reference), static_cast<double>(d.unregistered_poses));
   }
@@ -267,27 +262,27 @@ std::string run_figures(const Scene& scene, const StationRun& run, const Display
 std::string format_summary(const Scene& scene, const StationSession& s) {
   const StationSettings& st = scene.station;
   std::string out = "station '" + st.name + "': ";
-  out += format("%.0f Hz loop, liver every %.0f ms, display latency %.0f ms\n", st.loop_rate_hz,
-                1e3 / st.tissue_rate_hz, 1e-6 * static_cast<double>(s.display_latency_ns));
+  out += format_numbers("%.0f Hz loop, liver every %.0f ms, display latency %.0f ms\n", st.loop_rate_hz,
+                        1e3 / st.tissue_rate_hz, 1e-6 * static_cast<double>(s.display_latency_ns));
   out += s.liver_model + "\n";
-  out += format("start-up: liver and reduced loop %.1f s, full-order world %.1f s (%.0f tetrahedra, %.0f samples)\n",
-                s.build_s, s.world_s, static_cast<double>(s.liver.mesh.tets.size()),
-                static_cast<double>(s.world.samples.size()));
+  out += format_numbers(
+      "start-up: liver and reduced loop %.1f s, full-order world %.1f s (%.0f tetrahedra, %.0f samples)\n", s.build_s,
+      s.world_s, static_cast<double>(s.liver.mesh.tets.size()), static_cast<double>(s.world.samples.size()));
   out += "real-time setup:";
   for (const SetupStep& step : s.run.realtime_setup) out += " " + step.name + ": " + outcome_name(step.outcome) + ";";
   out += io_setup_text(s.run);
-  out += format("prediction error against the full-order truth (RMS from %.1f s, %.0f liver steps):\n",
-                1e-9 * static_cast<double>(s.settle_ns), s.assimilated.steps);
+  out += format_numbers("prediction error against the full-order truth (RMS from %.1f s, %.0f liver steps):\n",
+                        1e-9 * static_cast<double>(s.settle_ns), s.assimilated.steps);
   out += "                         with assimilation   without\n";
-  out += format("  tumour now              %8.2f mm        %6.2f mm\n", 1e3 * s.assimilated.tumour_now_rms_m,
-                1e3 * s.without.tumour_now_rms_m);
-  out += format("  tumour at +%2.0f ms        %8.2f mm        %6.2f mm\n",
-                1e-6 * static_cast<double>(s.display_latency_ns), 1e3 * s.assimilated.tumour_ahead_rms_m,
-                1e3 * s.without.tumour_ahead_rms_m);
-  out += format("  needle tip              %8.2f mm\n", 1e3 * s.assimilated.needle_tip_rms_m);
+  out += format_numbers("  tumour now              %8.2f mm        %6.2f mm\n", 1e3 * s.assimilated.tumour_now_rms_m,
+                        1e3 * s.without.tumour_now_rms_m);
+  out += format_numbers("  tumour at +%2.0f ms        %8.2f mm        %6.2f mm\n",
+                        1e-6 * static_cast<double>(s.display_latency_ns), 1e3 * s.assimilated.tumour_ahead_rms_m,
+                        1e3 * s.without.tumour_ahead_rms_m);
+  out += format_numbers("  needle tip              %8.2f mm\n", 1e3 * s.assimilated.needle_tip_rms_m);
   if (!s.world.needle_tip_truth_m.empty()) {
     const NeedlePeaks n = needle_peaks(s.run.ticks);
-    out += format(
+    out += format_numbers(
         "needle (coupled to the liver): tip force peak %.2f N, %.0f punctures; the full-order truth: %.2f N, %.0f "
         "punctures\n",
         n.tip_force_n, static_cast<double>(n.punctures), s.world.needle_peak_tip_force_n,
@@ -319,11 +314,11 @@ std::string format_periods(const std::vector<DegradedPeriod>& periods) {
   std::string out;
   for (std::size_t i = 0; i < std::min(periods.size(), kPeriodsShown); ++i) {
     const DegradedPeriod& p = periods[i];
-    out += format(" %.3f-%.3f s (", 1e-9 * static_cast<double>(p.from_ns), 1e-9 * static_cast<double>(p.to_ns));
+    out += format_numbers(" %.3f-%.3f s (", 1e-9 * static_cast<double>(p.from_ns), 1e-9 * static_cast<double>(p.to_ns));
     out += health_flag_names(p.flags) + ")" + (i + 1 < periods.size() ? "," : "");
   }
   if (periods.size() > kPeriodsShown)
-    out += format(" and %.0f more", static_cast<double>(periods.size() - kPeriodsShown));
+    out += format_numbers(" and %.0f more", static_cast<double>(periods.size() - kPeriodsShown));
   return out + (periods.empty() ? " never\n" : "\n");
 }
 
@@ -332,16 +327,16 @@ std::string format_periods(const std::vector<DegradedPeriod>& periods) {
 std::string format_live_summary(const Scene& scene, const LiveSession& s) {
   const StationSettings& st = scene.station;
   std::string out = "station '" + st.name + "' (live: devices on DDS): ";
-  out += format("%.0f Hz loop, liver every %.0f ms, display latency %.0f ms\n", st.loop_rate_hz,
-                1e3 / st.tissue_rate_hz, st.display_latency_ms);
+  out += format_numbers("%.0f Hz loop, liver every %.0f ms, display latency %.0f ms\n", st.loop_rate_hz,
+                        1e3 / st.tissue_rate_hz, st.display_latency_ms);
   out += s.liver_model + "\n";
-  out += format(
+  out += format_numbers(
       "start-up: liver and reduced loop %.1f s (%.0f tetrahedra); resident memory %.1f MiB after it, %.1f MiB at "
       "most\n",
       s.build_s, static_cast<double>(s.liver.mesh.tets.size()), mebibytes(s.resident_after_start_up_bytes),
       mebibytes(s.peak_resident_bytes));
-  out += format("resident memory of the run: %.1f MiB when the loop started, %.1f MiB at its end\n",
-                mebibytes(s.run.resident_at_start_bytes), mebibytes(s.resident_at_end_bytes));
+  out += format_numbers("resident memory of the run: %.1f MiB when the loop started, %.1f MiB at its end\n",
+                        mebibytes(s.run.resident_at_start_bytes), mebibytes(s.resident_at_end_bytes));
   out += "real-time setup:";
   for (const SetupStep& step : s.run.realtime_setup) out += " " + step.name + ": " + outcome_name(step.outcome) + ";";
   out += io_setup_text(s.run);
@@ -364,66 +359,66 @@ std::string json_text(const std::string& text) {
 
 /// The JSON members of a run's tick figures (each line indented, ending with a comma).
 std::string steps_json(const StepStatistics& t) {
-  std::string out =
-      format("  \"ticks\": %.0f, \"step_us\": {\"median\": %.3f, \"p99\": %.3f, \"p999\": %.3f, \"p9999\": %.3f,",
-             static_cast<double>(t.ticks), t.median_us, t.p99_us, t.p999_us, t.p9999_us);
-  out += format(
+  std::string out = format_numbers(
+      "  \"ticks\": %.0f, \"step_us\": {\"median\": %.3f, \"p99\": %.3f, \"p999\": %.3f, \"p9999\": %.3f,",
+      static_cast<double>(t.ticks), t.median_us, t.p99_us, t.p999_us, t.p9999_us);
+  out += format_numbers(
       " \"max\": %.3f},\n  \"jitter_us\": %.3f, \"lateness_us\": {\"p99\": %.3f, \"p9999\": %.3f, \"max\": %.3f},\n",
       t.max_us, t.jitter_us, t.lateness_p99_us, t.lateness_p9999_us, t.max_lateness_us);
-  out += format("  \"max_lateness_us\": %.3f, \"late_over_1ms\": %.0f,", t.max_lateness_us,
-                static_cast<double>(t.late_over_1ms));
-  return out + format(" \"deadline_misses\": %.0f, \"skipped_ticks\": %.0f,\n", static_cast<double>(t.deadline_misses),
-                      static_cast<double>(t.skipped_ticks));
+  out += format_numbers("  \"max_lateness_us\": %.3f, \"late_over_1ms\": %.0f,", t.max_lateness_us,
+                        static_cast<double>(t.late_over_1ms));
+  return out + format_numbers(" \"deadline_misses\": %.0f, \"skipped_ticks\": %.0f,\n",
+                              static_cast<double>(t.deadline_misses), static_cast<double>(t.skipped_ticks));
 }
 
 }  // namespace
 
 std::string session_json(const Scene& scene, const StationSession& s) {
   std::string out = "{\n  \"scene\": \"" + json_text(scene.station.name) + "\",\n" + steps_json(s.run.steps);
-  out += format("  \"tumour_now_rms_mm\": {\"assimilated\": %.4f, \"without\": %.4f},\n",
-                1e3 * s.assimilated.tumour_now_rms_m, 1e3 * s.without.tumour_now_rms_m);
-  out += format("  \"tumour_ahead_rms_mm\": {\"assimilated\": %.4f, \"without\": %.4f},\n",
-                1e3 * s.assimilated.tumour_ahead_rms_m, 1e3 * s.without.tumour_ahead_rms_m);
+  out += format_numbers("  \"tumour_now_rms_mm\": {\"assimilated\": %.4f, \"without\": %.4f},\n",
+                        1e3 * s.assimilated.tumour_now_rms_m, 1e3 * s.without.tumour_now_rms_m);
+  out += format_numbers("  \"tumour_ahead_rms_mm\": {\"assimilated\": %.4f, \"without\": %.4f},\n",
+                        1e3 * s.assimilated.tumour_ahead_rms_m, 1e3 * s.without.tumour_ahead_rms_m);
   if (!s.world.needle_tip_truth_m.empty()) {
     const NeedlePeaks n = needle_peaks(s.run.ticks);
-    out += format(
+    out += format_numbers(
         "  \"needle\": {\"tip_force_peak_n\": %.4f, \"punctures\": %.0f, \"truth_tip_force_peak_n\": %.4f, "
         "\"truth_punctures\": %.0f},\n",
         n.tip_force_n, static_cast<double>(n.punctures), s.world.needle_peak_tip_force_n,
         static_cast<double>(s.world.needle_punctures));
   }
-  out += format("  \"needle_tip_rms_mm\": %.4f, \"display_latency_ms\": %.1f\n}\n",
-                1e3 * s.assimilated.needle_tip_rms_m, 1e-6 * static_cast<double>(s.display_latency_ns));
+  out += format_numbers("  \"needle_tip_rms_mm\": %.4f, \"display_latency_ms\": %.1f\n}\n",
+                        1e3 * s.assimilated.needle_tip_rms_m, 1e-6 * static_cast<double>(s.display_latency_ns));
   return out;
 }
 
 std::string live_session_json(const Scene& scene, const LiveSession& s) {
   std::string out = "{\n  \"scene\": \"" + json_text(scene.station.name) + "\",\n  \"liver_model\": \"" +
                     json_text(s.liver_model) + "\",\n";
-  out += format("  \"start_up_s\": %.3f, \"resident_mib\": {\"after_start_up\": %.2f, \"peak\": %.2f,", s.build_s,
-                mebibytes(s.resident_after_start_up_bytes), mebibytes(s.peak_resident_bytes));
-  out += format(" \"at_loop_start\": %.2f, \"at_end\": %.2f},\n", mebibytes(s.run.resident_at_start_bytes),
-                mebibytes(s.resident_at_end_bytes));
+  out += format_numbers("  \"start_up_s\": %.3f, \"resident_mib\": {\"after_start_up\": %.2f, \"peak\": %.2f,",
+                        s.build_s, mebibytes(s.resident_after_start_up_bytes), mebibytes(s.peak_resident_bytes));
+  out += format_numbers(" \"at_loop_start\": %.2f, \"at_end\": %.2f},\n", mebibytes(s.run.resident_at_start_bytes),
+                        mebibytes(s.resident_at_end_bytes));
   out += steps_json(s.run.steps);
   const DdsRunReport d = s.run.dds.value_or(DdsRunReport{});
-  out += format(
+  out += format_numbers(
       "  \"poses_received\": %.0f, \"frames_received\": %.0f, \"samples_accepted\": %.0f, \"samples_refused\": %.0f,",
       static_cast<double>(d.poses_received), static_cast<double>(d.frames_received),
       static_cast<double>(d.boundary.accepted), static_cast<double>(dds::refused_as_invalid(d.boundary)));
-  out += format(" \"poses_lost\": %.0f, \"frames_lost\": %.0f,", static_cast<double>(d.poses_lost),
-                static_cast<double>(d.frames_lost));
+  out += format_numbers(" \"poses_lost\": %.0f, \"frames_lost\": %.0f,", static_cast<double>(d.poses_lost),
+                        static_cast<double>(d.frames_lost));
   out += "\n  \"refused_by_input\": {";
   for (std::size_t i = 0; i < dds::kStationInputCount; ++i)
     out += std::string(i == 0 ? "\"" : ", \"") + dds::station_input_name(static_cast<dds::StationInput>(i)) +
            "\": " + std::to_string(d.input_refused[i]);
   out += "},";
-  out += format(" \"forces_published\": %.0f, \"forces_dropped\": %.0f,", static_cast<double>(d.forces_published),
-                static_cast<double>(d.forces_dropped));
-  return out + format(" \"outputs_published\": %.0f\n}\n", static_cast<double>(d.outputs_published));
+  out += format_numbers(" \"forces_published\": %.0f, \"forces_dropped\": %.0f,",
+                        static_cast<double>(d.forces_published), static_cast<double>(d.forces_dropped));
+  return out + format_numbers(" \"outputs_published\": %.0f\n}\n", static_cast<double>(d.outputs_published));
 }
 
 std::vector<PlotSeries> error_series(const StationSession& s) {
-  const std::string ahead = format("tumour at +%.0f ms", 1e-6 * static_cast<double>(s.display_latency_ns));
+  const std::string ahead = format_numbers("tumour at +%.0f ms", 1e-6 * static_cast<double>(s.display_latency_ns));
   return {tumour_series(s, s.run.ticks, false, {"tumour now, assimilated", "#1f77b4", false, {}, {}}),
           tumour_series(s, s.run.ticks, true, {ahead + ", assimilated", "#2ca02c", false, {}, {}}),
           tumour_series(s, s.open_loop.ticks, false, {"tumour now, without", "#d62728", true, {}, {}}),

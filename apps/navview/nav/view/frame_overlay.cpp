@@ -11,9 +11,9 @@
 namespace nav::view {
 namespace {
 
-constexpr int kNeedleThicknessPx = 3;
+constexpr int kFrameNeedleThicknessPx = 3;
 constexpr int kEllipseThicknessPx = 2;
-constexpr double kTargetRadiusPx = 4.0;
+constexpr double kFrameTargetRadiusPx = 4.0;
 
 /// The radius, in standard deviations, of the 2-D Gaussian's kEllipseProbability contour.
 double ellipse_radius_sigmas() { return std::sqrt(-2.0 * std::log(1.0 - kEllipseProbability)); }
@@ -88,7 +88,7 @@ void draw_frame_panel(cv::Mat& panel, const dds::UltrasoundFrame& frame, const d
   if (needle != nullptr) {
     for (std::uint32_t i = 1; i < needle->point_count; ++i) {
       draw_segment(panel, to_panel(needle->shape_points_m[i - 1]), to_panel(needle->shape_points_m[i]),
-                   palette::kNeedle, kNeedleThicknessPx);
+                   palette::kNeedle, kFrameNeedleThicknessPx);
     }
   }
   if (prediction != nullptr) {
@@ -98,7 +98,7 @@ void draw_frame_panel(cv::Mat& panel, const dds::UltrasoundFrame& frame, const d
                         static_cast<int>(std::lround(ellipse.half_axis_minor_px * kFixed)));
     cv::ellipse(panel, to_fixed_point(ellipse.centre_px), axes, ellipse.major_axis_angle_deg, 0.0, 360.0,
                 palette::kUncertainty, kEllipseThicknessPx, cv::LINE_AA, kSubpixelBits);
-    draw_marker(panel, ellipse.centre_px, kTargetRadiusPx, palette::kTarget);
+    draw_marker(panel, ellipse.centre_px, kFrameTargetRadiusPx, palette::kTarget);
   }
 }
 

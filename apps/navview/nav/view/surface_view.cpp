@@ -13,8 +13,8 @@ namespace {
 
 constexpr double kFitFraction = 0.9;
 constexpr double kAmbientLight = 0.3;  // the rest is a headlight along the view direction
-constexpr int kNeedleThicknessPx = 2;
-constexpr double kTargetRadiusPx = 4.0;
+constexpr int kSurfaceNeedleThicknessPx = 2;
+constexpr double kSurfaceTargetRadiusPx = 4.0;
 constexpr double kTipRadiusPx = 3.0;   // the needle's tip when only the tip is known
 constexpr double kForcePxPerN = 60.0;  // the tip force arrow's length per newton (in the screen plane)
 constexpr double kForceMaxPx = 90.0;
@@ -49,7 +49,7 @@ void draw_needle(cv::Mat& panel, const OrthoCamera& camera, const dds::NeedleSta
   }
   for (std::uint32_t i = 1; i < needle.point_count; ++i)
     draw_segment(panel, camera.to_panel(needle.shape_points_m[i - 1]), camera.to_panel(needle.shape_points_m[i]),
-                 palette::kNeedle, kNeedleThicknessPx);
+                 palette::kNeedle, kSurfaceNeedleThicknessPx);
   if (needle.point_count == 1) draw_marker(panel, tip, kTipRadiusPx, palette::kNeedle);
 }
 
@@ -136,7 +136,7 @@ void SurfacePainter::draw(cv::Mat& panel, const OrthoCamera& camera, const dds::
   }
   if (needle != nullptr) draw_needle(panel, camera, *needle);
   if (prediction != nullptr)
-    draw_marker(panel, camera.to_panel(prediction->position_m), kTargetRadiusPx, palette::kTarget);
+    draw_marker(panel, camera.to_panel(prediction->position_m), kSurfaceTargetRadiusPx, palette::kTarget);
 }
 
 }  // namespace nav::view
