@@ -20,13 +20,13 @@ std::size_t count_of(const std::string& text, const std::string& part) {
 }
 
 /// One record of the JSON: its model, r, step median and errors.
-struct Record {
+struct TradeoffRecord {
   std::string model;
   double r = 0.0, step_us = 0.0, error_rms_m = 0.0, error_pct = 0.0, vs_corotational_pct = 0.0;
 };
 
-std::vector<Record> records_of(const std::string& json) {
-  std::vector<Record> records;
+std::vector<TradeoffRecord> tradeoff_records_of(const std::string& json) {
+  std::vector<TradeoffRecord> records;
   for (std::size_t at = json.find("{\"mesh\""); at != std::string::npos; at = json.find("{\"mesh\"", at + 1)) {
     const std::string line = json.substr(at, json.find('}', at) - at);
     const std::size_t model = line.find("\"model\": \"") + 10;
@@ -39,18 +39,18 @@ std::vector<Record> records_of(const std::string& json) {
   return records;
 }
 
-const Record* find(const std::vector<Record>& records, const std::string& model, double r) {
-  for (const Record& record : records)
+const TradeoffRecord* find(const std::vector<TradeoffRecord>& records, const std::string& model, double r) {
+  for (const TradeoffRecord& record : records)
     if (record.model == model && record.r == r) return &record;
   return nullptr;
 }
 
 /// The records no other record beats in both step time and error (as the plot draws them).
-std::size_t pareto_count(const std::vector<Record>& records) {
+std::size_t pareto_count(const std::vector<TradeoffRecord>& records) {
   std::size_t count = 0;
-  for (const Record& a : records) {
+  for (const TradeoffRecord& a : records) {
     bool dominated = false;
-    for (const Record& b : records)
+    for (const TradeoffRecord& b : records)
       dominated = dominated || (&a != &b && b.step_us <= a.step_us && b.error_rms_m <= a.error_rms_m &&
                                 (b.step_us < a.step_us || b.error_rms_m < a.error_rms_m));
     count += dominated ? 0 : 1;
@@ -82,19 +82,19 @@ TEST(NavbenchTradeoff, QuickRunWritesRecordsAndParetoPlot) {
   // reference in % of its displacement: corotational is the closest full-order rung and linear
   // clearly worse at these displacements; a POD basis on corotational forces converges to the
   // full-order corotational model as r grows; every linear rung keeps the linear model's error.
-  const std::vector<Record> parsed = records_of(records);
+  const std::vector<TradeoffRecord> parsed = tradeoff_records_of(records);
   ASSERT_EQ(parsed.size(), record_count);
-  const Record* corotational = find(parsed, "corotational_full", 0);
-  const Record* linear = find(parsed, "linear_full", 0);
-  const Record* pod4 = find(parsed, "pod_corotational", 4);
-  const Record* pod16 = find(parsed, "pod_corotational", 16);
+  const TradeoffRecord* corotational = find(parsed, "corotational_full", 0);
+  const TradeoffRecord* linear = find(parsed, "linear_full", 0);
+  const TradeoffRecord* pod4 = find(parsed, "pod_corotational", 4);
+  const TradeoffRecord* pod16 = find(parsed, "pod_corotational", 16);
   ASSERT_TRUE(corotational && linear && pod4 && pod16) << records;
   EXPECT_LE(corotational->error_pct, 6.0);
   EXPECT_GE(linear->error_pct, 1.8 * corotational->error_pct);
   EXPECT_LE(pod16->vs_corotational_pct, 6.0);
   EXPECT_LT(pod16->error_rms_m, pod4->error_rms_m);
   EXPECT_LE(pod4->vs_corotational_pct, 12.0);
-  for (const Record& r : parsed) {
+  for (const TradeoffRecord& r : parsed) {
     EXPECT_GT(r.error_pct, 0.0) << r.model;
     EXPECT_LE(r.error_pct, 15.0) << r.model << " r " << r.r;
     if (r.model.find("linear") != std::string::npos) {

@@ -23,7 +23,7 @@
 
 namespace {
 
-nav::testing::CommandRun navtool(const std::string& arguments, const std::string& streams = "2>&1") {
+nav::testing::CommandRun run_navtool(const std::string& arguments, const std::string& streams = "2>&1") {
   return nav::testing::run_command(nav::testing::executable_path("navtool") + " " + arguments + " " + streams);
 }
 
@@ -51,9 +51,9 @@ TEST(NavtoolReduce, PodArtifactReportsEnergyAndCubatureAndLoadsForItsMeshOnly) {
   LIVER_OR_SKIP(dir);
   const std::string out = nav::testing::temporary_path("reduce_pod.navrb");
   const auto run =
-      navtool("reduce --liver-dir " + dir +
-                  " --tets 1000 --method pod --r 12 --force corotational --samples 40 --out " + out + " --json",
-              "2>/dev/null");
+      run_navtool("reduce --liver-dir " + dir +
+                      " --tets 1000 --method pod --r 12 --force corotational --samples 40 --out " + out + " --json",
+                  "2>/dev/null");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::vector<double> energy = json_array(run.output, "captured_energy_fraction");
   ASSERT_EQ(energy.size(), 12u) << run.output;
@@ -85,13 +85,13 @@ TEST(NavtoolReduce, VibrationModesReportAscendingFrequencies) {
   LIVER_OR_SKIP(dir);
   const std::string out = nav::testing::temporary_path("reduce_modes.navrb");
   const auto table =
-      navtool("reduce --liver-dir " + dir + " --tets 1000 --method modes --r 6 --force linear --out " + out);
+      run_navtool("reduce --liver-dir " + dir + " --tets 1000 --method modes --r 6 --force linear --out " + out);
   ASSERT_EQ(table.exit_code, 0) << table.output;
   EXPECT_NE(table.output.find("frequency (Hz"), std::string::npos) << table.output;
   EXPECT_NE(table.output.find("written: " + out), std::string::npos);
-  const auto run =
-      navtool("reduce --liver-dir " + dir + " --tets 1000 --method modes --r 6 --force linear --out " + out + " --json",
-              "2>/dev/null");
+  const auto run = run_navtool(
+      "reduce --liver-dir " + dir + " --tets 1000 --method modes --r 6 --force linear --out " + out + " --json",
+      "2>/dev/null");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::vector<double> hz = json_array(run.output, "mode_frequency_hz");
   ASSERT_EQ(hz.size(), 6u) << run.output;
@@ -108,11 +108,11 @@ TEST(NavtoolReduce, ExtendKeepsTheLowerColumnsAndMakesALadderWithoutTransferLoss
   const std::string upper = nav::testing::temporary_path("reduce_upper.navrb");
   const std::string mesh_args = "reduce --liver-dir " + dir + " --tets 500 ";
   const auto made =
-      navtool(mesh_args + "--method pod --r 6 --force corotational --samples 30 --out " + lower, "2>/dev/null");
+      run_navtool(mesh_args + "--method pod --r 6 --force corotational --samples 30 --out " + lower, "2>/dev/null");
   ASSERT_EQ(made.exit_code, 0) << made.output;
   const auto run =
-      navtool(mesh_args + "--extend " + lower + " --r 10 --samples 30 --load-scale 3 --out " + upper + " --json",
-              "2>/dev/null");
+      run_navtool(mesh_args + "--extend " + lower + " --r 10 --samples 30 --load-scale 3 --out " + upper + " --json",
+                  "2>/dev/null");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("\"lower_r\": 6"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("\"r\": 10"), std::string::npos) << run.output;
@@ -168,7 +168,7 @@ TEST(NavtoolReduce, ExtendKeepsTheLowerColumnsAndMakesALadderWithoutTransferLoss
        "--force linear differs from the lower rung's"},
   };
   for (const auto& c : cases) {
-    const auto refused = navtool(c.arguments);
+    const auto refused = run_navtool(c.arguments);
     EXPECT_EQ(refused.exit_code, 2) << c.arguments << "\n" << refused.output;
     EXPECT_NE(refused.output.find(c.expected), std::string::npos) << c.arguments << "\n" << refused.output;
     EXPECT_NE(refused.output.find(lower), std::string::npos) << c.arguments << "\n" << refused.output;
@@ -186,15 +186,15 @@ TEST(NavtoolReduce, AWidenedTrainingLeavesOutAndNamesTheLoadsTheFullOrderCannotS
   const std::string lower = nav::testing::temporary_path("reduce_wide_lower.navrb");
   const std::string upper = nav::testing::temporary_path("reduce_wide_upper.navrb");
   const std::string mesh_args = "reduce --liver-dir " + dir + " --tets 500 ";
-  const auto made = navtool(
+  const auto made = run_navtool(
       mesh_args + "--method pod --r 6 --force corotational --samples 30 --out " + lower + " --json", "2>/dev/null");
   ASSERT_EQ(made.exit_code, 0) << made.output;
   EXPECT_NE(made.output.find("\"skipped_loads\": []"), std::string::npos) << made.output;
   // 12 times the needle forces and diaphragm displacements: the diaphragm moves (6 cm) invert
   // elements of the full order; they are left out, the rest trains the upper rung.
   const auto run =
-      navtool(mesh_args + "--extend " + lower + " --r 10 --samples 30 --load-scale 12 --out " + upper + " --json",
-              "2>/dev/null");
+      run_navtool(mesh_args + "--extend " + lower + " --r 10 --samples 30 --load-scale 12 --out " + upper + " --json",
+                  "2>/dev/null");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::size_t at = run.output.find("\"skipped_loads\": [");
   ASSERT_NE(at, std::string::npos) << run.output;
@@ -234,7 +234,7 @@ TEST(NavtoolReduce, BadArgumentsAndMissingFilesExitWithTwoAndSayWhy) {
       {"--mesh " + mesh + " --extend " + corrupt + " --r 4 --load-scale 0 --out " + out, "--load-scale wants a factor"},
   };
   for (const auto& c : cases) {
-    const auto run = navtool("reduce " + c.arguments);
+    const auto run = run_navtool("reduce " + c.arguments);
     EXPECT_EQ(run.exit_code, 2) << c.arguments << "\n" << run.output;
     EXPECT_NE(run.output.find(c.expected), std::string::npos) << c.arguments << "\n" << run.output;
   }

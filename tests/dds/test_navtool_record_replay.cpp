@@ -20,7 +20,7 @@ namespace {
 using namespace testing;
 using nav::testing::ChildProcess;
 
-const std::string kNavtool = std::string(NAV_BIN_DIR) + "/navtool";
+const std::string kNavtoolPath = std::string(NAV_BIN_DIR) + "/navtool";
 constexpr auto kProcessTimeout = std::chrono::seconds(60);
 
 /// Every record of a recording, by (topic, source time), as its CDR payload.
@@ -67,10 +67,10 @@ TEST(NavtoolRecordReplay, ReplayedRecordingIsRecordedUnchangedAndSigtermClosesIt
   const RecordedPayloads written = write_input_recording(input);
   ASSERT_EQ(written.size(), 24u);
 
-  ChildProcess recorder({kNavtool, "record", "--out", output, "--duration-s", "120", "--domain", "160"},
+  ChildProcess recorder({kNavtoolPath, "record", "--out", output, "--duration-s", "120", "--domain", "160"},
                         nav::testing::temporary_path("navtool_cli_record.log"));
   ASSERT_TRUE(recorder.started());
-  ChildProcess player({kNavtool, "replay", input, "--wait-for-readers-s", "30", "--domain", "160"},
+  ChildProcess player({kNavtoolPath, "replay", input, "--wait-for-readers-s", "30", "--domain", "160"},
                       nav::testing::temporary_path("navtool_cli_replay.log"));
   EXPECT_EQ(player.wait(kProcessTimeout), 0) << player.log();
   EXPECT_NE(player.log().find("replayed 24 samples, skipped 0"), std::string::npos) << player.log();
@@ -115,7 +115,7 @@ TEST(NavtoolRecordReplay, TruncatedRecordingPlaysItsIntactPartAndNamesTheOffset)
   std::filesystem::resize_file(input, fourth_record_offset + 10);
   // Nobody listens on this domain: a short wait for readers keeps the test quick.
   ChildProcess player(
-      {kNavtool, "replay", input, "--as-fast-as-possible", "--wait-for-readers-s", "0.1", "--domain", "161"},
+      {kNavtoolPath, "replay", input, "--as-fast-as-possible", "--wait-for-readers-s", "0.1", "--domain", "161"},
       nav::testing::temporary_path("navtool_cli_truncated.log"));
   EXPECT_EQ(player.wait(kProcessTimeout), 1) << player.log();
   const std::string log = player.log();
@@ -125,9 +125,9 @@ TEST(NavtoolRecordReplay, TruncatedRecordingPlaysItsIntactPartAndNamesTheOffset)
 
 TEST(NavtoolRecordReplay, MalformedCommandLinesAreRefused) {
   for (const std::vector<std::string>& args :
-       {std::vector<std::string>{kNavtool, "replay", "x.navrec", "--wait-for-readers-s", "-1"},
-        std::vector<std::string>{kNavtool, "replay", "x.navrec", "--wait-for-readers-s"},
-        std::vector<std::string>{kNavtool, "record", "--duration-s", "1"}}) {
+       {std::vector<std::string>{kNavtoolPath, "replay", "x.navrec", "--wait-for-readers-s", "-1"},
+        std::vector<std::string>{kNavtoolPath, "replay", "x.navrec", "--wait-for-readers-s"},
+        std::vector<std::string>{kNavtoolPath, "record", "--duration-s", "1"}}) {
     ChildProcess tool(args, nav::testing::temporary_path("navtool_cli_usage.log"));
     EXPECT_EQ(tool.wait(kProcessTimeout), 2) << args[1] << " " << args.back();
     EXPECT_NE(tool.log().find("usage: navtool"), std::string::npos) << tool.log();

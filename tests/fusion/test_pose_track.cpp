@@ -345,7 +345,7 @@ TEST(PoseTrack, BadOptionsNameTheirField) {
 /// A noisy 1 kHz stream with a dropout, a NaN, a backward timestamp, an outlier and a
 /// persistent jump; every push and a 1 kHz query offset by 0.4 ms. Returns every output
 /// bit, and counts allocations.
-std::vector<double> scripted_run(std::size_t* allocations) {
+std::vector<double> scripted_track_run(std::size_t* allocations) {
   PoseTrackOptions options;
   options.fit_window_ns = 5 * kNsPerMs;  // the fitted extrapolation
   PoseTrack track = make_track(options);
@@ -381,7 +381,7 @@ std::vector<double> scripted_run(std::size_t* allocations) {
 }
 
 TEST(PoseTrack, StepsNeverAllocateAndRepeatBitwise) {
-  const std::vector<double> first = testing::expect_allocation_free_and_repeatable(scripted_run);
+  const std::vector<double> first = testing::expect_allocation_free_and_repeatable(scripted_track_run);
   ASSERT_EQ(first.size(), 4000u * 9u);
   // The script's faults were all seen, each at its tick, and the track ends healthy.
   constexpr std::size_t kPerTick = 9;

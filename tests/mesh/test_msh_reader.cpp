@@ -9,14 +9,14 @@ namespace {
 using nav::LengthUnit;
 using Tets = std::vector<std::array<std::int32_t, 4>>;
 
-nav::TetMesh load(const char* name) {
+nav::TetMesh load_msh(const char* name) {
   auto mesh = nav::load_msh_tet_mesh(nav::testing::test_data_path(std::string("mesh/") + name), LengthUnit::metre);
   EXPECT_TRUE(mesh.ok()) << mesh.error().describe();
   return mesh.ok() ? std::move(mesh).value() : nav::TetMesh{};
 }
 
 TEST(MshReader, Version22RemapsSparseTagsInFileOrderAndKeepsPhysicalTags) {
-  const nav::TetMesh mesh = load("cube_v22.msh");
+  const nav::TetMesh mesh = load_msh("cube_v22.msh");
   ASSERT_EQ(mesh.nodes_m.size(), 8u);
   EXPECT_EQ(mesh.nodes_m[2], (nav::Point3{1, 1, 0}));  // tag 17, third in $Nodes
   const Tets expected{{0, 1, 2, 6}, {0, 1, 6, 5}, {0, 3, 6, 2}, {0, 3, 7, 6}, {0, 4, 5, 6}, {0, 4, 6, 7}};
@@ -25,7 +25,7 @@ TEST(MshReader, Version22RemapsSparseTagsInFileOrderAndKeepsPhysicalTags) {
 }
 
 TEST(MshReader, Version41ReadsNodeBlocksAndTakesTheVolumesPhysicalTag) {
-  const nav::TetMesh mesh = load("cube_v41.msh");
+  const nav::TetMesh mesh = load_msh("cube_v41.msh");
   ASSERT_EQ(mesh.nodes_m.size(), 8u);
   EXPECT_EQ(mesh.nodes_m[7], (nav::Point3{0, 1, 1}));
   const Tets expected{{0, 1, 3, 4}, {2, 1, 6, 3}, {5, 1, 4, 6}, {7, 3, 6, 4}, {1, 3, 4, 6}};

@@ -14,18 +14,18 @@ using nav::LengthUnit;
 
 const char* const kBallFiles[] = {"gmsh_ball_v22.msh", "gmsh_ball_v41.msh", "gmsh_ball.vtk", "gmsh_ball.vtu"};
 
-nav::TetMesh load(const std::string& name) {
+nav::TetMesh load_ball(const std::string& name) {
   auto mesh = nav::load_tet_mesh(nav::testing::test_data_path("mesh/" + name), LengthUnit::millimetre);
   EXPECT_TRUE(mesh.ok()) << mesh.error().describe();
   return mesh.ok() ? std::move(mesh).value() : nav::TetMesh{};
 }
 
 TEST(RealWriterFiles, AllFormatsGiveTheSameValidMesh) {
-  const nav::TetMesh reference = load(kBallFiles[0]);
+  const nav::TetMesh reference = load_ball(kBallFiles[0]);
   ASSERT_EQ(reference.nodes_m.size(), 247u);
   ASSERT_EQ(reference.tets.size(), 940u);
   for (const char* name : kBallFiles) {
-    const nav::TetMesh mesh = load(name);
+    const nav::TetMesh mesh = load_ball(name);
     ASSERT_EQ(mesh.nodes_m.size(), reference.nodes_m.size()) << name;
     EXPECT_EQ(mesh.tets, reference.tets) << name;
     for (std::size_t n = 0; n < mesh.nodes_m.size(); ++n) {
@@ -39,7 +39,7 @@ TEST(RealWriterFiles, AllFormatsGiveTheSameValidMesh) {
 
 TEST(RealWriterFiles, MshPhysicalVolumesBecomeRegions) {
   for (const char* name : {kBallFiles[0], kBallFiles[1]}) {
-    const nav::TetMesh mesh = load(name);
+    const nav::TetMesh mesh = load_ball(name);
     ASSERT_EQ(mesh.tet_regions.size(), mesh.tets.size()) << name;
     double tumour_m3 = 0.0;
     for (std::size_t e = 0; e < mesh.tets.size(); ++e) {

@@ -6,6 +6,9 @@
 
 namespace nav::testing {
 
+/// The needle's insertion per tick in the insertion tests: 20 mm/s at 1 kHz.
+inline constexpr double kInsertionStepM = 2e-5;
+
 /// An 18 G steel needle of 15 cm in 20 elements, quasi-static with 5 Newton iterations.
 inline NeedleParameters quasi_static_needle(BeamTheory theory = BeamTheory::euler_bernoulli) {
   NeedleParameters p;

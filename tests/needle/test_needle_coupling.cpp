@@ -10,13 +10,14 @@
 #include "nav/needle/tissue_coupling.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 #include "needle_coupling_support.hpp"
+#include "needle_test_support.hpp"
 #include "support/allocation_guard.hpp"
 #include "tissue/tissue_test_support.hpp"
 
 namespace nav {
 namespace {
 
-constexpr double kBoxM = 0.04, kStepM = 2e-5, kPunctureN = 0.2;
+constexpr double kBoxM = 0.04, kPunctureN = 0.2;
 
 /// A 4 cm cube of 20 kPa tissue held at its bottom face, quasi-static corotational.
 struct Block {
@@ -39,11 +40,11 @@ NeedleTissueScene top_layer() { return testing::top_face_layer(0.5 * kBoxM, 0.5 
 std::pair<double, double> insert(const CoupledNeedleModel& model, CoupledNeedleData& data, double travel_m) {
   double largest_n = 0.0, at_puncture_m = -1.0;
   NeedleInputs inputs;
-  for (int s = 1; s * kStepM <= travel_m; ++s) {
-    inputs.base = above_block(s * kStepM);
+  for (int s = 1; s * testing::kInsertionStepM <= travel_m; ++s) {
+    inputs.base = above_block(s * testing::kInsertionStepM);
     step(model, data, inputs);
     largest_n = std::max(largest_n, data.interaction.report.contact_force_n);
-    if (at_puncture_m < 0.0 && data.interaction.report.punctures > 0) at_puncture_m = s * kStepM;
+    if (at_puncture_m < 0.0 && data.interaction.report.punctures > 0) at_puncture_m = s * testing::kInsertionStepM;
   }
   return {largest_n, at_puncture_m};
 }
@@ -69,7 +70,7 @@ TEST(NeedleCoupling, TheTissueCarriesTheContactForceAsItsNodeResponsePredicts) {
   NeedleInputs inputs;
   int s = 0;
   while (data.interaction.report.contact_force_n < 0.5 * kPunctureN && s < 2000) {
-    inputs.base = above_block(++s * kStepM);
+    inputs.base = above_block(++s * testing::kInsertionStepM);
     step(model, data, inputs);
   }
   ASSERT_LT(s, 2000);
@@ -106,7 +107,7 @@ TEST(NeedleCoupling, MultiRateTissueKeepsThePuncture) {
     EXPECT_GT(at_m, 0.005);  // after the 5 mm gap
   }
   // The multi-rate puncture comes within one tissue period of base travel of the other.
-  EXPECT_NEAR(results[1].second, results[0].second, 10 * kStepM + 1e-9);
+  EXPECT_NEAR(results[1].second, results[0].second, 10 * testing::kInsertionStepM + 1e-9);
 }
 
 TEST(NeedleCoupling, CoupledTicksAllocateNothingAndRepeatBitwise) {

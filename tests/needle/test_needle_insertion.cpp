@@ -16,7 +16,6 @@ using testing::drive_to;
 using testing::facing_layer;
 using testing::Sample;
 
-constexpr double kStepM = 2e-5;      // 20 mm/s at 1 kHz
 constexpr double kSurfaceX = 0.155;  // the needle's tip starts at x = 0.15
 
 NeedleTissueScene plate_scene(double friction_n_m) {
@@ -29,7 +28,7 @@ TEST(NeedleInsertion, PlatePunctureForceRisesToFpThenDropsToTheCuttingPlateau) {
   const NeedleTissueModel model = make_needle_tissue_model(NeedleParameters{}, plate_scene(0.0)).value();
   NeedleTissueData data = make_needle_tissue_data(model, {}).value();
   std::vector<Sample> record;
-  drive_to(model, data, 0.02, kStepM, record);
+  drive_to(model, data, 0.02, testing::kInsertionStepM, record);
   ASSERT_EQ(data.report.punctures, 1);
   const auto peak = std::max_element(record.begin(), record.end(), [](const Sample& a, const Sample& b) {
     return a.forces.total_n < b.forces.total_n;
@@ -54,13 +53,13 @@ TEST(NeedleInsertion, InsertionRetractionProfileShowsItsPhases) {
   const NeedleTissueModel model = make_needle_tissue_model(NeedleParameters{}, plate_scene(20.0)).value();
   NeedleTissueData data = make_needle_tissue_data(model, {}).value();
   std::vector<Sample> insert, hold, retract, reinsert, deeper, out;
-  drive_to(model, data, 0.035, kStepM, insert);  // 1: puncture, 2: friction growing with depth
+  drive_to(model, data, 0.035, testing::kInsertionStepM, insert);  // 1: puncture, 2: friction growing with depth
   const double front_depth_m = data.report.tip_depth_m;
-  for (int k = 0; k < 200; ++k) drive_to(model, data, 0.035, kStepM, hold);  // 3: hold
-  drive_to(model, data, 0.025, kStepM, retract);                             // 4: partial retraction
-  drive_to(model, data, 0.035, kStepM, reinsert);                            // 5: re-insertion along the path
-  drive_to(model, data, 0.040, kStepM, deeper);                              // ... and beyond the old front
-  drive_to(model, data, -0.01, kStepM, out);                                 // 6: full retraction
+  for (int k = 0; k < 200; ++k) drive_to(model, data, 0.035, testing::kInsertionStepM, hold);  // 3: hold
+  drive_to(model, data, 0.025, testing::kInsertionStepM, retract);                             // 4: partial retraction
+  drive_to(model, data, 0.035, testing::kInsertionStepM, reinsert);  // 5: re-insertion along the path
+  drive_to(model, data, 0.040, testing::kInsertionStepM, deeper);    // ... and beyond the old front
+  drive_to(model, data, -0.01, testing::kInsertionStepM, out);       // 6: full retraction
   // 2: friction grows with the inserted length: f_len per unit length, sampled every
   // path spacing (so within one spacing's worth of friction of f_len * depth).
   for (double depth_m : {0.012, 0.018, 0.024, 0.029}) {
@@ -112,7 +111,7 @@ TEST(NeedleInsertion, SignoriniAndCoulombHoldAfterCorrection) {
   int rows_seen = 0;
   for (int s = 1; s <= 2500; ++s) {
     // Insert with a lateral wobble of the base, so that lateral and axial forces both act.
-    const double x = std::min(0.04, kStepM * s);
+    const double x = std::min(0.04, testing::kInsertionStepM * s);
     inputs.needle.base.position_m = {x, 2e-3 * std::sin(2e-3 * s), 0.0};
     step(model, data, inputs);
     const double v = testing::violation_after_correction(model, data);
@@ -140,7 +139,7 @@ TEST(NeedleInsertion, StiffInclusionDeflectsTheNeedleUntilItsOwnPunctureForce) {
     NeedleTissueInputs inputs;
     double largest_normal_n = 0.0, lateral_m = 0.0;
     for (int s = 1; s <= 3000 && data.report.punctures < 2; ++s) {
-      inputs.needle.base.position_m = {kStepM * s, 0.0, 0.0};
+      inputs.needle.base.position_m = {testing::kInsertionStepM * s, 0.0, 0.0};
       lateral_m = needle_tip_m(data.needle).y();
       step(model, data, inputs);
       largest_normal_n = std::max(largest_normal_n, data.report.contact_force_n);
@@ -162,7 +161,7 @@ TEST(NeedleInsertion, FullPathPoolLosesTheNewestPointsAndFlagsIt) {
   const NeedleTissueModel model = make_needle_tissue_model(NeedleParameters{}, scene).value();
   NeedleTissueData data = make_needle_tissue_data(model, {}).value();
   std::vector<Sample> record;
-  drive_to(model, data, 0.06, kStepM, record);
+  drive_to(model, data, 0.06, testing::kInsertionStepM, record);
   EXPECT_TRUE(data.health.has(HealthFlag::pool_full));
   EXPECT_GT(data.report.lost_path_points, 0);
   EXPECT_EQ(data.report.active_path_points, 3);
@@ -178,7 +177,7 @@ TEST(NeedleInsertion, BevelSteeringIsASwitchAndCurvesThePathTowardsTheBevel) {
     const NeedleTissueModel model = make_needle_tissue_model(NeedleParameters{}, scene).value();
     NeedleTissueData data = make_needle_tissue_data(model, {}).value();
     std::vector<Sample> record;
-    drive_to(model, data, 0.04, kStepM, record);
+    drive_to(model, data, 0.04, testing::kInsertionStepM, record);
     // Tip offsets at 5, 20 and 35 mm deep.
     std::vector<double> offsets;
     for (double depth_m : {0.005, 0.02, 0.0349})
@@ -207,7 +206,7 @@ TEST(NeedleInsertion, StepsAllocateNothingAndRepeatBitwise) {
     NeedleTissueInputs inputs;
     testing::AllocationGuard guard;
     for (int s = 1; s <= 2000; ++s) {
-      inputs.needle.base.position_m = {kStepM * s, 1e-3 * std::sin(3e-3 * s), 0.0};
+      inputs.needle.base.position_m = {testing::kInsertionStepM * s, 1e-3 * std::sin(3e-3 * s), 0.0};
       step(model, data, inputs);
     }
     EXPECT_EQ(guard.allocations(), 0u);
@@ -220,7 +219,7 @@ TEST(NeedleInsertion, BadPoseLeavesTheInteractionUntouched) {
   const NeedleTissueModel model = make_needle_tissue_model(NeedleParameters{}, plate_scene(20.0)).value();
   NeedleTissueData data = make_needle_tissue_data(model, {}).value();
   std::vector<Sample> record;
-  drive_to(model, data, 0.02, kStepM, record);
+  drive_to(model, data, 0.02, testing::kInsertionStepM, record);
   const std::uint64_t before = testing::bits_hash({data.needle.positions_m, data.slot_forces});
   NeedleTissueInputs inputs;
   inputs.needle.base.position_m = {0.02 + 0.05, 0.0, 0.0};  // a 5 cm jump

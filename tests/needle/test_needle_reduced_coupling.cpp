@@ -26,7 +26,7 @@
 namespace nav {
 namespace {
 
-constexpr double kSideM = 0.04, kDepthM = 0.02, kStepM = 2e-5;
+constexpr double kSideM = 0.04, kDepthM = 0.02;
 
 /// A 4 x 4 x 2 cm slab of 20 kPa tissue in 1 cm elements, held at its bottom face.
 struct Slab {
@@ -62,7 +62,7 @@ NeedlePose above_slab(double lowered_m) {
   return testing::needle_above(0.5 * kSideM, 0.5 * kSideM, kDepthM, lowered_m);
 }
 
-NeedleTissueScene top_layer(double path_spacing_m = 0.003) {
+NeedleTissueScene slab_top_layer(double path_spacing_m = 0.003) {
   return testing::top_face_layer(0.5 * kSideM, 0.5 * kSideM, kDepthM, path_spacing_m);
 }
 
@@ -71,10 +71,11 @@ template <class Model, class Data>
 double insert(const Model& model, Data& data, double from_m, double travel_m) {
   double at_puncture_m = -1.0;
   NeedleInputs inputs;
-  for (int s = 1; s * kStepM <= travel_m + 1e-12; ++s) {
-    inputs.base = above_slab(from_m + s * kStepM);
+  for (int s = 1; s * testing::kInsertionStepM <= travel_m + 1e-12; ++s) {
+    inputs.base = above_slab(from_m + s * testing::kInsertionStepM);
     step(model, data, inputs);
-    if (at_puncture_m < 0.0 && data.interaction.report.punctures > 0) at_puncture_m = from_m + s * kStepM;
+    if (at_puncture_m < 0.0 && data.interaction.report.punctures > 0)
+      at_puncture_m = from_m + s * testing::kInsertionStepM;
   }
   return at_puncture_m;
 }
@@ -140,7 +141,7 @@ TEST(NeedleReducedCoupling, InsertionPuncturesAndDragsTheTissueAsTheFullOrderCou
   const ReducedModel reduced =
       reduced_slab(slab, slab.free_dofs(), ReducedForceKind::linear, ReducedIntegrator::quasi_static);
   // Neither misses any local compliance: the full order's nodes and a complete basis.
-  NeedleTissueScene complete = top_layer(0.01);
+  NeedleTissueScene complete = slab_top_layer(0.01);
   complete.point_compliance_m_per_n = 1e-8;
   const CoupledNeedleModel full_model = make_coupled_needle_model(NeedleParameters{}, complete, full, 32, 1).value();
   const ReducedCoupledNeedleModel reduced_model =
@@ -168,7 +169,7 @@ TEST(NeedleReducedCoupling, InsertionPuncturesAndDragsTheTissueAsTheFullOrderCou
   // every tick to its equilibrium: the puncture depth within 2 % (and one tick of lowering),
   // the drag within 2 %.
   EXPECT_NEAR(reduced_puncture_m / full_puncture_m, 1.0, 0.02);
-  EXPECT_NEAR(reduced_puncture_m, full_puncture_m, kStepM + 1e-9);
+  EXPECT_NEAR(reduced_puncture_m, full_puncture_m, testing::kInsertionStepM + 1e-9);
   EXPECT_EQ(reduced_points, full_points);
   EXPECT_NEAR(reduced_drag_m / full_drag_m, 1.0, 0.02);
 }
@@ -181,16 +182,16 @@ TEST(NeedleReducedCoupling, SignoriniAndCoulombHoldOnTheSteppedReducedTissue) {
   const ReducedModel tissue =
       reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::quasi_static);
   const ReducedCoupledNeedleModel model =
-      make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, 1).value();
+      make_coupled_needle_model(NeedleParameters{}, slab_top_layer(), tissue, slab.mesh, 32, 1).value();
   ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
   std::vector<double> before(data.displacements_m.size());
   double worst_m = 0.0;
   int checked = 0;
   NeedleInputs inputs;
   int last_rows = 0;
-  for (int s = 1; s * kStepM <= 0.012; ++s) {
+  for (int s = 1; s * testing::kInsertionStepM <= 0.012; ++s) {
     std::copy(data.displacements_m.begin(), data.displacements_m.end(), before.begin());
-    inputs.base = above_slab(s * kStepM);
+    inputs.base = above_slab(s * testing::kInsertionStepM);
     step(model, data, inputs);
     // Skip the ticks whose rows changed: a freed slot's force (the capsule's f_p at the
     // puncture) leaves the tissue at its step, unannounced to the solver (by design).
@@ -283,7 +284,7 @@ TEST(NeedleReducedCoupling, TheSolversComplianceIsHAInverseHTransposedPlusTheTis
   const ReducedModel tissue =
       reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::quasi_static);
   const ReducedCoupledNeedleModel model =
-      make_coupled_needle_model(NeedleParameters{}, top_layer(0.001), tissue, slab.mesh, 32, 1).value();
+      make_coupled_needle_model(NeedleParameters{}, slab_top_layer(0.001), tissue, slab.mesh, 32, 1).value();
   ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
   insert(model, data, 0.0, 0.012);
   ASSERT_GE(data.interaction.report.active_path_points, 4);
@@ -308,7 +309,8 @@ TEST(NeedleReducedCoupling, TheFullOrderSolversComplianceIsHAInverseHTransposedP
   // on each node along each axis (exact linear elements, quasi-static).
   const Slab slab;
   const TetFemModel full = make_tet_fem_model(slab.mesh, slab.scene, testing::exact_linear_options()).value();
-  const CoupledNeedleModel model = make_coupled_needle_model(NeedleParameters{}, top_layer(0.001), full, 32, 1).value();
+  const CoupledNeedleModel model =
+      make_coupled_needle_model(NeedleParameters{}, slab_top_layer(0.001), full, 32, 1).value();
   CoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
   insert(model, data, 0.0, 0.012);
   ASSERT_GE(data.interaction.report.active_path_points, 4);
@@ -344,7 +346,7 @@ TEST(NeedleReducedCoupling, MultiRateTissueKeepsThePuncture) {
   const int ratios[2] = {1, 10};
   for (int k = 0; k < 2; ++k) {
     const ReducedCoupledNeedleModel model =
-        make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, ratios[k]).value();
+        make_coupled_needle_model(NeedleParameters{}, slab_top_layer(), tissue, slab.mesh, 32, ratios[k]).value();
     ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
     at_m[k] = insert(model, data, 0.0, 0.012);
     int points = 0;
@@ -360,7 +362,7 @@ TEST(NeedleReducedCoupling, MultiRateTissueKeepsThePuncture) {
     EXPECT_FALSE(data.interaction.health.has(HealthFlag::non_finite_state));
   }
   EXPECT_GT(at_m[0], 0.005);
-  EXPECT_NEAR(at_m[1], at_m[0], 10 * kStepM + 1e-9);
+  EXPECT_NEAR(at_m[1], at_m[0], 10 * testing::kInsertionStepM + 1e-9);
 }
 
 TEST(NeedleReducedCoupling, CoupledTicksAllocateNothingAndRepeatBitwise) {
@@ -368,7 +370,7 @@ TEST(NeedleReducedCoupling, CoupledTicksAllocateNothingAndRepeatBitwise) {
   const ReducedModel tissue =
       reduced_slab(slab, 16, ReducedForceKind::corotational_cubature, ReducedIntegrator::implicit_euler);
   const ReducedCoupledNeedleModel model =
-      make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, 3).value();
+      make_coupled_needle_model(NeedleParameters{}, slab_top_layer(), tissue, slab.mesh, 32, 3).value();
   std::uint64_t hashes[2] = {0, 0};
   for (std::uint64_t& hash : hashes) {
     ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
@@ -386,7 +388,7 @@ TEST(NeedleReducedCoupling, TheMissingNodeComplianceMakesEachNodesComplianceTheF
   const TetFemModel full = make_tet_fem_model(slab.mesh, slab.scene, testing::exact_linear_options()).value();
   const ReducedModel reduced = reduced_slab(slab, 6, ReducedForceKind::linear, ReducedIntegrator::quasi_static);
   const ReducedCoupledNeedleModel model =
-      make_coupled_needle_model(NeedleParameters{}, top_layer(), reduced, slab.mesh, 32, 1).value();
+      make_coupled_needle_model(NeedleParameters{}, slab_top_layer(), reduced, slab.mesh, 32, 1).value();
   const auto missing = missing_node_compliance(model.interaction, full);
   ASSERT_TRUE(missing.ok()) << missing.error().describe();
   const std::size_t nodes = slab.mesh.nodes_m.size();
@@ -429,7 +431,7 @@ TEST(NeedleReducedCoupling, ATruncatedBasisWithItsMissingNodeCompliancePunctures
   const Slab slab;
   const TetFemModel full = make_tet_fem_model(slab.mesh, slab.scene, testing::exact_linear_options()).value();
   const ReducedModel reduced = reduced_slab(slab, 6, ReducedForceKind::linear, ReducedIntegrator::quasi_static);
-  NeedleTissueScene layer = top_layer(0.01);
+  NeedleTissueScene layer = slab_top_layer(0.01);
   layer.point_compliance_m_per_n = 1e-8;
   const CoupledNeedleModel full_model = make_coupled_needle_model(NeedleParameters{}, layer, full, 32, 1).value();
   ReducedCoupledNeedleModel truncated =
@@ -453,7 +455,7 @@ TEST(NeedleReducedCoupling, ATruncatedBasisWithItsMissingNodeCompliancePunctures
   // The tip's one contact point on one node: its compliance is the full order's again, so the
   // puncture force builds over the same lowering (within 1 % and one tick); the truncated
   // basis alone is stiffer there and punctures sooner.
-  EXPECT_NEAR(with_m, full_puncture_m, 0.01 * full_puncture_m + kStepM);
+  EXPECT_NEAR(with_m, full_puncture_m, 0.01 * full_puncture_m + testing::kInsertionStepM);
   EXPECT_LT(without_m, full_puncture_m - 0.1 * (full_puncture_m - 0.005));
   EXPECT_LT(with_data.interaction.report.residual_m, truncated.interaction.scene.residual_bound_m);
 }
@@ -461,18 +463,19 @@ TEST(NeedleReducedCoupling, ATruncatedBasisWithItsMissingNodeCompliancePunctures
 TEST(NeedleReducedCoupling, BadCouplingsAreRefusedByName) {
   const Slab slab;
   const ReducedModel tissue = reduced_slab(slab, 8, ReducedForceKind::linear, ReducedIntegrator::quasi_static);
-  const auto too_many = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 33, 1);
+  const auto too_many = make_coupled_needle_model(NeedleParameters{}, slab_top_layer(), tissue, slab.mesh, 33, 1);
   ASSERT_FALSE(too_many.ok());
   EXPECT_EQ(too_many.error().field, "max_point_forces");
   const TetMesh other = testing::box_mesh({kSideM, kSideM, kSideM}, 0.01);
-  const auto wrong_mesh = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, other, 32, 1);
+  const auto wrong_mesh = make_coupled_needle_model(NeedleParameters{}, slab_top_layer(), tissue, other, 32, 1);
   ASSERT_FALSE(wrong_mesh.ok());
   EXPECT_EQ(wrong_mesh.error().field, "mesh");
-  const auto no_rate = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, 0);
+  const auto no_rate = make_coupled_needle_model(NeedleParameters{}, slab_top_layer(), tissue, slab.mesh, 32, 0);
   ASSERT_FALSE(no_rate.ok());
   EXPECT_EQ(no_rate.error().field, "needle_steps_per_tissue_step");
   EXPECT_FALSE(reduced_compliance_factors(tissue, -1.0).ok());
-  const auto coupled = make_coupled_needle_model(NeedleParameters{}, top_layer(), tissue, slab.mesh, 32, 1).value();
+  const auto coupled =
+      make_coupled_needle_model(NeedleParameters{}, slab_top_layer(), tissue, slab.mesh, 32, 1).value();
   const TetFemModel cg = make_tet_fem_model(slab.mesh, slab.scene,
                                             [] {
                                               TissueSolverOptions o = testing::exact_linear_options();

@@ -30,13 +30,13 @@
 #include "nav/needle/tissue_surface.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "needle_coupling_support.hpp"
+#include "needle_test_support.hpp"
 #include "support/allocation_guard.hpp"
 
 namespace nav {
 namespace {
 
 constexpr int kTissueEvery = 10;          // the liver steps once every 10 needle ticks
-constexpr double kStepM = 2e-5;           // insertion per tick (20 mm/s at 1 kHz)
 constexpr double kStartOutsideM = 0.005;  // the tip starts this far before the capsule
 constexpr double kBesideM = 0.003;
 
@@ -185,9 +185,9 @@ std::vector<LayerEvents> insert(const Model& model, Data& data, const Eigen::Vec
                                 const Eigen::Vector3d& d, double travel_m) {
   std::vector<LayerEvents> events(data.interaction.layers.size());
   NeedleInputs inputs;
-  const int ticks = static_cast<int>(travel_m / kStepM);
+  const int ticks = static_cast<int>(travel_m / testing::kInsertionStepM);
   for (int tick = 1; tick <= ticks; ++tick) {
-    inputs.base = pose_for_tip(start_m + tick * kStepM * d, d);
+    inputs.base = pose_for_tip(start_m + tick * testing::kInsertionStepM * d, d);
     step(model, data, inputs);
     const Eigen::Vector3d tip = needle_tip_m(data.interaction.needle);
     for (std::size_t l = 0; l < events.size(); ++l) {
@@ -385,15 +385,15 @@ TEST_P(NeedleSurfaces, AimedAtTheTumourItPuncturesTheCapsuleThenTheTumourWhereIt
     ASSERT_GT(e[0].punctured_tick, 0) << "the capsule was not punctured";
     ASSERT_GT(e[1].punctured_tick, e[0].punctured_tick)
         << "the tumour was not punctured after the capsule; touched at tick " << e[1].touched_tick << " of "
-        << static_cast<int>(travel_m / kStepM) << ", phase " << static_cast<int>(data.interaction.layers[1].phase)
-        << ", contact force " << data.interaction.report.contact_force_n << " N, flags "
-        << data.interaction.health.bits();
+        << static_cast<int>(travel_m / testing::kInsertionStepM) << ", phase "
+        << static_cast<int>(data.interaction.layers[1].phase) << ", contact force "
+        << data.interaction.report.contact_force_n << " N, flags " << data.interaction.health.bits();
     const double capsule_m = beyond_crossing_m(l.capsule, e[0]), tumour_m = beyond_crossing_m(l.tumour, e[1]);
     std::printf(
         "capsule punctured %.2f mm past its crossing, tumour %.2f mm past its (element %.1f mm); "
         "tumour touched at insertion %.1f mm, punctured at %.1f mm\n",
-        capsule_m * 1e3, tumour_m * 1e3, element_length_m() * 1e3, e[1].touched_tick * kStepM * 1e3,
-        e[1].punctured_tick * kStepM * 1e3);
+        capsule_m * 1e3, tumour_m * 1e3, element_length_m() * 1e3, e[1].touched_tick * testing::kInsertionStepM * 1e3,
+        e[1].punctured_tick * testing::kInsertionStepM * 1e3);
     EXPECT_LT(capsule_m, element_length_m());
     EXPECT_LT(tumour_m, element_length_m());
     EXPECT_EQ(data.interaction.report.punctures, 2);
@@ -484,7 +484,7 @@ TEST_P(NeedleSurfaces, TicksAllocateNothingAndRepeatBitwise) {
       NeedleInputs inputs;
       const testing::AllocationGuard counter;
       for (int tick = 1; tick <= 300; ++tick) {
-        inputs.base = pose_for_tip(start + (0.01 + tick * kStepM) * d, d);
+        inputs.base = pose_for_tip(start + (0.01 + tick * testing::kInsertionStepM) * d, d);
         step(model, data, inputs);
       }
       EXPECT_EQ(counter.allocations(), 0u);

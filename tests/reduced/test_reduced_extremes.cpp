@@ -18,14 +18,14 @@ using testing::BeamScene;
 
 /// An 8 cm beam (1536 tetrahedra, 1200 free dofs), its corotational training snapshots under
 /// a tip force ramped to full load, and cubature bases built from them.
-struct Trained {
+struct TrainedModes {
   BeamScene beam{{0.08, 0.02, 0.02}, 0.005};
   TissueSolverOptions solver;
   PointForce tip{};
   std::vector<double> snapshots;
   static constexpr int kSnapshots = 8;
 
-  Trained() {
+  TrainedModes() {
     solver.integrator = Integrator::quasi_static;
     solver.cg_iterations = 3;
     tip = {static_cast<std::int32_t>(beam.mesh.nodes_m.size() - 1), {0.0, 0.01, -0.02}};
@@ -52,8 +52,8 @@ struct Trained {
   }
 };
 
-const Trained& trained() {
-  static const Trained instance;
+const TrainedModes& trained_modes() {
+  static const TrainedModes instance;
   return instance;
 }
 
@@ -64,7 +64,7 @@ bool all_finite(std::span<const double> values) {
 }
 
 void run_extremes(int r) {
-  const Trained& t = trained();
+  const TrainedModes& t = trained_modes();
   const ReducedBasis basis = t.basis(r);
   ASSERT_EQ(basis.basis_size, r);
   double bound = 0.0;
@@ -104,7 +104,7 @@ TEST(ReducedExtremes, SingleColumnBasis) { run_extremes(1); }
 TEST(ReducedExtremes, BasisOf128Columns) { run_extremes(128); }
 
 TEST(ReducedExtremes, IndicatorIsQuietInsideTheTrainingLoads) {
-  const Trained& t = trained();
+  const TrainedModes& t = trained_modes();
   const ReducedBasis basis = t.basis(8);
   ReducedSolverOptions options;
   options.integrator = ReducedIntegrator::quasi_static;

@@ -31,7 +31,7 @@ using testing::nodes_where;
 
 /// The beam, its full-order settings, training snapshots (quasi-static tip-force ramps to the
 /// full load and to 6 times it) and the POD of the first.
-struct Trained {
+struct TrainedLadder {
   BeamScene beam{{0.08, 0.02, 0.02}, 0.005};
   TissueSolverOptions training_solver;  ///< quasi-static, for the training snapshots
   PointForce tip{};
@@ -40,7 +40,7 @@ struct Trained {
   ReducedBasis small2, big2;  ///< small(2) and big(2), built once
   static constexpr int kSnapshots = 8, kWideSnapshots = 16, kExtra = 4;
 
-  Trained() {
+  TrainedLadder() {
     beam.scene.gravity_m_s2 = {0.0, 0.0, 0.0};  // the tip force alone: about 6 mm of sag at full load
     training_solver.integrator = Integrator::quasi_static;
     training_solver.cg_iterations = 3;
@@ -128,15 +128,15 @@ Settings quasi_static() {
   return s;
 }
 
-const Trained& trained() {
-  static const Trained instance;
+const TrainedLadder& trained_ladder() {
+  static const TrainedLadder instance;
   return instance;
 }
 
 /// The ladder small(r) -> big(r), optionally topped by the full order.
 ReducedLadderModel ladder_of(int r, bool full_order, const ReducedLadderOptions& options,
                              const Settings& settings = dynamic(0.01)) {
-  const Trained& t = trained();
+  const TrainedLadder& t = trained_ladder();
   const std::vector<ReducedRungSpec> rungs{{r == 2 ? t.small2 : t.small(r), settings.reduced},
                                            {r == 2 ? t.big2 : t.big(r), settings.reduced}};
   auto model = make_reduced_ladder_model(t.beam.mesh, t.beam.scene, settings.full, rungs, full_order, options);
@@ -174,7 +174,7 @@ double rms_distance(std::span<const double> a, std::span<const double> b) {
 
 /// Full-order displacements after each of `steps` steps of the ramp.
 std::vector<std::vector<double>> full_order_reference(int steps, const Settings& settings) {
-  const Trained& t = trained();
+  const TrainedLadder& t = trained_ladder();
   const TetFemModel full = make_tet_fem_model(t.beam.mesh, t.beam.scene, settings.full).value();
   auto data = make_tet_fem_data(full).value();
   std::vector<std::vector<double>> history;
@@ -189,7 +189,7 @@ std::vector<std::vector<double>> full_order_reference(int steps, const Settings&
 
 TEST(ReducedLadder, TransferCarriesASmallBasisStateExactly) {
   // A scene with a diaphragm region at the free end, so that the lift is carried too.
-  const Trained& t = trained();
+  const TrainedLadder& t = trained_ladder();
   TissueScene scene = t.beam.scene;
   scene.prescribed_nodes = nodes_where(t.beam.mesh, 0, 0.08);
   ReductionOptions modes;
@@ -255,7 +255,7 @@ LadderRun run_ramp(const ReducedLadderModel& ladder, const std::vector<std::vect
   LadderRun run;
   std::vector<double> before = all_displacements(ladder, data);
   for (std::size_t i = 0; i < reference.size(); ++i) {
-    step(ladder, data, trained().load(ramp(static_cast<int>(i))));
+    step(ladder, data, trained_ladder().load(ramp(static_cast<int>(i))));
     const std::vector<double> after = all_displacements(ladder, data);
     if (data.report.escalated && i > 0) {
       EXPECT_GT(data.report.envelope_ratio, 1.5);  // the lower rung's indicator fired
@@ -334,7 +334,7 @@ TEST(ReducedLadder, EscalationOffOnlyFlagsAndStaysOnItsRung) {
   const ReducedLadderModel ladder = ladder_of(2, true, off);
   auto data = make_reduced_ladder_data(ladder).value();
   // The rung alone, as a plain ReducedModel: the ladder must be bitwise the same.
-  const Trained& t = trained();
+  const TrainedLadder& t = trained_ladder();
   const ReducedModel alone =
       make_reduced_model(t.beam.mesh, t.beam.scene, dynamic(0.01).full, t.small2, dynamic(0.01).reduced).value();
   auto alone_data = make_reduced_data(alone).value();
@@ -358,7 +358,7 @@ TEST(ReducedLadder, FlaggedStepsCountBeforeEscalating) {
   auto data = make_reduced_ladder_data(ladder).value();
   int first_flag = -1, escalation = -1;
   for (int i = 0; i < 120 && escalation < 0; ++i) {
-    step(ladder, data, trained().load(ramp(i)));
+    step(ladder, data, trained_ladder().load(ramp(i)));
     if (first_flag < 0 && data.health.has(HealthFlag::reduced_out_of_envelope)) first_flag = i;
     if (data.report.escalated) escalation = i;
   }
@@ -372,12 +372,12 @@ TEST(ReducedLadder, StepsDownOnceTheLoadIsBackInsideTheSmallEnvelope) {
   options.de_escalation_residual = 0.05;
   const ReducedLadderModel ladder = ladder_of(2, false, options);
   auto data = make_reduced_ladder_data(ladder).value();
-  for (int i = 0; i < 100; ++i) step(ladder, data, trained().load(ramp(i)));
+  for (int i = 0; i < 100; ++i) step(ladder, data, trained_ladder().load(ramp(i)));
   ASSERT_EQ(data.active_rung, 1);
   double residual_at_switch = -1.0, jump_m = 0.0, released_m = 0.0;
   std::vector<double> before = all_displacements(ladder, data);
   for (int i = 0; i < 150 && residual_at_switch < 0.0; ++i) {
-    step(ladder, data, trained().load(0.3));
+    step(ladder, data, trained_ladder().load(0.3));
     const std::vector<double> after = all_displacements(ladder, data);
     if (data.report.de_escalated) {
       residual_at_switch = data.report.projection_residual;
@@ -397,7 +397,7 @@ TEST(ReducedLadder, StepsDownOnceTheLoadIsBackInsideTheSmallEnvelope) {
   EXPECT_LT(jump_m,
             2.0 * options.de_escalation_residual * released_m);  // what the small basis drops, largest nodal value
   // Hysteresis: at the released load the small rung stays inside its envelope.
-  for (int i = 0; i < 30; ++i) step(ladder, data, trained().load(0.3));
+  for (int i = 0; i < 30; ++i) step(ladder, data, trained_ladder().load(0.3));
   EXPECT_EQ(data.active_rung, 0);
   EXPECT_EQ(data.escalations, 1);
 }
@@ -409,7 +409,7 @@ std::uint64_t scripted_run(const ReducedLadderModel& ladder, std::size_t& alloca
   std::vector<double> u(3 * static_cast<std::size_t>(ladder.node_count()));
   {
     testing::AllocationGuard guard;
-    for (int i = 0; i < 110; ++i) step(ladder, data, trained().load(ramp(i)));
+    for (int i = 0; i < 110; ++i) step(ladder, data, trained_ladder().load(ramp(i)));
     reconstruct_all_displacements_m(ladder, data, u);
     allocations = guard.allocations();
   }
@@ -432,7 +432,7 @@ TEST(ReducedLadder, SingleColumnRungAtExtremeStepsStaysFinite) {
   for (double step_s : {1e-4, 1e-1}) {
     const ReducedLadderModel ladder = ladder_of(1, true, {}, dynamic(step_s));
     auto data = make_reduced_ladder_data(ladder).value();
-    for (int i = 0; i < 40; ++i) step(ladder, data, trained().load(5.0));
+    for (int i = 0; i < 40; ++i) step(ladder, data, trained_ladder().load(5.0));
     const std::vector<double> u = all_displacements(ladder, data);
     bool finite = true;
     for (double value : u) finite = finite && std::isfinite(value);
@@ -450,7 +450,7 @@ TEST(ReducedLadder, SingleColumnRungAtExtremeStepsStaysFinite) {
 }
 
 TEST(ReducedLadder, InitErrorsNameTheField) {
-  const Trained& t = trained();
+  const TrainedLadder& t = trained_ladder();
   std::vector<ReducedRungSpec> rungs{{t.big2, dynamic(0.01).reduced}, {t.small2, dynamic(0.01).reduced}};
   auto field = [&](bool full, const ReducedLadderOptions& options, const TissueSolverOptions& solver) {
     return make_reduced_ladder_model(t.beam.mesh, t.beam.scene, solver, rungs, full, options).error().field;

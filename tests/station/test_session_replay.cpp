@@ -17,9 +17,9 @@
 namespace nav::station {
 namespace {
 
-constexpr TimeNs kStartNs = 1'000 * kNsPerSecond;  // the recording host's monotonic clock
-constexpr TimeNs kLatencyNs = 5 * kNsPerMs;        // from a pose's measurement to its arrival
-constexpr int kTicks = 120;                        // 2 s at 60 Hz
+constexpr TimeNs kRecordingStartNs = 1'000 * kNsPerSecond;  // the recording host's monotonic clock
+constexpr TimeNs kPoseLatencyNs = 5 * kNsPerMs;             // from a pose's measurement to its arrival
+constexpr int kTicks = 120;                                 // 2 s at 60 Hz
 
 dds::ToolPose pose_of(std::uint32_t tool, TimeNs source_ns, double x_m) {
   dds::ToolPose pose;
@@ -42,8 +42,8 @@ std::string hostile_recording() {
   auto writer = dds::RecordingWriter::create(path);
   EXPECT_TRUE(writer.ok()) << writer.error().describe();
   for (int k = 0; k < kTicks; ++k) {
-    const TimeNs measured_ns = kStartNs + k * kNsPerSecond / 60;
-    const TimeNs arrival_ns = measured_ns + kLatencyNs;
+    const TimeNs measured_ns = kRecordingStartNs + k * kNsPerSecond / 60;
+    const TimeNs arrival_ns = measured_ns + kPoseLatencyNs;
     for (const std::uint32_t tool : {1u, 2u, 3u})
       append(*writer.value(), pose_of(tool, measured_ns, 0.001 * k), arrival_ns);
     if (k == 10)

@@ -19,23 +19,18 @@
 #include "nav/station/station_build.hpp"
 #include "nav/station/station_loop.hpp"
 #include "nav/station/tumour_observer.hpp"
+#include "scene_build.hpp"
 #include "scene_text.hpp"
 #include "support/run_command.hpp"
 
 namespace nav::station {
 namespace {
 
+using testing::build_text;
 using testing::demo_text;
 using testing::edited;
 using testing::example_scene_path;
 using testing::line_of;
-
-/// Builds `text` as if it were the demo scene's file.
-Result<BuiltStation> build_text(const std::string& text) {
-  auto scene = parse_scene(text, example_scene_path("demo.yaml"));
-  if (!scene.ok()) return scene.error();
-  return build_station(std::move(scene).value());
-}
 
 bool lists(const MemoryFootprint& footprint, const std::string& model) {
   for (const FootprintLine& line : footprint.lines)

@@ -20,12 +20,14 @@
 #include "nav/reduced/reduction.hpp"
 #include "nav/reduced/training_loads.hpp"
 #include "nav/station/station_build.hpp"
+#include "scene_build.hpp"
 #include "scene_text.hpp"
 #include "support/run_command.hpp"
 
 namespace nav::station {
 namespace {
 
+using testing::build_text;
 using testing::demo_text;
 using testing::edited;
 using testing::example_scene_path;
@@ -98,12 +100,6 @@ std::string ladder_scene(const std::string& artifact, const std::string& escalat
 
 std::string two_rungs(const std::string& options = "") {
   return "    escalation:\n      rungs: [" + artifacts().upper + "]\n" + options;
-}
-
-Result<BuiltStation> build_text(const std::string& text) {
-  auto scene = parse_scene(text, example_scene_path("demo.yaml"));
-  if (!scene.ok()) return scene.error();
-  return build_station(std::move(scene).value());
 }
 
 const FootprintLine* line_named(const MemoryFootprint& footprint, const std::string& part) {

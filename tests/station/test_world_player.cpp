@@ -23,7 +23,7 @@
 namespace nav::station {
 namespace {
 
-constexpr std::uint32_t kDomain = 214;
+constexpr std::uint32_t kPlayerDomain = 214;
 constexpr TimeNs kRecorded = 3 * kNsPerSecond;
 constexpr TimeNs kPlayed = 6 * kNsPerSecond;
 
@@ -86,8 +86,8 @@ TEST(WorldPlayer, PlaysOnPastItsRecordingByRepeatingItsLastPeriod) {
   auto poses = std::make_unique<dds::RingSink<dds::ToolPose, 4096>>();
   auto truths = std::make_unique<dds::RingSink<dds::GroundTruth, 1024>>();
   auto frames = std::make_unique<FrameStamps>();
-  auto reader = make_station_node(kDomain, "world_player_reader");
-  auto writer = make_station_node(kDomain, "world_player_writer", {}, {}, Role::devices);
+  auto reader = make_station_node(kPlayerDomain, "world_player_reader");
+  auto writer = make_station_node(kPlayerDomain, "world_player_writer", {}, {}, Role::devices);
   ASSERT_TRUE(reader.ok() && writer.ok());
   dds::DdsNode& in = *reader.value();
   dds::DdsNode& out = *writer.value();

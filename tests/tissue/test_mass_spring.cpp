@@ -19,10 +19,10 @@ using testing::faces_where;
 using testing::nodes_where;
 
 /// A 2 x 2 x 4 cm column clamped at z = 0, pushed sideways on its top face.
-struct Column {
+struct SpringColumn {
   TetMesh mesh = box_mesh({0.02, 0.02, 0.04}, 0.005);
   TissueScene scene;
-  Column() {
+  SpringColumn() {
     scene.default_material = {5.0e3, 0.45, 1000.0};
     scene.gravity_m_s2 = {0.0, 0.0, 0.0};
     scene.fixed_nodes = nodes_where(mesh, 2, 0.0);
@@ -51,7 +51,7 @@ MassSpringData run(const MassSpringModel& model, int steps) {
 
 // The enclosed volume of the box's boundary equals its volume (to 1e-12 relative).
 TEST(MassSpring, EnclosedVolumeOfTheBoundaryIsTheMeshVolume) {
-  const Column column;
+  const SpringColumn column;
   auto model = make_mass_spring_model(column.mesh, column.scene, options_for(true));
   ASSERT_TRUE(model.ok()) << model.error().describe();
   EXPECT_NEAR(model.value().rest_volume_m3(), 0.02 * 0.02 * 0.04, 1e-12 * 1.6e-5);
@@ -61,7 +61,7 @@ TEST(MassSpring, EnclosedVolumeOfTheBoundaryIsTheMeshVolume) {
 // Springs carry no force under a rigid rotation of 90 degrees plus a translation (1e-12 of
 // k L): one step from a rotated state with zero velocity and no load leaves it in place.
 TEST(MassSpring, RigidMotionCarriesNoForce) {
-  Column column;
+  SpringColumn column;
   column.scene.fixed_nodes.clear();
   auto model = make_mass_spring_model(column.mesh, column.scene, options_for(true));
   ASSERT_TRUE(model.ok());
@@ -84,7 +84,7 @@ TEST(MassSpring, RigidMotionCarriesNoForce) {
 // Under a load that changes the unconstrained network's volume by more than 1 %, the
 // constraint keeps the enclosed volume within 1e-9 % of rest after every step.
 TEST(MassSpring, VolumeIsKeptUnderLoad) {
-  const Column column;
+  const SpringColumn column;
   auto free_model = make_mass_spring_model(column.mesh, column.scene, options_for(false));
   auto kept_model = make_mass_spring_model(column.mesh, column.scene, options_for(true));
   ASSERT_TRUE(free_model.ok() && kept_model.ok());

@@ -38,12 +38,6 @@ std::vector<double> forces_at(const TetFemModel& model, std::span<const double> 
   return forces;
 }
 
-double max_abs(std::span<const double> values) {
-  double worst = 0.0;
-  for (double v : values) worst = std::max(worst, std::abs(v));
-  return worst;
-}
-
 /// Positions x = R X + t of the mesh for a rotation of `angle_rad` about (1, 2, 3).
 std::vector<double> rigidly_moved(const TetMesh& mesh, double angle_rad) {
   const Eigen::Matrix3d r =

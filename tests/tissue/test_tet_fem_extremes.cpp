@@ -21,10 +21,10 @@ namespace {
 using testing::box_mesh;
 using testing::nodes_where;
 
-constexpr double kLengthM = 0.1;
-constexpr double kWidthM = 0.02;
+constexpr double kBeamLengthM = 0.1;
+constexpr double kBeamWidthM = 0.02;
 
-TetMesh beam_mesh() { return box_mesh({kLengthM, kWidthM, kWidthM}, 0.005); }
+TetMesh beam_mesh() { return box_mesh({kBeamLengthM, kBeamWidthM, kBeamWidthM}, 0.005); }
 
 TissueScene clamped_beam(const TetMesh& mesh, const ElasticMaterial& material) {
   TissueScene scene;
@@ -132,8 +132,6 @@ class TetFemExtremes : public ::testing::TestWithParam<Law> {
     return options;
   }
 };
-
-}  // namespace
 
 // Sag of a clamped beam under gravity for nu = 0.45, 0.49, 0.499: finite and healthy. Bending
 // hardly depends on nu in the continuum, but linear tetrahedra lock volumetrically as
@@ -300,4 +298,5 @@ TEST(MassSpringExtremes, SliverElementsStayStable) {
   EXPECT_TRUE(health.healthy());
 }
 
+}  // namespace
 }  // namespace nav

@@ -7,11 +7,12 @@
 #include <cstdio>
 
 #include "nav/trackers/apriltag_tracker.hpp"
+#include "trackers/apriltag_test_camera.hpp"
 
 namespace nav::trackers {
 namespace {
 
-constexpr double kTagSize_m = 0.05;
+using testing::kTagSize_m;
 const CameraIntrinsics kPinhole{600.0, 600.0, 319.5, 239.5};
 const calibration::LensDistortion kLens{-0.25, 0.08, 0.0012, -0.0009, 0.0};
 

@@ -10,12 +10,13 @@
 
 #include "nav/trackers/apriltag_tracker.hpp"
 #include "support/test_data.hpp"
+#include "trackers/apriltag_test_camera.hpp"
 
 namespace nav::trackers {
 namespace {
 
-constexpr double kTagSize_m = 0.05;
-const CameraIntrinsics kCamera{600.0, 600.0, 319.5, 239.5};
+using testing::kCamera;
+using testing::kTagSize_m;
 
 Eigen::Isometry3d pose_deg(double rx, double ry, double rz, const Eigen::Vector3d& t_m) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
