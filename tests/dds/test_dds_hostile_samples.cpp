@@ -32,6 +32,7 @@
 #include "nav/dds/sample_codec.hpp"
 #include "nav/dds/shared_memory_cleanup.hpp"
 #include "raw_payload_writer.hpp"
+#include "support/run_command.hpp"
 
 namespace nav::dds {
 namespace {
@@ -39,8 +40,6 @@ namespace {
 using namespace testing;
 using nav::testing::ChildProcess;
 
-const std::string kNavtool = std::string(NAV_BIN_DIR) + "/navtool";
-const std::string kNavstation = std::string(NAV_BIN_DIR) + "/navstation";
 using Payload = std::vector<std::uint8_t>;
 
 /// Payloads made from the valid encoding `valid`, none of which a station may take.
@@ -239,7 +238,8 @@ TEST(DdsHostileSamples, AReaderCountsCraftedPayloadsFromAForeignParticipantAndKe
 
 TEST(DdsHostileSamples, NavtoolRecordKeepsRecordingThroughCraftedPayloads) {
   const std::string recording = nav::testing::temporary_path("hostile.navrec");
-  ChildProcess recorder({kNavtool, "record", "--out", recording, "--duration-s", "120", "--domain", "191"},
+  ChildProcess recorder({nav::testing::executable_path("navtool"), "record", "--out", recording, "--duration-s", "120",
+                         "--domain", "191"},
                         nav::testing::temporary_path("hostile_record.log"));
   ASSERT_TRUE(recorder.started());
   RawPayloadWriter<ToolPose> foreign_poses(191);
@@ -283,7 +283,8 @@ TEST(DdsHostileSamples, NavtoolRecordKeepsRecordingThroughCraftedPayloads) {
 
 TEST(DdsHostileSamples, NavstationRunsThroughCraftedAndFutureStampedSamplesAndCountsThem) {
   const std::string log = nav::testing::temporary_path("hostile_station.log");
-  ChildProcess station({kNavstation, "--demo", "--seconds", "5", "--domain", "192"}, log);
+  ChildProcess station({nav::testing::executable_path("navstation"), "--demo", "--seconds", "5", "--domain", "192"},
+                       log);
   ASSERT_TRUE(station.started());
   RawPayloadWriter<ToolPose> foreign_poses(192);
   RawPayloadWriter<UltrasoundFrame> foreign_frames(192);
@@ -365,8 +366,8 @@ bool held(const std::string& path) {
 }
 
 TEST(DdsHostileSamples, TheSegmentOfAKilledParticipantIsRemovedWhenTheNextOneStarts) {
-  ChildProcess recorder({kNavtool, "record", "--out", nav::testing::temporary_path("killed.navrec"), "--duration-s",
-                         "120", "--domain", "193"},
+  ChildProcess recorder({nav::testing::executable_path("navtool"), "record", "--out",
+                         nav::testing::temporary_path("killed.navrec"), "--duration-s", "120", "--domain", "193"},
                         nav::testing::temporary_path("killed_record.log"));
   ASSERT_TRUE(wait_until([&] { return !segment_locks_of(recorder.pid()).empty(); }, std::chrono::seconds(30)));
   // Its lock files are opened, then locked: once it has settled, it holds every one.

@@ -13,6 +13,7 @@
 #include "dds_test_samples.hpp"
 #include "nav/dds/recording_file.hpp"
 #include "nav/dds/sample_codec.hpp"
+#include "support/run_command.hpp"
 
 namespace nav::dds {
 namespace {
@@ -20,7 +21,6 @@ namespace {
 using namespace testing;
 using nav::testing::ChildProcess;
 
-const std::string kNavtoolPath = std::string(NAV_BIN_DIR) + "/navtool";
 constexpr auto kProcessTimeout = std::chrono::seconds(60);
 
 /// Every record of a recording, by (topic, source time), as its CDR payload.
@@ -67,11 +67,13 @@ TEST(NavtoolRecordReplay, ReplayedRecordingIsRecordedUnchangedAndSigtermClosesIt
   const RecordedPayloads written = write_input_recording(input);
   ASSERT_EQ(written.size(), 24u);
 
-  ChildProcess recorder({kNavtoolPath, "record", "--out", output, "--duration-s", "120", "--domain", "160"},
-                        nav::testing::temporary_path("navtool_cli_record.log"));
+  ChildProcess recorder(
+      {nav::testing::executable_path("navtool"), "record", "--out", output, "--duration-s", "120", "--domain", "160"},
+      nav::testing::temporary_path("navtool_cli_record.log"));
   ASSERT_TRUE(recorder.started());
-  ChildProcess player({kNavtoolPath, "replay", input, "--wait-for-readers-s", "30", "--domain", "160"},
-                      nav::testing::temporary_path("navtool_cli_replay.log"));
+  ChildProcess player(
+      {nav::testing::executable_path("navtool"), "replay", input, "--wait-for-readers-s", "30", "--domain", "160"},
+      nav::testing::temporary_path("navtool_cli_replay.log"));
   EXPECT_EQ(player.wait(kProcessTimeout), 0) << player.log();
   EXPECT_NE(player.log().find("replayed 24 samples, skipped 0"), std::string::npos) << player.log();
 
@@ -114,9 +116,9 @@ TEST(NavtoolRecordReplay, TruncatedRecordingPlaysItsIntactPartAndNamesTheOffset)
   }
   std::filesystem::resize_file(input, fourth_record_offset + 10);
   // Nobody listens on this domain: a short wait for readers keeps the test quick.
-  ChildProcess player(
-      {kNavtoolPath, "replay", input, "--as-fast-as-possible", "--wait-for-readers-s", "0.1", "--domain", "161"},
-      nav::testing::temporary_path("navtool_cli_truncated.log"));
+  ChildProcess player({nav::testing::executable_path("navtool"), "replay", input, "--as-fast-as-possible",
+                       "--wait-for-readers-s", "0.1", "--domain", "161"},
+                      nav::testing::temporary_path("navtool_cli_truncated.log"));
   EXPECT_EQ(player.wait(kProcessTimeout), 1) << player.log();
   const std::string log = player.log();
   EXPECT_NE(log.find("byte offset " + std::to_string(fourth_record_offset)), std::string::npos) << log;
@@ -125,9 +127,11 @@ TEST(NavtoolRecordReplay, TruncatedRecordingPlaysItsIntactPartAndNamesTheOffset)
 
 TEST(NavtoolRecordReplay, MalformedCommandLinesAreRefused) {
   for (const std::vector<std::string>& args :
-       {std::vector<std::string>{kNavtoolPath, "replay", "x.navrec", "--wait-for-readers-s", "-1"},
-        std::vector<std::string>{kNavtoolPath, "replay", "x.navrec", "--wait-for-readers-s"},
-        std::vector<std::string>{kNavtoolPath, "record", "--duration-s", "1"}}) {
+       {std::vector<std::string>{nav::testing::executable_path("navtool"), "replay", "x.navrec", "--wait-for-readers-s",
+                                 "-1"},
+        std::vector<std::string>{nav::testing::executable_path("navtool"), "replay", "x.navrec",
+                                 "--wait-for-readers-s"},
+        std::vector<std::string>{nav::testing::executable_path("navtool"), "record", "--duration-s", "1"}}) {
     ChildProcess tool(args, nav::testing::temporary_path("navtool_cli_usage.log"));
     EXPECT_EQ(tool.wait(kProcessTimeout), 2) << args[1] << " " << args.back();
     EXPECT_NE(tool.log().find("usage: navtool"), std::string::npos) << tool.log();
