@@ -461,23 +461,17 @@ PlusRunLogs run_station_on_plus(const std::string& scene, const std::string& dom
 
 TEST(LiveStation, TheShippedRealLiverSceneRunsItsLadderOnItsArtifactsFromThePlusRecording) {
   // scenes/liver_reduced.yaml as shipped: liverFine from ../shared/data, its two artifacts made
-  // as its header says (where it reads them: build/), PLUS's SpinePhantom as its scanner (and,
-  // with no NDI device here, the recording's probe and stylus as its tools).
-  const std::string liver_dir = shared_data_path("liver");
+  // as its header says (where it reads them: build/) by the set-up case
+  // NavtoolReduce.MakesTheShippedRealLiverScenesTwoArtifactsAsItsHeaderSays (a ctest fixture:
+  // trained among the other cases, not in this one's time alone), PLUS's SpinePhantom as its
+  // scanner (and, with no NDI device here, the recording's probe and stylus as its tools).
   const std::string recording = shared_data_path("plus/SpinePhantomFreehand.igs.mha");
-  NAV_REQUIRE_SHARED_DATA(liver_dir + "/liverFine.vtu");
+  NAV_REQUIRE_SHARED_DATA(shared_data_path("liver/liverFine.vtu"));
   NAV_REQUIRE_SHARED_DATA(recording);
   const std::string scene = example_scene_path("liver_reduced.yaml");
-  const std::string lower = example_scene_path("../../../build/liver_fine.navrb");
-  const std::string upper = example_scene_path("../../../build/liver_fine_r32.navrb");
-  const CommandRun reduced = run_command(kBin + "/navtool reduce --liver-dir " + liver_dir +
-                                         " --method pod --r 20 --force corotational --out " + lower + " 2>&1");
-  ASSERT_EQ(reduced.exit_code, 0) << reduced.output;
-  const CommandRun extended = run_command(kBin + "/navtool reduce --liver-dir " + liver_dir + " --extend " + lower +
-                                          " --r 32 --load-scale 3 --samples 160 --out " + upper + " 2>&1");
-  ASSERT_EQ(extended.exit_code, 0) << extended.output;
-  const CommandRun checked = run_command(kBin + "/navstation --scene " + scene + " --check 2>&1");
-  ASSERT_EQ(checked.exit_code, 0) << checked.output;
+  for (const char* artifact : {"../../../build/liver_fine.navrb", "../../../build/liver_fine_r32.navrb"})
+    ASSERT_TRUE(file_exists(example_scene_path(artifact)))
+        << example_scene_path(artifact) << " missing: run NavtoolReduce.MakesTheShippedRealLiverScenesTwoArtifacts...";
   const std::string log = run_station_on_plus(scene, "175", "shipped_liver", {"--seconds", "4"}).station;
   EXPECT_NE(log.find("liver model: reduced r = 20"), std::string::npos);
   EXPECT_NE(log.find("rung 1: r = 32"), std::string::npos);

@@ -4,6 +4,8 @@
 // lower rung's columns bit for bit and makes a ladder with no transfer loss, its widened
 // training leaving out (and naming) the loads the full order cannot solve; exit code 2 with a
 // clear message for bad arguments, a missing mesh file and a lower artifact that does not fit.
+// And the shipped real-liver scene's two artifacts, made as its header says (the set-up of
+// the live station's case that runs that scene: a ctest fixture, tests/CMakeLists.txt).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,6 +20,7 @@
 #include "nav/reduced/reduced_ladder.hpp"
 #include "nav/reduced/training_loads.hpp"
 #include "nav/tissue/liver_scenes.hpp"
+#include "station/scene_text.hpp"
 #include "support/run_command.hpp"
 #include "support/test_data.hpp"
 
@@ -209,6 +212,29 @@ TEST(NavtoolReduce, AWidenedTrainingLeavesOutAndNamesTheLoadsTheFullOrderCannotS
   const auto big = nav::load_reduced_basis(upper, &mesh);
   ASSERT_TRUE(big.ok()) << big.error().describe();
   EXPECT_EQ(big.value().basis_size, 10);
+}
+
+TEST(NavtoolReduce, MakesTheShippedRealLiverScenesTwoArtifactsAsItsHeaderSays) {
+  // apps/navstation/scenes/liver_reduced.yaml on liverFine: r = 20, then r = 32 on three times
+  // the loads, written where the scene reads them (build/), and the scene checks on them.
+  LIVER_OR_SKIP(dir);
+  NAV_REQUIRE_SHARED_DATA(dir + "/liverFine.vtu");
+  const std::string scene = nav::testing::example_scene_path("liver_reduced.yaml");
+  const std::string lower = nav::testing::example_scene_path("../../../build/liver_fine.navrb");
+  const std::string upper = nav::testing::example_scene_path("../../../build/liver_fine_r32.navrb");
+  const auto reduced =
+      run_navtool("reduce --liver-dir " + dir + " --method pod --r 20 --force corotational --out " + lower + " --json");
+  ASSERT_EQ(reduced.exit_code, 0) << reduced.output;
+  EXPECT_NE(reduced.output.find("\"tetrahedra\": 22019"), std::string::npos) << reduced.output;
+  EXPECT_EQ(json_array(reduced.output, "captured_energy_fraction").size(), 20u) << reduced.output;
+  const auto extended = run_navtool("reduce --liver-dir " + dir + " --extend " + lower +
+                                    " --r 32 --load-scale 3 --samples 160 --out " + upper + " --json");
+  ASSERT_EQ(extended.exit_code, 0) << extended.output;
+  EXPECT_NE(extended.output.find("\"lower_r\": 20"), std::string::npos) << extended.output;
+  EXPECT_NE(extended.output.find("\"r\": 32"), std::string::npos) << extended.output;
+  const auto checked =
+      nav::testing::run_command(nav::testing::executable_path("navstation") + " --scene " + scene + " --check 2>&1");
+  EXPECT_EQ(checked.exit_code, 0) << checked.output;
 }
 
 TEST(NavtoolReduce, BadArgumentsAndMissingFilesExitWithTwoAndSayWhy) {
