@@ -471,7 +471,8 @@ TEST(LiveStation, TheShippedRealLiverSceneRunsItsLadderOnItsArtifactsFromThePlus
   const std::string scene = example_scene_path("liver_reduced.yaml");
   for (const char* artifact : {"../../../build/liver_fine.navrb", "../../../build/liver_fine_r32.navrb"})
     ASSERT_TRUE(file_exists(example_scene_path(artifact)))
-        << example_scene_path(artifact) << " missing: run NavtoolReduce.MakesTheShippedRealLiverScenesTwoArtifacts...";
+        << example_scene_path(artifact)
+        << " missing: it is made by NavtoolReduce.MakesTheShippedRealLiverScenesTwoArtifactsAsItsHeaderSays";
   const std::string log = run_station_on_plus(scene, "175", "shipped_liver", {"--seconds", "4"}).station;
   EXPECT_NE(log.find("liver model: reduced r = 20"), std::string::npos);
   EXPECT_NE(log.find("rung 1: r = 32"), std::string::npos);
