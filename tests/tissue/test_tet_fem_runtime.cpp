@@ -40,18 +40,19 @@ TissueInputs scripted_inputs(int i, std::span<const PointForce> forces) {
 }
 
 /// The element laws of the tetrahedral FEM, by name.
-struct Law {
+struct RuntimeLaw {
   const char* name;
   ElementLaw law;
   ElementRotation rotation;
   double incompressibility_gain_pa;
 };
-constexpr Law kLaws[] = {{"linear", ElementLaw::linear_elastic, ElementRotation::none, 0.0},
-                         {"corotational", ElementLaw::linear_elastic, ElementRotation::corotational, 0.0},
-                         {"stvk", ElementLaw::st_venant_kirchhoff, ElementRotation::corotational, 0.0},
-                         {"stvk_penalty", ElementLaw::st_venant_kirchhoff, ElementRotation::corotational, 1.0e5}};
+constexpr RuntimeLaw kLaws[] = {
+    {"linear", ElementLaw::linear_elastic, ElementRotation::none, 0.0},
+    {"corotational", ElementLaw::linear_elastic, ElementRotation::corotational, 0.0},
+    {"stvk", ElementLaw::st_venant_kirchhoff, ElementRotation::corotational, 0.0},
+    {"stvk_penalty", ElementLaw::st_venant_kirchhoff, ElementRotation::corotational, 1.0e5}};
 
-TissueSolverOptions options_for(const Law& law, Integrator integrator, LinearSolver solver) {
+TissueSolverOptions options_for(const RuntimeLaw& law, Integrator integrator, LinearSolver solver) {
   TissueSolverOptions options;
   options.law = law.law;
   options.rotation = law.rotation;
@@ -68,7 +69,7 @@ TissueSolverOptions options_for(const Law& law, Integrator integrator, LinearSol
 /// (the explicit integrator solves nothing), with a name for the failure messages.
 std::vector<std::pair<std::string, TissueSolverOptions>> every_configuration() {
   std::vector<std::pair<std::string, TissueSolverOptions>> all;
-  for (const Law& law : kLaws)
+  for (const RuntimeLaw& law : kLaws)
     for (Integrator integrator :
          {Integrator::implicit_euler, Integrator::quasi_static, Integrator::explicit_central_difference})
       for (LinearSolver solver : {LinearSolver::ldlt_warped, LinearSolver::cg_jacobi, LinearSolver::cg_block_jacobi}) {
@@ -181,7 +182,7 @@ TEST(TissueRuntime, InvertingLoadsAreFlaggedWithoutNaN) {
     }
     EXPECT_TRUE(flagged) << what;
   };
-  for (const Law& law : kLaws)
+  for (const RuntimeLaw& law : kLaws)
     for (Integrator integrator : {Integrator::implicit_euler, Integrator::quasi_static}) {
       auto model = make_tet_fem_model(mesh, scene, options_for(law, integrator, LinearSolver::ldlt_warped));
       ASSERT_TRUE(model.ok());
@@ -207,7 +208,7 @@ TEST(TissueRuntime, ACgSolveCutShortRaisesSolverNotConverged) {
   const std::vector<PointForce> push{{nodes_where(mesh, 2, 0.04).front(), {0.5, 0.0, 0.0}}};
   TissueInputs inputs;
   inputs.point_forces = push;
-  for (const Law& law : {kLaws[0], kLaws[1]})
+  for (const RuntimeLaw& law : {kLaws[0], kLaws[1]})
     for (Integrator integrator : {Integrator::implicit_euler, Integrator::quasi_static}) {
       const std::string what = std::string(law.name) + " integrator " + std::to_string(static_cast<int>(integrator));
       TissueSolverOptions options = options_for(law, integrator, LinearSolver::cg_jacobi);
@@ -264,7 +265,7 @@ TEST(TissueRuntime, ExplicitStepBeyondTheStableLimitIsFlagged) {
       }
     }
   };
-  for (const Law& law : kLaws) {
+  for (const RuntimeLaw& law : kLaws) {
     TissueSolverOptions options = options_for(law, Integrator::explicit_central_difference, LinearSolver::ldlt_warped);
     options.rayleigh_mass_per_s = 0.0;
     const double limit_s = make_tet_fem_model(mesh, scene, options).value().stable_step_s();

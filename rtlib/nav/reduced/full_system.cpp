@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "nav/tissue/sparse_cholesky.hpp"
 #include "nav/tissue/tet_kernels.hpp"
 
 namespace nav::detail {
@@ -71,8 +72,8 @@ Eigen::VectorXd restrict_free(const TetFemTables& tables, std::span<const double
 Result<std::vector<double>> diaphragm_lift(const FullSystem& system) {
   const TetFemTables& tables = system.model.tables();
   if (tables.prescribed_nodes.empty()) return std::vector<double>{};
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> factor(system.stiffness);
-  if (factor.info() != Eigen::Success)
+  SparseCholesky factor;
+  if (!factor.factor(system.stiffness, "stiffness").ok())
     return Error{
         .message = "the stiffness with the supports applied is singular: the lift needs fixed nodes or springs",
         .field = "fixed_nodes"};

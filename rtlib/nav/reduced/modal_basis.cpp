@@ -8,6 +8,7 @@
 
 #include "nav/reduced/basis_tools.hpp"
 #include "nav/reduced/reduction.hpp"
+#include "nav/tissue/sparse_cholesky.hpp"
 #include "nav/tissue/tet_kernels.hpp"
 
 namespace nav {
@@ -17,7 +18,7 @@ using detail::FullSystem;
 using detail::TetFemTables;
 using SparseMatrix = Eigen::SparseMatrix<double>;
 
-/// (K - sigma M)^-1 x for Spectra, by Eigen's SimplicialLDLT (AMD ordering).
+/// (K - sigma M)^-1 x for Spectra (SparseCholesky).
 class ShiftInvertOperator {
  public:
   using Scalar = double;
@@ -25,8 +26,7 @@ class ShiftInvertOperator {
   Eigen::Index rows() const { return stiffness_.rows(); }
   Eigen::Index cols() const { return stiffness_.cols(); }
   void set_shift(double sigma) {
-    factor_.compute(SparseMatrix(stiffness_ - sigma * mass_));
-    factored_ = factor_.info() == Eigen::Success;
+    factored_ = factor_.factor(SparseMatrix(stiffness_ - sigma * mass_), "stiffness").ok();
   }
   void perform_op(const double* x_in, double* y_out) const {
     Eigen::Map<Eigen::VectorXd>(y_out, rows()) = factor_.solve(Eigen::Map<const Eigen::VectorXd>(x_in, rows()));
@@ -36,7 +36,7 @@ class ShiftInvertOperator {
  private:
   const SparseMatrix& stiffness_;
   const SparseMatrix& mass_;
-  Eigen::SimplicialLDLT<SparseMatrix> factor_;
+  SparseCholesky factor_;
   bool factored_ = false;
 };
 
@@ -113,8 +113,8 @@ Eigen::VectorXd force_second_derivative(const TetFemTables& tables, const Eigen:
 /// Modes and their modal derivatives K^-1 d^2 f [phi_i, phi_j] (i <= j), in that order.
 Result<Eigen::MatrixXd> with_modal_derivatives(const FullSystem& system, const Eigen::MatrixXd& modes) {
   const TetFemTables& tables = system.model.tables();
-  Eigen::SimplicialLDLT<SparseMatrix> factor(system.stiffness);
-  if (factor.info() != Eigen::Success)
+  SparseCholesky factor;
+  if (!factor.factor(system.stiffness, "stiffness").ok())
     return field_error("modal derivatives need a stiffness made regular by fixed nodes, springs or a prescribed region",
                        "fixed_nodes");
   const Eigen::Index k = modes.cols();

@@ -300,7 +300,7 @@ TissueSolverOptions StaticSolveOptions::default_solver() {
   o.integrator = Integrator::quasi_static;
   o.solver = LinearSolver::ldlt_warped;
   o.cg_iterations = 3;
-  o.rayleigh_mass_per_s = 40.0;
+  o.rayleigh_mass_per_s = 10.0;
   return o;
 }
 

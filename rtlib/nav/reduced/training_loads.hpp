@@ -75,7 +75,7 @@ struct StaticSolveOptions {
   /// is solved from rest on data of its own, so the snapshots do not depend on it.
   int threads = 1;
 
-  /// Corotational, quasi-static, LDL^T-warped, 3 CG iterations, Rayleigh mass 40/s (relaxes
+  /// Corotational, quasi-static, LDL^T-warped, 3 CG iterations, Rayleigh mass 10/s (relaxes
   /// each Newton step without moving the equilibrium).
   static TissueSolverOptions default_solver();
 };
@@ -117,7 +117,7 @@ struct ReducedStaticOptions {
   int max_steps = 400;             ///< after the ramp's end
   double converged_step_m = 1e-7;  ///< done when no reconstructed node moved more in a step
   int newton_iterations = 2;       ///< per step, on the current tangent (not frozen)
-  double relaxation_per_s = 40.0;  ///< Rayleigh mass damping of the steps (as the full order)
+  double relaxation_per_s = 10.0;  ///< Rayleigh mass damping of the steps (as the full order)
 };
 
 /// Static displacements from rest (3 n, metres) of `load` with the reduced model of `basis`

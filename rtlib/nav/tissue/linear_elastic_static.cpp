@@ -2,10 +2,10 @@
 
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
 #include <cmath>
 
 #include "nav/mesh/geometry.hpp"
+#include "nav/tissue/sparse_cholesky.hpp"
 #include "nav/tissue/tet_kernels.hpp"
 #include "nav/tissue/von_mises.hpp"
 
@@ -95,8 +95,8 @@ Result<StaticSolution> solve_linear_static(const TetMesh& mesh, const TissueScen
 
   Eigen::SparseMatrix<double> stiffness(free_dofs, free_dofs);
   stiffness.setFromTriplets(triplets.begin(), triplets.end());
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(stiffness);
-  if (solver.info() != Eigen::Success)
+  SparseCholesky solver;
+  if (!solver.factor(stiffness, "stiffness").ok())
     return Error{.message = "the stiffness matrix could not be factorised", .field = "stiffness"};
   const Eigen::VectorXd u = solver.solve(force);
 

@@ -1,11 +1,11 @@
 #include "nav/tissue/neo_hookean_static.hpp"
 
 #include <Eigen/Sparse>
-#include <Eigen/SparseCholesky>
 #include <cmath>
 #include <string>
 
 #include "nav/tissue/neo_hookean.hpp"
+#include "nav/tissue/sparse_cholesky.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 #include "nav/tissue/tet_fem_tables.hpp"
 #include "nav/tissue/tissue_loads.hpp"
@@ -165,8 +165,7 @@ Result<NeoHookeanSolution> solve_neo_hookean_static(const TetMesh& mesh, const T
   std::vector<double> residual(n3), held_coupling(static_cast<std::size_t>(p.free_count)), step(n3), trial(n3);
   std::vector<Eigen::Triplet<double>> triplets;
   Eigen::SparseMatrix<double> tangent(p.free_count, p.free_count);
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower> ldlt;
-  bool analysed = false;
+  SparseCholesky factor;
   for (int increment = 1; increment <= options.load_increments; ++increment) {
     const double load = static_cast<double>(increment) / options.load_increments;
     bool converged = false;
@@ -186,14 +185,12 @@ Result<NeoHookeanSolution> solve_neo_hookean_static(const TetMesh& mesh, const T
         break;
       }
       tangent.setFromTriplets(triplets.begin(), triplets.end());
-      if (!analysed) ldlt.analyzePattern(tangent);
-      analysed = true;
-      ldlt.factorize(tangent);
-      if (ldlt.info() != Eigen::Success) return field_error("the neo-Hookean tangent could not be factored", "tangent");
+      if (!factor.factor(tangent, "tangent").ok())
+        return field_error("the neo-Hookean tangent could not be factored", "tangent");
       Eigen::VectorXd rhs(p.free_count);
       for (std::size_t i = 0; i < n3; ++i)
         if (p.free_of[i] >= 0) rhs[p.free_of[i]] = residual[i] - held_coupling[static_cast<std::size_t>(p.free_of[i])];
-      const Eigen::VectorXd free_step = ldlt.solve(rhs);
+      const Eigen::VectorXd free_step = factor.solve(rhs);
       for (std::size_t i = 0; i < n3; ++i)
         if (p.free_of[i] >= 0) step[i] = free_step[p.free_of[i]];
       // Line search: no inverted element, and (once the held dofs are in place) a lower
