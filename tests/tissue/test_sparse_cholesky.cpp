@@ -1,14 +1,17 @@
 // SparseCholesky, the factorisation of the offline solves, against dense algebra: a positive
 // definite system (CHOLMOD's supernodal LL^T where the build has it), an indefinite one (the
 // L D L^T fall-back), a second matrix of the same pattern (the kept ordering), and a singular
-// one (an Error naming the field).
+// one (an Error naming the field); and two threads factoring and solving at once get the
+// bits of one (the BLAS under CHOLMOD need not take concurrent calls).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "nav/tissue/sparse_cholesky.hpp"
@@ -84,6 +87,30 @@ TEST(SparseCholesky, SolvesAnIndefiniteSystemThroughItsLdlt) {
   SparseCholesky factor;
   ASSERT_TRUE(factor.factor(a, "a").ok());
   EXPECT_LT(error_against_dense(a, b, factor.solve(b)), 1e-9);
+}
+
+TEST(SparseCholesky, TwoThreadsFactoringAndSolvingAtOnceGetTheBitsOfOne) {
+  const SparseMatrix a = grid_matrix(18, 0.1, 5);  // large enough for dense supernodal blocks
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(a.rows(), -1.0, 1.0);
+  const auto solved = [&](int rounds) {
+    Eigen::VectorXd x;
+    for (int k = 0; k < rounds; ++k) {
+      SparseCholesky factor;
+      if (!factor.factor(a, "a").ok()) return Eigen::VectorXd();
+      x = factor.solve(b);
+    }
+    return x;
+  };
+  const Eigen::VectorXd alone = solved(1);
+  ASSERT_EQ(alone.size(), a.rows());
+  Eigen::VectorXd together[2];
+  std::thread other([&] { together[1] = solved(6); });
+  together[0] = solved(6);
+  other.join();
+  for (const Eigen::VectorXd& x : together) {
+    ASSERT_EQ(x.size(), alone.size());
+    EXPECT_EQ(std::memcmp(x.data(), alone.data(), sizeof(double) * static_cast<std::size_t>(x.size())), 0);
+  }
 }
 
 TEST(SparseCholesky, ASingularMatrixIsAnErrorNamingItsField) {

@@ -5,6 +5,7 @@
 #include <utility>
 #if NAV_CHOLMOD
 #include <Eigen/CholmodSupport>
+#include <mutex>
 #endif
 
 namespace nav {
@@ -27,6 +28,16 @@ bool factor_with(Solver& solver, Shape& analysed, const SparseMatrix& matrix) {
   return solver.info() == Eigen::Success;
 }
 
+#if NAV_CHOLMOD
+/// CHOLMOD's dense blocks run on the system's BLAS, which need not take calls from two threads
+/// at once (Debian's serial OpenBLAS does not: two threads factoring at once got other bits
+/// than one alone): one CHOLMOD factorisation or solve at a time in the process.
+std::mutex& cholmod_calls() {
+  static std::mutex calls;
+  return calls;
+}
+#endif
+
 }  // namespace
 
 struct SparseCholesky::Factors {
@@ -39,7 +50,11 @@ struct SparseCholesky::Factors {
   Shape ldlt_analysed;
 };
 
-SparseCholesky::SparseCholesky() : factors_(std::make_unique<Factors>()) {}
+SparseCholesky::SparseCholesky() : factors_(std::make_unique<Factors>()) {
+#if NAV_CHOLMOD
+  factors_->llt.cholmod().print = 0;  // a matrix that is not positive definite is not an error here
+#endif
+}
 SparseCholesky::~SparseCholesky() = default;
 SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
 SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
@@ -47,7 +62,10 @@ SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
 Status SparseCholesky::factor(const SparseMatrix& matrix, const char* field) {
   Factors& f = *factors_;
 #if NAV_CHOLMOD
-  f.positive_definite = factor_with(f.llt, f.llt_analysed, matrix);
+  {
+    const std::lock_guard<std::mutex> one_at_a_time(cholmod_calls());
+    f.positive_definite = factor_with(f.llt, f.llt_analysed, matrix);
+  }
   if (f.positive_definite) return Done{};
 #endif
   if (!factor_with(f.ldlt, f.ldlt_analysed, matrix))
@@ -58,7 +76,10 @@ Status SparseCholesky::factor(const SparseMatrix& matrix, const char* field) {
 Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& rhs) const {
   const Factors& f = *factors_;
 #if NAV_CHOLMOD
-  if (f.positive_definite) return f.llt.solve(rhs);
+  if (f.positive_definite) {
+    const std::lock_guard<std::mutex> one_at_a_time(cholmod_calls());
+    return f.llt.solve(rhs);
+  }
 #endif
   return f.ldlt.solve(rhs);
 }
