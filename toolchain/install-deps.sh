@@ -17,7 +17,7 @@ station_packages=(
   libopencv-core-dev libopencv-imgproc-dev libopencv-videoio-dev
   libapriltag-dev liburdfdom-dev
   libyaml-cpp-dev libsuitesparse-dev zlib1g-dev
-  libopenblas0-serial  # the BLAS of CHOLMOD's supernodal factors: the liver's in a sixth of the reference BLAS's time
+  libopenblas0-serial  # the BLAS of CHOLMOD's supernodal factors (SparseCholesky, docs/tissue.md)
   nlohmann-json3-dev  # navbench's JSON
   libopenigtlink-dev  # OpenIGTLink: the bridge to PlusServer and 3D Slicer
   libx11-dev iproute2

@@ -117,7 +117,8 @@ struct ReducedStaticOptions {
   int max_steps = 400;             ///< after the ramp's end
   double converged_step_m = 1e-7;  ///< done when no reconstructed node moved more in a step
   int newton_iterations = 2;       ///< per step, on the current tangent (not frozen)
-  double relaxation_per_s = 10.0;  ///< Rayleigh mass damping of the steps (as the full order)
+  /// Rayleigh mass damping of the steps, as the full order's.
+  double relaxation_per_s = StaticSolveOptions::default_solver().rayleigh_mass_per_s;
 };
 
 /// Static displacements from rest (3 n, metres) of `load` with the reduced model of `basis`

@@ -1,8 +1,8 @@
 #include "nav/tissue/sparse_cholesky.hpp"
 
 #include <Eigen/SparseCholesky>
-#include <optional>
-#include <utility>
+#include <algorithm>
+#include <vector>
 #if NAV_CHOLMOD
 #include <Eigen/CholmodSupport>
 #include <mutex>
@@ -12,17 +12,13 @@ namespace nav {
 namespace {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
-/// The size and stored entries of the matrix whose pattern a solver analysed.
-using Shape = std::optional<std::pair<Eigen::Index, Eigen::Index>>;
 
-/// Factors `matrix` with `solver`, analysing its pattern first unless `analysed` says the
-/// solver holds the analysis of a matrix of this size and entry count.
-template <class Solver>
-bool factor_with(Solver& solver, Shape& analysed, const SparseMatrix& matrix) {
-  const std::pair<Eigen::Index, Eigen::Index> shape{matrix.rows(), matrix.nonZeros()};
-  if (analysed != shape) {
+/// Factors `matrix` with `solver`, analysing its pattern first unless `analysed` is its pattern.
+template <class Solver, class Pattern>
+bool factor_with(Solver& solver, Pattern& analysed, const SparseMatrix& matrix) {
+  if (!analysed.same_as(matrix)) {
     solver.analyzePattern(matrix);
-    analysed = shape;
+    analysed.take(matrix);
   }
   solver.factorize(matrix);
   return solver.info() == Eigen::Success;
@@ -41,13 +37,29 @@ std::mutex& cholmod_calls() {
 }  // namespace
 
 struct SparseCholesky::Factors {
+  /// The sparsity pattern a solver analysed (compressed columns), empty before the first.
+  struct Pattern {
+    std::vector<int> column_starts, rows;
+
+    bool same_as(const SparseMatrix& m) const {
+      return m.isCompressed() && column_starts.size() == static_cast<std::size_t>(m.outerSize()) + 1 &&
+             std::equal(column_starts.begin(), column_starts.end(), m.outerIndexPtr()) &&
+             rows.size() == static_cast<std::size_t>(m.nonZeros()) &&
+             std::equal(rows.begin(), rows.end(), m.innerIndexPtr());
+    }
+    void take(const SparseMatrix& m) {
+      column_starts.assign(m.outerIndexPtr(), m.outerIndexPtr() + m.outerSize() + 1);
+      rows.assign(m.innerIndexPtr(), m.innerIndexPtr() + (m.isCompressed() ? m.nonZeros() : 0));
+    }
+  };
+
 #if NAV_CHOLMOD
   Eigen::CholmodSupernodalLLT<SparseMatrix, Eigen::Lower> llt;
-  Shape llt_analysed;
+  Pattern llt_analysed;
   bool positive_definite = false;
 #endif
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower> ldlt;  // with CHOLMOD: what is not positive definite
-  Shape ldlt_analysed;
+  Pattern ldlt_analysed;
 };
 
 SparseCholesky::SparseCholesky() : factors_(std::make_unique<Factors>()) {
@@ -83,7 +95,5 @@ Eigen::VectorXd SparseCholesky::solve(const Eigen::VectorXd& rhs) const {
 #endif
   return f.ldlt.solve(rhs);
 }
-
-const char* SparseCholesky::method() { return NAV_CHOLMOD ? "CHOLMOD supernodal LL^T" : "Eigen SimplicialLDLT"; }
 
 }  // namespace nav

@@ -20,16 +20,13 @@ class SparseCholesky {
   SparseCholesky& operator=(SparseCholesky&&) noexcept;
 
   /// Factors the symmetric matrix whose lower triangle `matrix` holds. The fill-reducing
-  /// ordering of the first matrix is kept for the next ones with the same size and stored
-  /// entries (a Newton solve's tangents). A matrix that is not positive definite is factored
+  /// ordering is kept for the next matrices of the same sparsity pattern (a Newton solve's
+  /// tangents). A matrix that is not positive definite is factored
   /// as L D L^T (Eigen's). Errors, naming `field`: a singular matrix.
   Status factor(const Eigen::SparseMatrix<double>& matrix, const char* field);
 
   /// A^-1 rhs with the last matrix factored.
   Eigen::VectorXd solve(const Eigen::VectorXd& rhs) const;
-
-  /// What this build factors positive definite matrices with, for reports.
-  static const char* method();
 
  private:
   struct Factors;
