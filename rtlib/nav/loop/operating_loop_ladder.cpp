@@ -140,21 +140,11 @@ void consider_stepping_down(const OperatingLoopModel& model, OperatingLoopData& 
 
 }  // namespace
 
-void copy_liver_state(const ReducedData& from, ReducedData& to) noexcept {
-  std::copy(from.q.begin(), from.q.end(), to.q.begin());
-  std::copy(from.q_velocity.begin(), from.q_velocity.end(), to.q_velocity.begin());
-  std::copy(std::begin(from.prescribed_m), std::end(from.prescribed_m), std::begin(to.prescribed_m));
-  to.report = from.report;
-  to.steps = from.steps;
-  to.health.clear_all();
-}
-
 HealthFlags step_liver(const OperatingLoopModel& model, OperatingLoopData& data, const TissueInputs& inputs) noexcept {
   const int rung = data.active_rung;
   if (!model.ladder) return step_rung(model, data, rung, inputs);
   OperatingLoopRungData& active = data.active();
-  copy_liver_state(active.liver(),
-                   active.lookahead);  // the state before the step (the scratch is free until the look-ahead)
+  copy_state(active.liver(), active.lookahead);  // the state before the step (the scratch is free until the look-ahead)
   HealthFlags raised = step_rung(model, data, rung, inputs);
   if (raised.has(HealthFlag::bad_sample)) return raised;  // refused, the state untouched
   const ReducedLadderOptions& o = model.ladder->options();

@@ -5,10 +5,6 @@
 
 namespace nav::detail {
 
-/// Copies a reduced liver's state (q, q_velocity, diaphragm, report, step count) into another
-/// data of the same model; clears the target's flags.
-void copy_liver_state(const ReducedData& from, ReducedData& to) noexcept;
-
 /// Steps the active rung's liver under `inputs` (with the needle's forces when the loop has a
 /// needle). On a ladder, when the rung's indicator fires (out of its envelope, or a step undone
 /// as non-finite) for escalate_after_steps steps and escalation is allowed, the liver's state

@@ -143,7 +143,7 @@ void tissue_tick(const OperatingLoopModel& model, OperatingLoopData& data, TimeN
   state.filter.health.clear_all();
   const PointEstimate estimate = estimate_point(rung.filter, state.filter, 0);
 
-  detail::copy_liver_state(liver, state.lookahead);
+  copy_state(liver, state.lookahead);
   const TimeNs step_ns = o.tick_period_ns * o.tissue_every_ticks;
   for (int j = 1; j <= model.lookahead_steps; ++j) {
     const TimeNs horizon_ns = std::min(step_ns * j, o.display_latency_ns);

@@ -35,7 +35,12 @@ struct CoupledNeedleDataOf {
   Arena arena;
   NeedleTissueData interaction;
   TissueData tissue;
-  std::span<double> displacements_m;  ///< 3 per tissue node, as of the last tissue step
+  /// The tissue stepped once more from its state under the forces it carries: where it will be
+  /// at the end of its next step if the forces do not change (its free motion).
+  TissueData free_tissue;
+  /// 3 per tissue node: the free motion's, which the interaction meets (plus the compliance's
+  /// response to the forces' changes since the last tissue step).
+  std::span<double> displacements_m;
   std::span<PointForce> point_forces;
   /// Nodes whose displacements a tissue step refreshes and their new values (used when the
   /// tissue rebuilds displacements on demand, as the reduced one does; empty otherwise).
@@ -45,8 +50,12 @@ struct CoupledNeedleDataOf {
   std::int64_t ticks = 0;
   std::size_t point_force_count = 0;  ///< the first point_force_count point_forces went to the last tissue step
   int dropped_point_forces = 0;       ///< forces beyond max_point_forces at the last tissue step
-  CoupledNeedleDataOf(Arena block, NeedleTissueData interaction_data, TissueData tissue_data)
-      : arena(std::move(block)), interaction(std::move(interaction_data)), tissue(std::move(tissue_data)) {}
+  CoupledNeedleDataOf(Arena block, NeedleTissueData interaction_data, TissueData tissue_data,
+                      TissueData free_tissue_data)
+      : arena(std::move(block)),
+        interaction(std::move(interaction_data)),
+        tissue(std::move(tissue_data)),
+        free_tissue(std::move(free_tissue_data)) {}
 };
 
 /// One needle tick; the tissue steps on every needle_steps_per_tissue_step-th tick. More
@@ -66,7 +75,10 @@ void step_needle(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDa
 /// The tissue's part: the needle's point forces of its last step (capped as in step()) join
 /// `tissue_inputs`, the tissue's other loads (a diaphragm's prescribed displacement; its
 /// point_forces, at most model.other_point_forces, are kept after the needle's), the tissue
-/// steps, and the interaction sees its new displacements.
+/// steps, and steps once more on free_tissue under the same inputs: the interaction meets that
+/// free motion. (The constraints then see where the tissue will be at its next step, as
+/// constraint-based coupling does; meeting it where it was lets a needle on an inertial tissue
+/// stepped at the needle's rate run away.)
 template <class TissueModel, class TissueData>
 void step_tissue(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDataOf<TissueData>& data,
                  TissueInputs tissue_inputs) noexcept;

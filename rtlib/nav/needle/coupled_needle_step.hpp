@@ -21,8 +21,8 @@ namespace detail {
 Status validate_coupling(const NeedleTissueScene& scene, std::size_t max_point_forces,
                          int needle_steps_per_tissue_step);
 
-/// Refreshes data.displacements_m after a tissue step (all nodes, or those it needs, the
-/// surfaces' vertices within the needle's reach among them).
+/// Refreshes data.displacements_m from data.free_tissue after a tissue step (all nodes, or those
+/// it needs, the surfaces' vertices within the needle's reach among them).
 void refresh_displacements(const CoupledNeedleModelOf<TetFemModel>& model,
                            CoupledNeedleDataOf<TetFemData>& data) noexcept;
 void refresh_displacements(const CoupledNeedleModelOf<ReducedModel>& model,
@@ -34,22 +34,25 @@ void refresh_displacements(const CoupledNeedleModelOf<ReducedModel>& model,
 std::size_t gather_point_forces(const NeedleTissueData& interaction, std::span<PointForce> out, std::size_t max_forces,
                                 int& dropped) noexcept;
 
-/// The coupled data around made interaction and tissue data, with the displacement and point
-/// force buffers and `refreshed_nodes` slots for on-demand refreshes.
+/// The coupled data around made interaction and tissue data (the tissue's and its free
+/// motion's), with the displacement and point force buffers and `refreshed_nodes` slots for
+/// on-demand refreshes.
 template <class TissueModel, class TissueData>
 Result<CoupledNeedleDataOf<TissueData>> make_coupled_data(const CoupledNeedleModelOf<TissueModel>& model,
                                                           const NeedlePose& base, Result<TissueData> tissue,
-                                                          std::size_t node_count, std::size_t refreshed_nodes) {
+                                                          Result<TissueData> free_tissue, std::size_t node_count,
+                                                          std::size_t refreshed_nodes) {
   auto interaction = make_needle_tissue_data(model.interaction, base);
   if (!interaction.ok()) return interaction.error();
   if (!tissue.ok()) return tissue.error();
+  if (!free_tissue.ok()) return free_tissue.error();
   const std::size_t values = 3 * node_count;
   // One point force per row at most, before merging and capping, then the tissue's others.
   const std::size_t forces = static_cast<std::size_t>(model.interaction.slot_count()) + model.other_point_forces;
   ArenaPlan plan;
   plan.add<double>(values).add<PointForce>(forces).add<std::int32_t>(refreshed_nodes).add<double>(3 * refreshed_nodes);
   CoupledNeedleDataOf<TissueData> data(Arena("coupled_needle_data", plan.bytes()), std::move(interaction).value(),
-                                       std::move(tissue).value());
+                                       std::move(tissue).value(), std::move(free_tissue).value());
   auto displacements = data.arena.template allocate<double>("tissue displacements", values);
   auto point_forces = data.arena.template allocate<PointForce>("point forces", forces);
   auto nodes = data.arena.template allocate<std::int32_t>("refreshed nodes", refreshed_nodes);
@@ -88,8 +91,11 @@ void step_tissue(const CoupledNeedleModelOf<TissueModel>& model, CoupledNeedleDa
   data.point_force_count += others;
   tissue_inputs.point_forces = std::span<const PointForce>(data.point_forces.data(), data.point_force_count);
   step(*model.tissue, data.tissue, tissue_inputs);
-  // The tissue now carries this tick's forces.
+  // The tissue now carries this tick's forces; its free motion under them is what the
+  // constraints meet until its next step.
   std::copy(interaction.slot_forces.begin(), interaction.slot_forces.end(), interaction.applied_forces.begin());
+  copy_state(data.tissue, data.free_tissue);
+  step(*model.tissue, data.free_tissue, tissue_inputs);
   detail::refresh_displacements(model, data);
   refresh_surfaces(model.interaction, interaction, data.displacements_m);
 }

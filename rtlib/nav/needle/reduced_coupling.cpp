@@ -114,7 +114,7 @@ Result<ReducedCoupledNeedleModel> make_coupled_needle_model(const NeedleParamete
 
 Result<ReducedCoupledNeedleData> make_coupled_needle_data(const ReducedCoupledNeedleModel& model,
                                                           const NeedlePose& base) {
-  return detail::make_coupled_data(model, base, make_reduced_data(*model.tissue),
+  return detail::make_coupled_data(model, base, make_reduced_data(*model.tissue), make_reduced_data(*model.tissue),
                                    static_cast<std::size_t>(model.tissue->node_count()),
                                    refresh_capacity(model.interaction));
 }
@@ -154,7 +154,7 @@ void refresh_displacements(const ReducedCoupledNeedleModel& model, ReducedCouple
     data.refresh_cursor = (data.refresh_cursor + 1) % nodes;
   }
   const std::span<double> values = data.refreshed_displacements_m.first(3 * count);
-  reconstruct_displacements_m(tissue, data.tissue, data.refreshed_nodes.first(count), values);
+  reconstruct_displacements_m(tissue, data.free_tissue, data.refreshed_nodes.first(count), values);
   for (std::size_t k = 0; k < count; ++k)
     std::copy_n(values.begin() + static_cast<std::ptrdiff_t>(3 * k), 3,
                 data.displacements_m.begin() + 3 * static_cast<std::ptrdiff_t>(data.refreshed_nodes[k]));

@@ -108,7 +108,7 @@ Result<CoupledNeedleModel> make_coupled_needle_model(const NeedleParameters& nee
 }
 
 Result<CoupledNeedleData> make_coupled_needle_data(const CoupledNeedleModel& model, const NeedlePose& base) {
-  return detail::make_coupled_data(model, base, make_tet_fem_data(*model.tissue),
+  return detail::make_coupled_data(model, base, make_tet_fem_data(*model.tissue), make_tet_fem_data(*model.tissue),
                                    model.tissue->rest_positions_m().size() / 3, 0);
 }
 
@@ -117,7 +117,7 @@ namespace detail {
 void refresh_displacements(const CoupledNeedleModel& model, CoupledNeedleData& data) noexcept {
   const std::span<const double> rest = model.tissue->rest_positions_m();
   for (std::size_t i = 0; i < data.displacements_m.size(); ++i)
-    data.displacements_m[i] = data.tissue.positions_m[i] - rest[i];
+    data.displacements_m[i] = data.free_tissue.positions_m[i] - rest[i];
 }
 
 }  // namespace detail

@@ -117,6 +117,11 @@ Result<ReducedData> make_reduced_data(const ReducedModel& model);
 /// the lift without inertia (the diaphragm moves slowly against the step).
 void step(const ReducedModel& model, ReducedData& data, const TissueInputs& inputs) noexcept;
 
+/// Copies the state a step starts from (q, its rates, the diaphragm displacement, the step
+/// count and report) of `from` into `to`, data of the same model; clears `to`'s health flags.
+/// Allocation-free.
+void copy_state(const ReducedData& from, ReducedData& to) noexcept;
+
 /// Displacements from rest (3 per node, metres) of `nodes`, into out_xyz (3 per node).
 void reconstruct_displacements_m(const ReducedModel& model, const ReducedData& data,
                                  std::span<const std::int32_t> nodes, std::span<double> out_xyz) noexcept;

@@ -250,6 +250,15 @@ void step(const ReducedModel& model, ReducedData& data, const TissueInputs& inpu
   ++data.steps;
 }
 
+void copy_state(const ReducedData& from, ReducedData& to) noexcept {
+  std::copy(from.q.begin(), from.q.end(), to.q.begin());
+  std::copy(from.q_velocity.begin(), from.q_velocity.end(), to.q_velocity.begin());
+  std::copy(std::begin(from.prescribed_m), std::end(from.prescribed_m), std::begin(to.prescribed_m));
+  to.report = from.report;
+  to.steps = from.steps;
+  to.health.clear_all();
+}
+
 void reconstruct_displacements_m(const ReducedModel& model, const ReducedData& data,
                                  std::span<const std::int32_t> nodes, std::span<double> out_xyz) noexcept {
   const ReducedTables& t = model.tables();

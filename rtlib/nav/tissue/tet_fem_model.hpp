@@ -78,6 +78,11 @@ Result<TetFemData> make_tet_fem_data(const TetFemModel& model);
 /// Advances the tissue by one step of model.options().step_s under `inputs`.
 void step(const TetFemModel& model, TetFemData& data, const TissueInputs& inputs) noexcept;
 
+/// Copies the state a step starts from (positions, velocities, the element rotations kept for
+/// inverted elements, the step count and report) of `from` into `to`, data of the same model;
+/// clears `to`'s health flags. Allocation-free.
+void copy_state(const TetFemData& from, TetFemData& to) noexcept;
+
 /// Whether rest_step_response_m() can answer: the model keeps its rest factor (ldlt_warped)
 /// and steps implicitly (implicit Euler or quasi-static).
 bool has_rest_step_response(const TetFemModel& model) noexcept;

@@ -109,6 +109,15 @@ void step(const TetFemModel& model, TetFemData& data, const TissueInputs& inputs
   ++data.steps;
 }
 
+void copy_state(const TetFemData& from, TetFemData& to) noexcept {
+  std::copy(from.positions_m.begin(), from.positions_m.end(), to.positions_m.begin());
+  std::copy(from.velocities_m_s.begin(), from.velocities_m_s.end(), to.velocities_m_s.begin());
+  std::copy(from.element_rotations.begin(), from.element_rotations.end(), to.element_rotations.begin());
+  to.report = from.report;
+  to.steps = from.steps;
+  to.health.clear_all();
+}
+
 double elastic_energy_j(const TetFemModel& model, const TetFemData& data) noexcept {
   return detail::elastic_energy(model.tables(), data.positions_m);
 }
