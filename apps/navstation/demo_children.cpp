@@ -10,8 +10,10 @@
 namespace navstation {
 namespace {
 
-constexpr double kPatientReadyS = 120.0;  ///< and twice the run's length: its world is simulated first
-constexpr double kPatientEndS = 30.0;     ///< stopped after the station's run: its goodbye
+/// The patient's world is simulated first (minutes under the sanitizers): it may take this and
+/// twice the run's length to be ready.
+constexpr double kPatientReadyS = 300.0;
+constexpr double kPatientEndS = 30.0;  ///< stopped after the station's run: its goodbye
 constexpr double kEvaluationEndS = 60.0;
 constexpr double kPatientExtraS = 1.0;  ///< the patient's world outlasts the station's run
 constexpr const char* kPatientReady = "waiting up to";
