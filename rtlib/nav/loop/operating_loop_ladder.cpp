@@ -92,7 +92,13 @@ void move_to(const OperatingLoopModel& model, OperatingLoopData& data, int to, c
   carry_filter(source.filter, a.filter, target.filter, b.filter, map, added_prior, data.transfer_workspace);
   if (b.needle_model) {
     copy_needle_state(*a.needle_model, *b.needle_model);
-    reconstruct_all_displacements_m(target.reduced, liver, b.needle_model->displacements_m);
+    // The needle meets the tissue's free motion (coupled_needle.hpp): the source's, carried up.
+    const ReducedData& free_from = a.needle_model->free_tissue;
+    ReducedData& free_to = b.needle_model->free_tissue;
+    multiply(map, rows, cols, free_from.q, free_to.q);
+    multiply(map, rows, cols, free_from.q_velocity, free_to.q_velocity);
+    std::copy_n(free_from.prescribed_m, 3, free_to.prescribed_m);
+    reconstruct_all_displacements_m(target.reduced, free_to, b.needle_model->displacements_m);
     refresh_surfaces(target.needle->coupled.interaction, b.needle_model->interaction, b.needle_model->displacements_m);
   }
   data.active_rung = to;
