@@ -5,7 +5,8 @@
 // ticks allocate nothing and repeat bitwise; the solver's W equals H A^-1 H^T + C C^T (+ the
 // local compliance) by dense algebra, and with the full-order tissue H A^-1 H^T + the tissue's
 // stepped responses at the rows' nodes; the compliance a truncated basis misses at a node,
-// added back, makes the node's compliance the full order's and its puncture the full order's;
+// added back, makes the node's compliance the full order's and its puncture the full order's,
+// and between nodes, the solver's W the full order's;
 // bad couplings are refused by name.
 #include <gtest/gtest.h>
 
@@ -16,7 +17,6 @@
 #include "nav/needle/missing_node_compliance.hpp"
 #include "nav/needle/reduced_coupling.hpp"
 #include "nav/needle/tissue_coupling.hpp"
-#include "nav/reduced/packed_compliance.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "needle_coupling_support.hpp"
 #include "needle_insertion_support.hpp"
@@ -279,6 +279,26 @@ double compared_with_dense(const NeedleTissueData& interaction, const Eigen::Mat
   return error;
 }
 
+/// Node a's displacement per newton on node b over one step of `full` from rest, by its own
+/// step (column j: a unit force along axis j).
+Eigen::Matrix3d stepped_response_block(const TetFemModel& full, std::int32_t a, std::int32_t b) {
+  const std::span<const double> rest = full.rest_positions_m();
+  Eigen::Matrix3d block;
+  for (int j = 0; j < 3; ++j) {
+    TetFemData tissue = make_tet_fem_data(full).value();
+    PointForce unit{b, {}};
+    unit.force_n[static_cast<std::size_t>(j)] = 1.0;
+    TissueInputs inputs;
+    inputs.point_forces = std::span<const PointForce>(&unit, 1);
+    step(full, tissue, inputs);
+    for (int i = 0; i < 3; ++i) {
+      const std::size_t at = 3 * static_cast<std::size_t>(a) + static_cast<std::size_t>(i);
+      block(i, j) = tissue.positions_m[at] - rest[at];
+    }
+  }
+  return block;
+}
+
 TEST(NeedleReducedCoupling, TheSolversComplianceIsHAInverseHTransposedPlusTheTissuesVVTransposed) {
   const Slab slab;
   const ReducedModel tissue =
@@ -314,24 +334,9 @@ TEST(NeedleReducedCoupling, TheFullOrderSolversComplianceIsHAInverseHTransposedP
   CoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
   insert(model, data, 0.0, 0.012);
   ASSERT_GE(data.interaction.report.active_path_points, 4);
-  const std::span<const double> rest = full.rest_positions_m();
-  const auto stepped_block = [&](std::int32_t a, std::int32_t b) {
-    Eigen::Matrix3d block;
-    for (int j = 0; j < 3; ++j) {
-      TetFemData tissue = make_tet_fem_data(full).value();
-      PointForce unit{b, {}};
-      unit.force_n[static_cast<std::size_t>(j)] = 1.0;
-      TissueInputs inputs;
-      inputs.point_forces = std::span<const PointForce>(&unit, 1);
-      step(full, tissue, inputs);
-      for (int i = 0; i < 3; ++i) {
-        const std::size_t at = 3 * static_cast<std::size_t>(a) + static_cast<std::size_t>(i);
-        block(i, j) = tissue.positions_m[at] - rest[at];
-      }
-    }
-    return block;
-  };
-  const Eigen::MatrixXd dense = dense_compliance(model.interaction, data.interaction, stepped_block);
+  const Eigen::MatrixXd dense =
+      dense_compliance(model.interaction, data.interaction,
+                       [&](std::int32_t a, std::int32_t b) { return stepped_response_block(full, a, b); });
   bool symmetric = false;
   EXPECT_LT(compared_with_dense(data.interaction, dense, symmetric), 1e-9);
   EXPECT_TRUE(symmetric);
@@ -389,27 +394,33 @@ TEST(NeedleReducedCoupling, TheMissingNodeComplianceMakesEachNodesComplianceTheF
   const ReducedModel reduced = reduced_slab(slab, 6, ReducedForceKind::linear, ReducedIntegrator::quasi_static);
   const ReducedCoupledNeedleModel model =
       make_coupled_needle_model(NeedleParameters{}, slab_top_layer(), reduced, slab.mesh, 32, 1).value();
-  const auto missing = missing_node_compliance(model.interaction, full);
+  // A radius below the 1 cm node spacing: each node's own block only.
+  const auto missing = missing_node_compliance(model.interaction, full, 0.005);
   ASSERT_TRUE(missing.ok()) << missing.error().describe();
   const std::size_t nodes = slab.mesh.nodes_m.size();
-  ASSERT_EQ(missing.value().size(), 6 * nodes);
+  ASSERT_EQ(missing.value().starts.size(), nodes + 1);
   const int r = model.interaction.compliance_rank;
   std::vector<double> response(3 * nodes), work(2 * static_cast<std::size_t>(full.free_dof_count()));
   double worst = 0.0, least_missed_share = 1.0;
   int free_nodes = 0;
   for (std::size_t n = 0; n < nodes; ++n) {
-    const Eigen::Matrix3d local = unpack_compliance(missing.value().data() + 6 * n);
+    const auto node = static_cast<std::int32_t>(n);
+    const double* block = missing.value().find(node, node);
     Eigen::Matrix3d node_response;
     bool free = true;
     for (int axis = 0; axis < 3; ++axis) {
-      free = rest_step_response_m(full, static_cast<std::int32_t>(n), axis, response, work);
+      free = rest_step_response_m(full, node, axis, response, work);
       node_response.col(axis) = Eigen::Map<const Eigen::Vector3d>(response.data() + 3 * n);
     }
+    const std::int32_t entries = missing.value().starts[n + 1] - missing.value().starts[n];
     if (!free) {
-      EXPECT_EQ(local.norm(), 0.0) << "held node " << n;
+      EXPECT_EQ(entries, 0) << "held node " << n;
       continue;
     }
+    ASSERT_EQ(entries, 1) << "node " << n;
+    ASSERT_NE(block, nullptr);
     ++free_nodes;
+    const Eigen::Matrix3d local = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(block);
     const Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>> v(
         model.interaction.compliance_factors.data() + 3 * n * static_cast<std::size_t>(r), 3, r);
     worst = std::max(worst, (v * v.transpose() + local - node_response).norm() / node_response.norm());
@@ -427,6 +438,34 @@ TEST(NeedleReducedCoupling, TheMissingNodeComplianceMakesEachNodesComplianceTheF
   EXPECT_GT(least_missed_share, 0.1);
 }
 
+TEST(NeedleReducedCoupling, WithTheMissingComplianceBetweenNodesTheSolversComplianceIsTheFullOrders) {
+  // A truncated basis (6 modes) and the table of what it misses between nodes within 10 m (the
+  // whole slab, where Wendland's taper is above 0.9996): the solver's W after an insertion
+  // against the dense W of the full order's stepped node responses; within 3 cm (a taper of
+  // 0.32 at 1.41 cm) the nodes further apart miss part of it.
+  const Slab slab;
+  const TetFemModel full = make_tet_fem_model(slab.mesh, slab.scene, testing::exact_linear_options()).value();
+  const ReducedModel reduced = reduced_slab(slab, 6, ReducedForceKind::linear, ReducedIntegrator::quasi_static);
+  ReducedCoupledNeedleModel model =
+      make_coupled_needle_model(NeedleParameters{}, slab_top_layer(0.001), reduced, slab.mesh, 32, 1).value();
+  const auto stepped = [&](std::int32_t a, std::int32_t b) { return stepped_response_block(full, a, b); };
+  double errors[2] = {0.0, 0.0};
+  const double radii_m[2] = {10.0, 0.03};
+  for (int k = 0; k < 2; ++k) {
+    model.interaction.missing_compliance = missing_node_compliance(model.interaction, full, radii_m[k]).value();
+    ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
+    insert(model, data, 0.0, 0.012);
+    ASSERT_GE(data.interaction.report.active_path_points, 4);
+    ASSERT_GE(data.interaction.distinct_tissue_node_count, 2);
+    const Eigen::MatrixXd dense = dense_compliance(model.interaction, data.interaction, stepped);
+    bool symmetric = false;
+    errors[k] = compared_with_dense(data.interaction, dense, symmetric);
+    EXPECT_TRUE(symmetric);
+  }
+  EXPECT_LT(errors[0], 1e-3);
+  EXPECT_GT(errors[1], 10.0 * errors[0]);
+}
+
 TEST(NeedleReducedCoupling, ATruncatedBasisWithItsMissingNodeCompliancePuncturesAsTheFullOrder) {
   const Slab slab;
   const TetFemModel full = make_tet_fem_model(slab.mesh, slab.scene, testing::exact_linear_options()).value();
@@ -440,7 +479,7 @@ TEST(NeedleReducedCoupling, ATruncatedBasisWithItsMissingNodeCompliancePunctures
   ReducedCoupledNeedleData without_data = make_coupled_needle_data(truncated, above_slab(0.0)).value();
   const double full_puncture_m = insert(full_model, full_data, 0.0, 0.02);
   const double without_m = insert(truncated, without_data, 0.0, 0.02);
-  truncated.interaction.node_local_compliance_m_per_n = missing_node_compliance(truncated.interaction, full).value();
+  truncated.interaction.missing_compliance = missing_node_compliance(truncated.interaction, full).value();
   ReducedCoupledNeedleData with_data = make_coupled_needle_data(truncated, above_slab(0.0)).value();
   testing::AllocationGuard guard;
   const double with_m = insert(truncated, with_data, 0.0, 0.02);
@@ -492,6 +531,10 @@ TEST(NeedleReducedCoupling, BadCouplingsAreRefusedByName) {
   const auto other_mesh = missing_node_compliance(coupled.interaction, other_full);
   ASSERT_FALSE(other_mesh.ok());
   EXPECT_EQ(other_mesh.error().field, "full");
+  const TetFemModel exact = make_tet_fem_model(slab.mesh, slab.scene, testing::exact_linear_options()).value();
+  const auto bad_radius = missing_node_compliance(coupled.interaction, exact, -0.01);
+  ASSERT_FALSE(bad_radius.ok());
+  EXPECT_EQ(bad_radius.error().field, "radius_m");
 }
 
 }  // namespace

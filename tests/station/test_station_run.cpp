@@ -135,9 +135,9 @@ TEST(StationRun, TheNeedlePushesAndPuncturesTheCapsuleInTheWorldAndInTheLoop) {
   EXPECT_NEAR(w.needle_peak_tip_force_n, capsule.puncture_force_n, 0.05 * capsule.puncture_force_n);
   EXPECT_NEAR(loop_peak_n, capsule.puncture_force_n, 0.05 * capsule.puncture_force_n);
   EXPECT_GT(bend_m, 1e-3);  // the tissue bends the true needle: its tip is not the holder's straight tip
-  // 2.18 mm as measured (docs/needle.md: the modelled needle bends more than the true one);
-  // the bound keeps it from growing unseen.
-  EXPECT_LT(e.needle_tip_rms_m, 2.5e-3);
+  // 1.64 mm as measured (docs/station.md: the aim is 1.5 mm); the bound keeps it from
+  // growing unseen.
+  EXPECT_LT(e.needle_tip_rms_m, 2.0e-3);
 }
 
 TEST(StationRun, TheTumourFoundInTheFramesIsWithinAMillimetreOfTheTruth) {

@@ -45,6 +45,8 @@
 
 namespace nav {
 
+class TetFemModel;
+
 /// The largest reduced basis an operating loop carries in its outputs (the displayed liver state).
 inline constexpr int kLoopMaxBasisSize = 64;
 
@@ -98,6 +100,13 @@ struct OperatingLoopNeedleOptions {
   NeedleTissueScene scene;      ///< the layers the needle meets, model frame
   RigidPose marker_from_base;   ///< the needle base (holder) in the marker frame; the needle along +x
   std::size_t max_point_forces = 16;  ///< at most the reduced model's scene's max_point_forces
+  /// A full-order liver on the rungs' mesh that steps as their reduced livers do (ldlt_warped,
+  /// implicit Euler over the liver step): each rung's needle then meets, beyond its basis, the
+  /// compliance the basis misses between the constraint points' nodes within
+  /// missing_compliance_radius_m of each other (missing_node_compliance()). Read while the loop
+  /// is built, not kept. Null: the scene's point compliance alone.
+  const TetFemModel* missing_compliance_source = nullptr;
+  double missing_compliance_radius_m = 0.0;
 };
 
 /// The needle of a loop: the needle coupled to the loop's reduced liver. The coupled model

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "nav/loop/operating_loop.hpp"
+#include "nav/needle/missing_node_compliance.hpp"
 #include "nav/reduced/reduced_tables.hpp"
 
 namespace nav {
@@ -71,6 +72,16 @@ Result<std::shared_ptr<const OperatingLoopNeedleModel>> couple_needle(const Redu
     Error error = coupled.error();
     error.field = "operating_loop.needle." + error.field;
     return error;
+  }
+  if (needle.missing_compliance_source != nullptr) {
+    auto missing = missing_node_compliance(coupled.value().interaction, *needle.missing_compliance_source,
+                                           needle.missing_compliance_radius_m);
+    if (!missing.ok()) {
+      Error error = missing.error();
+      error.field = "operating_loop.needle.missing_compliance_source (" + error.field + ")";
+      return error;
+    }
+    coupled.value().interaction.missing_compliance = std::move(missing).value();
   }
   holder->coupled = std::move(coupled).value();
   holder->coupled.other_point_forces = other_point_forces;

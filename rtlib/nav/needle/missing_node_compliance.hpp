@@ -1,8 +1,6 @@
 #pragma once
-// The local compliance a reduced tissue misses under a needle's constraint points, node by
-// node, from a full-order tissue of the same mesh (NeedleTissueModel::node_local_compliance_m_per_n).
-#include <vector>
-
+// The compliance a reduced tissue misses under a needle's constraint points, between nearby
+// nodes, from a full-order tissue of the same mesh (NeedleTissueModel::missing_compliance).
 #include "nav/core/error.hpp"
 #include "nav/needle/needle_tissue_model.hpp"
 
@@ -10,13 +8,17 @@ namespace nav {
 
 class TetFemModel;
 
-/// For every node of `coupled`'s low-rank compliance (a reduced tissue's factors V): the
-/// full-order response over one step at the node to a force on the node itself
-/// (rest_step_response_m(), 3 solves with `full`'s rest factor), less the reduced one
-/// (V_n V_n^T), symmetrised, its negative eigenvalues dropped: 6 values per node (xx, xy, xz,
-/// yy, yz, zz), zero on the nodes `full` constrains. `full` must be on the same mesh and step as
-/// the reduced model does (quasi-static, or implicit over the same step). Init time; errors
-/// name the field at fault.
-Result<std::vector<double>> missing_node_compliance(const NeedleTissueModel& coupled, const TetFemModel& full);
+/// For every node a of `coupled`'s low-rank compliance (a reduced tissue's factors V) and
+/// every node b within `radius_m` of it at rest (a itself included): the full-order response
+/// over one step at a to a force on b (rest_step_response_m(), 3 solves with `full`'s rest
+/// factor per node), less the reduced one V_a V_b^T. The blocks between distinct nodes are
+/// tapered by Wendland's compactly supported function of their distance over radius_m,
+/// (1 - s)^4 (4 s + 1), which keeps the table positive semi-definite as the untruncated
+/// difference is (a Schur product); a node's own block is symmetrised with its negative
+/// eigenvalues dropped. Nothing on the nodes `full` constrains. `full` must be on the same
+/// mesh and step as the reduced model does (quasi-static, or implicit over the same step).
+/// Init time; errors name the field at fault.
+Result<NodePairCompliance> missing_node_compliance(const NeedleTissueModel& coupled, const TetFemModel& full,
+                                                   double radius_m = 0.0);
 
 }  // namespace nav

@@ -17,6 +17,7 @@
 #include "nav/needle/needle_lane_kernels.hpp"
 #include "nav/needle/needle_model.hpp"
 #include "nav/needle/needle_tissue_scene.hpp"
+#include "nav/needle/node_pair_compliance.hpp"
 #include "nav/needle/surface_bvh.hpp"
 
 namespace nav {
@@ -79,11 +80,11 @@ struct NeedleTissueModel {
   /// element can outnumber what needle and basis can follow, and W is singular.
   int compliance_rank = 0;
   std::vector<double> compliance_factors;
-  /// With a nodal compliance: what a constraint point meets at its own node beyond it, 6 per
-  /// tissue node (xx, xy, xz, yy, yz, zz; symmetric, positive semi-definite), e.g. the
-  /// full-order response a basis misses (missing_node_compliance()); scene.point_compliance_m_per_n
-  /// adds to it isotropically. Empty: that scalar alone (so too a node beyond its size).
-  std::vector<double> node_local_compliance_m_per_n;
+  /// With low-rank factors: the compliance the tissue model misses between the constraint
+  /// points' nodes, beyond the factors' (e.g. the full order's, missing_node_compliance()),
+  /// which the needle meets under its whole forces; scene.point_compliance_m_per_n adds to it
+  /// isotropically on each point's own rows. Empty: that scalar alone.
+  NodePairCompliance missing_compliance;
   /// A full-order tissue whose response over one step at the constraint points' nodes (three
   /// solves with its rest factor per node, rest_step_response_m(), kept in the data's cache
   /// while the node is in use) is the tissue's compliance between them, replacing the tensor

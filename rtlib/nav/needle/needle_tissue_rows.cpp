@@ -5,7 +5,6 @@
 
 #include "nav/needle/needle_step.hpp"
 #include "nav/needle/tissue_points.hpp"
-#include "nav/reduced/packed_compliance.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 
 namespace nav::detail {
@@ -193,25 +192,11 @@ Eigen::Vector3d full_order_response(const NeedleTissueModel& model, const Needle
   return u;
 }
 
-/// Low rank: the distinct tissue nodes of the constraint points (points on one node share
-/// them), each point's index among those nodes, and the tissue's compliance between them,
-/// V_a V_b^T, dense and row-major in low_rank.tissue_compliance (padded(3 distinct) values
-/// per row).
-void tissue_node_compliance(const NeedleTissueModel& model, NeedleTissueData& data) {
+/// Low rank: the tissue's compliance between the distinct tissue nodes, V_a V_b^T, laid out
+/// as full_order_node_compliance() does.
+void low_rank_node_compliance(const NeedleTissueModel& model, NeedleTissueData& data) {
   const int rank = model.compliance_rank;
-  std::size_t distinct = 0;
-  for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
-    const std::int32_t node = data.rows[static_cast<std::size_t>(data.point_first_row[p])].tissue_node;
-    std::size_t k = 0;
-    while (k < distinct && data.distinct_tissue_nodes[k] != node) ++k;
-    if (k == distinct) data.distinct_tissue_nodes[distinct++] = node;
-    data.point_tissue_index[p] = static_cast<std::int32_t>(k);
-  }
-  data.distinct_tissue_node_count = static_cast<int>(distinct);
-  if (rank == 0) {
-    full_order_node_compliance(model, data);
-    return;
-  }
+  const auto distinct = static_cast<std::size_t>(data.distinct_tissue_node_count);
   const std::size_t stride = padded(3 * distinct);
   for (std::size_t k = 0; k < distinct; ++k)
     for (std::size_t l = 0; l <= k; ++l) {
@@ -230,6 +215,47 @@ void tissue_node_compliance(const NeedleTissueModel& model, NeedleTissueData& da
         for (std::size_t j = 0; j < 3; ++j)
           dense[(3 * k + i) * stride + 3 * l + j] = dense[(3 * l + j) * stride + 3 * k + i] = sums[i][j];
     }
+}
+
+/// Adds the compliance the tissue model misses between the distinct tissue nodes
+/// (model.missing_compliance, where it holds their pair) to the dense compliance between them.
+void add_missing_compliance(const NeedleTissueModel& model, NeedleTissueData& data) {
+  if (model.missing_compliance.starts.empty()) return;
+  const auto distinct = static_cast<std::size_t>(data.distinct_tissue_node_count);
+  const std::size_t stride = padded(3 * distinct);
+  double* dense = data.low_rank.tissue_compliance.data();
+  for (std::size_t k = 0; k < distinct; ++k)
+    for (std::size_t l = 0; l <= k; ++l) {
+      const double* block = model.missing_compliance.find(data.distinct_tissue_nodes[k], data.distinct_tissue_nodes[l]);
+      if (block == nullptr) continue;
+      for (std::size_t i = 0; i < 3; ++i)
+        for (std::size_t j = 0; j < 3; ++j) {
+          dense[(3 * k + i) * stride + 3 * l + j] += block[3 * i + j];
+          if (l != k) dense[(3 * l + j) * stride + 3 * k + i] += block[3 * i + j];
+        }
+    }
+}
+
+/// The distinct tissue nodes of the constraint points (points on one node share them), each
+/// point's index among those nodes, and the tissue's compliance between them (the full
+/// order's responses or V_a V_b^T, and what the model misses), dense and row-major in
+/// low_rank.tissue_compliance (padded(3 distinct) values per row).
+void tissue_node_compliance(const NeedleTissueModel& model, NeedleTissueData& data) {
+  const int rank = model.compliance_rank;
+  std::size_t distinct = 0;
+  for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
+    const std::int32_t node = data.rows[static_cast<std::size_t>(data.point_first_row[p])].tissue_node;
+    std::size_t k = 0;
+    while (k < distinct && data.distinct_tissue_nodes[k] != node) ++k;
+    if (k == distinct) data.distinct_tissue_nodes[distinct++] = node;
+    data.point_tissue_index[p] = static_cast<std::int32_t>(k);
+  }
+  data.distinct_tissue_node_count = static_cast<int>(distinct);
+  if (rank == 0)
+    full_order_node_compliance(model, data);
+  else
+    low_rank_node_compliance(model, data);
+  add_missing_compliance(model, data);
 }
 
 /// Low rank: sum_r c_r force(r) over the rows (c_r = V_node^T d_r), as sum over the distinct
@@ -310,15 +336,6 @@ void fill_row_entries(const NeedleTissueData& data, std::size_t r, std::size_t t
   }
 }
 
-/// The compliance a constraint point on `node` meets at its own node beyond the nodal
-/// compliance and the scene's isotropic point compliance (node_local_compliance_m_per_n; zero
-/// without it, or for a node it does not reach).
-Eigen::Matrix3d node_local_compliance_m_per_n(const NeedleTissueModel& model, std::int32_t node) {
-  if (node < 0 || 6 * static_cast<std::size_t>(node) + 6 > model.node_local_compliance_m_per_n.size())
-    return Eigen::Matrix3d::Zero();
-  return unpack_compliance(model.node_local_compliance_m_per_n.data() + 6 * static_cast<std::size_t>(node));
-}
-
 /// Low rank: W = H C H^T, C block-diagonal over the needle's translational freedoms from
 /// `first_block` (its compliance A^-1, read in place) and the distinct tissue nodes' (V_a V_b^T), as
 /// C H^T then H (C H^T) on the kernels (rows padded to whole lanes), lower triangle then
@@ -354,14 +371,10 @@ void assemble_low_rank(const NeedleTissueModel& model, NeedleTissueData& data, i
   for (std::size_t p = 0; p < static_cast<std::size_t>(data.point_count); ++p) {
     const auto begin = static_cast<std::size_t>(data.point_first_row[p]),
                end = static_cast<std::size_t>(data.point_first_row[p + 1]);
-    const Eigen::Matrix3d node_local = node_local_compliance_m_per_n(
-        model, data.distinct_tissue_nodes[static_cast<std::size_t>(data.point_tissue_index[p])]);
-    for (std::size_t r = begin; r < end; ++r) {
-      const Eigen::Vector3d& d_r = data.rows[r].direction;
+    for (std::size_t r = begin; r < end; ++r)
       for (std::size_t s = begin; s <= r; ++s)
-        data.compliance[r * stride + s] += model.scene.point_compliance_m_per_n * d_r.dot(data.rows[s].direction) +
-                                           d_r.dot(node_local * data.rows[s].direction);
-    }
+        data.compliance[r * stride + s] +=
+            model.scene.point_compliance_m_per_n * data.rows[r].direction.dot(data.rows[s].direction);
   }
   kernels.mirror_lower(data.compliance.data(), m, stride);
 }
@@ -541,17 +554,21 @@ Eigen::Vector3d compliant_displacement_m(const NeedleTissueModel& model, const N
     } else {
       u = -full_order_response(model, data, pending_n, node);
     }
-    // A constraint point's own tissue point also yields locally under its whole force.
+    // What the tissue model misses yields under the whole forces: about the nodes near this
+    // one, and locally at a constraint point's own tissue point.
+    if (!model.missing_compliance.starts.empty()) {
+      const auto whole_n = [&](std::size_t r) { return data.row_forces[r]; };
+      for (std::size_t k = 0; k < static_cast<std::size_t>(data.distinct_tissue_node_count); ++k)
+        if (const double* block = model.missing_compliance.find(node, data.distinct_tissue_nodes[k]))
+          u -= Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(block) *
+               force_on_distinct_node(data, k, whole_n);
+    }
     for (int p = 0; p < data.point_count; ++p) {
       const auto begin = static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(p)]);
       const auto end = static_cast<std::size_t>(data.point_first_row[static_cast<std::size_t>(p) + 1]);
       if (data.rows[begin].tissue_point_m != point_m) continue;
-      Eigen::Vector3d force_n = Eigen::Vector3d::Zero();
-      for (std::size_t r = begin; r < end; ++r) {
+      for (std::size_t r = begin; r < end; ++r)
         u -= model.scene.point_compliance_m_per_n * data.row_forces[r] * data.rows[r].direction;
-        force_n += data.row_forces[r] * data.rows[r].direction;
-      }
-      u -= node_local_compliance_m_per_n(model, node) * force_n;
       break;
     }
     return u;

@@ -106,6 +106,9 @@ struct NeedleSettings {
   NeedleParameters parameters;    ///< step_s comes from loop_rate_hz
   NeedleTissueScene interaction;  ///< its layers (planes until their surfaces are taken from the mesh) and settings
   std::vector<std::optional<NeedleLayerSurface>> layer_surfaces;  ///< per layer; none: its plane
+  /// The loop's needle meets the full-order compliance its reduced liver misses between nodes
+  /// this close (a full-order liver built at start-up for it; 0: the point compliance alone).
+  double missing_compliance_radius_m = 0.0;
   int line = 0;
 };
 

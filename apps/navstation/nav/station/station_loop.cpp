@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -69,6 +70,16 @@ Result<ReducedRungSpec> trained_rung(const StationLiver& liver, const Scene& sce
   ReducedSolverOptions reduced;
   reduced.step_s = 1.0 / scene.station.tissue_rate_hz;
   return ReducedRungSpec{std::move(basis).value(), reduced};
+}
+
+/// The full-order liver whose one-step response the loop's reduced liver approximates: implicit
+/// Euler over the liver step with the rest LDL^T factor, undamped as the loop's reduced liver.
+Result<TetFemModel> liver_stepping_as_the_loop(const StationLiver& liver, const Scene& scene) {
+  TissueSolverOptions solver;
+  solver.integrator = Integrator::implicit_euler;
+  solver.solver = LinearSolver::ldlt_warped;
+  solver.step_s = 1.0 / scene.station.tissue_rate_hz;
+  return make_tet_fem_model(liver.mesh, liver.scene, solver);
 }
 
 OperatingLoopOptions loop_options(const Scene& scene, const BreathingGeometry& breathing,
@@ -145,6 +156,7 @@ Result<OperatingLoopModel> loop_on(const StationLiver& liver, const Scene& scene
   if (!calibration.ok()) return calibration.error();
   const OperatingLoopOptions o = loop_options(scene, breathing, calibration.value(), settings);
   std::optional<OperatingLoopNeedleOptions> needle;
+  std::optional<TetFemModel> missing_compliance_source;
   if (scene.needle) {
     auto interaction = station_needle_interaction(scene, liver.mesh, liver.tumour_m);
     if (!interaction.ok()) return interaction.error();
@@ -153,6 +165,17 @@ Result<OperatingLoopModel> loop_on(const StationLiver& liver, const Scene& scene
     needle->scene = std::move(interaction).value();
     needle->marker_from_base = calibration.value().marker_from_base;
     needle->max_point_forces = liver.scene.max_point_forces - (ligaments ? ligaments->attachment.nodes.size() : 0);
+    if (scene.needle->missing_compliance_radius_m > 0.0) {
+      auto full = liver_stepping_as_the_loop(liver, scene);
+      if (!full.ok())
+        return Error{.message = full.error().describe(),
+                     .file = scene.source_path,
+                     .line = scene.needle->line,
+                     .field = "needle.missing_compliance_radius_m"};
+      missing_compliance_source.emplace(std::move(full).value());
+      needle->missing_compliance_source = &*missing_compliance_source;
+      needle->missing_compliance_radius_m = scene.needle->missing_compliance_radius_m;
+    }
   }
   const auto loop_error = [&](const Error& e) {  // the loop's own errors: its needle's, or the liver model's
     return e.file.empty() ? Error{.message = e.describe(),
