@@ -66,6 +66,11 @@ NeedleTissueScene slab_top_layer(double path_spacing_m = 0.003) {
   return testing::top_face_layer(0.5 * kSideM, 0.5 * kSideM, kDepthM, path_spacing_m);
 }
 
+/// The reduced tissue's compliance factors a coupled model carries.
+ReducedComplianceFactors factors_of(const NeedleTissueModel& interaction) {
+  return {interaction.compliance_rank, interaction.compliance_factors};
+}
+
 /// Lowers the needle by `travel_m` from where it is; returns the lowering at puncture (-1: none).
 template <class Model, class Data>
 double insert(const Model& model, Data& data, double from_m, double travel_m) {
@@ -395,7 +400,7 @@ TEST(NeedleReducedCoupling, TheMissingNodeComplianceMakesEachNodesComplianceTheF
   const ReducedCoupledNeedleModel model =
       make_coupled_needle_model(NeedleParameters{}, slab_top_layer(), reduced, slab.mesh, 32, 1).value();
   // A radius below the 1 cm node spacing: each node's own block only.
-  const auto missing = missing_node_compliance(model.interaction, full, 0.005);
+  const auto missing = missing_node_compliance(factors_of(model.interaction), full, 0.005);
   ASSERT_TRUE(missing.ok()) << missing.error().describe();
   const std::size_t nodes = slab.mesh.nodes_m.size();
   ASSERT_EQ(missing.value().starts.size(), nodes + 1);
@@ -452,7 +457,8 @@ TEST(NeedleReducedCoupling, WithTheMissingComplianceBetweenNodesTheSolversCompli
   double errors[2] = {0.0, 0.0};
   const double radii_m[2] = {10.0, 0.03};
   for (int k = 0; k < 2; ++k) {
-    model.interaction.missing_compliance = missing_node_compliance(model.interaction, full, radii_m[k]).value();
+    model.interaction.missing_compliance =
+        missing_node_compliance(factors_of(model.interaction), full, radii_m[k]).value();
     ReducedCoupledNeedleData data = make_coupled_needle_data(model, above_slab(0.0)).value();
     insert(model, data, 0.0, 0.012);
     ASSERT_GE(data.interaction.report.active_path_points, 4);
@@ -479,7 +485,7 @@ TEST(NeedleReducedCoupling, ATruncatedBasisWithItsMissingNodeCompliancePunctures
   ReducedCoupledNeedleData without_data = make_coupled_needle_data(truncated, above_slab(0.0)).value();
   const double full_puncture_m = insert(full_model, full_data, 0.0, 0.02);
   const double without_m = insert(truncated, without_data, 0.0, 0.02);
-  truncated.interaction.missing_compliance = missing_node_compliance(truncated.interaction, full).value();
+  truncated.interaction.missing_compliance = missing_node_compliance(factors_of(truncated.interaction), full).value();
   ReducedCoupledNeedleData with_data = make_coupled_needle_data(truncated, above_slab(0.0)).value();
   testing::AllocationGuard guard;
   const double with_m = insert(truncated, with_data, 0.0, 0.02);
@@ -522,17 +528,17 @@ TEST(NeedleReducedCoupling, BadCouplingsAreRefusedByName) {
                                               return o;
                                             }())
                              .value();
-  const auto no_factor = missing_node_compliance(coupled.interaction, cg);
+  const auto no_factor = missing_node_compliance(factors_of(coupled.interaction), cg);
   ASSERT_FALSE(no_factor.ok());
   EXPECT_EQ(no_factor.error().field, "full");
   const TetMesh tall = testing::box_mesh({kSideM, kSideM, kSideM}, 0.01);
   const TetFemModel other_full =
       make_tet_fem_model(tall, testing::held_at_bottom(tall), testing::exact_linear_options()).value();
-  const auto other_mesh = missing_node_compliance(coupled.interaction, other_full);
+  const auto other_mesh = missing_node_compliance(factors_of(coupled.interaction), other_full);
   ASSERT_FALSE(other_mesh.ok());
   EXPECT_EQ(other_mesh.error().field, "full");
   const TetFemModel exact = make_tet_fem_model(slab.mesh, slab.scene, testing::exact_linear_options()).value();
-  const auto bad_radius = missing_node_compliance(coupled.interaction, exact, -0.01);
+  const auto bad_radius = missing_node_compliance(factors_of(coupled.interaction), exact, -0.01);
   ASSERT_FALSE(bad_radius.ok());
   EXPECT_EQ(bad_radius.error().field, "radius_m");
 }

@@ -2,7 +2,8 @@
 // equal the full-order TetFemModel's (gravity, point forces, moving springs, Rayleigh damping,
 // prescribed diaphragm motion through the lift); steps never allocate, repeat bitwise, refuse
 // bad inputs with the state untouched, and give the same bits with every instruction set's
-// kernels; reconstruction agrees with U q + L d.
+// kernels; a model given other solver options steps as one built with them; reconstruction
+// agrees with U q + L d.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -209,6 +210,30 @@ TEST(ReducedStep, StepsNeverAllocateAndRepeatBitwise) {
         }
       }
   }
+}
+
+TEST(ReducedStep, AModelGivenOtherSolverOptionsStepsAsOneBuiltWithThem) {
+  const BeamScene beam = busy_beam(true);
+  const TissueSolverOptions solver = nonlinear_options(ElementLaw::linear_elastic);
+  const ReducedBasis basis = cubature_basis(beam, solver, ReducedForceKind::corotational_cubature, 6);
+  ReducedSolverOptions implicit;
+  implicit.step_s = 0.005;
+  implicit.rayleigh_mass_per_s = 2.0;
+  ReducedSolverOptions quasi_static;
+  quasi_static.integrator = ReducedIntegrator::quasi_static;
+  quasi_static.newton_iterations = 2;
+  const ReducedModel dynamic = make_reduced_model(beam.mesh, beam.scene, solver, basis, implicit).value();
+  const ReducedModel built = make_reduced_model(beam.mesh, beam.scene, solver, basis, quasi_static).value();
+  const auto twin = with_solver_options(dynamic, quasi_static);
+  ASSERT_TRUE(twin.ok()) << twin.error().describe();
+  std::size_t allocations = 1;
+  const std::uint64_t built_hash = scripted_run(built, 30, allocations);
+  EXPECT_EQ(scripted_run(twin.value(), 30, allocations), built_hash);
+  EXPECT_NE(scripted_run(dynamic, 30, allocations), built_hash);
+  quasi_static.newton_iterations = 0;
+  const auto refused = with_solver_options(dynamic, quasi_static);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().field, "newton_iterations");
 }
 
 TEST(ReducedStep, CubicPolynomialStepsNeverAllocateAndRepeatBitwise) {

@@ -100,11 +100,13 @@ struct OperatingLoopNeedleOptions {
   NeedleTissueScene scene;      ///< the layers the needle meets, model frame
   RigidPose marker_from_base;   ///< the needle base (holder) in the marker frame; the needle along +x
   std::size_t max_point_forces = 16;  ///< at most the reduced model's scene's max_point_forces
-  /// A full-order liver on the rungs' mesh that steps as their reduced livers do (ldlt_warped,
-  /// implicit Euler over the liver step): each rung's needle then meets, beyond its basis, the
-  /// compliance the basis misses between the constraint points' nodes within
-  /// missing_compliance_radius_m of each other (missing_node_compliance()). Read while the loop
-  /// is built, not kept. Null: the scene's point compliance alone.
+  /// A quasi-static full-order liver on the rungs' mesh with its rest factor (ldlt_warped):
+  /// each rung's needle then meets, beyond its basis, the static compliance the basis misses
+  /// between the constraint points' nodes within missing_compliance_radius_m of each other
+  /// (missing_node_compliance() against the rung's quasi-static twin). The tissue never carries
+  /// that part: the needle meets it under its whole forces, as the tissue would yield at rest
+  /// under them (the basis's own part follows the liver's dynamics). Read while the loop is
+  /// built, not kept. Null: the scene's point compliance alone.
   const TetFemModel* missing_compliance_source = nullptr;
   double missing_compliance_radius_m = 0.0;
 };

@@ -27,13 +27,13 @@ Eigen::Matrix3d positive_part(const Eigen::Matrix3d& c) {
 
 }  // namespace
 
-Result<NodePairCompliance> missing_node_compliance(const NeedleTissueModel& coupled, const TetFemModel& full,
+Result<NodePairCompliance> missing_node_compliance(const ReducedComplianceFactors& reduced, const TetFemModel& full,
                                                    double radius_m) {
-  const int rank = coupled.compliance_rank;
-  if (rank < 1) return Error{.message = "has no low-rank tissue compliance", .field = "coupled.compliance_rank"};
+  const int rank = reduced.rank;
+  if (rank < 1) return Error{.message = "has no low-rank tissue compliance", .field = "reduced.rank"};
   const auto nodes = static_cast<std::size_t>(full.node_count());
-  if (coupled.compliance_factors.size() != 3 * nodes * static_cast<std::size_t>(rank))
-    return Error{.message = "is on another mesh than the coupled tissue", .field = "full"};
+  if (reduced.factors.size() != 3 * nodes * static_cast<std::size_t>(rank))
+    return Error{.message = "is on another mesh than the reduced tissue", .field = "full"};
   if (!has_rest_step_response(full))
     return Error{.message = "keeps no rest factor (solver ldlt_warped, an implicit or quasi-static step)",
                  .field = "full"};
@@ -42,7 +42,7 @@ Result<NodePairCompliance> missing_node_compliance(const NeedleTissueModel& coup
   const std::span<const double> rest = full.rest_positions_m();
   const auto position = [&](std::size_t n) { return Eigen::Map<const Eigen::Vector3d>(rest.data() + 3 * n); };
   const auto factors = [&](std::size_t n) {
-    return FactorRows(coupled.compliance_factors.data() + 3 * n * static_cast<std::size_t>(rank), 3, rank);
+    return FactorRows(reduced.factors.data() + 3 * n * static_cast<std::size_t>(rank), 3, rank);
   };
   NodePairCompliance table;
   table.starts.assign(1, 0);

@@ -98,7 +98,7 @@ Result<ReducedCoupledNeedleModel> make_coupled_needle_model(const NeedleParamete
     if (data.value().health.has(HealthFlag::bad_sample))
       return Error{.message = "exceeds the reduced model's scene max_point_forces", .field = "max_point_forces"};
   }
-  auto factors = reduced_compliance_factors(tissue, 0.01);
+  auto factors = reduced_compliance_factors(tissue, kComplianceProbeForceN);
   if (!factors.ok()) return factors.error();
   std::vector<double> rest_m;
   rest_m.reserve(3 * mesh.nodes_m.size());

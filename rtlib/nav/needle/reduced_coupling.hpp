@@ -25,6 +25,10 @@ struct ReducedComplianceFactors {
   std::vector<double> factors;
 };
 
+/// The probe force of the coupling's factors: small against a needle's forces, large against
+/// rounding (the step is linear in it for a frozen tangent).
+inline constexpr double kComplianceProbeForceN = 0.01;
+
 /// Probes `tissue` through its public step (init time): the basis U from reconstructions
 /// of unit coordinates, G from one step from rest under `probe_force_n` on r well-conditioned
 /// node axes (column-pivoted QR of U^T), symmetrised and factored. Exact for a frozen tangent

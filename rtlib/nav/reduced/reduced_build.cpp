@@ -297,6 +297,16 @@ Result<ReducedModel> make_reduced_model(const TetMesh& mesh, const TissueScene& 
   return ReducedModel(std::move(t));
 }
 
+Result<ReducedModel> with_solver_options(const ReducedModel& model, const ReducedSolverOptions& options) {
+  if (auto s = check_options(options); !s) return s.error();
+  auto t = std::make_shared<ReducedTables>(model.tables());
+  t->options = options;
+  t->lane_kernels = &detail::reduced_lane_kernels(options.kernel_isa);
+  t->error_bound_m = options.error_bound_m;
+  if (auto s = build_frozen_factor(*t); !s) return s.error();
+  return ReducedModel(std::move(t));
+}
+
 Result<ReducedData> make_reduced_data(const ReducedModel& model) {
   const ReducedTables& t = model.tables();
   const auto r = static_cast<std::size_t>(t.r);

@@ -107,6 +107,11 @@ Result<ReducedModel> make_reduced_model(const TetMesh& mesh, const TissueScene& 
                                         const TissueSolverOptions& solver, const ReducedBasis& basis,
                                         const ReducedSolverOptions& options);
 
+/// `model` with other solver options: its tables copied and its frozen tangent factored again
+/// (e.g. a quasi-static twin of a dynamic model, for its static compliance). Init time; errors
+/// name the option at fault.
+Result<ReducedModel> with_solver_options(const ReducedModel& model, const ReducedSolverOptions& options);
+
 /// The data of `model`, at rest with zero velocity.
 Result<ReducedData> make_reduced_data(const ReducedModel& model);
 

@@ -72,13 +72,12 @@ Result<ReducedRungSpec> trained_rung(const StationLiver& liver, const Scene& sce
   return ReducedRungSpec{std::move(basis).value(), reduced};
 }
 
-/// The full-order liver whose one-step response the loop's reduced liver approximates: implicit
-/// Euler over the liver step with the rest LDL^T factor, undamped as the loop's reduced liver.
-Result<TetFemModel> liver_stepping_as_the_loop(const StationLiver& liver, const Scene& scene) {
+/// The full-order liver whose static compliance the loop's needle meets beyond its reduced
+/// liver's: quasi-static, with the rest LDL^T factor.
+Result<TetFemModel> static_full_order_liver(const StationLiver& liver) {
   TissueSolverOptions solver;
-  solver.integrator = Integrator::implicit_euler;
+  solver.integrator = Integrator::quasi_static;
   solver.solver = LinearSolver::ldlt_warped;
-  solver.step_s = 1.0 / scene.station.tissue_rate_hz;
   return make_tet_fem_model(liver.mesh, liver.scene, solver);
 }
 
@@ -166,7 +165,7 @@ Result<OperatingLoopModel> loop_on(const StationLiver& liver, const Scene& scene
     needle->marker_from_base = calibration.value().marker_from_base;
     needle->max_point_forces = liver.scene.max_point_forces - (ligaments ? ligaments->attachment.nodes.size() : 0);
     if (scene.needle->missing_compliance_radius_m > 0.0) {
-      auto full = liver_stepping_as_the_loop(liver, scene);
+      auto full = static_full_order_liver(liver);
       if (!full.ok())
         return Error{.message = full.error().describe(),
                      .file = scene.source_path,
