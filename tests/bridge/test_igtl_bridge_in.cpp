@@ -9,6 +9,7 @@
 #include <igtlClientSocket.h>
 
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -36,6 +37,9 @@ constexpr std::uint32_t kDomain = 220;
 constexpr std::uint32_t kListeningDomain = 224;
 constexpr std::uint32_t kVersion3Domain = 226;
 constexpr TimeNs kTimeoutNs = 10 * kNsPerSecond;
+// Both sides matched, Fast DDS still loses a best-effort sample written at once (4 of 15 runs
+// of the PlusServer case on one machine): the tests write theirs this long after.
+constexpr std::chrono::milliseconds kSettleAfterMatch{300};
 
 /// The station's side: its pose and frame readers on the scene's topics.
 struct StationSide {
@@ -80,6 +84,7 @@ TEST(IgtlBridgeIn, PlusServerMessagesBecomeTheScenesPosesAndFramesAndBadOnesAreC
     return bridge.value()->readers_matched(dds::Topic::tool_pose) >= 1 &&
            bridge.value()->readers_matched(dds::Topic::ultrasound_frame) >= 1;
   }));
+  std::this_thread::sleep_for(kSettleAfterMatch);
 
   auto connection = plus.value().accept(kTimeoutNs);
   ASSERT_TRUE(connection.ok());
@@ -178,7 +183,8 @@ struct ListeningBridge {
   bool ready() const {
     return bridge && station->node && bridge->plus_port() > 0 &&
            station->node->wait_for_match(dds::Topic::tool_pose, 1, kTimeoutNs) &&
-           wait_until([&] { return bridge->readers_matched(dds::Topic::tool_pose) >= 1; });
+           wait_until([&] { return bridge->readers_matched(dds::Topic::tool_pose) >= 1; }) &&
+           (std::this_thread::sleep_for(kSettleAfterMatch), true);
   }
 };
 
@@ -186,20 +192,28 @@ TEST(IgtlBridgeIn, WhereTheSenderConnectsTheBridgeListensAndTakesOneAfterAnother
   ListeningBridge listening(kListeningDomain);
   ASSERT_TRUE(listening.ready());
   const float at_mm[3][4] = {{1, 0, 0, 1}, {0, 1, 0, 2}, {0, 0, 1, 3}};
+  std::uint64_t sent = 0;
   for (int sender = 1; sender <= 2; ++sender) {  // OpenIGTLink's own client socket, as PLUS's or Slicer's sender
     ::igtl::ClientSocket::Pointer socket = ::igtl::ClientSocket::New();
     ASSERT_EQ(socket->ConnectToServer("127.0.0.1", listening.bridge->plus_port()), 0);
-    const std::vector<std::uint8_t> pose = transform_bytes("ProbeToTracker", at_mm, igtl::wall_now_ns());
-    ASSERT_NE(socket->Send(pose.data(), static_cast<int>(pose.size())), 0);
+    // Poses are best effort on DDS: one can be lost on its way to the station (a sender's
+    // first, once in a CI run), so the sender sends again until one arrives.
     dds::ToolPose received;
-    ASSERT_TRUE(wait_until([&] { return listening.station->poses->try_pop(received); })) << "sender " << sender;
+    bool arrived = false;
+    for (int attempt = 0; attempt < 20 && !arrived; ++attempt) {
+      const std::vector<std::uint8_t> pose = transform_bytes("ProbeToTracker", at_mm, igtl::wall_now_ns());
+      ASSERT_NE(socket->Send(pose.data(), static_cast<int>(pose.size())), 0);
+      ++sent;
+      arrived = wait_until([&] { return listening.station->poses->try_pop(received); }, 0.5);
+    }
+    ASSERT_TRUE(arrived) << "sender " << sender;
     EXPECT_EQ(received.tool_id, listening.scene.devices.tracker.tools.probe);
     EXPECT_NEAR(received.position_m[2], 0.003, 1e-9);
     socket->CloseSocket();  // the bridge sees it closed and takes the next sender
   }
   // The bridge counts a pose after writing it, so the station may hold it before the count.
-  EXPECT_TRUE(wait_until([&] { return listening.bridge->totals().poses_in == 2u; }))
-      << listening.bridge->totals().poses_in << " poses counted";
+  EXPECT_TRUE(wait_until([&] { return listening.bridge->totals().poses_in == sent; }))
+      << listening.bridge->totals().poses_in << " poses counted, " << sent << " sent";
   EXPECT_EQ(listening.bridge->totals().plus_connections, 2u);
 }
 
