@@ -59,23 +59,6 @@ Status check_rung(const RungInput& rung, const OperatingLoopOptions& options) {
   return Done{};
 }
 
-/// The static compliance `liver` misses of the quasi-static `full` between nodes within
-/// `radius_m`: against the liver's quasi-static twin's factors (the needle meets that part
-/// under its whole forces, as a tissue at rest under them would yield).
-Result<NodePairCompliance> static_missing_compliance(const ReducedModel& liver, const TetFemModel& full,
-                                                     double radius_m) {
-  ReducedSolverOptions at_rest = liver.options();
-  at_rest.integrator = ReducedIntegrator::quasi_static;
-  at_rest.newton_iterations = 1;
-  at_rest.frozen_tangent = true;
-  at_rest.rayleigh_mass_per_s = at_rest.rayleigh_stiffness_s = 0.0;
-  auto twin = with_solver_options(liver, at_rest);
-  if (!twin.ok()) return twin.error();
-  auto factors = reduced_compliance_factors(twin.value(), kComplianceProbeForceN);
-  if (!factors.ok()) return factors.error();
-  return missing_node_compliance(factors.value(), full, radius_m);
-}
-
 /// The needle coupled to one rung's liver; errors put under operating_loop.needle.
 Result<std::shared_ptr<const OperatingLoopNeedleModel>> couple_needle(const ReducedModel& liver,
                                                                       const OperatingLoopNeedleOptions& needle,
@@ -92,7 +75,7 @@ Result<std::shared_ptr<const OperatingLoopNeedleModel>> couple_needle(const Redu
   }
   if (needle.missing_compliance_source != nullptr) {
     auto missing =
-        static_missing_compliance(liver, *needle.missing_compliance_source, needle.missing_compliance_radius_m);
+        static_missing_node_compliance(liver, *needle.missing_compliance_source, needle.missing_compliance_radius_m);
     if (!missing.ok()) {
       Error error = missing.error();
       error.field = "operating_loop.needle.missing_compliance_source (" + error.field + ")";

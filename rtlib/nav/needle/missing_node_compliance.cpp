@@ -74,4 +74,18 @@ Result<NodePairCompliance> missing_node_compliance(const ReducedComplianceFactor
   return table;
 }
 
+Result<NodePairCompliance> static_missing_node_compliance(const ReducedModel& liver, const TetFemModel& full,
+                                                          double radius_m) {
+  ReducedSolverOptions at_rest = liver.options();
+  at_rest.integrator = ReducedIntegrator::quasi_static;
+  at_rest.newton_iterations = 1;
+  at_rest.frozen_tangent = true;
+  at_rest.rayleigh_mass_per_s = at_rest.rayleigh_stiffness_s = 0.0;
+  auto twin = with_solver_options(liver, at_rest);
+  if (!twin.ok()) return twin.error();
+  auto factors = reduced_compliance_factors(twin.value(), kComplianceProbeForceN);
+  if (!factors.ok()) return factors.error();
+  return missing_node_compliance(factors.value(), full, radius_m);
+}
+
 }  // namespace nav

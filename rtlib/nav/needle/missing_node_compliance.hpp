@@ -23,4 +23,10 @@ class TetFemModel;
 Result<NodePairCompliance> missing_node_compliance(const ReducedComplianceFactors& reduced, const TetFemModel& full,
                                                    double radius_m = 0.0);
 
+/// The static compliance `liver` misses of the quasi-static `full` between nodes within
+/// `radius_m`: missing_node_compliance() against the factors of the liver's quasi-static twin
+/// (with_solver_options()), what a needle meets of a tissue that never carries it.
+Result<NodePairCompliance> static_missing_node_compliance(const ReducedModel& liver, const TetFemModel& full,
+                                                          double radius_m);
+
 }  // namespace nav
