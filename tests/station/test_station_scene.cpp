@@ -69,6 +69,7 @@ TEST(StationScene, DemoSceneParsesIntoItsStatedValues) {
   ASSERT_TRUE(s.needle->layer_surfaces[0] && s.needle->layer_surfaces[1]);
   EXPECT_EQ(s.needle->layer_surfaces[0]->region, -1);
   EXPECT_EQ(s.needle->layer_surfaces[1]->region, static_cast<std::int32_t>(TissueRegion::tumour));
+  EXPECT_EQ(s.needle->missing_compliance_radius_m, 0.015);
   EXPECT_FALSE(s.ligaments.has_value());
   EXPECT_EQ(s.devices.tracker.kind, TrackerKind::simulated);
   EXPECT_EQ(s.devices.tracker.position_noise_m, 0.00025);
@@ -304,6 +305,10 @@ TEST(StationScene, UnknownKeysAreNamedWithTheirPath) {
 TEST(StationScene, WrongTypesAreNamed) {
   expect_error("loop_rate_hz: 1000", "loop_rate_hz: fast", "station.loop_rate_hz", "expected a finite number");
   expect_error("element_count: 20", "element_count: 2.5", "needle.element_count", "expected an integer");
+  expect_error("missing_compliance_radius_m: 0.015", "missing_compliance_radius_m: 0.5",
+               "needle.missing_compliance_radius_m", "[0, 0.1]");
+  expect_error("missing_compliance_radius_m: 0.015", "missing_compliance_radius_m: -0.01",
+               "needle.missing_compliance_radius_m", "[0, 0.1]");
   expect_error("lock_memory: true", "lock_memory: maybe", "station.lock_memory", "expected true or false");
   expect_error("  name: demo", "  name: [a, b]", "station.name", "expected a single value");
   expect_error("  urdf: ../../../calibration/urdf/station.urdf", "  urdf: {path: x}", "frames.urdf",
