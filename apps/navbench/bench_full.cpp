@@ -17,7 +17,7 @@
 #include "nav/mesh/geometry.hpp"
 #include "nav/tissue/liver_scenes.hpp"
 #include "nav/tissue/mass_spring_model.hpp"
-#include "nav/tissue/neo_hookean_static.hpp"
+#include "nav/tissue/newton_static.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 
 namespace {
@@ -262,9 +262,9 @@ int run_full_bench(const std::vector<std::string>& args) {
     const nav::TetMesh& mesh = mesh_or_error.value();
     for (const nav::LiverScene& scene : nav::liver_scenes(mesh)) {
       const auto start = std::chrono::steady_clock::now();
-      nav::NeoHookeanOptions reference_options;
+      nav::NewtonStaticOptions reference_options;
       reference_options.load_increments = 10;
-      const auto reference = nav::solve_neo_hookean_static(mesh, scene.scene, scene.inputs, {}, reference_options);
+      const auto reference = nav::solve_newton_static(mesh, scene.scene, scene.inputs, {}, reference_options);
       if (!reference.ok()) {
         std::fprintf(stderr, "reference %s on %zu tets: %s\n", scene.name.c_str(), mesh.tets.size(),
                      reference.error().describe().c_str());

@@ -30,7 +30,7 @@
 #include "nav/reduced/reduction.hpp"
 #include "nav/reduced/training_loads.hpp"
 #include "nav/tissue/liver_scenes.hpp"
-#include "nav/tissue/neo_hookean_static.hpp"
+#include "nav/tissue/newton_static.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 #include "svg_plot.hpp"
 
@@ -119,14 +119,14 @@ std::optional<std::string> prepare(Level& level) {
   if (!corotational.ok()) return "held-out loads: " + corotational.error().describe();
   level.corotational_m = std::move(corotational.value().displacements_m);
   const double full_s = seconds_since(start);
-  nav::NeoHookeanOptions reference_options;
+  nav::NewtonStaticOptions reference_options;
   reference_options.load_increments = 10;
   for (std::size_t k = 0; k < level.held_out.size(); ++k) {
     const nav::TrainingLoad& load = level.held_out[k];
     if (!is_reference_load(load)) continue;
     level.neo_loads.push_back(k);
-    const auto reference = nav::solve_neo_hookean_static(level.mesh, nav::scene_for_load(level.scene, load),
-                                                         load.inputs(1.0), {}, reference_options);
+    const auto reference = nav::solve_newton_static(level.mesh, nav::scene_for_load(level.scene, load),
+                                                    load.inputs(1.0), {}, reference_options);
     if (!reference.ok()) return "neo-Hookean reference of " + load.name + ": " + reference.error().describe();
     const auto& x = reference.value().positions_m;
     for (std::size_t n = 0; n < level.mesh.nodes_m.size(); ++n)

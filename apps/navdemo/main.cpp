@@ -17,7 +17,7 @@
 #include "nav/mesh/vtu_writer.hpp"
 #include "nav/mesher/embedded_liver.hpp"
 #include "nav/tissue/linear_elastic_static.hpp"
-#include "nav/tissue/neo_hookean_static.hpp"
+#include "nav/tissue/newton_static.hpp"
 
 namespace {
 
@@ -105,7 +105,7 @@ CaseFigures summarise(const nav::TetMesh& mesh, const std::vector<nav::Point3>& 
 /// The neo-Hookean equilibrium of `scene` under `loads`, as displacements from rest.
 nav::Result<std::vector<nav::Point3>> solve_reference(const nav::TetMesh& mesh, const nav::TissueScene& scene,
                                                       const nav::TissueInputs& loads, int& newton_iterations) {
-  auto solved = nav::solve_neo_hookean_static(mesh, scene, loads, {});
+  auto solved = nav::solve_newton_static(mesh, scene, loads, {});
   if (!solved.ok()) return solved.error();
   newton_iterations = solved.value().newton_iterations;
   std::vector<nav::Point3> displacement_m(mesh.nodes_m.size());

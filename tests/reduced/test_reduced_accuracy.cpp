@@ -30,7 +30,7 @@
 #include "nav/reduced/reduction.hpp"
 #include "nav/reduced/training_loads.hpp"
 #include "nav/tissue/liver_scenes.hpp"
-#include "nav/tissue/neo_hookean_static.hpp"
+#include "nav/tissue/newton_static.hpp"
 #include "support/test_data.hpp"
 
 namespace nav {
@@ -120,7 +120,7 @@ class ReducedAccuracy : public ::testing::Test {
 
     // Then, longest first, the reduced model of every basis size on the held-out loads and the
     // references: the held-out loads at full load and one neo-Hookean solve per chosen load.
-    std::vector<std::optional<Result<NeoHookeanSolution>>> neo_hookean(s->neo_loads.size());
+    std::vector<std::optional<Result<NewtonStaticSolution>>> neo_hookean(s->neo_loads.size());
     std::vector<ReducedRun> runs(kBasisSizes.size());
     const auto reduced = [&](std::size_t k) {
       return Task{"reduced model r = " + std::to_string(kBasisSizes[k]),
@@ -129,11 +129,11 @@ class ReducedAccuracy : public ::testing::Test {
     std::vector<Task> tasks = {reduced(0)};
     for (std::size_t j = 0; j < s->neo_loads.size(); ++j)
       tasks.push_back({"neo-Hookean reference, " + s->held_out[s->neo_loads[j]].name, [&, j] {
-                         NeoHookeanOptions reference_options;
+                         NewtonStaticOptions reference_options;
                          reference_options.load_increments = 5;
                          const TrainingLoad& load = s->held_out[s->neo_loads[j]];
-                         neo_hookean[j] = solve_neo_hookean_static(s->mesh, scene_for_load(s->scene, load),
-                                                                   load.inputs(1.0), {}, reference_options);
+                         neo_hookean[j] = solve_newton_static(s->mesh, scene_for_load(s->scene, load), load.inputs(1.0),
+                                                              {}, reference_options);
                        }});
     tasks.push_back(reduced(1));
     tasks.push_back({"held-out loads (corotational)", [&] {

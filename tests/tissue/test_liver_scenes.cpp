@@ -12,7 +12,7 @@
 
 #include "nav/mesh/geometry.hpp"
 #include "nav/tissue/liver_scenes.hpp"
-#include "nav/tissue/neo_hookean_static.hpp"
+#include "nav/tissue/newton_static.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 #include "support/test_data.hpp"
 
@@ -85,9 +85,9 @@ TEST(LiverScenes, ReferenceConvergesUnderMeshRefinement) {
     std::vector<Point3> target_displacements;
     for (const TetMesh& mesh : meshes) {
       const LiverScene scene = liver_scenes(mesh)[scene_index];
-      NeoHookeanOptions options;
+      NewtonStaticOptions options;
       options.load_increments = scene.name == "gravity" ? 2 : 4;
-      const auto solution = solve_neo_hookean_static(mesh, scene.scene, scene.inputs, {}, options);
+      const auto solution = solve_newton_static(mesh, scene.scene, scene.inputs, {}, options);
       ASSERT_TRUE(solution.ok()) << solution.error().describe();
       target_displacements.push_back(displacement_at(mesh, solution.value().positions_m, target_m));
       const Point3& u = target_displacements.back();
@@ -150,7 +150,7 @@ TEST(LiverScenes, QuasiStaticFromRestConvergesWithRampAndRelaxation) {
   auto ramped = make_tet_fem_data(relaxed).value();
   EXPECT_EQ(run_ramped(relaxed, ramped, gravity, 20, 100), 0);
   EXPECT_FALSE(ramped.health.has(HealthFlag::inverted_element));
-  const auto reference = solve_neo_hookean_static(mesh, gravity.scene, gravity.inputs, {}, {}).value();
+  const auto reference = solve_newton_static(mesh, gravity.scene, gravity.inputs, {}, {}).value();
   const double droop_m = largest_difference_m(reference.positions_m, relaxed.rest_positions_m());
   const double error_m = largest_difference_m(reference.positions_m, ramped.positions_m);
   std::printf("gravity droop %.1f mm; quasi-static corotational after the ramp: largest error %.2f mm\n", 1e3 * droop_m,

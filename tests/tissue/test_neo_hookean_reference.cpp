@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "nav/tissue/linear_elastic_static.hpp"
-#include "nav/tissue/neo_hookean_static.hpp"
+#include "nav/tissue/newton_static.hpp"
 #include "tissue/tissue_test_support.hpp"
 
 namespace nav {
@@ -47,7 +47,7 @@ TEST(NeoHookeanReference, UniaxialStretchMatchesClosedForm) {
       for (std::int32_t node : nodes_where(mesh, axis, 0.0)) constraints.push_back({node, axis, 0.0});
     const std::vector<std::int32_t> pulled = nodes_where(mesh, 0, kSideM);
     for (std::int32_t node : pulled) constraints.push_back({node, 0, (stretch - 1.0) * kSideM});
-    const auto solution = solve_neo_hookean_static(mesh, scene, TissueInputs{}, constraints);
+    const auto solution = solve_newton_static(mesh, scene, TissueInputs{}, constraints);
     ASSERT_TRUE(solution.ok()) << solution.error().describe();
     const double t = lateral_stretch(stretch, lame);
     const std::vector<double>& x = solution.value().positions_m;
@@ -75,7 +75,7 @@ TEST(NeoHookeanReference, SmallLoadLimitIsLinearElasticity) {
   scene.default_material = {1.0e8, 0.3, 1000.0};
   scene.gravity_m_s2 = {9.81, 0.0, 0.0};
   scene.fixed_nodes = nodes_where(mesh, 2, 0.0);
-  const auto reference = solve_neo_hookean_static(mesh, scene, TissueInputs{}, {});
+  const auto reference = solve_newton_static(mesh, scene, TissueInputs{}, {});
   ASSERT_TRUE(reference.ok()) << reference.error().describe();
   const auto linear = solve_linear_static(mesh, scene, TissueInputs{});
   ASSERT_TRUE(linear.ok()) << linear.error().describe();

@@ -1,5 +1,6 @@
 // Verification of solve_static, the static solve of every elastic law: against the analytic
-// uniform stretch, against the linear static solver's own assembly, and against each other.
+// uniform stretch, against the linear static solver's own assembly, and against each other; and
+// of its Newton solve's cutbacks (newton_static.hpp).
 #include "nav/tissue/static_equilibrium.hpp"
 
 #include <gtest/gtest.h>
@@ -9,6 +10,7 @@
 #include <cstdio>
 
 #include "nav/tissue/linear_elastic_static.hpp"
+#include "nav/tissue/newton_static.hpp"
 #include "tissue/tissue_test_support.hpp"
 
 namespace nav {
@@ -116,6 +118,11 @@ TEST(StaticEquilibrium, NonLinearLawsAgreeOnALargeBend) {
     std::printf("%-12s tip %.2f mm, relative out-of-balance %.1e after %d iterations\n", static_law_name(kLaws[i]),
                 1e3 * tip_y_m[i], solved.value().relative_out_of_balance, solved.value().iterations);
     EXPECT_LE(solved.value().relative_out_of_balance, 1e-6);
+    // Newton (all but the corotational law) in one load increment: a wrong tangent would cost
+    // tens of line-searched iterations, or fail.
+    if (kLaws[i] != StaticLaw::corotational) {
+      EXPECT_LE(solved.value().iterations, 12);
+    }
   }
   const double reference_m = tip_y_m[3];
   EXPECT_LT(reference_m, -0.015);
@@ -123,6 +130,42 @@ TEST(StaticEquilibrium, NonLinearLawsAgreeOnALargeBend) {
   EXPECT_LT(std::abs(tip_y_m[2] - reference_m), 0.1 * std::abs(reference_m));
   EXPECT_GT(std::abs(tip_y_m[0] - reference_m),
             std::max(std::abs(tip_y_m[1] - reference_m), std::abs(tip_y_m[2] - reference_m)));
+}
+
+// Newton held to 3 iterations an increment cannot take the large bend in one: the increment is
+// halved until it can, and the answer is the one 8 increments reach; with no cutback allowed,
+// an Error names the load fraction it stopped at.
+TEST(StaticEquilibrium, AnIncrementNewtonCannotTakeIsHalvedAndTheAnswerIsUnchanged) {
+  Column column(0.01);
+  column.scene.default_material = {10'000.0, 0.3, 1000.0};
+  column.scene.gravity_m_s2 = {0.0, -3.0, 0.0};
+  NewtonStaticOptions eight;
+  eight.load_increments = 8;
+  const auto reference = solve_newton_static(column.mesh, column.scene, TissueInputs{}, {}, eight);
+  ASSERT_TRUE(reference.ok()) << reference.error().describe();
+  EXPECT_EQ(reference.value().cutbacks, 0);
+  NewtonStaticOptions short_newton;
+  short_newton.max_newton_iterations = 3;
+  const auto cut = solve_newton_static(column.mesh, column.scene, TissueInputs{}, {}, short_newton);
+  ASSERT_TRUE(cut.ok()) << cut.error().describe();
+  double largest_m = 0.0, difference_m = 0.0;
+  for (std::size_t i = 0; i < cut.value().positions_m.size(); ++i) {
+    largest_m = std::max(largest_m, std::abs(reference.value().positions_m[i] - column.mesh.nodes_m[i / 3][i % 3]));
+    difference_m = std::max(difference_m, std::abs(cut.value().positions_m[i] - reference.value().positions_m[i]));
+  }
+  std::printf(
+      "3 iterations an increment: %d cutbacks, %d iterations; 8 increments: %d iterations; largest "
+      "displacement %.2f mm, answers %.1e of it apart\n",
+      cut.value().cutbacks, cut.value().newton_iterations, reference.value().newton_iterations, 1e3 * largest_m,
+      difference_m / largest_m);
+  EXPECT_GE(cut.value().cutbacks, 1);
+  EXPECT_GT(largest_m, 0.015);
+  EXPECT_LT(difference_m, 1e-6 * largest_m);
+  short_newton.max_cutbacks = 0;
+  const auto refused = solve_newton_static(column.mesh, column.scene, TissueInputs{}, {}, short_newton);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.error().field, "max_cutbacks");
+  EXPECT_NE(refused.error().message.find("load fraction 1"), std::string::npos) << refused.error().message;
 }
 
 // Bad options and a solve cut short are errors that say which and how far it got.

@@ -5,11 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <span>
 #include <string>
 
 #include "nav/tissue/neo_hookean.hpp"
-#include "nav/tissue/neo_hookean_static.hpp"
+#include "nav/tissue/newton_static.hpp"
 #include "nav/tissue/st_venant_kirchhoff.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
 #include "nav/tissue/tet_fem_tables.hpp"
@@ -26,7 +27,24 @@ Error options_error(std::string message) {
   return Error{.message = std::move(message), .field = "static_solve_options"};
 }
 
-/// The tissue model whose quasi-static steps solve `law` (the neo-Hookean solve uses its tables only).
+/// The law of the Newton solve that solves `law`, when Newton takes the case: every law but
+/// the corotational, under dead loads (springs and the probe load the tissue model's steps).
+std::optional<NewtonLaw> newton_law_of(StaticLaw law, const TissueScene& scene, const TissueInputs& loads) {
+  const bool dead_loads = scene.spring_nodes.empty() && !loads.probe.active;
+  switch (law) {
+    case StaticLaw::linear:
+      return dead_loads ? std::optional(NewtonLaw::linear) : std::nullopt;
+    case StaticLaw::st_venant_kirchhoff:
+      return dead_loads ? std::optional(NewtonLaw::st_venant_kirchhoff) : std::nullopt;
+    case StaticLaw::neo_hookean:
+      return NewtonLaw::neo_hookean;  // which refuses the others
+    case StaticLaw::corotational:
+      return std::nullopt;
+  }
+  return std::nullopt;
+}
+
+/// The tissue model whose quasi-static steps solve `law`.
 TissueSolverOptions model_options(StaticLaw law, const StaticSolveOptions& options) {
   TissueSolverOptions o;
   o.integrator = Integrator::quasi_static;
@@ -35,7 +53,6 @@ TissueSolverOptions model_options(StaticLaw law, const StaticSolveOptions& optio
   o.rotation = law == StaticLaw::corotational ? ElementRotation::corotational : ElementRotation::none;
   o.law = law == StaticLaw::st_venant_kirchhoff ? ElementLaw::st_venant_kirchhoff : ElementLaw::linear_elastic;
   o.rayleigh_mass_per_s = law == StaticLaw::linear ? 0.0 : options.relaxation_per_s;  // linear: exact in one step
-  if (law == StaticLaw::neo_hookean) o.integrator = Integrator::explicit_central_difference;  // no factor needed
   return o;
 }
 
@@ -174,16 +191,21 @@ Result<StaticEquilibrium> solve_static(const TetMesh& mesh, const TissueScene& s
   if (!(options.relative_tolerance > 0.0) || options.ramp_steps < 1 || options.max_steps < options.ramp_steps ||
       !(options.relaxation_per_s >= 0.0))
     return options_error("tolerance and relaxation must be positive, and max_steps at least ramp_steps");
-  auto model = make_tet_fem_model(mesh, scene, model_options(law, options));
-  if (!model.ok()) return model.error();
-  if (law != StaticLaw::neo_hookean) return step_to_equilibrium(model.value(), law, loads, options);
-
-  NeoHookeanOptions newton;
+  const std::optional<NewtonLaw> newton_law = newton_law_of(law, scene, loads);
+  if (!newton_law) {
+    auto model = make_tet_fem_model(mesh, scene, model_options(law, options));
+    if (!model.ok()) return model.error();
+    return step_to_equilibrium(model.value(), law, loads, options);
+  }
+  auto tables = detail::make_tet_fem_tables(mesh, scene, TissueSolverOptions{});
+  if (!tables.ok()) return tables.error();
+  NewtonStaticOptions newton;
+  newton.law = *newton_law;
   newton.relative_tolerance = options.relative_tolerance;
-  auto solved = solve_neo_hookean_static(mesh, scene, loads, {}, newton);
+  auto solved = solve_newton_static(mesh, scene, loads, {}, newton);
   if (!solved.ok()) return solved.error();
   StaticEquilibrium answer;
-  if (Status evaluated = evaluate(model.value().tables(), law, loads, solved.value().positions_m, answer); !evaluated)
+  if (Status evaluated = evaluate(*tables.value(), law, loads, solved.value().positions_m, answer); !evaluated)
     return evaluated.error();
   answer.iterations = solved.value().newton_iterations;
   return answer;

@@ -25,8 +25,9 @@ struct StaticSolveOptions {
   /// Converged when |out-of-balance force on free dofs| <= this times |every dof's force|
   /// (the loads and the reactions that carry them).
   double relative_tolerance = 1e-6;
-  /// Linear, corotational and St Venant-Kirchhoff: quasi-static steps of the tissue model with
-  /// the load ramped over `ramp_steps`, then steps at the full load up to `max_steps` in all.
+  /// The corotational law, and the linear and St Venant-Kirchhoff laws with springs or the
+  /// probe: quasi-static steps of the tissue model with the load ramped over `ramp_steps`, then
+  /// steps at the full load up to `max_steps` in all. The others: Newton (newton_static.hpp).
   int ramp_steps = 20;
   int max_steps = 2000;
   /// Relaxation of each quasi-static step (Rayleigh mass damping over a 10 ms step), which keeps
@@ -47,10 +48,11 @@ struct StaticEquilibrium {
 
 /// Equilibrium of `mesh` under `scene` (materials, supports, gravity) and `loads` (point forces,
 /// traction, the prescribed displacement; springs and the probe with the tissue-model laws
-/// only). The out-of-balance force and the stress are evaluated from each law's stress at the
-/// answer, independently of the solver. Errors: what make_tet_fem_model or
-/// solve_neo_hookean_static refuse, bad options, an inverted element at the answer, and no
-/// convergence within max_steps (naming the out-of-balance force reached).
+/// only), by Newton (solve_newton_static) where it takes the case. The out-of-balance force and
+/// the stress are evaluated from each law's stress at the answer, independently of the solver.
+/// Errors: what make_tet_fem_model or solve_newton_static refuse, bad options, an inverted
+/// element at the answer, and no convergence within max_steps (naming the out-of-balance force
+/// reached).
 Result<StaticEquilibrium> solve_static(const TetMesh& mesh, const TissueScene& scene, const TissueInputs& loads,
                                        StaticLaw law, const StaticSolveOptions& options = {});
 

@@ -145,8 +145,8 @@ Status build_traction(const TetMesh& mesh, const TissueScene& scene, TetFemTable
 
 }  // namespace
 
-Result<TetFemModel> make_tet_fem_model(const TetMesh& mesh, const TissueScene& scene,
-                                       const TissueSolverOptions& options) {
+Result<std::shared_ptr<TetFemTables>> detail::make_tet_fem_tables(const TetMesh& mesh, const TissueScene& scene,
+                                                                  const TissueSolverOptions& options) {
   if (auto s = check_options(options); !s) return s.error();
   if (auto s = check_material(scene.default_material, "default_material"); !s) return s.error();
   for (const auto& [region, material] : scene.region_materials)
@@ -171,8 +171,15 @@ Result<TetFemModel> make_tet_fem_model(const TetMesh& mesh, const TissueScene& s
     std::sort(tables->probe_nodes.begin(), tables->probe_nodes.end());
   }
   if (tables->free_nodes.empty()) return field_error("every node is fixed or prescribed", "fixed_nodes");
-  if (auto s = detail::build_rest_system(*tables); !s) return s.error();
-  return TetFemModel(std::move(tables));
+  return tables;
+}
+
+Result<TetFemModel> make_tet_fem_model(const TetMesh& mesh, const TissueScene& scene,
+                                       const TissueSolverOptions& options) {
+  auto tables = detail::make_tet_fem_tables(mesh, scene, options);
+  if (!tables.ok()) return tables.error();
+  if (auto s = detail::build_rest_system(*tables.value()); !s) return s.error();
+  return TetFemModel(std::move(tables).value());
 }
 
 Result<TetFemData> make_tet_fem_data(const TetFemModel& model) {

@@ -3,8 +3,10 @@
 // to rtlib/nav/tissue.
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "nav/core/error.hpp"
 #include "nav/mesh/tet_mesh.hpp"
 #include "nav/tissue/elastic_material.hpp"
 #include "nav/tissue/sparse_ldlt.hpp"
@@ -46,5 +48,11 @@ struct TetFemTables {
   std::vector<double> diagonal_inverse;  // 3 per node: inverse of the rest A's diagonal
   double stable_step_s = 0.0;
 };
+
+/// The element, node, support and load tables of make_tet_fem_model, without its rest system
+/// (the implicit matrix, its factor and the stable step): what a static solve that assembles
+/// its own tangent needs. Errors as make_tet_fem_model's.
+Result<std::shared_ptr<TetFemTables>> make_tet_fem_tables(const TetMesh& mesh, const TissueScene& scene,
+                                                          const TissueSolverOptions& options);
 
 }  // namespace nav::detail
