@@ -144,7 +144,7 @@ TEST(ReducedGoldenHash, BeamCorotationalCubatureImplicitFrozenTangent) {
   options.step_s = 0.01;
   options.rayleigh_mass_per_s = 0.5;
   options.rayleigh_stiffness_s = 0.01;
-  EXPECT_EQ(run_hash(options, 40), 0x2cf49108f372af56ULL);
+  EXPECT_EQ(run_hash(options, 40), 0x507998b729db9ecaULL);
 }
 
 TEST(ReducedGoldenHash, BeamCorotationalCubatureQuasiStaticRebuiltTangent) {
@@ -154,7 +154,7 @@ TEST(ReducedGoldenHash, BeamCorotationalCubatureQuasiStaticRebuiltTangent) {
   options.newton_iterations = 2;
   options.frozen_tangent = false;
   options.rayleigh_mass_per_s = 5.0;
-  EXPECT_EQ(run_hash(options, 20), 0x5f7d6165212e2fafULL);
+  EXPECT_EQ(run_hash(options, 20), 0xe7e0972d05a6088bULL);
 }
 
 }  // namespace nav

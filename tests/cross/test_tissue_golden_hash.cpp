@@ -74,25 +74,25 @@ const Point3 kBoxProbeStart{0.03, 0.01, 0.03};
 TEST(TissueGoldenHash, BoxCorotationalImplicitLdlt) {
   const testing::BusyBoxScene box;
   const auto options = damped(Integrator::implicit_euler, LinearSolver::ldlt_warped, 0.01);
-  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 40, kBoxProbeStart), 0xb34c244a974417b3ULL);
+  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 40, kBoxProbeStart), 0x829fcb2ae9f933cbULL);
 }
 
 TEST(TissueGoldenHash, BoxCorotationalImplicitBlockJacobi) {
   const testing::BusyBoxScene box;
   const auto options = damped(Integrator::implicit_euler, LinearSolver::cg_block_jacobi, 0.01);
-  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 40, kBoxProbeStart), 0x567fbeb8f67608d2ULL);
+  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 40, kBoxProbeStart), 0xf1cb429b3c5a39e5ULL);
 }
 
 TEST(TissueGoldenHash, BoxCorotationalQuasiStatic) {
   const testing::BusyBoxScene box;
   const auto options = damped(Integrator::quasi_static, LinearSolver::ldlt_warped, 0.01);
-  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 20, kBoxProbeStart), 0x95810654e9c2bd60ULL);
+  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 20, kBoxProbeStart), 0xb0925996c997c39dULL);
 }
 
 TEST(TissueGoldenHash, BoxCorotationalExplicit) {
   const testing::BusyBoxScene box;
   const auto options = damped(Integrator::explicit_central_difference, LinearSolver::ldlt_warped, 2e-4);
-  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 200, kBoxProbeStart), 0x8babad7c6feb44f5ULL);
+  EXPECT_EQ(run_hash(box.mesh, box.scene, options, 200, kBoxProbeStart), 0xa135311de63a1627ULL);
 }
 
 // The embedded liver, meshed here (the mesher is part of the run), held at its attachments
@@ -105,7 +105,7 @@ TEST(TissueGoldenHash, EmbeddedLiverCorotationalImplicit) {
   scene.probe_stiffness_n_m = 500.0;
   const Point3 probe_start{liver.tumour_centre_m[0], liver.tumour_centre_m[1], liver.tumour_centre_m[2] + 0.06};
   const auto options = damped(Integrator::implicit_euler, LinearSolver::ldlt_warped, 0.01);
-  EXPECT_EQ(run_hash(liver.mesh, scene, options, 10, probe_start), 0x670d7f97442944f4ULL);
+  EXPECT_EQ(run_hash(liver.mesh, scene, options, 10, probe_start), 0x3d0fe75a41106ae4ULL);
 }
 
 }  // namespace nav

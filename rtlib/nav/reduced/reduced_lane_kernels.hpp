@@ -65,8 +65,8 @@ struct ReducedLaneKernels {
   void (*add_corotational_tangent_block)(const CubatureView& view, int b, const SampleWork& work, double* rows_work,
                                          double* tangent) noexcept;
   /// Replaces the `lanes` 3x3 matrices of `a` (entry (i, j) of matrix n at [(3 j + i) lanes + n],
-  /// det > 0) by the orthogonal factors of their polar decompositions (kPolarIterations scaled
-  /// Newton iterations, interleaved).
+  /// det > 0) by the orthogonal factors of their polar decompositions (scaled Newton
+  /// iterations, interleaved, as many as polar_iterations.hpp says).
   void (*polar_rotations)(double* a, std::size_t lanes) noexcept;
   /// out[v] = row v of the display panels times q (+ the lift panels times d when not null).
   void (*panel_times)(const double* panels, const double* lift_panels, const double* q, int r,

@@ -172,33 +172,73 @@ double quartic_root(double x) {
   return 0.75 * y + 0.25 * x / (y * y * y);
 }
 
-/// Polar rotations of the `count` matrices from `first` of a k-major table with `stride` lanes.
+/// Matrices iterated together by polar_range, in local arrays: entry (i, j) of matrix n at [3 j + i][n].
+constexpr Index kChunk = 8;
+using PolarChunk = double[9][kChunk];
+
+/// One scaled Newton iteration of the polar decomposition on every matrix of x, in place; with
+/// kTrack, each matrix's largest entry change into `change`.
+template <bool kTrack>
+void polar_iteration(PolarChunk& x, double (&change)[kChunk]) {
+  for (Index n = 0; n < kChunk; ++n) {
+    double c[9];  // cofactors (det R R^-T), same layout
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+        c[3 * j + i] = x[3 * j1 + i1][n] * x[3 * j2 + i2][n] - x[3 * j2 + i1][n] * x[3 * j1 + i2][n];
+      }
+    const double det = x[0][n] * c[0] + x[3][n] * c[3] + x[6][n] * c[6];
+    double norm_x = 0.0, norm_c = 0.0;
+    for (int k = 0; k < 9; ++k) {
+      norm_x += x[k][n] * x[k][n];
+      norm_c += c[k] * c[k];
+    }
+    // g^4 = |R^-T|^2 / |R|^2 = |cofactors|^2 / (det^2 |R|^2); R <- (g R + cofactors / (g det)) / 2.
+    const double scale = quartic_root(norm_c / (det * det * norm_x));
+    const double own = 0.5 * scale, inverse = 0.5 / (scale * det);
+    double largest = 0.0;
+    for (int k = 0; k < 9; ++k) {
+      const double next = own * x[k][n] + inverse * c[k];
+      if constexpr (kTrack) {
+        const double difference = next - x[k][n];
+        const double size = difference < 0.0 ? -difference : difference;
+        largest = size > largest ? size : largest;
+      }
+      x[k][n] = next;
+    }
+    if constexpr (kTrack) change[n] = largest;
+  }
+}
+
+/// Polar rotations of the `count` matrices from `first` of a k-major table with `stride` lanes:
+/// kPolarFirstIterations each, then each until it converged or kPolarIterations.
 void polar_range(double* a, Index stride, Index first_lane, Index count) {
-  constexpr Index kChunk = 8;  // matrices iterated together, in local arrays
   for (Index first = first_lane; first < first_lane + count; first += kChunk) {
     const Index width = first_lane + count - first < kChunk ? first_lane + count - first : kChunk;
-    double x[9][kChunk];  // entry (i, j) at [3 j + i]; the lanes past width hold the identity
+    PolarChunk x;  // the lanes past width hold the identity
     for (Index k = 0; k < 9; ++k)
       for (Index n = 0; n < kChunk; ++n) x[k][n] = n < width ? a[k * stride + first + n] : (k % 4 == 0 ? 1.0 : 0.0);
-    for (int iteration = 0; iteration < kPolarIterations; ++iteration)
+    double change[kChunk];
+    for (int iteration = 1; iteration < kPolarFirstIterations; ++iteration) polar_iteration<false>(x, change);
+    polar_iteration<true>(x, change);
+    // The rare matrices not converged yet go on alone: the others are put back after each iteration.
+    double converged[kChunk], left = 0.0;
+    for (Index n = 0; n < kChunk; ++n) {
+      converged[n] = change[n] <= kPolarConvergedChange ? 1.0 : 0.0;
+      left += 1.0 - converged[n];
+    }
+    for (int iteration = kPolarFirstIterations; iteration < kPolarIterations && left > 0.0; ++iteration) {
+      PolarChunk before;
+      for (int k = 0; k < 9; ++k)
+        for (Index n = 0; n < kChunk; ++n) before[k][n] = x[k][n];
+      polar_iteration<true>(x, change);
+      left = 0.0;
       for (Index n = 0; n < kChunk; ++n) {
-        double c[9];  // cofactors (det R R^-T), same layout
-        for (int i = 0; i < 3; ++i)
-          for (int j = 0; j < 3; ++j) {
-            const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-            c[3 * j + i] = x[3 * j1 + i1][n] * x[3 * j2 + i2][n] - x[3 * j2 + i1][n] * x[3 * j1 + i2][n];
-          }
-        const double det = x[0][n] * c[0] + x[3][n] * c[3] + x[6][n] * c[6];
-        double norm_x = 0.0, norm_c = 0.0;
-        for (int k = 0; k < 9; ++k) {
-          norm_x += x[k][n] * x[k][n];
-          norm_c += c[k] * c[k];
-        }
-        // g^4 = |R^-T|^2 / |R|^2 = |cofactors|^2 / (det^2 |R|^2); R <- (g R + cofactors / (g det)) / 2.
-        const double scale = quartic_root(norm_c / (det * det * norm_x));
-        const double own = 0.5 * scale, inverse = 0.5 / (scale * det);
-        for (int k = 0; k < 9; ++k) x[k][n] = own * x[k][n] + inverse * c[k];
+        for (int k = 0; k < 9; ++k) x[k][n] = converged[n] > 0.0 ? before[k][n] : x[k][n];
+        converged[n] = converged[n] > 0.0 || change[n] <= kPolarConvergedChange ? 1.0 : 0.0;
+        left += 1.0 - converged[n];
       }
+    }
     for (Index k = 0; k < 9; ++k)
       for (Index n = 0; n < width; ++n) a[k * stride + first + n] = x[k][n];
   }

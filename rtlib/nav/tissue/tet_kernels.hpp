@@ -54,10 +54,11 @@ inline constexpr int kPolarLanes = 8;
 /// kPolarLanes 3x3 matrices, structure of arrays: entry (i, j) of lane l at [3 j + i][l].
 using PolarBatch = std::array<std::array<double, kPolarLanes>, 9>;
 
-/// Replaces every lane by the orthogonal factor of its polar decomposition f = R S, by a
-/// fixed number of scaled Newton iterations R <- (g R + R^-T / g) / 2 with Frobenius
-/// scaling g. Expects det > 0 in every lane (fill unused lanes with the identity). A fixed
-/// cost whatever the matrices; each lane's result does not depend on the other lanes.
+/// Replaces every lane by the orthogonal factor of its polar decomposition f = R S, by scaled
+/// Newton iterations R <- (g R + R^-T / g) / 2 with Frobenius scaling g, each lane until it
+/// converged (kPolarConvergedChange) or kPolarIterations. Expects det > 0 in every lane (fill
+/// unused lanes with the identity). At most kPolarIterations whatever the matrices; each lane's
+/// result does not depend on the other lanes.
 void polar_rotations(PolarBatch& batch) noexcept;
 
 /// The polar rotation of one matrix (lane 0 of a batch): for init-time and diagnostic code.
