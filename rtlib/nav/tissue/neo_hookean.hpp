@@ -9,21 +9,26 @@
 
 namespace nav {
 
-/// First Piola-Kirchhoff stress mu (F - F^-T) + lambda ln J F^-T, in Pa. Expects det F > 0.
-inline Eigen::Matrix3d neo_hookean_stress(const Eigen::Matrix3d& f, const LameParameters& lame) {
-  const Eigen::Matrix3d f_inverse_t = f.inverse().transpose();
-  return lame.mu_pa * (f - f_inverse_t) + (lame.lambda_pa * std::log(f.determinant())) * f_inverse_t;
+/// What the stress and its derivative at one F share: F^-T and ln J. Expects det F > 0.
+struct NeoHookeanKinematics {
+  Eigen::Matrix3d f_inverse_t;
+  double log_j = 0.0;
+  explicit NeoHookeanKinematics(const Eigen::Matrix3d& f)
+      : f_inverse_t(f.inverse().transpose()), log_j(std::log(f.determinant())) {}
+};
+
+/// First Piola-Kirchhoff stress mu (F - F^-T) + lambda ln J F^-T, in Pa.
+inline Eigen::Matrix3d neo_hookean_stress(const Eigen::Matrix3d& f, const NeoHookeanKinematics& k,
+                                          const LameParameters& lame) {
+  return lame.mu_pa * (f - k.f_inverse_t) + (lame.lambda_pa * k.log_j) * k.f_inverse_t;
 }
 
 /// Derivative of neo_hookean_stress at F along dF:
 /// mu dF + (mu - lambda ln J) F^-T dF^T F^-T + lambda tr(F^-1 dF) F^-T.
-inline Eigen::Matrix3d neo_hookean_stress_derivative(const Eigen::Matrix3d& f, const Eigen::Matrix3d& df,
+inline Eigen::Matrix3d neo_hookean_stress_derivative(const NeoHookeanKinematics& k, const Eigen::Matrix3d& df,
                                                      const LameParameters& lame) {
-  const Eigen::Matrix3d f_inverse = f.inverse();
-  const Eigen::Matrix3d f_inverse_t = f_inverse.transpose();
-  const double log_j = std::log(f.determinant());
-  return lame.mu_pa * df + (lame.mu_pa - lame.lambda_pa * log_j) * (f_inverse_t * df.transpose() * f_inverse_t) +
-         (lame.lambda_pa * (f_inverse * df).trace()) * f_inverse_t;
+  return lame.mu_pa * df + (lame.mu_pa - lame.lambda_pa * k.log_j) * (k.f_inverse_t * df.transpose() * k.f_inverse_t) +
+         (lame.lambda_pa * (k.f_inverse_t.transpose() * df).trace()) * k.f_inverse_t;
 }
 
 /// Energy density in J/m^3; +infinity for det F <= 0.

@@ -43,26 +43,20 @@ Eigen::Matrix3d deformation_gradient(const Problem& p, std::size_t e, std::span<
 /// Piola-Kirchhoff stress and its derivative along dF, with what they share computed once.
 class LawAt {
  public:
-  LawAt(NewtonLaw law, const Eigen::Matrix3d& f, const LameParameters& lame) : law_(law), f_(f), lame_(lame) {
-    if (law_ == NewtonLaw::neo_hookean) {
-      f_inverse_t_ = f.inverse().transpose();
-      log_j_ = std::log(f.determinant());
-    } else if (law_ == NewtonLaw::st_venant_kirchhoff) {
-      second_piola_ = stvk_second_piola(f, lame);
-    }
-  }
+  LawAt(NewtonLaw law, const Eigen::Matrix3d& f, const LameParameters& lame)
+      : law_(law),
+        f_(f),
+        lame_(lame),
+        second_piola_(law == NewtonLaw::st_venant_kirchhoff ? stvk_second_piola(f, lame) : Eigen::Matrix3d::Zero()),
+        neo_hookean_(law == NewtonLaw::neo_hookean ? f : Eigen::Matrix3d::Identity()) {}
 
   /// J/m^3; +infinity for an inverted element under the neo-Hookean law.
   double energy_density() const {
     switch (law_) {
-      case NewtonLaw::linear: {
-        const Eigen::Matrix3d strain = 0.5 * (f_ + f_.transpose()) - Eigen::Matrix3d::Identity();
-        return lame_.mu_pa * strain.squaredNorm() + 0.5 * lame_.lambda_pa * strain.trace() * strain.trace();
-      }
-      case NewtonLaw::st_venant_kirchhoff: {
-        const Eigen::Matrix3d strain = green_strain(f_);
-        return lame_.mu_pa * strain.squaredNorm() + 0.5 * lame_.lambda_pa * strain.trace() * strain.trace();
-      }
+      case NewtonLaw::linear:
+        return quadratic_energy_density(0.5 * (f_ + f_.transpose()) - Eigen::Matrix3d::Identity());
+      case NewtonLaw::st_venant_kirchhoff:
+        return quadratic_energy_density(green_strain(f_));
       case NewtonLaw::neo_hookean:
         return neo_hookean_energy_density(f_, lame_);
     }
@@ -72,43 +66,39 @@ class LawAt {
   Eigen::Matrix3d stress() const {
     switch (law_) {
       case NewtonLaw::linear:
-        return hooke(f_ - Eigen::Matrix3d::Identity());
+        return hooke_stress(f_ - Eigen::Matrix3d::Identity(), lame_);
       case NewtonLaw::st_venant_kirchhoff:
         return f_ * second_piola_;
       case NewtonLaw::neo_hookean:
-        return lame_.mu_pa * (f_ - f_inverse_t_) + (lame_.lambda_pa * log_j_) * f_inverse_t_;
+        return neo_hookean_stress(f_, neo_hookean_, lame_);
     }
     return Eigen::Matrix3d::Zero();
   }
 
+  /// The exact derivative (StVK's with its own S, not the positive part the implicit steps take).
   Eigen::Matrix3d derivative(const Eigen::Matrix3d& df) const {
     switch (law_) {
       case NewtonLaw::linear:
-        return hooke(df);
+        return hooke_stress(df, lame_);
       case NewtonLaw::st_venant_kirchhoff:
-        return df * second_piola_ + f_ * hooke(f_.transpose() * df);
+        return stvk_stress_derivative(f_, df, second_piola_, lame_, 0.0);
       case NewtonLaw::neo_hookean:
-        return lame_.mu_pa * df +
-               (lame_.mu_pa - lame_.lambda_pa * log_j_) * (f_inverse_t_ * df.transpose() * f_inverse_t_) +
-               (lame_.lambda_pa * (f_inverse_t_.transpose() * df).trace()) * f_inverse_t_;
+        return neo_hookean_stress_derivative(neo_hookean_, df, lame_);
     }
     return Eigen::Matrix3d::Zero();
   }
 
  private:
-  /// lambda tr(e) I + 2 mu e of the symmetric part of e.
-  Eigen::Matrix3d hooke(const Eigen::Matrix3d& e) const {
-    Eigen::Matrix3d sigma = lame_.mu_pa * (e + e.transpose());
-    sigma.diagonal().array() += lame_.lambda_pa * e.trace();
-    return sigma;
+  /// mu e:e + lambda/2 tr(e)^2 of a symmetric strain e.
+  double quadratic_energy_density(const Eigen::Matrix3d& strain) const {
+    return lame_.mu_pa * strain.squaredNorm() + 0.5 * lame_.lambda_pa * strain.trace() * strain.trace();
   }
 
   NewtonLaw law_;
   Eigen::Matrix3d f_;
   LameParameters lame_;
-  Eigen::Matrix3d f_inverse_t_ = Eigen::Matrix3d::Identity();
-  Eigen::Matrix3d second_piola_ = Eigen::Matrix3d::Zero();
-  double log_j_ = 0.0;
+  Eigen::Matrix3d second_piola_;
+  NeoHookeanKinematics neo_hookean_;
 };
 
 /// Elastic energy minus the work of the dead loads (scaled by `load`), +inf if an element inverts

@@ -29,13 +29,18 @@ inline Eigen::Matrix3d cofactor(const Eigen::Matrix3d& f) {
   return c;
 }
 
+/// Hooke's law lambda tr(e) I + 2 mu e of the symmetric part of a strain e, in Pa: the small
+/// strain law, and the St Venant-Kirchhoff law of the Green-Lagrange strain.
+inline Eigen::Matrix3d hooke_stress(const Eigen::Matrix3d& strain, const LameParameters& lame) {
+  Eigen::Matrix3d s = lame.mu_pa * (strain + strain.transpose());
+  s.diagonal().array() += lame.lambda_pa * strain.trace();
+  return s;
+}
+
 /// Second Piola-Kirchhoff stress S = lambda tr(E) I + 2 mu E of the St Venant-Kirchhoff law
 /// (without the penalty), in Pa.
 inline Eigen::Matrix3d stvk_second_piola(const Eigen::Matrix3d& f, const LameParameters& lame) {
-  const Eigen::Matrix3d e = green_strain(f);
-  Eigen::Matrix3d s = (2.0 * lame.mu_pa) * e;
-  s.diagonal().array() += lame.lambda_pa * e.trace();
-  return s;
+  return hooke_stress(green_strain(f), lame);
 }
 
 /// First Piola-Kirchhoff stress of W = lambda/2 tr(E)^2 + mu E:E + gain |J - 1|^3 / 3, in Pa.
@@ -73,10 +78,7 @@ inline Eigen::Matrix3d stvk_tangent_stress(const Eigen::Matrix3d& f, const LameP
 inline Eigen::Matrix3d stvk_stress_derivative(const Eigen::Matrix3d& f, const Eigen::Matrix3d& df,
                                               const Eigen::Matrix3d& tangent_stress, const LameParameters& lame,
                                               double gain_pa) {
-  const Eigen::Matrix3d ft_df = f.transpose() * df;
-  const Eigen::Matrix3d de = 0.5 * (ft_df + ft_df.transpose());
-  Eigen::Matrix3d ds = (2.0 * lame.mu_pa) * de;
-  ds.diagonal().array() += lame.lambda_pa * de.trace();
+  const Eigen::Matrix3d ds = hooke_stress(f.transpose() * df, lame);  // of dE, the symmetric part of F^T dF
   const Eigen::Matrix3d c = cofactor(f);
   const double penalty = 2.0 * gain_pa * std::abs(f.determinant() - 1.0) * (c.array() * df.array()).sum();
   return df * tangent_stress + f * ds + penalty * c;

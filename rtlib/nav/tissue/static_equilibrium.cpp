@@ -56,14 +56,6 @@ TissueSolverOptions model_options(StaticLaw law, const StaticSolveOptions& optio
   return o;
 }
 
-/// Hooke's law sigma = lambda tr(eps) I + 2 mu eps of the symmetric part of `strain`.
-Eigen::Matrix3d hooke(const Eigen::Matrix3d& strain, const LameParameters& lame) {
-  const Eigen::Matrix3d eps = 0.5 * (strain + strain.transpose());
-  Eigen::Matrix3d sigma = (2.0 * lame.mu_pa) * eps;
-  sigma.diagonal().array() += lame.lambda_pa * eps.trace();
-  return sigma;
-}
-
 /// The rotation of F's polar decomposition F = R U, from its singular value decomposition.
 Eigen::Matrix3d svd_polar_rotation(const Eigen::Matrix3d& f) {
   const Eigen::JacobiSVD<Eigen::Matrix3d> svd(f, Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -76,15 +68,15 @@ Eigen::Matrix3d svd_polar_rotation(const Eigen::Matrix3d& f) {
 Eigen::Matrix3d first_piola(StaticLaw law, const Eigen::Matrix3d& f, const LameParameters& lame) {
   switch (law) {
     case StaticLaw::linear:
-      return hooke(f - Eigen::Matrix3d::Identity(), lame);
+      return hooke_stress(f - Eigen::Matrix3d::Identity(), lame);
     case StaticLaw::corotational: {
       const Eigen::Matrix3d r = svd_polar_rotation(f);
-      return r * hooke(r.transpose() * f - Eigen::Matrix3d::Identity(), lame);
+      return r * hooke_stress(r.transpose() * f - Eigen::Matrix3d::Identity(), lame);
     }
     case StaticLaw::st_venant_kirchhoff:
       return stvk_stress(f, lame, 0.0);
     case StaticLaw::neo_hookean:
-      return neo_hookean_stress(f, lame);
+      return neo_hookean_stress(f, NeoHookeanKinematics(f), lame);
   }
   return Eigen::Matrix3d::Zero();
 }
