@@ -70,6 +70,7 @@ TEST(StationScene, DemoSceneParsesIntoItsStatedValues) {
   EXPECT_EQ(s.needle->layer_surfaces[0]->region, -1);
   EXPECT_EQ(s.needle->layer_surfaces[1]->region, static_cast<std::int32_t>(TissueRegion::tumour));
   EXPECT_EQ(s.needle->missing_compliance_radius_m, 0.015);
+  EXPECT_EQ(s.needle->point_force_own_share, 0.5);
   EXPECT_FALSE(s.ligaments.has_value());
   EXPECT_EQ(s.devices.tracker.kind, TrackerKind::simulated);
   EXPECT_EQ(s.devices.tracker.position_noise_m, 0.00025);
@@ -309,6 +310,8 @@ TEST(StationScene, WrongTypesAreNamed) {
                "needle.missing_compliance_radius_m", "[0, 0.1]");
   expect_error("missing_compliance_radius_m: 0.015", "missing_compliance_radius_m: -0.01",
                "needle.missing_compliance_radius_m", "[0, 0.1]");
+  expect_error("point_force_own_share: 0.5", "point_force_own_share: 0", "needle.point_force_own_share", "(0, 1]");
+  expect_error("point_force_own_share: 0.5", "point_force_own_share: 1.5", "needle.point_force_own_share", "(0, 1]");
   expect_error("lock_memory: true", "lock_memory: maybe", "station.lock_memory", "expected true or false");
   expect_error("  name: demo", "  name: [a, b]", "station.name", "expected a single value");
   expect_error("  urdf: ../../../calibration/urdf/station.urdf", "  urdf: {path: x}", "frames.urdf",

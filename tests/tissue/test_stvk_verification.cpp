@@ -20,6 +20,7 @@ namespace nav {
 namespace {
 
 using testing::box_mesh;
+using testing::max_abs;
 
 TissueSolverOptions stvk_options(double gain_pa) {
   TissueSolverOptions options;

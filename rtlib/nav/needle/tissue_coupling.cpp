@@ -34,6 +34,7 @@ Result<ProbedCompliance> probe_tet_fem_compliance(const TetFemModel& tissue, con
   const std::int32_t node = nearest_node(rest, point_m);
   const std::size_t nodes = rest.size() / 3;
   std::vector<double> response(nodes, 0.0);  // displacement magnitude per node, summed over the 3 probes
+  std::vector<double> moved_m(3 * nodes);    // the nodes' points' displacements (point_displacements_m)
   double columns[9] = {};                    // the node's displacement per newton, one column per probe axis
   for (int axis = 0; axis < 3; ++axis) {
     auto data = make_tet_fem_data(tissue);
@@ -44,16 +45,12 @@ Result<ProbedCompliance> probe_tet_fem_compliance(const TetFemModel& tissue, con
     inputs.point_forces = std::span<const PointForce>(&force, 1);
     step(tissue, data.value(), inputs);
     if (!data.value().health.healthy()) return Error{.message = "the tissue refused the probe step", .field = "tissue"};
-    for (std::size_t n = 0; n < nodes; ++n) {
-      double d2 = 0.0;
-      for (int c = 0; c < 3; ++c) d2 += std::pow(data.value().positions_m[3 * n + c] - rest[3 * n + c], 2);
-      response[n] += std::sqrt(d2);
-    }
+    point_displacements_m(tissue, data.value(), moved_m);
+    for (std::size_t n = 0; n < nodes; ++n)
+      response[n] +=
+          std::sqrt(std::pow(moved_m[3 * n], 2) + std::pow(moved_m[3 * n + 1], 2) + std::pow(moved_m[3 * n + 2], 2));
     for (int c = 0; c < 3; ++c)
-      columns[3 * axis + c] =
-          (data.value().positions_m[3 * static_cast<std::size_t>(node) + static_cast<std::size_t>(c)] -
-           rest[3 * static_cast<std::size_t>(node) + static_cast<std::size_t>(c)]) /
-          probe_force_n;
+      columns[3 * axis + c] = moved_m[3 * static_cast<std::size_t>(node) + static_cast<std::size_t>(c)] / probe_force_n;
   }
   ProbedCompliance probed;
   for (int i = 0; i < 3; ++i)
@@ -115,9 +112,7 @@ Result<CoupledNeedleData> make_coupled_needle_data(const CoupledNeedleModel& mod
 namespace detail {
 
 void refresh_displacements(const CoupledNeedleModel& model, CoupledNeedleData& data) noexcept {
-  const std::span<const double> rest = model.tissue->rest_positions_m();
-  for (std::size_t i = 0; i < data.displacements_m.size(); ++i)
-    data.displacements_m[i] = data.free_tissue.positions_m[i] - rest[i];
+  point_displacements_m(*model.tissue, data.free_tissue, data.displacements_m);
 }
 
 }  // namespace detail

@@ -266,6 +266,8 @@ Result<ReducedModel> make_reduced_model(const TetMesh& mesh, const TissueScene& 
   if (auto s = check_basis(mesh, basis); !s) return s.error();
   if (scene.probe_stiffness_n_m > 0.0)
     return field_error("the reduced model has no probe contact", "probe_stiffness_n_m");
+  if (scene.point_force_own_share != 1.0)
+    return field_error("the reduced model keeps point forces on their nodes", "point_force_own_share");
   auto system = detail::make_full_system(mesh, scene, solver);
   if (!system.ok()) return system.error();
   const TetFemTables& full = system.value().model.tables();

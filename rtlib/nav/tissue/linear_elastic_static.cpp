@@ -23,6 +23,7 @@ Status check_supported(const TissueScene& scene, const TissueInputs& loads) {
   if (!scene.spring_nodes.empty()) return unsupported("spring_nodes");
   if (!scene.traction_triangles.empty()) return unsupported("traction_triangles");
   if (scene.uniform_total_mass_kg > 0.0) return unsupported("uniform_total_mass_kg");
+  if (scene.point_force_own_share != 1.0) return unsupported("point_force_own_share");
   if (loads.probe.active) return unsupported("probe");
   return Done{};
 }

@@ -143,6 +143,32 @@ Status build_traction(const TetMesh& mesh, const TissueScene& scene, TetFemTable
   return Done{};
 }
 
+Status build_point_force_patches(const TissueScene& scene, TetFemTables& tables) {
+  const double own = scene.point_force_own_share;
+  if (!(own > 0.0 && own <= 1.0))
+    return field_error("the share a point force keeps on its node must be in (0, 1]", "point_force_own_share");
+  if (own == 1.0) return Done{};
+  std::vector<std::vector<std::int32_t>> neighbours(static_cast<std::size_t>(tables.node_count));
+  for (const auto& tet : tables.tets)
+    for (std::int32_t a : tet)
+      for (std::int32_t b : tet)
+        if (a != b) neighbours[static_cast<std::size_t>(a)].push_back(b);
+  tables.patch_offsets.push_back(0);
+  for (std::int64_t node = 0; node < tables.node_count; ++node) {
+    std::vector<std::int32_t>& ring = neighbours[static_cast<std::size_t>(node)];
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    tables.patch_nodes.push_back(static_cast<std::int32_t>(node));
+    tables.patch_weights.push_back(ring.empty() ? 1.0 : own);
+    for (std::int32_t other : ring) {
+      tables.patch_nodes.push_back(other);
+      tables.patch_weights.push_back((1.0 - own) / static_cast<double>(ring.size()));
+    }
+    tables.patch_offsets.push_back(static_cast<std::int32_t>(tables.patch_nodes.size()));
+  }
+  return Done{};
+}
+
 }  // namespace
 
 Result<std::shared_ptr<TetFemTables>> detail::make_tet_fem_tables(const TetMesh& mesh, const TissueScene& scene,
@@ -166,6 +192,7 @@ Result<std::shared_ptr<TetFemTables>> detail::make_tet_fem_tables(const TetMesh&
   if (auto s = build_masses(mesh, scene, *tables); !s) return s.error();
   if (auto s = build_supports(scene, *tables); !s) return s.error();
   if (auto s = build_traction(mesh, scene, *tables); !s) return s.error();
+  if (auto s = build_point_force_patches(scene, *tables); !s) return s.error();
   if (scene.probe_stiffness_n_m > 0.0) {
     tables->probe_nodes = extract_boundary(mesh).mesh_node_of_vertex;
     std::sort(tables->probe_nodes.begin(), tables->probe_nodes.end());

@@ -87,14 +87,20 @@ void copy_state(const TetFemData& from, TetFemData& to) noexcept;
 /// and steps implicitly (implicit Euler or quasi-static).
 bool has_rest_step_response(const TetFemModel& model) noexcept;
 
-/// The displacement of every node (3 per node, zero on constrained ones) over one step per
-/// newton on node `node` along axis `axis`, from the rest system's LDL^T factor without the
-/// rotations of a corotational step: h^2 A^-1 e for implicit Euler, A^-1 e quasi-static (A
-/// the rest system). Exact for linear elements from rest. `work` holds 2 free_dof_count()
-/// doubles. Returns false, `out_m` zeroed, when the model has no such response or the node is
-/// constrained. Allocation-free.
+/// The displacement of every node's point (point_displacements_m(); 3 per node) over one
+/// step per newton of a point force on node `node` along axis `axis`, from the rest system's
+/// LDL^T factor without the rotations of a corotational step: h^2 A^-1 P e for implicit Euler,
+/// A^-1 P e quasi-static (A the rest system, P the force's spread over its patch), seen through
+/// the patches. Exact for linear elements from rest. `work` holds 2 free_dof_count() doubles.
+/// Returns false, `out_m` zeroed, when the model has no such response or the force reaches no
+/// free node. Allocation-free.
 bool rest_step_response_m(const TetFemModel& model, std::int32_t node, int axis, std::span<double> out_m,
                           std::span<double> work) noexcept;
+
+/// The displacement from rest of the point a point force on each node acts on (3 per node):
+/// the node's own, or the weighted mean over its patch (TissueScene::point_force_own_share).
+/// `out_m` holds 3 per node. Allocation-free.
+void point_displacements_m(const TetFemModel& model, const TetFemData& data, std::span<double> out_m) noexcept;
 
 /// Elastic energy of the current positions, in joules (element rotations recomputed).
 double elastic_energy_j(const TetFemModel& model, const TetFemData& data) noexcept;

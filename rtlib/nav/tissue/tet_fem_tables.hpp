@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "nav/core/error.hpp"
@@ -33,6 +34,11 @@ struct TetFemTables {
   double probe_stiffness_n_m = 0.0;
   Point3 gravity_m_s2{};
   std::size_t max_point_forces = 0;
+  // The patch of a point force on node j (TissueScene::point_force_own_share): nodes
+  // patch_nodes[patch_offsets[j] .. patch_offsets[j + 1]) with their weights, j first. Empty
+  // when a point force stays on its node.
+  std::vector<std::int32_t> patch_offsets, patch_nodes;
+  std::vector<double> patch_weights;
 
   std::vector<std::array<std::int32_t, 4>> tets;
   std::vector<double> gradients;  // 12 per element: row a = grad of vertex a, row-major
@@ -48,6 +54,14 @@ struct TetFemTables {
   std::vector<double> diagonal_inverse;  // 3 per node: inverse of the rest A's diagonal
   double stable_step_s = 0.0;
 };
+
+/// The entries [first, last) of the patch of a point force on `node` in the tables' patch
+/// arrays; an empty range when point forces stay on their nodes.
+inline std::pair<std::size_t, std::size_t> point_force_patch(const TetFemTables& tables, std::size_t node) noexcept {
+  if (tables.patch_offsets.empty()) return {0, 0};
+  return {static_cast<std::size_t>(tables.patch_offsets[node]),
+          static_cast<std::size_t>(tables.patch_offsets[node + 1])};
+}
 
 /// The element, node, support and load tables of make_tet_fem_model, without its rest system
 /// (the implicit matrix, its factor and the stable step): what a static solve that assembles

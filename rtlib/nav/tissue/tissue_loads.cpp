@@ -75,8 +75,16 @@ void add_external_forces(const TetFemTables& tables, const TissueInputs& inputs,
   const double s = inputs.load_scale;
   for (std::int64_t n = 0; n < tables.node_count; ++n)
     for (int c = 0; c < 3; ++c) forces[3 * n + c] += s * tables.mass_kg[n] * tables.gravity_m_s2[c];
-  for (const PointForce& force : inputs.point_forces)
-    for (int c = 0; c < 3; ++c) forces[3 * static_cast<std::size_t>(force.node) + c] += s * force.force_n[c];
+  for (const PointForce& force : inputs.point_forces) {
+    const auto node = static_cast<std::size_t>(force.node);
+    const auto [first, last] = point_force_patch(tables, node);
+    if (first == last)
+      for (std::size_t c = 0; c < 3; ++c) forces[3 * node + c] += s * force.force_n[c];
+    for (std::size_t k = first; k < last; ++k)
+      for (std::size_t c = 0; c < 3; ++c)
+        forces[3 * static_cast<std::size_t>(tables.patch_nodes[k]) + c] +=
+            s * tables.patch_weights[k] * force.force_n[c];
+  }
   for (std::size_t k = 0; k < tables.traction_nodes.size(); ++k)
     for (int c = 0; c < 3; ++c)
       forces[3 * static_cast<std::size_t>(tables.traction_nodes[k]) + c] +=

@@ -42,6 +42,13 @@ struct TissueScene {
   double probe_stiffness_n_m = 0.0;
   /// Most point forces one step accepts.
   std::size_t max_point_forces = 16;
+  /// Share of a point force its node keeps in the full-order models (TetFemModel and the
+  /// solves on its tables); the rest goes in equal parts to the nodes that share an element
+  /// with it, and the point it acts on moves as the same weighted mean of their displacements
+  /// (point_displacements_m()). 1 keeps the force on its node; below 1 a needle's
+  /// concentrated force spreads over the elements about its node, which the node alone
+  /// carries only by inverting them. The reduced model and solve_linear_static take 1 only.
+  double point_force_own_share = 1.0;
 };
 
 /// The material of element `tet`: its region's in scene.region_materials, else the default.

@@ -233,6 +233,7 @@ NeedleSettings read_needle(MapReader r, double loop_rate_hz) {
   s.point_compliance_m_per_n = r.number("point_compliance_m_per_n", kPositive, s.point_compliance_m_per_n);
   needle.missing_compliance_radius_m =
       r.number("missing_compliance_radius_m", Range{0.0, 0.1}, needle.missing_compliance_radius_m);
+  needle.point_force_own_share = r.number("point_force_own_share", Range{0.0, 1.0, true}, needle.point_force_own_share);
   s.max_path_points = static_cast<int>(r.integer("max_path_points", 0, 256, s.max_path_points));
   s.gauss_seidel_sweeps = static_cast<int>(r.integer("gauss_seidel_sweeps", 1, 1000, s.gauss_seidel_sweeps));
   s.bevel_steering = r.boolean("bevel_steering", s.bevel_steering);

@@ -109,6 +109,10 @@ struct NeedleSettings {
   /// The loop's needle meets the full-order compliance its reduced liver misses between nodes
   /// this close (a full-order liver built at start-up for it; 0: the point compliance alone).
   double missing_compliance_radius_m = 0.0;
+  /// The share of the needle's point force its node keeps in the full-order livers the needle
+  /// meets (the missing compliance's source, a simulated patient); the rest spreads over the
+  /// node's neighbours (TissueScene::point_force_own_share). 1: the node alone.
+  double point_force_own_share = 1.0;
   int line = 0;
 };
 

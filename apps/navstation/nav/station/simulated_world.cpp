@@ -23,15 +23,17 @@ namespace {
 
 TimeNs period_ns(double rate_hz) { return static_cast<TimeNs>(std::llround(1e9 / rate_hz)); }
 
-/// The patient's full-order liver: the scene's model on the patient's (softer) material.
 /// The patient's needle points' compliance about their nodes: little beside the nodes' own
 /// (millimetres per newton), enough to keep points a few millimetres apart on one node apart.
 constexpr double kPatientLocalComplianceM_N = 5e-4;
 
+/// The patient's full-order liver: the scene's model on the patient's (softer) material, the
+/// needle's point forces spread as the scene's needle says.
 Result<TetFemModel> patient_liver(const StationLiver& liver, const Scene& scene, const WorldOptions& options,
                                   TimeNs step_ns) {
   TissueScene patient = liver.scene;
   patient.default_material.youngs_modulus_pa *= options.truth_stiffness_factor;
+  if (scene.needle) patient.point_force_own_share = scene.needle->point_force_own_share;
   TissueSolverOptions solver = scene.liver.full;
   solver.step_s = seconds_of(step_ns);
   auto model = make_tet_fem_model(liver.mesh, patient, solver);
@@ -151,6 +153,8 @@ Status needle_and_tumour_truth(SimulatedWorld& world, const StationLiver& liver,
         step_tissue(model.value(), d, diaphragm_inputs(breathing, options, world.step_ns, i));
         if (Status kept = record_tumour(world, liver, scene, tumour_of(liver, d.tissue.positions_m), i); !kept.ok())
           return kept;
+        world.needle_peak_inverted_elements =
+            std::max(world.needle_peak_inverted_elements, d.tissue.report.inverted_elements);
       }
       const std::span<const double> nodes = d.interaction.needle.positions_m;
       world.needle_tip_truth_m.push_back({nodes[3 * tip_node], nodes[3 * tip_node + 1], nodes[3 * tip_node + 2]});

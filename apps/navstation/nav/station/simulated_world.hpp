@@ -87,11 +87,12 @@ struct SimulatedWorld {
   /// coupled to the full-order liver; empty without a needle (the tip is then the straight one).
   std::vector<Point3> needle_tip_truth_m;
   TimeNs needle_step_ns = kNsPerMs;
-  double needle_peak_tip_force_n = 0.0;                      ///< the true needle's largest tip force over the run
-  int needle_punctures = 0;                                  ///< surfaces the true needle punctured
-  std::vector<DeviceSample> samples;                         ///< in delivery order
-  std::vector<UltrasoundImage> frames;                       ///< the scanner's frames, by frame_index
-  ProbeImaging imaging;                                      ///< the scanner's grid and probe calibration
+  double needle_peak_tip_force_n = 0.0;   ///< the true needle's largest tip force over the run
+  int needle_punctures = 0;               ///< surfaces the true needle punctured
+  int needle_peak_inverted_elements = 0;  ///< most elements of the patient's liver inverted at once under the needle
+  std::vector<DeviceSample> samples;      ///< in delivery order
+  std::vector<UltrasoundImage> frames;    ///< the scanner's frames, by frame_index
+  ProbeImaging imaging;                   ///< the scanner's grid and probe calibration
   Eigen::Vector3d probe_centre_m = Eigen::Vector3d::Zero();  ///< the probe marker's position
   double probe_sweep_rad = 0.0, probe_sweep_period_s = 1.0;
   /// The true tumour at any time within the run (linear between tissue steps).

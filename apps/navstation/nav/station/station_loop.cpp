@@ -73,12 +73,15 @@ Result<ReducedRungSpec> trained_rung(const StationLiver& liver, const Scene& sce
 }
 
 /// The full-order liver whose static compliance the loop's needle meets beyond its reduced
-/// liver's: quasi-static, with the rest LDL^T factor.
-Result<TetFemModel> static_full_order_liver(const StationLiver& liver) {
+/// liver's: quasi-static, with the rest LDL^T factor, its point forces spread as the scene's
+/// needle says.
+Result<TetFemModel> static_full_order_liver(const StationLiver& liver, const NeedleSettings& needle) {
   TissueSolverOptions solver;
   solver.integrator = Integrator::quasi_static;
   solver.solver = LinearSolver::ldlt_warped;
-  return make_tet_fem_model(liver.mesh, liver.scene, solver);
+  TissueScene spread = liver.scene;
+  spread.point_force_own_share = needle.point_force_own_share;
+  return make_tet_fem_model(liver.mesh, spread, solver);
 }
 
 OperatingLoopOptions loop_options(const Scene& scene, const BreathingGeometry& breathing,
@@ -165,7 +168,7 @@ Result<OperatingLoopModel> loop_on(const StationLiver& liver, const Scene& scene
     needle->marker_from_base = calibration.value().marker_from_base;
     needle->max_point_forces = liver.scene.max_point_forces - (ligaments ? ligaments->attachment.nodes.size() : 0);
     if (scene.needle->missing_compliance_radius_m > 0.0) {
-      auto full = static_full_order_liver(liver);
+      auto full = static_full_order_liver(liver, *scene.needle);
       if (!full.ok())
         return Error{.message = full.error().describe(),
                      .file = scene.source_path,
