@@ -28,8 +28,12 @@ class SparseLdlt {
  private:
   std::vector<std::int32_t> permutation_;    // row i of A goes to row permutation_[i] of P A P^T
   std::vector<std::int32_t> column_starts_;  // L in compressed columns, unit diagonal left out
-  std::vector<std::int32_t> rows_;
   std::vector<double> values_;
+  // Column j's rows are rows_[row_starts_[j] ...], as many as its values: the columns of a
+  // supernode (each column's rows the next column and that column's rows) share their first
+  // column's list, so a solve reads a supernode's row indices once from memory.
+  std::vector<std::int32_t> row_starts_;
+  std::vector<std::int32_t> rows_;
   std::vector<double> diagonal_;
 };
 
