@@ -205,7 +205,7 @@ std::optional<Record> run_full_order(const Level& level, const std::string& mode
   const nav::TissueInputs inputs = level.held_out[0].inputs(1.0);
   time_steps(
       quick ? 20 : 60, [&] { nav::step(model, data, inputs); }, record);
-  record.memory_bytes = static_cast<std::int64_t>(data.arena.capacity_bytes()) + 12 * model.factor_nonzeros() +
+  record.memory_bytes = static_cast<std::int64_t>(data.arena.capacity_bytes()) + model.factor_bytes() +
                         17 * 8 * model.tet_count() + 16 * 8 * model.node_count();
   return record;
 }

@@ -24,6 +24,12 @@ class SparseLdlt {
   std::int64_t size() const { return static_cast<std::int64_t>(diagonal_.size()); }
   /// Stored entries of L below the diagonal.
   std::int64_t factor_nonzeros() const { return static_cast<std::int64_t>(values_.size()); }
+  /// Bytes the factor's arrays hold (values, row lists, column and row starts, permutation, D).
+  std::int64_t memory_bytes() const {
+    return static_cast<std::int64_t>(
+        sizeof(double) * (values_.size() + diagonal_.size()) +
+        sizeof(std::int32_t) * (rows_.size() + row_starts_.size() + column_starts_.size() + permutation_.size()));
+  }
 
  private:
   std::vector<std::int32_t> permutation_;    // row i of A goes to row permutation_[i] of P A P^T

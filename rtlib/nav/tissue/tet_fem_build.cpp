@@ -261,6 +261,7 @@ std::int64_t TetFemModel::free_dof_count() const { return 3 * static_cast<std::i
 const TissueSolverOptions& TetFemModel::options() const { return tables_->options; }
 double TetFemModel::stable_step_s() const { return tables_->stable_step_s; }
 std::int64_t TetFemModel::factor_nonzeros() const { return tables_->factor.factor_nonzeros(); }
+std::int64_t TetFemModel::factor_bytes() const { return tables_->factor.memory_bytes(); }
 std::span<const double> TetFemModel::rest_positions_m() const { return tables_->rest_m; }
 std::span<const double> TetFemModel::nodal_masses_kg() const { return tables_->mass_kg; }
 

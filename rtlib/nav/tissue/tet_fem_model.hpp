@@ -35,6 +35,8 @@ class TetFemModel {
   double stable_step_s() const;
   /// Entries of the LDL^T factor below the diagonal (0 without one).
   std::int64_t factor_nonzeros() const;
+  /// Bytes the LDL^T factor holds (0 without one).
+  std::int64_t factor_bytes() const;
   /// Node rest positions, 3 per node, in metres.
   std::span<const double> rest_positions_m() const;
   /// Lumped nodal masses in kilograms.

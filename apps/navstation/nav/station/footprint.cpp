@@ -21,10 +21,9 @@ std::int64_t mesh_bytes(const TetMesh& mesh) {
 
 /// TetFemModel's tables from its counts: per node the rest position, mass, 3x3 block
 /// inverse, diagonal inverse and indices (about 140 bytes); per element the corners,
-/// shape gradients, volume and Lamé pair (136 bytes); per factor entry a value and a row
-/// index (12 bytes).
+/// shape gradients, volume and Lamé pair (136 bytes); and the LDL^T factor as it is held.
 std::int64_t tet_fem_table_estimate(const TetFemModel& model) {
-  return 140 * model.node_count() + 136 * model.tet_count() + 12 * model.factor_nonzeros();
+  return 140 * model.node_count() + 136 * model.tet_count() + model.factor_bytes();
 }
 
 std::int64_t arena_bytes(const Arena& arena) { return static_cast<std::int64_t>(arena.capacity_bytes()); }
