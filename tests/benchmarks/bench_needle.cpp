@@ -12,6 +12,7 @@
 
 #include "../../apps/navbench/bench_needle.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
+#include "step_times.hpp"
 
 namespace {
 
@@ -23,11 +24,14 @@ void BM_NeedleAlone(benchmark::State& state) {
   nav::NeedleInputs inputs;
   inputs.tip_force_n = {0.0, 0.05, 0.0};
   int tick = 0;
+  std::vector<double> us;
+  us.reserve(static_cast<std::size_t>(state.max_iterations));
   for (auto _ : state) {
     inputs.base.position_m = {2e-5 * (tick++ % 20), 0.0, 0.0};
-    nav::step(model, data, inputs);
+    nav::bench::time_call(us, [&] { nav::step(model, data, inputs); });
     benchmark::DoNotOptimize(data.positions_m.data());
   }
+  nav::bench::report_quantiles(state, "step", us);
 }
 BENCHMARK(BM_NeedleAlone)->Arg(20)->Arg(30)->Arg(40)->Unit(benchmark::kMicrosecond);
 
@@ -83,11 +87,15 @@ void run_in_reduced_liver(benchmark::State& state, int points, int elements, nav
   const double advanced_m = insert_until(model, data, approach, points);
   int tick = 0;
   double largest_residual_m = 0.0;
+  std::vector<double> us;
+  us.reserve(static_cast<std::size_t>(state.max_iterations));
   for (auto _ : state) {
-    nav::step(model, data, nav::NeedleInputs{approach.wobbled_base(advanced_m, tick++), {}, {}});
+    const nav::NeedleInputs inputs{approach.wobbled_base(advanced_m, tick++), {}, {}};
+    nav::bench::time_call(us, [&] { nav::step(model, data, inputs); });
     largest_residual_m = std::max(largest_residual_m, data.interaction.report.residual_m);
     benchmark::DoNotOptimize(data.interaction.slot_forces.data());
   }
+  nav::bench::report_quantiles(state, "step", us);
   state.counters["rows"] = data.interaction.row_count;
   state.counters["largest_residual_m"] = largest_residual_m;
 }

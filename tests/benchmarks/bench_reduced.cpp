@@ -10,7 +10,6 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <chrono>
 #include <map>
 #include <memory>
 #include <optional>
@@ -21,6 +20,7 @@
 #include "nav/reduced/reduced_model.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "nav/tissue/liver_scenes.hpp"
+#include "step_times.hpp"
 
 namespace {
 
@@ -47,12 +47,6 @@ nav::ReducedBasis truncated(const Liver& l, int r, int m, nav::ReducedForceKind 
   return basis;
 }
 
-void report(benchmark::State& state, std::vector<double>& us) {
-  std::sort(us.begin(), us.end());
-  state.counters["step_us_median"] = us[us.size() / 2];
-  state.counters["step_us_p99"] = us[std::min(us.size() - 1, (us.size() * 99) / 100)];
-}
-
 /// Times the steps of the reduced model of `basis` on `scene` under `inputs`.
 void time_steps(benchmark::State& state, const nav::TissueScene& scene, const nav::ReducedBasis& basis,
                 const nav::ReducedSolverOptions& options, const nav::TissueInputs& inputs) {
@@ -64,14 +58,9 @@ void time_steps(benchmark::State& state, const nav::TissueScene& scene, const na
   auto data = nav::make_reduced_data(model.value()).value();
   std::vector<double> us;
   us.reserve(static_cast<std::size_t>(state.max_iterations));
-  for (auto _ : state) {
-    const auto start = std::chrono::steady_clock::now();
-    nav::step(model.value(), data, inputs);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    state.SetIterationTime(seconds);
-    us.push_back(seconds * 1e6);
-  }
-  report(state, us);
+  for (auto _ : state)
+    state.SetIterationTime(nav::bench::time_call(us, [&] { nav::step(model.value(), data, inputs); }));
+  nav::bench::report_quantiles(state, "step", us);
   state.counters["healthy"] = data.health.healthy() ? 1.0 : 0.0;
   state.counters["memory_kb"] = static_cast<double>(model.value().memory_bytes()) / 1024.0;
 }
@@ -146,15 +135,12 @@ void run_reconstruction(benchmark::State& state, Reconstruct&& reconstruct) {
   std::vector<double> us;
   us.reserve(static_cast<std::size_t>(state.max_iterations));
   reconstruct(model, data, out);  // builds what the reconstruction needs outside the timing
-  for (auto _ : state) {
-    const auto start = std::chrono::steady_clock::now();
-    reconstruct(model, data, out);
-    benchmark::DoNotOptimize(out.data());
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    state.SetIterationTime(seconds);
-    us.push_back(seconds * 1e6);
-  }
-  report(state, us);
+  for (auto _ : state)
+    state.SetIterationTime(nav::bench::time_call(us, [&] {
+      reconstruct(model, data, out);
+      benchmark::DoNotOptimize(out.data());
+    }));
+  nav::bench::report_quantiles(state, "step", us);
 }
 
 /// reconstruct_displacements_m on a list of nodes (the basis rows, row-major).

@@ -6,7 +6,6 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <chrono>
 #include <optional>
 #include <vector>
 
@@ -14,6 +13,7 @@
 #include "nav/fusion/reduced_kalman.hpp"
 #include "nav/mesher/embedded_liver.hpp"
 #include "nav/reduced/reduction.hpp"
+#include "step_times.hpp"
 
 namespace {
 
@@ -69,12 +69,6 @@ struct Filter {
   }
 };
 
-void report(benchmark::State& state, std::vector<double>& us) {
-  std::sort(us.begin(), us.end());
-  state.counters["call_us_median"] = us[us.size() / 2];
-  state.counters["call_us_p99"] = us[std::min(us.size() - 1, (us.size() * 99) / 100)];
-}
-
 /// Times `call(filter, i)` per call.
 template <class Call>
 void run(benchmark::State& state, Call&& call) {
@@ -82,14 +76,8 @@ void run(benchmark::State& state, Call&& call) {
   std::vector<double> us;
   us.reserve(static_cast<std::size_t>(state.max_iterations));
   std::int64_t i = 0;
-  for (auto _ : state) {
-    const auto start = std::chrono::steady_clock::now();
-    call(f, i++);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    state.SetIterationTime(seconds);
-    us.push_back(seconds * 1e6);
-  }
-  report(state, us);
+  for (auto _ : state) state.SetIterationTime(nav::bench::time_call(us, [&] { call(f, i++); }));
+  nav::bench::report_quantiles(state, "call", us);
   state.counters["healthy"] = f.data->health.healthy() ? 1.0 : 0.0;
 }
 

@@ -12,7 +12,6 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <chrono>
 #include <optional>
 #include <string>
 #include <vector>
@@ -21,6 +20,7 @@
 #include "nav/reduced/reduced_ladder.hpp"
 #include "nav/reduced/reduction.hpp"
 #include "nav/tissue/liver_scenes.hpp"
+#include "step_times.hpp"
 
 namespace {
 
@@ -72,12 +72,6 @@ std::optional<nav::ReducedLadderModel> ladder(benchmark::State& state, double bo
   return std::move(model).value();
 }
 
-void report(benchmark::State& state, std::vector<double>& us) {
-  std::sort(us.begin(), us.end());
-  state.counters["step_us_median"] = us[us.size() / 2];
-  state.counters["step_us_p99"] = us[std::min(us.size() - 1, (us.size() * 99) / 100)];
-}
-
 /// Times steps under gravity, each started (untimed) on `start_rung`; a tiny envelope there
 /// makes every step escalate.
 void run(benchmark::State& state, int start_rung, double bound0, double bound1, bool full_order) {
@@ -91,14 +85,10 @@ void run(benchmark::State& state, int start_rung, double bound0, double bound1, 
   for (auto _ : state) {
     nav::move_to_rung(*model, data, start_rung);
     const std::int64_t before = data.escalations;
-    const auto start = std::chrono::steady_clock::now();
-    nav::step(*model, data, inputs);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    state.SetIterationTime(seconds);
-    us.push_back(seconds * 1e6);
+    state.SetIterationTime(nav::bench::time_call(us, [&] { nav::step(*model, data, inputs); }));
     escalations += data.escalations - before;
   }
-  report(state, us);
+  nav::bench::report_quantiles(state, "step", us);
   state.counters["escalated_fraction"] = static_cast<double>(escalations) / static_cast<double>(us.size());
 }
 

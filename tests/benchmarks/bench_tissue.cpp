@@ -6,7 +6,6 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -16,6 +15,7 @@
 #include "nav/tissue/liver_scenes.hpp"
 #include "nav/tissue/node_selection.hpp"
 #include "nav/tissue/tet_fem_model.hpp"
+#include "step_times.hpp"
 
 namespace {
 
@@ -66,17 +66,10 @@ void run_case(benchmark::State& state, const Case& c) {
   std::vector<double> step_us;
   const nav::TissueInputs inputs;
   for (auto _ : state) {
-    const auto start = std::chrono::steady_clock::now();
-    nav::step(model.value(), data.value(), inputs);
-    const auto stop = std::chrono::steady_clock::now();
-    const double seconds = std::chrono::duration<double>(stop - start).count();
-    state.SetIterationTime(seconds);
-    step_us.push_back(seconds * 1e6);
+    state.SetIterationTime(nav::bench::time_call(step_us, [&] { nav::step(model.value(), data.value(), inputs); }));
   }
-  std::sort(step_us.begin(), step_us.end());
+  nav::bench::report_quantiles(state, "step", step_us);
   state.counters["tets"] = static_cast<double>(model.value().tet_count());
-  state.counters["step_us_median"] = step_us[step_us.size() / 2];
-  state.counters["step_us_p99"] = step_us[std::min(step_us.size() - 1, (step_us.size() * 99) / 100)];
   state.counters["residual"] = data.value().report.solver_relative_residual;
   state.counters["cg_iters"] = data.value().report.solver_iterations;
   state.counters["healthy"] = data.value().health.healthy() ? 1.0 : 0.0;

@@ -68,7 +68,7 @@ NAV_LANES_NOT_LOOP void gather(const CubatureView& t, int b, const LaneState& st
 }
 
 /// lane_forces[j][l] += sum_i U_s(i, j) f(i) per lane, i in order.
-void scatter(const CubatureView& t, int b, const LaneForces& f, double* lane_forces) {
+void scatter(const CubatureView& t, int b, const LaneForces& f, double* __restrict lane_forces) {
   const int r = t.r;
   const double* rows = block(t.sample_rows, b, 12 * r);
   for (int j = 0; j < r; ++j) {
@@ -173,7 +173,7 @@ double quartic_root(double x) {
 }
 
 /// Matrices iterated together by polar_range, in local arrays: entry (i, j) of matrix n at [3 j + i][n].
-constexpr Index kChunk = 8;
+constexpr Index kChunk = 16;
 using PolarChunk = double[9][kChunk];
 
 /// One scaled Newton iteration of the polar decomposition on every matrix of x, in place; with
@@ -240,7 +240,10 @@ void polar_range(double* a, Index stride, Index first_lane, Index count) {
       }
     }
     for (Index k = 0; k < 9; ++k)
-      for (Index n = 0; n < width; ++n) a[k * stride + first + n] = x[k][n];
+      if (width == kChunk)  // a fixed count: moved as whole vectors, not as a string copy
+        for (Index n = 0; n < kChunk; ++n) a[k * stride + first + n] = x[k][n];
+      else
+        for (Index n = 0; n < width; ++n) a[k * stride + first + n] = x[k][n];
   }
 }
 
@@ -275,8 +278,9 @@ NAV_LANES_NOT_LOOP void panel_times(const double* panels, const double* lift_pan
 }
 
 /// Blocks whose gathers, rotations, forces and scatters run together: their basis rows stay
-/// in the first-level cache from the gather to the scatter.
-constexpr int kBlocksTogether = 1;
+/// in the first-level cache from the gather to the scatter, and their rotations make one
+/// chunk of polar_range (independent chains that overlap each other's latency).
+constexpr int kBlocksTogether = 2;
 
 int corotational_forces(const CubatureView& t, const LaneState& state, bool remainder,
                         const SampleWork& work) noexcept {

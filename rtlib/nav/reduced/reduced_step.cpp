@@ -88,10 +88,16 @@ double norm(std::span<const double> v) {
   return std::sqrt(sum);
 }
 
+/// The elastic tangent of a Newton iteration and the factor of its system matrix.
+struct NewtonSystem {
+  std::span<const double> tangent, factor;
+};
+
 /// Force (external + internal - springs' U_s^T U_s q) at q and, when rebuilding, the elastic
-/// tangent into data.tangent (else the rest one); returns the system factor to use.
-std::span<const double> forces_and_factor(const ReducedTables& t, ReducedData& data, std::span<const double> q,
-                                          const double d[3]) {
+/// tangent into data.tangent; returns the tangent and the system factor to use (the rest ones
+/// when frozen).
+NewtonSystem forces_and_factor(const ReducedTables& t, ReducedData& data, std::span<const double> q,
+                               const double d[3]) {
   const int r = t.r;
   // Outside the training envelope the rest tangent may be far from the current one (a frozen
   // Newton iteration then diverges at long steps): the tangent is rebuilt there.
@@ -103,18 +109,18 @@ std::span<const double> forces_and_factor(const ReducedTables& t, ReducedData& d
   const int inverted =
       detail::evaluate_internal_force(t, state, scratch, data.force, rebuild ? data.tangent : std::span<double>{});
   data.report.inverted_samples = std::max(data.report.inverted_samples, inverted);
-  for (int i = 0; i < r; ++i)
-    data.force[static_cast<std::size_t>(i)] +=
-        data.external[static_cast<std::size_t>(i)] - product_row(t.spring_stiffness_r, q, r, i);
-  if (!rebuild) {
-    std::copy(t.stiffness_r.begin(), t.stiffness_r.end(), data.tangent.begin());
-    return t.frozen_factor;
+  const bool springs = !t.spring_nodes.empty();  // else U_s^T U_s is zero
+  for (int i = 0; i < r; ++i) {
+    double applied = data.external[static_cast<std::size_t>(i)];
+    if (springs) applied -= product_row(t.spring_stiffness_r, q, r, i);
+    data.force[static_cast<std::size_t>(i)] += applied;
   }
+  if (!rebuild) return {t.stiffness_r, t.frozen_factor};
   const detail::SystemCoefficients c = detail::system_coefficients(t.options);
   detail::system_matrix(data.tangent, t.spring_stiffness_r, c.identity, c.stiffness, c.spring, r, data.factor);
-  if (detail::cholesky_in_place(data.factor, r)) return data.factor;
-  data.health.raise(HealthFlag::solver_not_converged);  // fall back on the rest tangent
-  return t.frozen_factor;
+  if (detail::cholesky_in_place(data.factor, r)) return {data.tangent, data.factor};
+  data.health.raise(HealthFlag::solver_not_converged);  // fall back on the rest factor
+  return {data.tangent, t.frozen_factor};
 }
 
 /// Newton iterations on (v - v0) = h (f(q0 + h v) - a v - b K v).
@@ -127,19 +133,19 @@ void implicit_euler(const ReducedTables& t, ReducedData& data, const double d[3]
     for (int i = 0; i < r; ++i)
       data.q[static_cast<std::size_t>(i)] =
           data.q_start[static_cast<std::size_t>(i)] + h * data.v_iterate[static_cast<std::size_t>(i)];
-    const std::span<const double> factor = forces_and_factor(t, data, data.q, d);
+    const NewtonSystem system = forces_and_factor(t, data, data.q, d);
     double scale = 0.0;
     for (int i = 0; i < r; ++i) {
       const auto k = static_cast<std::size_t>(i);
       const double change = data.v_iterate[k] - data.v_start[k];
       const double damping = o.rayleigh_mass_per_s * data.v_iterate[k] +
-                             o.rayleigh_stiffness_s * product_row(data.tangent, data.v_iterate, r, i);
+                             o.rayleigh_stiffness_s * product_row(system.tangent, data.v_iterate, r, i);
       data.residual[k] = h * (data.force[k] - damping) - change;
       scale += h * h * data.force[k] * data.force[k] + change * change;
     }
     data.report.relative_residual = norm(data.residual) / (std::sqrt(scale) + 1e-300);
     std::copy(data.residual.begin(), data.residual.end(), data.correction.begin());
-    detail::cholesky_solve(factor, r, data.correction);
+    detail::cholesky_solve(system.factor, r, data.correction);
     for (std::size_t k = 0; k < data.v_iterate.size(); ++k) data.v_iterate[k] += data.correction[k];
   }
   for (int i = 0; i < r; ++i) {
@@ -156,7 +162,7 @@ void quasi_static(const ReducedTables& t, ReducedData& data, const double d[3]) 
   const double h = o.step_s;
   std::copy(data.q_start.begin(), data.q_start.end(), data.q.begin());
   for (int iteration = 0; iteration < o.newton_iterations; ++iteration) {
-    const std::span<const double> factor = forces_and_factor(t, data, data.q, d);
+    const NewtonSystem system = forces_and_factor(t, data, data.q, d);
     for (int i = 0; i < r; ++i) {
       const auto k = static_cast<std::size_t>(i);
       data.correction[k] = data.q[k] - data.q_start[k];
@@ -164,11 +170,11 @@ void quasi_static(const ReducedTables& t, ReducedData& data, const double d[3]) 
     for (int i = 0; i < r; ++i) {
       const auto k = static_cast<std::size_t>(i);
       data.residual[k] = data.force[k] - (o.rayleigh_mass_per_s / h) * data.correction[k] -
-                         (o.rayleigh_stiffness_s / h) * product_row(data.tangent, data.correction, r, i);
+                         (o.rayleigh_stiffness_s / h) * product_row(system.tangent, data.correction, r, i);
     }
     data.report.relative_residual = norm(data.residual) / (norm(data.force) + norm(data.external) + 1e-300);
     std::copy(data.residual.begin(), data.residual.end(), data.correction.begin());
-    detail::cholesky_solve(factor, r, data.correction);
+    detail::cholesky_solve(system.factor, r, data.correction);
     for (std::size_t k = 0; k < data.q.size(); ++k) data.q[k] += data.correction[k];
   }
   for (std::size_t k = 0; k < data.q.size(); ++k) data.q_velocity[k] = (data.q[k] - data.q_start[k]) / h;
