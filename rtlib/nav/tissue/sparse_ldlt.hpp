@@ -1,7 +1,7 @@
 #pragma once
 // A sparse LDL^T factorisation computed once at init (Eigen's SimplicialLDLT with AMD
-// ordering) and kept as plain arrays, so that step-time solves are allocation-free and
-// visit the factor in a fixed order.
+// ordering) and kept as plain arrays in supernodes, so that step-time solves are
+// allocation-free, visit the factor in a fixed order and stream it from memory.
 #include <Eigen/Sparse>
 #include <cstdint>
 #include <span>
@@ -22,24 +22,31 @@ class SparseLdlt {
   void solve_in_place(std::span<double> rhs, std::span<double> work) const noexcept;
 
   std::int64_t size() const { return static_cast<std::int64_t>(diagonal_.size()); }
+  /// Supernodes: runs of columns whose rows below the run are one list, solved as dense blocks.
+  std::int64_t supernode_count() const { return static_cast<std::int64_t>(supernode_columns_.size()) - 1; }
   /// Stored entries of L below the diagonal.
   std::int64_t factor_nonzeros() const { return static_cast<std::int64_t>(values_.size()); }
-  /// Bytes the factor's arrays hold (values, row lists, column and row starts, permutation, D).
+  /// Bytes the factor's arrays hold (values, row lists, supernode starts, permutation, D).
   std::int64_t memory_bytes() const {
-    return static_cast<std::int64_t>(
-        sizeof(double) * (values_.size() + diagonal_.size()) +
-        sizeof(std::int32_t) * (rows_.size() + row_starts_.size() + column_starts_.size() + permutation_.size()));
+    return static_cast<std::int64_t>(sizeof(double) * (values_.size() + diagonal_.size()) +
+                                     sizeof(std::int32_t) *
+                                         (rows_.size() + supernode_columns_.size() + supernode_values_.size() +
+                                          supernode_rows_.size() + permutation_.size()));
   }
 
  private:
-  std::vector<std::int32_t> permutation_;    // row i of A goes to row permutation_[i] of P A P^T
-  std::vector<std::int32_t> column_starts_;  // L in compressed columns, unit diagonal left out
-  std::vector<double> values_;
-  // Column j's rows are rows_[row_starts_[j] ...], as many as its values: the columns of a
-  // supernode (each column's rows the next column and that column's rows) share their first
-  // column's list, so a solve reads a supernode's row indices once from memory.
-  std::vector<std::int32_t> row_starts_;
+  void forward(std::span<double> z) const noexcept;
+  void backward(std::span<double> y) const noexcept;
+
+  std::vector<std::int32_t> permutation_;  // row i of A goes to row permutation_[i] of P A P^T
+  // A supernode: columns c0 <= j < c1 of L whose rows below c1 are one list (each column's
+  // rows the next column and that column's rows). Its values: the strictly lower triangle of
+  // its diagonal block column by column, then the block below, row by row (w per row).
+  std::vector<std::int32_t> supernode_columns_;  // c0 of each supernode, then the size
+  std::vector<std::int32_t> supernode_values_;   // where each one's values start, then the count
+  std::vector<std::int32_t> supernode_rows_;     // where each one's rows below start in rows_
   std::vector<std::int32_t> rows_;
+  std::vector<double> values_;
   std::vector<double> diagonal_;
 };
 
