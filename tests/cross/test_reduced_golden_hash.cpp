@@ -144,7 +144,7 @@ TEST(ReducedGoldenHash, BeamCorotationalCubatureImplicitFrozenTangent) {
   options.step_s = 0.01;
   options.rayleigh_mass_per_s = 0.5;
   options.rayleigh_stiffness_s = 0.01;
-  EXPECT_EQ(run_hash(options, 40), 0x507998b729db9ecaULL);
+  EXPECT_EQ(run_hash(options, 40), 0xb59b3134a8484ad8ULL);
 }
 
 TEST(ReducedGoldenHash, BeamCorotationalCubatureQuasiStaticRebuiltTangent) {
@@ -154,7 +154,7 @@ TEST(ReducedGoldenHash, BeamCorotationalCubatureQuasiStaticRebuiltTangent) {
   options.newton_iterations = 2;
   options.frozen_tangent = false;
   options.rayleigh_mass_per_s = 5.0;
-  EXPECT_EQ(run_hash(options, 20), 0xe7e0972d05a6088bULL);
+  EXPECT_EQ(run_hash(options, 20), 0x2d28abdc0837d13fULL);
 }
 
 }  // namespace nav

@@ -9,10 +9,10 @@ bool kernel_isa_available(KernelIsa isa) noexcept {
       return true;
 #if NAV_KERNEL_ISA_X86
     case KernelIsa::avx2:
-      return __builtin_cpu_supports("avx2");
+      return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
     case KernelIsa::avx512:
       return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
-             __builtin_cpu_supports("avx512vl");
+             __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("fma");
 #else
     case KernelIsa::avx2:
     case KernelIsa::avx512:

@@ -1,9 +1,12 @@
 #pragma once
 // The instruction sets rtlib's lane kernels are compiled for. A kernel source named *.isa.cpp
-// is compiled once per instruction set (rtlib/CMakeLists.txt): plain loops over lanes, no
-// fused multiply-add (-ffp-contract=off), sums in an order written in the code, so every
-// variant computes the same bits; a wider one only does more lanes per instruction. Models
-// pick one at init (`best`: the widest this CPU runs).
+// is compiled once per instruction set (rtlib/CMakeLists.txt): plain loops over lanes, sums in
+// an order written in the code, and a multiply-add fused only where the code says so
+// (__builtin_fma; the compiler fuses nothing itself, -ffp-contract=off). A fused one is rounded
+// once on every instruction set (the FMA unit of AVX2, AVX-512 and NEON; on the x86-64 baseline,
+// libm's correctly rounded fma, slow, for CPUs without AVX2 and FMA), so every variant
+// computes the same bits; a wider one only does more lanes per instruction. Models pick one at
+// init (`best`: the widest this CPU runs).
 #include <cstdint>
 #include <string_view>
 
@@ -13,7 +16,7 @@ namespace nav {
 enum class KernelIsa : std::uint8_t {
   best,      ///< the widest one compiled in and supported by this CPU
   baseline,  ///< the target's base instruction set (x86-64: SSE2; aarch64: NEON)
-  avx2,      ///< x86-64 with AVX2 (4 doubles a vector)
+  avx2,      ///< x86-64 with AVX2 and FMA (4 doubles a vector)
   avx512,    ///< x86-64 with AVX-512 F/DQ/VL (8 doubles a vector)
 };
 

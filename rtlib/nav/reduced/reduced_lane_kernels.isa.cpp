@@ -31,6 +31,9 @@ Index lane_count(const CubatureView& t) { return index(t.sample_blocks) * L; }
 
 Lanes lanes_of(double* table, const CubatureView& t, int b) { return {table + index(b) * L, lane_count(t)}; }
 
+/// a b + c rounded once: a fused multiply-add on every instruction set (see kernel_isa.hpp).
+double fused(double a, double b, double c) { return __builtin_fma(a, b, c); }
+
 /// Loops whose lanes are unrolled and carry sums across the loop: the lanes are vectorized
 /// (straight-line), not the loop (GCC would otherwise vectorize it as in-order reductions).
 #if defined(__GNUC__) && !defined(__clang__)
@@ -50,7 +53,7 @@ NAV_LANES_NOT_LOOP void gather(const CubatureView& t, int b, const LaneState& st
       const double qj = q[j];
       for (int c = 0; c < 3; ++c) {
         const double* row = rows + index(((3 * a + c) * r + j) * L);
-        for (int l = 0; l < L; ++l) acc[c][l] += row[l] * qj;
+        for (int l = 0; l < L; ++l) acc[c][l] = fused(row[l], qj, acc[c][l]);
       }
     }
     if (t.has_lift) {
@@ -59,7 +62,7 @@ NAV_LANES_NOT_LOOP void gather(const CubatureView& t, int b, const LaneState& st
         for (int k = 0; k < 3; ++k) {
           const double* row = lift + ((3 * a + c) * 3 + k) * L;
           const double dk = state.prescribed_m[k];
-          for (int l = 0; l < L; ++l) acc[c][l] += row[l] * dk;
+          for (int l = 0; l < L; ++l) acc[c][l] = fused(row[l], dk, acc[c][l]);
         }
     }
     for (int c = 0; c < 3; ++c)
@@ -67,32 +70,57 @@ NAV_LANES_NOT_LOOP void gather(const CubatureView& t, int b, const LaneState& st
   }
 }
 
+/// Basis columns summed together by basis_sums: their sums stay in registers while each
+/// basis row's stretch of them is read in one run.
+constexpr int kColumnsTogether = 8;
+
+/// Calls out(j0, count, sums) with sums[j][l] = sum_i U_s(i, j) f(i) per lane, i in order,
+/// for the `Width` (or, with Width 0, `width`) basis columns from j0 of the block whose rows
+/// start at `rows`.
+template <int Width, class Out>
+void basis_sums(const double* rows, int r, int j0, int width, const double (*f)[L], const Out& out) {
+  const int count = Width > 0 ? Width : width;
+  double sums[kColumnsTogether][L] = {};
+  for (int i = 0; i < 12; ++i) {
+    const double* row = rows + index((i * r + j0) * L);
+#pragma GCC unroll 8
+    for (int j = 0; j < count; ++j)
+      for (int l = 0; l < L; ++l) sums[j][l] = fused(row[j * L + l], f[i][l], sums[j][l]);
+  }
+  out(j0, count, sums);
+}
+
+/// basis_sums of f for every run of kColumnsTogether basis columns (the last one shorter).
+template <class Out>
+void for_basis_sums(const double* rows, int r, const double (*f)[L], const Out& out) {
+  int j0 = 0;
+  for (; j0 + kColumnsTogether <= r; j0 += kColumnsTogether)
+    basis_sums<kColumnsTogether>(rows, r, j0, kColumnsTogether, f, out);
+  if (j0 < r) basis_sums<0>(rows, r, j0, r - j0, f, out);
+}
+
 /// lane_forces[j][l] += sum_i U_s(i, j) f(i) per lane, i in order.
 void scatter(const CubatureView& t, int b, const LaneForces& f, double* __restrict lane_forces) {
   const int r = t.r;
-  const double* rows = block(t.sample_rows, b, 12 * r);
-  for (int j = 0; j < r; ++j) {
-    double acc[L] = {};
-    for (int i = 0; i < 12; ++i) {
-      const double* row = rows + index((i * r + j) * L);
-      for (int l = 0; l < L; ++l) acc[l] += row[l] * f[i][l];
-    }
-    double* out = lane_forces + j * L;
-    for (int l = 0; l < L; ++l) out[l] += acc[l];
-  }
+  for_basis_sums(block(t.sample_rows, b, 12 * r), r, f,
+                 [&](int j0, int width, const double(&sums)[kColumnsTogether][L]) {
+                   for (int j = 0; j < width; ++j)
+                     for (int l = 0; l < L; ++l) lane_forces[(j0 + j) * L + l] += sums[j][l];
+                 });
 }
 
 /// The deformation gradients F = I + sum_a u_a g_a^T of block b's lanes (column-major), and
 /// 1 or 0 as det F > 0 or not in row 9 of `f`; with `identity_when_inverted`, a lane with
 /// det F <= 0 gets the identity. Returns how many had det F <= 0.
-int deformation(const CubatureView& t, int b, const Lanes& u, const Lanes& f, bool identity_when_inverted) {
+NAV_LANES_NOT_LOOP int deformation(const CubatureView& t, int b, const Lanes& u, const Lanes& f,
+                                   bool identity_when_inverted) {
   const double* g = block(t.sample_gradients, b, 12);
   for (int k = 0; k < 3; ++k)
     for (int i = 0; i < 3; ++i) {
       double value[L];
       for (int l = 0; l < L; ++l) value[l] = i == k ? 1.0 : 0.0;
       for (int a = 0; a < 4; ++a)
-        for (int l = 0; l < L; ++l) value[l] += u(3 * a + i, l) * g[(3 * a + k) * L + l];
+        for (int l = 0; l < L; ++l) value[l] = fused(u(3 * a + i, l), g[(3 * a + k) * L + l], value[l]);
       for (int l = 0; l < L; ++l) f(3 * k + i, l) = value[l];
     }
   int inverted = 0;
@@ -111,18 +139,18 @@ int deformation(const CubatureView& t, int b, const Lanes& u, const Lanes& f, bo
 }
 
 /// out = G^T (G x) per lane (G 6 x 12 of block g): both products summed in order.
-void root_stiffness_product(const double* g, const double (*x)[L], double (*out)[L]) {
+NAV_LANES_NOT_LOOP void root_stiffness_product(const double* g, const double (*x)[L], double (*out)[L]) {
   double strain[6][L];
   for (int i = 0; i < 6; ++i) {
     double acc[L] = {};
     for (int k = 0; k < 12; ++k)
-      for (int l = 0; l < L; ++l) acc[l] += g[(12 * i + k) * L + l] * x[k][l];
+      for (int l = 0; l < L; ++l) acc[l] = fused(g[(12 * i + k) * L + l], x[k][l], acc[l]);
     for (int l = 0; l < L; ++l) strain[i][l] = acc[l];
   }
   for (int k = 0; k < 12; ++k) {
     double acc[L] = {};
     for (int i = 0; i < 6; ++i)
-      for (int l = 0; l < L; ++l) acc[l] += g[(12 * i + k) * L + l] * strain[i][l];
+      for (int l = 0; l < L; ++l) acc[l] = fused(g[(12 * i + k) * L + l], strain[i][l], acc[l]);
     for (int l = 0; l < L; ++l) out[k][l] = acc[l];
   }
 }
@@ -149,16 +177,16 @@ void corotational_block_forces(const CubatureView& t, int b, const Lanes& u, con
         const double x0 = rest[(3 * a) * L + l] + u(3 * a, l);
         const double x1 = rest[(3 * a + 1) * L + l] + u(3 * a + 1, l);
         const double x2 = rest[(3 * a + 2) * L + l] + u(3 * a + 2, l);
-        local[3 * a + k][l] =
-            (rotation(0, k, l) * x0 + rotation(1, k, l) * x1 + rotation(2, k, l) * x2) - rest[(3 * a + k) * L + l];
+        local[3 * a + k][l] = fused(rotation(2, k, l), x2, fused(rotation(1, k, l), x1, rotation(0, k, l) * x0)) -
+                              rest[(3 * a + k) * L + l];
       }
   double back[12][L];
   root_stiffness_product(g, local, back);
   for (int a = 0; a < 4; ++a)
     for (int c = 0; c < 3; ++c)
       for (int l = 0; l < L; ++l)
-        f[3 * a + c][l] = -(rotation(c, 0, l) * back[3 * a][l] + rotation(c, 1, l) * back[3 * a + 1][l] +
-                            rotation(c, 2, l) * back[3 * a + 2][l]);
+        f[3 * a + c][l] = -fused(rotation(c, 2, l), back[3 * a + 2][l],
+                                 fused(rotation(c, 1, l), back[3 * a + 1][l], rotation(c, 0, l) * back[3 * a][l]));
 }
 
 double* forces_of(const CubatureView& t, const SampleWork& work, int b) {
@@ -185,9 +213,9 @@ void polar_iteration(PolarChunk& x, double (&change)[kChunk]) {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) {
         const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
-        c[3 * j + i] = x[3 * j1 + i1][n] * x[3 * j2 + i2][n] - x[3 * j2 + i1][n] * x[3 * j1 + i2][n];
+        c[3 * j + i] = fused(x[3 * j1 + i1][n], x[3 * j2 + i2][n], -(x[3 * j2 + i1][n] * x[3 * j1 + i2][n]));
       }
-    const double det = x[0][n] * c[0] + x[3][n] * c[3] + x[6][n] * c[6];
+    const double det = fused(x[6][n], c[6], fused(x[3][n], c[3], x[0][n] * c[0]));
     double norm_x = 0.0, norm_c = 0.0;
     for (int k = 0; k < 9; ++k) {
       norm_x += x[k][n] * x[k][n];
@@ -342,20 +370,16 @@ void add_corotational_tangent_block(const CubatureView& t, int b, const SampleWo
     for (int a = 0; a < 4; ++a)
       for (int k = 0; k < 3; ++k)
         for (int l = 0; l < L; ++l)
-          h[12 * i + 3 * a + k][l] = g[(12 * i + 3 * a) * L + l] * rot(k, l) +
-                                     g[(12 * i + 3 * a + 1) * L + l] * rot(3 + k, l) +
-                                     g[(12 * i + 3 * a + 2) * L + l] * rot(6 + k, l);
+          h[12 * i + 3 * a + k][l] =
+              fused(g[(12 * i + 3 * a + 2) * L + l], rot(6 + k, l),
+                    fused(g[(12 * i + 3 * a + 1) * L + l], rot(3 + k, l), g[(12 * i + 3 * a) * L + l] * rot(k, l)));
   // V = H U_s, stored as W (6 L x stride): row p = L i + l holds lane l's row i of V.
   double* w = rows_work;
   for (int i = 0; i < 6; ++i)
-    for (int j = 0; j < r; ++j) {
-      double acc[L] = {};
-      for (int m = 0; m < 12; ++m) {
-        const double* row = rows + index((m * r + j) * L);
-        for (int l = 0; l < L; ++l) acc[l] += h[12 * i + m][l] * row[l];
-      }
-      for (int l = 0; l < L; ++l) w[index((L * i + l) * stride + j)] = acc[l];
-    }
+    for_basis_sums(rows, r, h + 12 * i, [&](int j0, int width, const double(&sums)[kColumnsTogether][L]) {
+      for (int j = 0; j < width; ++j)
+        for (int l = 0; l < L; ++l) w[index((L * i + l) * stride + j0 + j)] = sums[j][l];
+    });
   for (int p = 0; p < 6 * L; ++p)
     for (int j = r; j < stride; ++j) w[index(p * stride + j)] = 0.0;
   // tangent += W^T W on the tiles at or right of the diagonal, two rows at a time; each entry
@@ -371,8 +395,8 @@ void add_corotational_tangent_block(const CubatureView& t, int b, const SampleWo
         const double w0 = wp[j1], w1 = wp[j1 + 1];
         double tile[kTile];
         for (int c = 0; c < kTile; ++c) tile[c] = wp[t0 + c];
-        for (int c = 0; c < kTile; ++c) acc0[c] += w0 * tile[c];
-        for (int c = 0; c < kTile; ++c) acc1[c] += w1 * tile[c];
+        for (int c = 0; c < kTile; ++c) acc0[c] = fused(w0, tile[c], acc0[c]);
+        for (int c = 0; c < kTile; ++c) acc1[c] = fused(w1, tile[c], acc1[c]);
       }
       double* out0 = tangent + index(j1 * r + t0);
       for (int c = 0; c < width; ++c) out0[c] += acc0[c];
