@@ -139,20 +139,19 @@ NAV_LANES_NOT_LOOP int deformation(const CubatureView& t, int b, const Lanes& u,
 }
 
 /// out = G^T (G x) per lane (G 6 x 12 of block g): both products summed in order.
-NAV_LANES_NOT_LOOP void root_stiffness_product(const double* g, const double (*x)[L], double (*out)[L]) {
-  double strain[6][L];
-  for (int i = 0; i < 6; ++i) {
-    double acc[L] = {};
-    for (int k = 0; k < 12; ++k)
-      for (int l = 0; l < L; ++l) acc[l] = fused(g[(12 * i + k) * L + l], x[k][l], acc[l]);
-    for (int l = 0; l < L; ++l) strain[i][l] = acc[l];
-  }
-  for (int k = 0; k < 12; ++k) {
-    double acc[L] = {};
+void root_stiffness_product(const double* g, const double (*x)[L], double (*out)[L]) {
+  double strain[6][L] = {};  // the 6 sums side by side, each over k in order
+  for (int k = 0; k < 12; ++k)
+#pragma GCC unroll 6
     for (int i = 0; i < 6; ++i)
-      for (int l = 0; l < L; ++l) acc[l] = fused(g[(12 * i + k) * L + l], strain[i][l], acc[l]);
-    for (int l = 0; l < L; ++l) out[k][l] = acc[l];
-  }
+      for (int l = 0; l < L; ++l) strain[i][l] = fused(g[(12 * i + k) * L + l], x[k][l], strain[i][l]);
+  double sums[12][L] = {};  // the 12 sums side by side, each over i in order
+  for (int i = 0; i < 6; ++i)
+#pragma GCC unroll 12
+    for (int k = 0; k < 12; ++k)
+      for (int l = 0; l < L; ++l) sums[k][l] = fused(g[(12 * i + k) * L + l], strain[i][l], sums[k][l]);
+  for (int k = 0; k < 12; ++k)
+    for (int l = 0; l < L; ++l) out[k][l] = sums[k][l];
 }
 
 /// f += G^T G u per lane: the sample's linear force taken back out (the remainder).
