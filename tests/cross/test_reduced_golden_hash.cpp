@@ -144,7 +144,7 @@ TEST(ReducedGoldenHash, BeamCorotationalCubatureImplicitFrozenTangent) {
   options.step_s = 0.01;
   options.rayleigh_mass_per_s = 0.5;
   options.rayleigh_stiffness_s = 0.01;
-  EXPECT_EQ(run_hash(options, 40), 0xb59b3134a8484ad8ULL);
+  EXPECT_EQ(run_hash(options, 40), 0xb42bf5a4e70935dcULL);
 }
 
 TEST(ReducedGoldenHash, BeamCorotationalCubatureQuasiStaticRebuiltTangent) {
@@ -154,7 +154,7 @@ TEST(ReducedGoldenHash, BeamCorotationalCubatureQuasiStaticRebuiltTangent) {
   options.newton_iterations = 2;
   options.frozen_tangent = false;
   options.rayleigh_mass_per_s = 5.0;
-  EXPECT_EQ(run_hash(options, 20), 0x2d28abdc0837d13fULL);
+  EXPECT_EQ(run_hash(options, 20), 0xa047cb8fb0e7051fULL);
 }
 
 }  // namespace nav

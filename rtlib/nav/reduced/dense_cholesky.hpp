@@ -51,7 +51,9 @@ inline bool cholesky_in_place(std::span<double> a, int r) noexcept {
   return true;
 }
 
-/// Overwrites b with A^-1 b from the factor of cholesky_in_place.
+/// Overwrites b with A^-1 b from the factor of cholesky_in_place. Each substitution takes the
+/// unknown found last as its last term, so a row's sum runs while the unknowns before it are
+/// still being found (one chain of the row's length per unknown would wait on each other).
 inline void cholesky_solve(std::span<const double> l, int r, std::span<double> b) noexcept {
   for (int i = 0; i < r; ++i) {
     double value = b[i];
@@ -60,7 +62,7 @@ inline void cholesky_solve(std::span<const double> l, int r, std::span<double> b
   }
   for (int i = r - 1; i >= 0; --i) {
     double value = b[i];
-    for (int k = i + 1; k < r; ++k) value -= l[k * r + i] * b[k];
+    for (int k = r - 1; k > i; --k) value -= l[k * r + i] * b[k];
     b[i] = value / l[i * r + i];
   }
 }
